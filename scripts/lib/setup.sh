@@ -1,0 +1,30 @@
+# Sourced by the scripts: installs what symdyn needs from Debian's packages.
+#   symdyn_require_packages <package>...
+# Installs the missing packages when run as root (apt-get update first); otherwise
+# prints the exact apt-get line to run and exits non-zero.
+
+symdyn_base_packages=(g++ cmake ninja-build pkg-config libeigen3-dev libfmt-dev catch2 libcli11-dev
+  nlohmann-json3-dev libbenchmark-dev librapidcheck-dev libsundials-dev)
+
+symdyn_require_packages() {
+  local missing=()
+  local pkg
+  for pkg in "$@"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  if ! command -v apt-get >/dev/null 2>&1; then
+    echo "error: missing packages (${missing[*]}) and no apt-get: symdyn expects Debian 12." >&2
+    exit 1
+  fi
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "error: missing Debian packages: ${missing[*]}" >&2
+    echo "Install them as root, then run this script again:" >&2
+    echo "  apt-get update && apt-get install -y ${missing[*]}" >&2
+    exit 1
+  fi
+  echo "symdyn: installing ${missing[*]}"
+  apt-get update -qq || { echo "error: apt-get update failed" >&2; exit 1; }
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null ||
+    { echo "error: apt-get install ${missing[*]} failed" >&2; exit 1; }
+}

@@ -1,0 +1,197 @@
+// The node arena and the intern table.
+#include <fmt/format.h>
+
+#include <deque>
+#include <memory_resource>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "symbolic/expr.hpp"
+
+namespace symdyn::symbolic {
+namespace {
+
+std::size_t mix(std::size_t h, std::size_t v) {
+  return h ^ (v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2));
+}
+
+std::size_t hash_number(const Number& n) {
+  if (n.is_exact()) return mix(std::hash<std::int64_t>{}(n.num()), std::hash<std::int64_t>{}(n.den()));
+  return mix(0x51ed27, std::hash<double>{}(n.to_double()));
+}
+
+// Shallow identity of a node: kind, payload and argument pointers.
+struct NodeHash {
+  std::size_t operator()(const Node* n) const { return n->hash(); }
+};
+
+}  // namespace
+
+struct Context::Impl {
+  std::deque<Node> nodes;                       // stable addresses
+  std::pmr::monotonic_buffer_resource args_arena;
+  std::deque<std::string> names;
+  std::unordered_map<std::size_t, std::vector<const Node*>> table;  // hash -> nodes
+  std::unordered_map<std::string, const Node*> symbols;
+  std::size_t symbol_count = 0;
+  std::size_t args_bytes = 0;
+  Expr zero{nullptr};
+};
+
+namespace {
+Context* g_current = nullptr;
+Context& default_context() {
+  static Context context;
+  return context;
+}
+}  // namespace
+
+Context::Context() : impl_(std::make_unique<Impl>()) {
+  Scope scope(*this);
+  impl_->zero = intern_number(Number(0));
+}
+Context::~Context() = default;
+
+Context& Context::current() { return g_current != nullptr ? *g_current : default_context(); }
+std::size_t Context::size() const { return impl_->nodes.size(); }
+std::size_t Context::symbol_count() const { return impl_->symbol_count; }
+std::size_t Context::memory_bytes() const {
+  std::size_t table_bytes = 0;
+  for (const auto& [h, bucket] : impl_->table) {
+    table_bytes += sizeof(h) + sizeof(bucket) + bucket.capacity() * sizeof(const Node*) + 2 * sizeof(void*);
+  }
+  return impl_->nodes.size() * sizeof(Node) + impl_->args_bytes + table_bytes;
+}
+
+Context::Scope::Scope(Context& context) : previous_(g_current) { g_current = &context; }
+Context::Scope::~Scope() { g_current = previous_; }
+
+Expr intern_node(Kind kind, std::span<const Expr> args) {
+  Context::Impl& impl = *Context::current().impl_;
+  std::size_t h = mix(0x1234567, static_cast<std::size_t>(kind));
+  for (Expr a : args) h = mix(h, a.hash());
+  auto& bucket = impl.table[h];
+  for (const Node* n : bucket) {
+    if (n->kind() == kind && n->n_args_ == args.size() &&
+        std::equal(args.begin(), args.end(), n->args_)) {
+      return Expr(n);
+    }
+  }
+  auto* stored = static_cast<Expr*>(impl.args_arena.allocate(args.size() * sizeof(Expr), alignof(Expr)));
+  std::uninitialized_copy(args.begin(), args.end(), stored);
+  impl.args_bytes += args.size() * sizeof(Expr);
+  Node& node = impl.nodes.emplace_back();
+  node.kind_ = kind;
+  node.id_ = static_cast<std::uint32_t>(impl.nodes.size() - 1);
+  node.n_args_ = static_cast<std::uint32_t>(args.size());
+  node.hash_ = h;
+  node.args_ = stored;
+  bucket.push_back(&node);
+  return Expr(&node);
+}
+
+Expr intern_number(const Number& value) {
+  Context::Impl& impl = *Context::current().impl_;
+  const Kind kind = value.is_exact() ? Kind::Rational : Kind::Real;
+  const std::size_t h = mix(static_cast<std::size_t>(kind), hash_number(value));
+  auto& bucket = impl.table[h];
+  for (const Node* n : bucket) {
+    if (n->kind() == kind && n->number_ == value) return Expr(n);
+  }
+  Node& node = impl.nodes.emplace_back();
+  node.kind_ = kind;
+  node.id_ = static_cast<std::uint32_t>(impl.nodes.size() - 1);
+  node.hash_ = h;
+  node.number_ = value;
+  bucket.push_back(&node);
+  return Expr(&node);
+}
+
+Expr symbol(std::string_view name, SymbolKind kind) {
+  if (name.empty()) throw UsageError("symbol: empty name");
+  Context::Impl& impl = *Context::current().impl_;
+  const std::string key(name);
+  if (auto it = impl.symbols.find(key); it != impl.symbols.end()) {
+    const Node* n = it->second;
+    if (n->symbol_kind_ != kind) {
+      throw UsageError(fmt::format("symbol '{}' is already declared as {}, not {}", name,
+                                   to_string(n->symbol_kind_), to_string(kind)));
+    }
+    return Expr(n);
+  }
+  const std::string& stored_name = impl.names.emplace_back(key);
+  Node& node = impl.nodes.emplace_back();
+  node.kind_ = Kind::Symbol;
+  node.symbol_kind_ = kind;
+  node.id_ = static_cast<std::uint32_t>(impl.nodes.size() - 1);
+  node.symbol_index_ = static_cast<std::uint32_t>(impl.symbol_count++);
+  node.hash_ = mix(std::hash<std::string>{}(key), static_cast<std::size_t>(Kind::Symbol));
+  node.name_ = &stored_name;
+  impl.symbols.emplace(key, &node);
+  return Expr(&node);
+}
+
+// --- Expr accessors -------------------------------------------------------------
+
+Expr::Expr() : node_(Context::current().impl_->zero.node_) {}
+Expr::Expr(int value) : Expr(intern_number(Number(value))) {}
+Expr::Expr(std::int64_t value) : Expr(intern_number(Number(value))) {}
+Expr::Expr(double value) : node_(nullptr) {
+  if (!std::isfinite(value)) throw DomainError(fmt::format("constant {} is not finite", value));
+  node_ = intern_number(Number::from_double(value)).node_;
+}
+Expr::Expr(const Number& value) : Expr(intern_number(value)) {}
+
+Kind Expr::kind() const { return node_->kind(); }
+std::uint32_t Expr::id() const { return node_->id(); }
+std::size_t Expr::hash() const { return node_->hash(); }
+std::span<const Expr> Expr::args() const { return node_->args(); }
+bool Expr::is_number() const { return kind() == Kind::Rational || kind() == Kind::Real; }
+bool Expr::is_exact_number() const { return kind() == Kind::Rational; }
+bool Expr::is_zero() const { return is_number() && node_->number_.is_zero(); }
+bool Expr::is_one() const { return is_number() && node_->number_.is_one(); }
+
+const Number& Expr::number() const {
+  if (!is_number()) throw UsageError(fmt::format("'{}' is not a number", str()));
+  return node_->number_;
+}
+const std::string& Expr::name() const {
+  if (!is_symbol()) throw UsageError(fmt::format("'{}' is not a symbol", str()));
+  return *node_->name_;
+}
+SymbolKind Expr::symbol_kind() const {
+  if (!is_symbol()) throw UsageError(fmt::format("'{}' is not a symbol", str()));
+  return node_->symbol_kind_;
+}
+std::uint32_t Expr::symbol_index() const {
+  if (!is_symbol()) throw UsageError(fmt::format("'{}' is not a symbol", str()));
+  return node_->symbol_index_;
+}
+
+std::string_view to_string(SymbolKind kind) {
+  switch (kind) {
+    case SymbolKind::Variable: return "variable";
+    case SymbolKind::Rate: return "rate";
+    case SymbolKind::Acceleration: return "acceleration";
+    case SymbolKind::Dependent: return "dependent";
+    case SymbolKind::DependentRate: return "dependent rate";
+    case SymbolKind::DependentAcceleration: return "dependent acceleration";
+    case SymbolKind::Parameter: return "parameter";
+    case SymbolKind::Time: return "time";
+    case SymbolKind::Free: return "free";
+  }
+  return "?";
+}
+
+const KindInfo& info(Kind kind) {
+  static const KindInfo table[] = {
+#define SYMDYN_KIND_INFO(kind, name, arity, cpp, cost) {name, arity, cpp, cost},
+      SYMDYN_FOR_EACH_KIND(SYMDYN_KIND_INFO)
+#undef SYMDYN_KIND_INFO
+  };
+  return table[static_cast<int>(kind)];
+}
+
+bool is_function(Kind kind) { return kind >= Kind::Sin; }
+
+}  // namespace symdyn::symbolic
