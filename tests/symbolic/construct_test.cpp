@@ -3,6 +3,7 @@
 #include "symbolic/eval.hpp"
 #include "symbolic/expr.hpp"
 #include "symbolic/print.hpp"
+#include "support/random_expr.hpp"
 
 using namespace symdyn::symbolic;
 
@@ -24,4 +25,20 @@ TEST_CASE("construction canonicalizes sums and products", "[construct]") {
   CHECK((x - 2 * y).str() == "x - 2*y");
   CHECK((x / (y * sin(x))).str() == "x/(y*sin(x))");
   CHECK(to_cpp(pow(x, 2) / 2 + sqrt(y)) == "0.5*x*x + std::sqrt(y)");
+}
+
+TEST_CASE("random expressions evaluate finite and building twice gives the same node", "[construct]") {
+  for (unsigned seed = 0; seed < 2000; ++seed) {
+    Context ctx;
+    Context::Scope scope(ctx);
+    std::vector<Expr> xs{symbol("x"), symbol("y"), symbol("z")};
+    symdyn::testing::RandomExpr gen_a(seed, xs), gen_b(seed, xs);
+    const Expr a = gen_a(5);
+    const Expr b = gen_b(5);
+    INFO("seed " << seed << ": " << a);
+    REQUIRE(a == b);
+    const auto p = gen_a.point();
+    Bindings<double> at{{xs[0], p[0]}, {xs[1], p[1]}, {xs[2], p[2]}};
+    CHECK(std::isfinite(evaluate(a, at)));
+  }
 }
