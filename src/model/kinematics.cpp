@@ -1,0 +1,144 @@
+#include "model/kinematics.hpp"
+
+#include <fmt/format.h>
+
+#include "symbolic/diff.hpp"
+
+namespace symdyn::model {
+namespace {
+
+using symbolic::SymbolKind;
+
+// Kinematics of a motion relative to its reference frame (or the ground).
+struct Local {
+  Mat3 R;
+  Vec3 x, v, w, a, dw;
+};
+
+class Deriver {
+ public:
+  Deriver(const Model& model, const DeriveOptions& options) : model_(model), options_(options) {
+    symbolic::RateMap rates;
+    for (const Coordinate& c : model.coordinates()) {
+      rates.emplace(c.q, c.qd);
+      rates.emplace(c.qd, c.qdd);
+    }
+    for (const Dependent& d : model.dependents()) {
+      rates.emplace(d.symbol, d.rate);
+      rates.emplace(d.rate, d.acceleration);
+    }
+    d_dt_ = std::make_unique<symbolic::TimeDerivative>(std::move(rates));
+  }
+
+  Kinematics run() {
+    Kinematics k;
+    for (const Dependent& d : model_.dependents()) k.dependents.push_back(derive_dependent(d, k.dependents));
+    const std::vector<int> refs = model_.reference_indices();
+    k.bodies.resize(model_.bodies().size());
+    for (int i : model_.topological_order()) {
+      const Local local = derive_local(model_.bodies()[i].motion());
+      k.bodies[i] = refs[i] < 0 ? absolute(local) : compose(k.bodies[refs[i]], local);
+    }
+    if (options_.symbolic_partials) add_partials(k);
+    return k;
+  }
+
+ private:
+  Expr simplify(Expr e) const { return options_.simplify ? options_.simplify(e) : e; }
+  Vec3 simplify(const Vec3& v) const { return {simplify(v[0]), simplify(v[1]), simplify(v[2])}; }
+  Mat3 simplify(const Mat3& m) const {
+    Mat3 out;
+    for (int i = 0; i < 9; ++i) out[i] = simplify(m[i]);
+    return out;
+  }
+  Vec3 d_dt(const Vec3& v) const { return {(*d_dt_)(v[0]), (*d_dt_)(v[1]), (*d_dt_)(v[2])}; }
+
+  DependentKinematics derive_dependent(const Dependent& d, const std::vector<DependentKinematics>& earlier) {
+    DependentKinematics out;
+    out.symbols = d;
+    out.value = simplify(d.expression);
+    out.rate = simplify((*d_dt_)(out.value));
+    out.acceleration = simplify((*d_dt_)(out.rate));
+    // dp/dq_j = ∂p/∂q_j + Σ_l ∂p/∂p_l · dp_l/dq_j over earlier dependent parameters.
+    for (const Coordinate& c : model_.coordinates()) {
+      Expr total = symbolic::diff(out.value, c.q);
+      for (const DependentKinematics& e : earlier) {
+        const std::size_t j = out.jacobian.size();
+        total += symbolic::diff(out.value, e.symbols.symbol) * e.jacobian_symbols[j];
+      }
+      out.jacobian.push_back(simplify(total));
+      out.jacobian_symbols.push_back(
+          symbolic::symbol(fmt::format("{}__d{}", d.symbol.name(), c.q.name()), SymbolKind::Dependent));
+    }
+    return out;
+  }
+
+  Local derive_local(const Transform& T) const {
+    Local k;
+    k.R = simplify(T.rotation());
+    k.x = simplify(T.translation());
+    k.v = simplify(d_dt(k.x));
+    k.w = simplify(T.angular_velocity([this](Expr angle) { return (*d_dt_)(angle); }));
+    k.a = simplify(d_dt(k.v));
+    k.dw = simplify(d_dt(k.w));
+    return k;
+  }
+
+  static BodyKinematics absolute(const Local& l) {
+    BodyKinematics b;
+    b.R = l.R;
+    b.x = l.x;
+    b.v = l.v;
+    b.w = l.w;
+    b.a = l.a;
+    b.dw = l.dw;
+    return b;
+  }
+
+  // Composition with the reference body B (design.md).
+  static BodyKinematics compose(const BodyKinematics& B, const Local& l) {
+    BodyKinematics b;
+    const Vec3 r = B.R * l.x;
+    const Vec3 v_rel = B.R * l.v;
+    const Vec3 w_rel = B.R * l.w;
+    b.R = B.R * l.R;
+    b.x = B.x + r;
+    b.w = B.w + w_rel;
+    b.v = B.v + cross(B.w, r) + v_rel;
+    b.a = B.a + cross(B.dw, r) + cross(B.w, cross(B.w, r)) + Expr(2) * cross(B.w, v_rel) + B.R * l.a;
+    b.dw = B.dw + cross(B.w, w_rel) + B.R * l.dw;
+    return b;
+  }
+
+  // dv/dqd_j = ∂v/∂qd_j + Σ_k ∂v/∂pd_k · dp_k/dq_j
+  void add_partials(Kinematics& k) const {
+    const auto& coords = model_.coordinates();
+    for (std::size_t j = 0; j < coords.size(); ++j) {
+      symbolic::Differentiator by_qd(coords[j].qd);
+      std::vector<symbolic::Differentiator> by_pd;
+      for (const DependentKinematics& d : k.dependents) by_pd.emplace_back(d.symbols.rate);
+      auto partial = [&](Expr e) {
+        Expr total = by_qd(e);
+        for (std::size_t m = 0; m < by_pd.size(); ++m) total += by_pd[m](e) * k.dependents[m].jacobian_symbols[j];
+        return simplify(total);
+      };
+      for (BodyKinematics& b : k.bodies) {
+        b.dv_dqd.push_back({partial(b.v[0]), partial(b.v[1]), partial(b.v[2])});
+        b.dw_dqd.push_back({partial(b.w[0]), partial(b.w[1]), partial(b.w[2])});
+      }
+    }
+  }
+
+  const Model& model_;
+  const DeriveOptions& options_;
+  std::unique_ptr<symbolic::TimeDerivative> d_dt_;
+};
+
+}  // namespace
+
+Kinematics derive_kinematics(const Model& model, const DeriveOptions& options) {
+  model.validate();
+  return Deriver(model, options).run();
+}
+
+}  // namespace symdyn::model

@@ -1,0 +1,58 @@
+#pragma once
+// Derivation of the kinematics of every body as expressions.
+//
+// For a body with an absolute motion T0G = [R x; 0 1]:
+//   v = dx/dt, a = dv/dt (total time derivatives: q -> qd -> qdd, p -> pd -> pdd, t -> 1)
+//   w = Σ_k R_(before k)·axis_k·d(angle_k)/dt  (exact and short; skew(w) = dR/dt·Rᵀ)
+//   dw = dw/dt
+// For a body relative to B, only T_BG is derived; the absolute quantities are
+// composed from B's (design.md), as plain expressions over B's nodes, so the
+// emitted code evaluates the composition numerically:
+//   r = R_B·x_rel, x = x_B + r, R = R_B·R_rel, w = w_B + R_B·w_rel,
+//   v = v_B + w_B×r + R_B·v_rel,
+//   a = a_B + dw_B×r + w_B×(w_B×r) + 2·w_B×(R_B·v_rel) + R_B·a_rel,
+//   dw = dw_B + w_B×(R_B·w_rel) + R_B·dw_rel.
+// Partial velocities dv/dqd_j, dw/dqd_j (symbolic) differentiate the composed
+// velocities with respect to qd_j; a dependent parameter's rate pd_k carries
+// its own dependence on qd through the Jacobian dp_k/dq_j (see DependentKinematics).
+//
+// Simplification, when asked, is progressive (as CAGeM did under Giac): the
+// relative positions are simplified, velocities derived from the simplified
+// positions and simplified, then accelerations.
+
+#include <functional>
+#include <vector>
+
+#include "model/model.hpp"
+
+namespace symdyn::model {
+
+struct BodyKinematics {
+  Mat3 R;
+  Vec3 x, v, w, a, dw;
+  std::vector<Vec3> dv_dqd, dw_dqd;  // (nq) each; empty unless symbolic partials
+};
+
+struct DependentKinematics {
+  Dependent symbols;
+  Expr value, rate, acceleration;  // p, pd, pdd as expressions of q, qd, qdd, t, earlier p
+  std::vector<Expr> jacobian;      // (nq) total dp/dq_j, for symbolic partial velocities
+  std::vector<Expr> jacobian_symbols;  // (nq) symbols standing for the jacobian entries
+};
+
+struct Kinematics {
+  std::vector<BodyKinematics> bodies;           // in model order, absolute
+  std::vector<DependentKinematics> dependents;  // in dependency order
+};
+
+using SimplifyFunction = std::function<Expr(Expr)>;
+
+struct DeriveOptions {
+  SimplifyFunction simplify;      // empty: no simplification
+  bool symbolic_partials = false;
+};
+
+// Validates the model, then derives. Throws ModelError on an invalid model.
+Kinematics derive_kinematics(const Model& model, const DeriveOptions& options = {});
+
+}  // namespace symdyn::model

@@ -1,0 +1,261 @@
+#include "model/model.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "model/inertia_check.hpp"
+#include "symbolic/eval.hpp"
+#include "symbolic/traversal.hpp"
+
+namespace symdyn::model {
+
+using symbolic::SymbolKind;
+
+namespace {
+
+// Names of the derivatives of a symbol: q3 -> qd3, qdd3; yaw -> yaw_d, yaw_dd.
+std::pair<std::string, std::string> derivative_names(std::string_view name) {
+  const bool q_style = name.size() > 1 && name[0] == 'q' &&
+                       std::all_of(name.begin() + 1, name.end(), [](char c) { return std::isdigit(c) != 0; });
+  if (q_style) return {fmt::format("qd{}", name.substr(1)), fmt::format("qdd{}", name.substr(1))};
+  return {fmt::format("{}_d", name), fmt::format("{}_dd", name)};
+}
+
+// Declares a symbol; a name taken by a symbol of another kind is a model error.
+Expr declare(std::string_view name, SymbolKind kind) {
+  try {
+    return symbolic::symbol(name, kind);
+  } catch (const symbolic::UsageError& e) {
+    throw ModelError(e.what());
+  }
+}
+
+void check_name(std::string_view name, std::string_view what) {
+  const bool ok = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) != 0 || name[0] == '_') &&
+                  std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; });
+  if (!ok) throw ModelError(fmt::format("{} name '{}' is not an identifier", what, name));
+}
+
+}  // namespace
+
+Body::Body(std::string name) : name_(std::move(name)), mass_(0), inertia_{} {}
+
+Body& Body::mass(Expr m) {
+  mass_ = m;
+  return *this;
+}
+
+Body& Body::inertia(Expr ixx, Expr iyy, Expr izz) {
+  const Expr o(0);
+  inertia_ = {ixx, o, o, o, iyy, o, o, o, izz};
+  return *this;
+}
+
+Body& Body::inertia(const Mat3& tensor) {
+  inertia_ = tensor;
+  return *this;
+}
+
+Body& Body::motion(const Transform& T0G) {
+  motion_ = T0G;
+  has_motion_ = true;
+  return *this;
+}
+
+Body& Body::relative_to(std::string_view reference) {
+  reference_ = std::string(reference);
+  return *this;
+}
+
+Model::Model(std::string name)
+    : name_(std::move(name)),
+      gravity_{Expr(0), Expr(0), Expr(0)},
+      time_(declare("t", SymbolKind::Time)) {
+  check_name(name_, "model");
+}
+
+bool Model::is_declared(Expr s) const {
+  if (s == time_) return true;
+  auto in = [&](const auto& list, auto field) {
+    return std::any_of(list.begin(), list.end(), [&](const auto& item) { return item.*field == s; });
+  };
+  return in(coordinates_, &Coordinate::q) || in(dependents_, &Dependent::symbol) ||
+         in(parameters_, &Parameter::symbol);
+}
+
+void Model::check_declared(Expr e, std::string_view where) const {
+  for (Expr s : symbolic::free_symbols(std::span<const Expr>(&e, 1))) {
+    if (!is_declared(s)) {
+      throw ModelError(fmt::format("{} uses '{}', which is not declared in model '{}' before it", where,
+                                   s.name(), name_));
+    }
+  }
+}
+
+Expr Model::coordinate(std::string_view name) {
+  check_name(name, "coordinate");
+  if (is_declared(declare(name, SymbolKind::Variable))) {
+    throw ModelError(fmt::format("coordinate '{}' is declared twice", name));
+  }
+  auto [rate, acceleration] = derivative_names(name);
+  coordinates_.push_back({declare(name, SymbolKind::Variable), declare(rate, SymbolKind::Rate),
+                          declare(acceleration, SymbolKind::Acceleration)});
+  return coordinates_.back().q;
+}
+
+std::vector<Expr> Model::coordinates(int n, std::string_view prefix) {
+  std::vector<Expr> q;
+  const int first = static_cast<int>(coordinates_.size());
+  for (int i = 0; i < n; ++i) q.push_back(coordinate(fmt::format("{}{}", prefix, first + i)));
+  return q;
+}
+
+Expr Model::parameter(std::string_view name, double value, bool runtime) {
+  check_name(name, "parameter");
+  if (!std::isfinite(value)) throw ModelError(fmt::format("parameter '{}' = {} is not finite", name, value));
+  if (!(runtime || runtime_parameters_)) return Expr(value);
+  const Expr s = declare(name, SymbolKind::Parameter);
+  if (is_declared(s)) throw ModelError(fmt::format("parameter '{}' is declared twice", name));
+  parameters_.push_back({s, value});
+  return s;
+}
+
+Expr Model::dependent(std::string_view name, Expr expression) {
+  check_name(name, "dependent parameter");
+  check_declared(expression, fmt::format("dependent parameter '{}'", name));
+  if (inline_dependents_) return expression;
+  const Expr s = declare(name, SymbolKind::Dependent);
+  if (is_declared(s)) throw ModelError(fmt::format("dependent parameter '{}' is declared twice", name));
+  auto [rate, acceleration] = derivative_names(name);
+  dependents_.push_back({s, declare(rate, SymbolKind::DependentRate),
+                         declare(acceleration, SymbolKind::DependentAcceleration), expression});
+  return s;
+}
+
+Body& Model::body(std::string_view name) {
+  check_name(name, "body");
+  if (body_index(name) >= 0) throw ModelError(fmt::format("body '{}' is declared twice", name));
+  bodies_.push_back(Body(std::string(name)));
+  return bodies_.back();
+}
+
+void Model::gravity(Expr gx, Expr gy, Expr gz) {
+  gravity_ = {gx, gy, gz};
+  for (Expr g : gravity_) check_declared(g, "gravity");
+}
+
+void Model::initial(Expr q, double value, double rate) {
+  for (Coordinate& c : coordinates_) {
+    if (c.q == q) {
+      c.initial = value;
+      c.initial_rate = rate;
+      return;
+    }
+  }
+  throw ModelError(fmt::format("initial: '{}' is not a coordinate of model '{}'", q.str(), name_));
+}
+
+int Model::body_index(std::string_view name) const {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (bodies_[i].name() == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::vector<int> Model::reference_indices() const {
+  std::vector<int> refs;
+  for (const Body& b : bodies_) {
+    if (!b.reference()) {
+      refs.push_back(-1);
+      continue;
+    }
+    const int r = body_index(*b.reference());
+    if (r < 0) throw ModelError(fmt::format("body '{}' is relative to '{}', which is not a body", b.name(), *b.reference()));
+    refs.push_back(r);
+  }
+  return refs;
+}
+
+std::vector<int> Model::topological_order() const {
+  const std::vector<int> refs = reference_indices();
+  const int n = static_cast<int>(bodies_.size());
+  std::vector<int> state(n, 0);  // 0 unvisited, 1 in progress, 2 done
+  std::vector<int> order;
+  for (int start = 0; start < n; ++start) {
+    std::vector<int> chain;  // walk up the references, then emit top-down
+    int b = start;
+    while (b >= 0 && state[b] == 0) {
+      state[b] = 1;
+      chain.push_back(b);
+      b = refs[b];
+    }
+    if (b >= 0 && state[b] == 1) {
+      std::string cycle = bodies_[b].name();
+      for (int c = refs[b]; c != b; c = refs[c]) cycle += " -> " + bodies_[c].name();
+      throw ModelError(fmt::format("relative motions form a cycle: {} -> {}", cycle, bodies_[b].name()));
+    }
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      state[*it] = 2;
+      order.push_back(*it);
+    }
+  }
+  return order;
+}
+
+void Model::validate() const {
+  if (coordinates_.empty()) throw ModelError(fmt::format("model '{}' has no coordinate", name_));
+  if (bodies_.empty()) throw ModelError(fmt::format("model '{}' has no body", name_));
+  topological_order();  // unknown references and cycles
+  symbolic::Bindings<double> values;
+  for (const Parameter& p : parameters_) values.emplace(p.symbol, p.value);
+  for (const Body& b : bodies_) {
+    const std::string where = fmt::format("body '{}'", b.name());
+    if (!b.has_motion()) throw ModelError(fmt::format("{} has no motion", where));
+    for (const Transform::Step& s : b.motion().steps()) {
+      for (Expr e : s.displacement) check_declared(e, where + " motion");
+      check_declared(s.angle, where + " motion");
+    }
+    check_declared(b.mass(), where + " mass");
+    for (Expr e : b.inertia()) check_declared(e, where + " inertia");
+    const double m = symbolic::evaluate(b.mass(), values);
+    std::array<double, 9> I{};
+    for (int k = 0; k < 9; ++k) I[k] = symbolic::evaluate(b.inertia()[k], values);
+    check_inertia(where, m, I);
+  }
+}
+
+}  // namespace symdyn::model
+
+namespace symdyn::model {
+
+Model Definition::make(std::string_view variant) const {
+  if (variants.empty()) throw ModelError(fmt::format("model '{}' declares no variant", name));
+  const std::string chosen = variant.empty() ? variants.front() : std::string(variant);
+  if (std::find(variants.begin(), variants.end(), chosen) == variants.end()) {
+    throw ModelError(fmt::format("model '{}' has no variant '{}' (variants: {})", name, chosen,
+                                 fmt::join(variants, ", ")));
+  }
+  Model m(name);
+  build(m, chosen);
+  return m;
+}
+
+std::vector<Definition>& registry() {
+  static std::vector<Definition> definitions;
+  return definitions;
+}
+
+const Definition& find_definition(std::string_view name) {
+  for (const Definition& d : registry()) {
+    if (d.name == name) return d;
+  }
+  std::vector<std::string> names;
+  for (const Definition& d : registry()) names.push_back(d.name);
+  throw ModelError(fmt::format("no model named '{}' (known: {})", name, fmt::join(names, ", ")));
+}
+
+}  // namespace symdyn::model

@@ -1,0 +1,155 @@
+#pragma once
+// The builder API: a multibody system described as CAGeM users know it.
+//
+//   Model m("slider_crank");
+//   const Expr q0 = m.coordinate("q0");
+//   const Expr l1 = m.parameter("l1", 0.1), l2 = m.parameter("l2", 0.3);
+//   const Expr alpha = m.dependent("alpha", asin(l1 * sin(q0) / l2));
+//   const Expr x = m.dependent("x", l1 * cos(q0) + l2 * cos(alpha));
+//   m.body("crank").mass(1.0).inertia(1e-4, 8.3e-4, 8.3e-4).motion(Trotz(q0) * Tdisp(l1 / 2, 0, 0));
+//   m.body("rod").mass(0.5).inertia(1e-4, 3.75e-3, 3.75e-3)
+//       .motion(Tdisp(x, 0, 0) * Trotz(-alpha) * Tdisp(-l2 / 2, 0, 0));
+//   m.gravity(0, -9.81, 0);
+//   m.initial(q0, 0.0, 50.0);
+//
+// Symbols:
+//   coordinates q     minimal coordinates, one per DOF; their rates qd and
+//                     accelerations qdd are made alongside;
+//   parameters        model constants: folded into the code as numbers, or kept
+//                     as run-time inputs (one generated code for a sweep);
+//   dependent p       explicit functions of q, time and earlier dependent
+//                     parameters; kept as intermediate variables, or inlined
+//                     (substituted) when `inline_dependents(true)`;
+//   time t            for motions prescribed in time.
+//
+// Bodies have a mass, an inertia tensor at G in body axes, and a motion: a
+// product of elementary transformations (transform.hpp), absolute or relative
+// to another body. Mistakes raise ModelError naming the culprit.
+
+#include <functional>
+#include <deque>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "model/errors.hpp"
+#include "model/transform.hpp"
+
+namespace symdyn::model {
+
+class Body {
+ public:
+  Body& mass(Expr m);
+  Body& inertia(Expr ixx, Expr iyy, Expr izz);  // principal, diagonal in body axes
+  Body& inertia(const Mat3& tensor);              // full, symmetric
+  Body& motion(const Transform& T0G);             // absolute, or T_BG when relative_to
+  Body& relative_to(std::string_view reference);
+
+  const std::string& name() const { return name_; }
+  Expr mass() const { return mass_; }
+  const Mat3& inertia() const { return inertia_; }
+  const Transform& motion() const { return motion_; }
+  const std::optional<std::string>& reference() const { return reference_; }
+  bool has_motion() const { return has_motion_; }
+
+ private:
+  friend class Model;
+  explicit Body(std::string name);
+  std::string name_;
+  Expr mass_;
+  Mat3 inertia_{};
+  Transform motion_;
+  std::optional<std::string> reference_;
+  bool has_motion_ = false;
+};
+
+// A dependent parameter p = expression, with its rate and acceleration symbols.
+struct Dependent {
+  Expr symbol, rate, acceleration;
+  Expr expression;
+};
+
+// A coordinate q with its rate and acceleration symbols and initial values.
+struct Coordinate {
+  Expr q, qd, qdd;
+  double initial = 0.0;
+  double initial_rate = 0.0;
+};
+
+struct Parameter {
+  Expr symbol;
+  double value;
+};
+
+class Model {
+ public:
+  explicit Model(std::string name);
+
+  const std::string& name() const { return name_; }
+
+  Expr coordinate(std::string_view name);
+  std::vector<Expr> coordinates(int n, std::string_view prefix = "q");  // q0, q1, ...
+  // A constant: the number itself, or a run-time parameter symbol when
+  // `runtime` is set or run-time parameters are requested for the whole model.
+  Expr parameter(std::string_view name, double value, bool runtime = false);
+  Expr dependent(std::string_view name, Expr expression);
+  Expr time() const { return time_; }
+  Body& body(std::string_view name);
+  void gravity(Expr gx, Expr gy, Expr gz);
+  void initial(Expr q, double value, double rate = 0.0);
+
+  void inline_dependents(bool on) { inline_dependents_ = on; }
+  void runtime_parameters(bool on) { runtime_parameters_ = on; }
+
+  const std::vector<Coordinate>& coordinates() const { return coordinates_; }
+  const std::vector<Dependent>& dependents() const { return dependents_; }
+  const std::vector<Parameter>& parameters() const { return parameters_; }
+  const std::deque<Body>& bodies() const { return bodies_; }
+  const Vec3& gravity() const { return gravity_; }
+  int body_index(std::string_view name) const;  // -1 if unknown
+  // Index of each body's reference, or -1 for an absolute motion.
+  std::vector<int> reference_indices() const;
+  // Bodies in an order where every reference comes before the bodies relative to it.
+  std::vector<int> topological_order() const;
+
+  // Checks the whole model; throws ModelError naming the first culprit.
+  void validate() const;
+
+ private:
+  void check_declared(Expr e, std::string_view where) const;
+  bool is_declared(Expr symbol) const;
+
+  std::string name_;
+  std::vector<Coordinate> coordinates_;
+  std::vector<Dependent> dependents_;
+  std::vector<Parameter> parameters_;
+  std::deque<Body> bodies_;  // stable references for body()
+  Vec3 gravity_;
+  Expr time_;
+  bool inline_dependents_ = false;
+  bool runtime_parameters_ = false;
+};
+
+// What a model file provides to the generator: a name, its variants and how
+// to build each.
+struct Definition {
+  std::string name;
+  std::vector<std::string> variants;  // the first is the default
+  std::function<void(Model&, std::string_view variant)> build;
+
+  // Builds the given variant (the default if empty); throws ModelError naming
+  // the valid variants when it is unknown.
+  Model make(std::string_view variant = {}) const;
+};
+
+// Model files register their definition with a static Registration; the
+// generator's main and the tests find them here by name.
+std::vector<Definition>& registry();
+const Definition& find_definition(std::string_view name);  // throws ModelError listing the known ones
+
+struct Registration {
+  explicit Registration(Definition definition) { registry().push_back(std::move(definition)); }
+};
+
+}  // namespace symdyn::model

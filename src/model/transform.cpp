@@ -1,0 +1,95 @@
+#include "model/transform.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "model/errors.hpp"
+
+namespace symdyn::model {
+namespace {
+
+bool is_axis(const Vec3& a, int k) {
+  for (int i = 0; i < 3; ++i) {
+    if (a[i] != Expr(i == k ? 1 : 0)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Transform operator*(const Transform& a, const Transform& b) {
+  Transform t = a;
+  t *= b;
+  return t;
+}
+
+Transform& Transform::operator*=(const Transform& b) {
+  steps_.insert(steps_.end(), b.steps_.begin(), b.steps_.end());
+  return *this;
+}
+
+// Rodrigues: R = c·I + s·[k]x + (1 - c)·k·kᵀ; the elementary axes give the
+// familiar Rx, Ry, Rz of models.md with no zero terms to fold.
+Mat3 Transform::rotation_matrix(const Vec3& k, Expr angle) {
+  const Expr c = cos(angle);
+  const Expr s = sin(angle);
+  const Expr one(1);
+  const Expr zero(0);
+  if (is_axis(k, 0)) return {one, zero, zero, zero, c, -s, zero, s, c};
+  if (is_axis(k, 1)) return {c, zero, s, zero, one, zero, -s, zero, c};
+  if (is_axis(k, 2)) return {c, -s, zero, s, c, zero, zero, zero, one};
+  const Expr v = 1 - c;
+  return {c + v * k[0] * k[0],        v * k[0] * k[1] - s * k[2], v * k[0] * k[2] + s * k[1],
+          v * k[1] * k[0] + s * k[2], c + v * k[1] * k[1],        v * k[1] * k[2] - s * k[0],
+          v * k[2] * k[0] - s * k[1], v * k[2] * k[1] + s * k[0], c + v * k[2] * k[2]};
+}
+
+Mat3 Transform::rotation() const {
+  Mat3 R = identity3();
+  for (const Step& s : steps_) {
+    if (s.is_rotation) R = R * rotation_matrix(s.axis, s.angle);
+  }
+  return R;
+}
+
+// x = Σ (rotation before step)·displacement
+Vec3 Transform::translation() const {
+  Mat3 R = identity3();
+  Vec3 x{Expr(0), Expr(0), Expr(0)};
+  for (const Step& s : steps_) {
+    if (s.is_rotation) {
+      R = R * rotation_matrix(s.axis, s.angle);
+    } else {
+      x = x + R * s.displacement;
+    }
+  }
+  return x;
+}
+
+Transform Tdisp(Expr x, Expr y, Expr z) {
+  Transform t;
+  t.steps_.push_back({false, {x, y, z}, {}, Expr(0)});
+  return t;
+}
+
+Transform Trot(const Vec3& axis, Expr angle) {
+  double norm2 = 0.0;
+  for (Expr a : axis) {
+    if (!a.is_number()) throw ModelError(fmt::format("Trot: the axis must be constant, got '{}'", a.str()));
+    norm2 += a.number().to_double() * a.number().to_double();
+  }
+  if (std::abs(norm2 - 1.0) > 1e-12) {
+    throw ModelError(fmt::format("Trot: the axis ({}, {}, {}) is not a unit vector", axis[0].str(),
+                                 axis[1].str(), axis[2].str()));
+  }
+  Transform t;
+  t.steps_.push_back({true, {}, axis, angle});
+  return t;
+}
+
+Transform Trotx(Expr angle) { return Trot({Expr(1), Expr(0), Expr(0)}, angle); }
+Transform Troty(Expr angle) { return Trot({Expr(0), Expr(1), Expr(0)}, angle); }
+Transform Trotz(Expr angle) { return Trot({Expr(0), Expr(0), Expr(1)}, angle); }
+
+}  // namespace symdyn::model
