@@ -1,0 +1,85 @@
+#pragma once
+// Private to the program compiler (program_*.cpp): the intermediate form
+// between the expression DAG and the instructions.
+//
+// Why an intermediate form: signs, divisions and the operands of sums and
+// products must be visible as a whole to fold negations, share reciprocals and
+// find common operand pairs; instructions are binary and too late for that.
+//
+// The passes, in order:
+//   lower               DAG -> IR: n-ary sums (signed terms) and products,
+//                       powers lowered, signs pulled out of values
+//   fold_reciprocals    divisions sharing a denominator -> multiplications by 1/d
+//   extract_common_pairs  pair CSE over the sums and products
+//   (program.cpp)       IR -> binary instructions, sincos fusion, slot numbering
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <tuple>
+#include <vector>
+
+#include "symbolic/expr.hpp"
+
+namespace symdyn::symbolic::ir {
+
+enum class Op : std::uint8_t { Const, Input, Sum, Prod, Div, Neg, Sqrt, Pow, Call };
+
+// An operand, or a value up to sign: node `id`, negated when `neg`.
+struct Term {
+  std::uint32_t id = 0;
+  bool neg = false;
+  friend auto operator<=>(const Term&, const Term&) = default;
+};
+
+// Values are magnitudes: a Prod or a Div never carries a sign of its own (the
+// sign travels in the Term that refers to it), only Sum terms and Neg do.
+struct Node {
+  Op op = Op::Const;
+  Kind kind = Kind::Symbol;  // Call: the function kind
+  std::vector<Term> terms;   // Sum: signed terms; Prod: factors; Div: {numerator, denominator};
+                             // Neg, Sqrt, Pow: {argument}; Call: arguments
+  double constant = 0.0;     // Const: the value; Pow: the exponent
+  std::uint32_t input = 0;   // Input: its index
+
+  static Node of(Op op, std::vector<Term> terms = {}) {
+    Node node;
+    node.op = op;
+    node.terms = std::move(terms);
+    return node;
+  }
+};
+
+class Graph {
+ public:
+  std::vector<Node> nodes;
+  std::vector<Term> outputs;
+
+  // Value numbering: returns the existing node equal to `node` (operands of
+  // sums and products compared as multisets), or appends it.
+  std::uint32_t intern(Node node);
+  // Appends a node that no later intern will return (pair CSE's fresh pairs).
+  std::uint32_t append(Node node);
+
+  std::uint32_t constant(double value);
+  // The node for a value up to sign, made positive: a negative constant is
+  // loaded negative, anything else gets a Neg node.
+  std::uint32_t materialize(Term value);
+
+  // Which nodes the outputs need (indexed by node id).
+  std::vector<bool> live() const;
+
+ private:
+  using Key = std::tuple<Op, Kind, std::vector<Term>, std::uint64_t, std::uint32_t>;
+  std::map<Key, std::uint32_t> index_;
+};
+
+// Throws UsageError for a bad input list or a symbol that is not an input.
+Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs);
+void fold_reciprocals(Graph& graph);
+void extract_common_pairs(Graph& graph);
+
+// Sums and products with more operands take no part in pair CSE.
+inline constexpr std::size_t kMaxPairOperands = 128;
+
+}  // namespace symdyn::symbolic::ir

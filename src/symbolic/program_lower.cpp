@@ -1,0 +1,263 @@
+// DAG -> IR (see program_ir.hpp), and the sharing of reciprocals.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "symbolic/program_ir.hpp"
+#include "symbolic/scalar_ops.hpp"
+
+namespace symdyn::symbolic::ir {
+
+std::uint32_t Graph::intern(Node node) {
+  if (node.op == Op::Sum || node.op == Op::Prod) std::sort(node.terms.begin(), node.terms.end());
+  Key key{node.op, node.kind, node.terms, std::bit_cast<std::uint64_t>(node.constant), node.input};
+  auto [it, inserted] = index_.try_emplace(std::move(key), static_cast<std::uint32_t>(nodes.size()));
+  if (inserted) nodes.push_back(std::move(node));
+  return it->second;
+}
+
+std::uint32_t Graph::append(Node node) {
+  nodes.push_back(std::move(node));
+  return static_cast<std::uint32_t>(nodes.size() - 1);
+}
+
+std::uint32_t Graph::constant(double value) {
+  Node node = Node::of(Op::Const);
+  node.constant = value;
+  return intern(std::move(node));
+}
+
+std::uint32_t Graph::materialize(Term value) {
+  if (!value.neg) return value.id;
+  if (nodes[value.id].op == Op::Const) return constant(-nodes[value.id].constant);
+  return intern(Node::of(Op::Neg, {{value.id, false}}));
+}
+
+std::vector<bool> Graph::live() const {
+  std::vector<bool> seen(nodes.size(), false);
+  std::vector<std::uint32_t> stack;
+  for (Term t : outputs) stack.push_back(t.id);
+  while (!stack.empty()) {
+    const std::uint32_t id = stack.back();
+    stack.pop_back();
+    if (seen[id]) continue;
+    seen[id] = true;
+    for (Term t : nodes[id].terms) stack.push_back(t.id);
+  }
+  return seen;
+}
+
+namespace {
+
+// Exponents computed by multiplications (and one sqrt for halves), as in
+// scalar::power: integers and halves of integers up to kMaxMultipliedPower.
+bool is_multiplied_power(const Number& e) {
+  if (!e.is_exact()) return false;
+  const std::int64_t limit = scalar::kMaxMultipliedPower;
+  if (e.den() == 1) return e.num() >= -limit && e.num() <= limit;
+  return e.den() == 2 && e.num() >= -2 * limit && e.num() <= 2 * limit;
+}
+
+class Lowerer {
+ public:
+  Lowerer(Graph& graph, const std::unordered_map<std::uint32_t, std::uint32_t>& input_of)
+      : g_(graph), input_of_(input_of) {}
+
+  // Lowers e, whose arguments are already lowered.
+  void lower(Expr e) { memo_.emplace(e.id(), lower_node(e)); }
+  Term lowered(Expr e) const { return memo_.at(e.id()); }
+
+ private:
+  Term lower_node(Expr e) {
+    switch (e.kind()) {
+      case Kind::Rational:
+      case Kind::Real: {
+        const double v = e.number().to_double();
+        return v < 0 ? Term{g_.constant(-v), true} : Term{g_.constant(v), false};
+      }
+      case Kind::Symbol: {
+        Node node = Node::of(Op::Input);
+        node.input = input_of_.at(e.id());
+        return {g_.intern(std::move(node)), false};
+      }
+      case Kind::Add: return lower_sum(e);
+      case Kind::Mul: return lower_product(e);
+      case Kind::Pow: return lower_power(lowered(e.arg(0)), e.arg(1).number());
+      default: {
+        Node node = Node::of(Op::Call);
+        node.kind = e.kind();
+        for (Expr a : e.args()) node.terms.push_back({g_.materialize(lowered(a)), false});
+        return {g_.intern(std::move(node)), false};
+      }
+    }
+  }
+
+  // A sum is stored with at least one positive term: -a - b is -(a + b).
+  Term lower_sum(Expr e) {
+    std::vector<Term> terms;
+    for (Expr t : e.args()) terms.push_back(lowered(t));
+    return make_sum(std::move(terms));
+  }
+
+  Term make_sum(std::vector<Term> terms) {
+    if (terms.size() == 1) return terms[0];
+    const bool all_negative = std::all_of(terms.begin(), terms.end(), [](Term t) { return t.neg; });
+    if (all_negative) {
+      for (Term& t : terms) t.neg = false;
+    }
+    return {g_.intern(Node::of(Op::Sum, std::move(terms))), all_negative};
+  }
+
+  // c·x·y⁻¹·z⁻² = ±(|c|·x)/(y·z²): one division by the product of the denominators.
+  Term lower_product(Expr e) {
+    bool neg = false;
+    std::vector<std::uint32_t> numerator;
+    std::vector<std::uint32_t> denominator;
+    for (Expr f : e.args()) {
+      if (f.is_number()) {
+        const double c = f.number().to_double();
+        neg = neg != (c < 0);
+        if (std::abs(c) != 1.0) numerator.push_back(g_.constant(std::abs(c)));
+        continue;
+      }
+      const bool divides = f.kind() == Kind::Pow && f.arg(1).number().is_negative() &&
+                           is_multiplied_power(f.arg(1).number());
+      const Term t = divides ? lower_power(lowered(f.arg(0)), -f.arg(1).number()) : lowered(f);
+      neg = neg != t.neg;
+      (divides ? denominator : numerator).push_back(t.id);
+    }
+    if (denominator.empty()) return {product(numerator), neg};
+    const std::uint32_t top = numerator.empty() ? g_.constant(1.0) : product(numerator);
+    return {divide(top, product(denominator)), neg};
+  }
+
+  std::uint32_t product(const std::vector<std::uint32_t>& factors) {
+    if (factors.size() == 1) return factors[0];
+    Node node = Node::of(Op::Prod);
+    for (std::uint32_t f : factors) node.terms.push_back({f, false});
+    return g_.intern(std::move(node));
+  }
+
+  std::uint32_t divide(std::uint32_t numerator, std::uint32_t denominator) {
+    return g_.intern(Node::of(Op::Div, {{numerator, false}, {denominator, false}}));
+  }
+
+  Term lower_power(Term base, const Number& e) {
+    if (!is_multiplied_power(e)) {
+      Node node = Node::of(Op::Pow, {{g_.materialize(base), false}});
+      node.constant = e.to_double();
+      return {g_.intern(std::move(node)), false};
+    }
+    if (e.is_negative()) {
+      const Term positive = lower_power(base, -e);
+      return {divide(g_.constant(1.0), positive.id), positive.neg};
+    }
+    if (e.is_integer()) return {integer_power(base.id, e.num()), base.neg && e.num() % 2 != 0};
+    // x^(k/2) = x^((k-1)/2)·sqrt(x)
+    const std::uint32_t x = g_.materialize(base);
+    const std::uint32_t root = g_.intern(Node::of(Op::Sqrt, {{x, false}}));
+    const std::int64_t whole = (e.num() - 1) / 2;
+    if (whole == 0) return {root, false};
+    return {product({integer_power(x, whole), root}), false};
+  }
+
+  // Repeated squaring, as scalar::integer_power: x^(2m) = (x^m)^2, x^(2m+1) = x^(2m)·x.
+  std::uint32_t integer_power(std::uint32_t x, std::int64_t n) {
+    if (n == 1) return x;
+    if (n % 2 == 0) {
+      const std::uint32_t half = integer_power(x, n / 2);
+      return product({half, half});
+    }
+    return product({integer_power(x, n - 1), x});
+  }
+
+  Graph& g_;
+  const std::unordered_map<std::uint32_t, std::uint32_t>& input_of_;
+  std::unordered_map<std::uint32_t, Term> memo_;  // by node id; looked up, never iterated
+};
+
+// Inputs by symbol node id; throws UsageError for a non-symbol or a repeated symbol.
+std::unordered_map<std::uint32_t, std::uint32_t> index_inputs(std::span<const Expr> inputs) {
+  std::unordered_map<std::uint32_t, std::uint32_t> input_of;
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    if (!inputs[i].is_symbol()) {
+      throw UsageError(fmt::format("compile_program: input {} ({}) is not a symbol", i, inputs[i].str()));
+    }
+    auto [it, inserted] = input_of.try_emplace(inputs[i].id(), static_cast<std::uint32_t>(i));
+    if (!inserted) {
+      throw UsageError(fmt::format("compile_program: symbol '{}' is given twice as an input (positions {} and {})",
+                                   inputs[i].name(), it->second, i));
+    }
+  }
+  return input_of;
+}
+
+// Every node the outputs need, sorted by node id (so that arguments come before
+// their users, and the order does not depend on the order of the outputs).
+std::vector<Expr> reachable(std::span<const Expr> outputs,
+                            const std::unordered_map<std::uint32_t, std::uint32_t>& input_of) {
+  std::vector<Expr> found;
+  std::unordered_set<std::uint32_t> seen;  // looked up, never iterated
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    std::vector<Expr> stack{outputs[i]};
+    while (!stack.empty()) {
+      const Expr e = stack.back();
+      stack.pop_back();
+      if (!seen.insert(e.id()).second) continue;
+      if (e.is_symbol() && !input_of.contains(e.id())) {
+        throw UsageError(fmt::format("compile_program: output {} uses symbol '{}', which is not an input", i, e.name()));
+      }
+      found.push_back(e);
+      for (Expr a : e.args()) stack.push_back(a);
+    }
+  }
+  std::sort(found.begin(), found.end(), [](Expr a, Expr b) { return a.id() < b.id(); });
+  return found;
+}
+
+}  // namespace
+
+Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs) {
+  const auto input_of = index_inputs(inputs);
+  Graph graph;
+  Lowerer lowerer(graph, input_of);
+  for (Expr e : reachable(outputs, input_of)) lowerer.lower(e);
+  for (Expr e : outputs) graph.outputs.push_back(lowerer.lowered(e));
+  return graph;
+}
+
+// When k divisions share a denominator d, 1/d once and k multiplications cost
+// less than k divisions (a division weighs 4 multiplies) from k = 2 on, or
+// from k = 1 when 1/d is computed anyway.
+void fold_reciprocals(Graph& graph) {
+  const std::vector<bool> live = graph.live();
+  std::map<std::uint32_t, std::vector<std::uint32_t>> divisions;  // denominator -> divisions, by id
+  for (std::uint32_t id = 0; id < graph.nodes.size(); ++id) {
+    if (live[id] && graph.nodes[id].op == Op::Div) divisions[graph.nodes[id].terms[1].id].push_back(id);
+  }
+  auto is_one = [&](std::uint32_t id) {
+    return graph.nodes[id].op == Op::Const && graph.nodes[id].constant == 1.0;
+  };
+  for (const auto& [denominator, users] : divisions) {
+    std::vector<std::uint32_t> others;
+    for (std::uint32_t d : users) {
+      if (!is_one(graph.nodes[d].terms[0].id)) others.push_back(d);
+    }
+    const bool has_reciprocal = others.size() < users.size();
+    if (others.size() < (has_reciprocal ? 1U : 2U)) continue;
+    const std::uint32_t one = graph.constant(1.0);
+    const std::uint32_t reciprocal =
+        graph.intern(Node::of(Op::Div, {{one, false}, {denominator, false}}));
+    for (std::uint32_t d : others) {
+      std::vector<Term> terms{graph.nodes[d].terms[0], {reciprocal, false}};
+      std::sort(terms.begin(), terms.end());
+      graph.nodes[d] = Node::of(Op::Prod, std::move(terms));
+    }
+  }
+}
+
+}  // namespace symdyn::symbolic::ir

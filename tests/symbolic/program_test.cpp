@@ -1,0 +1,348 @@
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+
+#include "support/random_expr.hpp"
+#include "symbolic/eval.hpp"
+#include "symbolic/expr.hpp"
+#include "symbolic/program.hpp"
+
+using namespace symdyn::symbolic;
+using Complex = std::complex<double>;
+
+namespace {
+
+// |a - b| within tol relative to the larger magnitude, with an absolute floor of tol.
+template <class T>
+bool close(T a, T b, T tol) {
+  using std::abs;
+  return abs(a - b) <= tol * std::max({T(1), abs(a), abs(b)});
+}
+
+std::vector<double> run(const Program& p, std::vector<double> in) { return p.evaluate<double>(in); }
+
+int count_opcode(const Program& p, Opcode op) {
+  const auto code = p.instructions();
+  return static_cast<int>(std::count_if(code.begin(), code.end(), [op](const Instruction& i) { return i.op == op; }));
+}
+
+OperationCount count_of(std::vector<Expr> inputs, std::vector<Expr> outputs) {
+  return compile_program(inputs, outputs).operation_count();
+}
+
+OperationCount ops(int add, int mul, int div, int neg) {
+  OperationCount c;
+  c.add = add;
+  c.mul = mul;
+  c.div = div;
+  c.neg = neg;
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("program equals direct DAG evaluation on random expressions", "[program]") {
+  constexpr unsigned kSeeds = 1000;
+  constexpr int kOutputs = 4;  // 4000 expressions
+  for (unsigned seed = 0; seed < kSeeds; ++seed) {
+    Context ctx;
+    Context::Scope scope(ctx);
+    const std::vector<Expr> xs{symbol("x"), symbol("y"), symbol("z")};
+    symdyn::testing::RandomExpr gen(seed, xs);
+    std::vector<Expr> outputs;
+    for (int k = 0; k < kOutputs; ++k) outputs.push_back(gen(4 + static_cast<int>(gen.pick(2))));
+    const Program program = compile_program(xs, outputs);
+    const std::vector<double> point = gen.point();
+    INFO("seed " << seed << "\n" << to_string(program));
+
+    // double
+    Bindings<double> at;
+    for (std::size_t i = 0; i < xs.size(); ++i) at[xs[i]] = point[i];
+    const std::vector<double> got = run(program, point);
+    for (int k = 0; k < kOutputs; ++k) {
+      const double want = evaluate(outputs[k], at);
+      INFO("output " << k << ": " << outputs[k] << " = " << want << ", program gives " << got[k]);
+      CHECK(close(got[k], want, 1e-11));
+    }
+
+    // long double
+    Bindings<long double> at_long;
+    std::vector<long double> point_long(point.begin(), point.end());
+    for (std::size_t i = 0; i < xs.size(); ++i) at_long[xs[i]] = point_long[i];
+    const std::vector<long double> got_long = program.evaluate<long double>(point_long);
+    for (int k = 0; k < kOutputs; ++k) {
+      CHECK(close(got_long[k], evaluate(outputs[k], at_long), 1e-14L));
+    }
+
+    // complex step: d/dv of every output, for one input v
+    const std::size_t v = seed % xs.size();
+    const double h = 1e-20;
+    std::vector<Complex> zpoint(point.begin(), point.end());
+    zpoint[v] += Complex(0, h);
+    Bindings<Complex> at_z;
+    for (std::size_t i = 0; i < xs.size(); ++i) at_z[xs[i]] = zpoint[i];
+    const std::vector<Complex> got_z = program.evaluate<Complex>(zpoint);
+    for (int k = 0; k < kOutputs; ++k) {
+      const Complex want = evaluate(outputs[k], at_z);
+      INFO("d/d" << xs[v] << " of output " << k << ": " << want.imag() / h << ", program gives " << got_z[k].imag() / h);
+      CHECK(close(got_z[k].real(), want.real(), 1e-11));
+      CHECK(close(got_z[k].imag() / h, want.imag() / h, 1e-9));
+    }
+
+    // Same outputs, same program, byte for byte.
+    CHECK(to_string(compile_program(xs, outputs)) == to_string(program));
+
+    // Output order does not change the work; repeated outputs cost nothing.
+    std::vector<Expr> reversed(outputs.rbegin(), outputs.rend());
+    const Program program_reversed = compile_program(xs, reversed);
+    CHECK(program_reversed.operation_count() == program.operation_count());
+    const std::vector<double> got_reversed = run(program_reversed, point);
+    for (int k = 0; k < kOutputs; ++k) CHECK(got_reversed[kOutputs - 1 - k] == got[k]);
+    std::vector<Expr> repeated = outputs;
+    repeated.push_back(outputs[1]);
+    repeated.insert(repeated.begin(), outputs[2]);
+    CHECK(compile_program(xs, repeated).operation_count() == program.operation_count());
+  }
+}
+
+TEST_CASE("every instruction is scheduled before use and defines fresh slots", "[program]") {
+  for (unsigned seed = 0; seed < 200; ++seed) {
+    Context ctx;
+    Context::Scope scope(ctx);
+    const std::vector<Expr> xs{symbol("x"), symbol("y"), symbol("z")};
+    symdyn::testing::RandomExpr gen(seed, xs);
+    const std::vector<Expr> outputs{gen(5), gen(5), gen(5)};
+    const Program program = compile_program(xs, outputs);
+    std::vector<int> defined(program.slot_count(), 0);
+    std::vector<int> used(program.slot_count(), 0);
+    std::uint32_t next = 0;
+    for (const Instruction& ins : program.instructions()) {
+      for (int a = 0; a < info(ins.op).arity; ++a) {
+        REQUIRE(defined[ins.args[a]] == 1);
+        ++used[ins.args[a]];
+      }
+      for (int r = 0; r < info(ins.op).results; ++r) {
+        REQUIRE(ins.results[r] == next++);  // numbered in schedule order
+        ++defined[ins.results[r]];
+      }
+    }
+    for (std::uint32_t s : program.output_slots()) ++used[s];
+    CHECK(next == program.slot_count());
+    // No dead code: every slot is read by an instruction or is an output.
+    CHECK(std::count(used.begin(), used.end(), 0) == 0);
+  }
+}
+
+TEST_CASE("sin and cos of one argument are one sincos", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), y = symbol("y");
+  const Program p = compile_program(std::vector{x, y}, std::vector{sin(x + y) * y, cos(x + y) - y, sin(y)});
+  const OperationCount c = p.operation_count();
+  CHECK(c.sincos == 1);
+  CHECK(c.call(Kind::Sin) == 1);  // sin(y): no cos(y), no fusion
+  CHECK(c.call(Kind::Cos) == 0);
+  CHECK(count_opcode(p, Opcode::SinCos) == 1);
+  const auto out = run(p, {0.3, -1.1});
+  CHECK(out[0] == Approx(std::sin(0.3 - 1.1) * -1.1).epsilon(1e-15));
+  CHECK(out[1] == Approx(std::cos(0.3 - 1.1) + 1.1).epsilon(1e-15));
+  CHECK(out[2] == Approx(std::sin(-1.1)).epsilon(1e-15));
+}
+
+TEST_CASE("dead code is never scheduled and unused inputs are never read", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), y = symbol("y"), z = symbol("z");
+  const Expr unused = exp(z) + sin(x) * cos(y);  // built, but no output needs it
+  (void)unused;
+  const Program p = compile_program(std::vector{x, y, z}, std::vector{x * y});
+  CHECK(p.operation_count() == ops(0, 1, 0, 0));
+  CHECK(p.instructions().size() == 3);  // two inputs, one mul
+  for (const Instruction& ins : p.instructions()) CHECK(!(ins.op == Opcode::Input && ins.input == 2));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK(run(p, {2.0, 3.0, nan})[0] == 6.0);
+}
+
+TEST_CASE("pair CSE computes operand pairs shared by sums and products once", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr a = symbol("a"), b = symbol("b"), c = symbol("c"), d = symbol("d");
+  const std::vector<Expr> in{a, b, c, d};
+  // a + b once, then + c and + d: 3 adds instead of 4.
+  CHECK(count_of(in, {a + b + c, a + b + d}) == ops(3, 0, 0, 0));
+  CHECK(count_of(in, {a * b * c, a * b * d}) == ops(0, 3, 0, 0));
+  // a - b shared with its negation b - a: (a - b) + c and d - (a - b).
+  CHECK(count_of(in, {a - b + c, b - a + d}) == ops(3, 0, 0, 0));
+  // a + b + c once, then + d; the product uses the sum node itself.
+  CHECK(count_of(in, {a + b + c, a + b + c + d, (a + b + c) * d}) == ops(3, 1, 0, 0));
+  // Products: a·b shared by three, then a·b·c by two.
+  CHECK(count_of(in, {a * b * c, a * b * c * d, a * b * d}) == ops(0, 4, 0, 0));
+  // Nothing shared: no change from plain binarization.
+  CHECK(count_of(in, {a + b, c + d}) == ops(2, 0, 0, 0));
+  const Program p = compile_program(in, std::vector{a - b + c, b - a + d});
+  const auto out = run(p, {1.5, 0.25, -3.0, 7.0});
+  CHECK(out[0] == 1.5 - 0.25 - 3.0);
+  CHECK(out[1] == 0.25 - 1.5 + 7.0);
+}
+
+TEST_CASE("negations and divisions fold into subtractions and divisions", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), y = symbol("y"), z = symbol("z");
+  const std::vector<Expr> in{x, y, z};
+  CHECK(count_of(in, {x - y}) == ops(1, 0, 0, 0));
+  CHECK(count_of(in, {x / y}) == ops(0, 0, 1, 0));
+  CHECK(count_of(in, {-x}) == ops(0, 0, 0, 1));
+  CHECK(count_of(in, {-(x * y)}) == ops(0, 1, 0, 1));
+  CHECK(count_of(in, {x - 2 * y}) == ops(1, 1, 0, 0));
+  CHECK(count_of(in, {z - x * y}) == ops(1, 1, 0, 0));
+  CHECK(count_of(in, {-x - y}) == ops(1, 0, 0, 1));       // -(x + y)
+  CHECK(count_of(in, {z * (-x - y)}) == ops(1, 1, 0, 1));  // -(z·(x + y))
+  CHECK(count_of(in, {z + (-x) * y}) == ops(1, 1, 0, 0));  // z - x·y
+  CHECK(count_of(in, {x / (y * z)}) == ops(0, 1, 1, 0));   // one division by y·z
+  CHECK(count_of(in, {-x / y}) == ops(0, 0, 1, 1));
+  CHECK(count_of(in, {z - x / y}) == ops(1, 0, 1, 0));
+  CHECK(count_of(in, {Expr(3) - x}) == ops(1, 0, 0, 0));
+  // Two divisions by y: 1/y once and two multiplications.
+  CHECK(count_of(in, {x / y, z / y}) == ops(0, 2, 1, 0));
+  CHECK(count_of(in, {x / y, pow(y, -1)}) == ops(0, 1, 1, 0));
+  const auto out = run(compile_program(in, std::vector{-x / y, z - x / y, x / y, z / y}), {3.0, 4.0, 5.0});
+  CHECK(out[0] == -0.75);
+  CHECK(out[1] == 5.0 - 0.75);
+  CHECK(out[2] == 0.75);
+  CHECK(out[3] == 1.25);
+}
+
+TEST_CASE("powers lower to multiplications, sqrt and pow", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), y = symbol("y");
+  const std::vector<Expr> in{x, y};
+  auto with_sqrt = [](OperationCount c, int sqrt, int pow = 0) {
+    c.sqrt = sqrt;
+    c.pow = pow;
+    return c;
+  };
+  CHECK(count_of(in, {pow(x, 2)}) == ops(0, 1, 0, 0));
+  CHECK(count_of(in, {pow(x, 3)}) == ops(0, 2, 0, 0));
+  CHECK(count_of(in, {pow(x, 8)}) == ops(0, 3, 0, 0));
+  CHECK(count_of(in, {pow(x, 2), pow(x, 3), pow(x, 4)}) == ops(0, 3, 0, 0));  // x², x²·x, x²·x²
+  CHECK(count_of(in, {pow(x, -1)}) == ops(0, 0, 1, 0));
+  CHECK(count_of(in, {pow(x, -2)}) == ops(0, 1, 1, 0));
+  CHECK(count_of(in, {y * pow(x, -2)}) == ops(0, 1, 1, 0));  // y/(x·x)
+  CHECK(count_of(in, {pow(-x, 3)}) == ops(0, 2, 0, 1));
+  CHECK(count_of(in, {sqrt(x)}) == with_sqrt(ops(0, 0, 0, 0), 1));
+  CHECK(count_of(in, {pow(x, rational(-1, 2))}) == with_sqrt(ops(0, 0, 1, 0), 1));
+  CHECK(count_of(in, {pow(x, rational(3, 2))}) == with_sqrt(ops(0, 1, 0, 0), 1));
+  CHECK(count_of(in, {pow(x, rational(1, 3))}) == with_sqrt(ops(0, 0, 0, 0), 0, 1));
+  CHECK(count_of(in, {pow(x, 40)}) == with_sqrt(ops(0, 0, 0, 0), 0, 1));
+  const std::vector<Expr> outputs{pow(x, 7), pow(x, -3), pow(x, rational(5, 2)), pow(x, rational(-3, 2)),
+                                  pow(x, rational(1, 3)), pow(x, 40), pow(x - y, 2)};
+  const auto out = run(compile_program(in, outputs), {1.3, 0.4});
+  const std::vector<double> want{std::pow(1.3, 7),   std::pow(1.3, -3),  std::pow(1.3, 2.5), std::pow(1.3, -1.5),
+                                 std::cbrt(1.3),     std::pow(1.3, 40), 0.9 * 0.9};
+  for (std::size_t i = 0; i < want.size(); ++i) CHECK(out[i] == Approx(want[i]).epsilon(1e-14));
+}
+
+TEST_CASE("every function kind runs in the interpreter", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), y = symbol("y");
+  const std::vector<Expr> outputs{tan(x), asin(x), acos(x), atan(x), atan2(y, x), exp(x), log(y), abs(x - y)};
+  const Program p = compile_program(std::vector{x, y}, outputs);
+  const double a = 0.3, b = 1.7;
+  const std::vector<double> want{std::tan(a),  std::asin(a), std::acos(a), std::atan(a),
+                                 std::atan2(b, a), std::exp(a), std::log(b),  1.4};
+  const auto out = run(p, {a, b});
+  for (std::size_t i = 0; i < want.size(); ++i) CHECK(out[i] == Approx(want[i]).epsilon(1e-15));
+  const OperationCount c = p.operation_count();
+  for (Kind k : {Kind::Tan, Kind::Asin, Kind::Acos, Kind::Atan, Kind::Atan2, Kind::Exp, Kind::Log, Kind::Abs}) {
+    CHECK(c.call(k) == 1);
+  }
+  CHECK(c.total() == 9);  // eight calls and x - y
+  CHECK(c.weighted() == 12 + 12 + 12 + 12 + 14 + 10 + 10 + 1 + 1);
+}
+
+TEST_CASE("emit_cpp prints one statement per instruction", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr q0 = symbol("q0"), q1 = symbol("q1"), l = symbol("l");
+  const std::vector<Expr> outputs{l * sin(q0) - 2 * q1, -l * cos(q0) + rational(1, 10), Expr(-3), q1,
+                                  pow(q1, 2) / l};
+  const Program p = compile_program(std::vector{q0, q1, l}, outputs);
+  CppNaming naming;
+  naming.inputs = {"q[0]", "q[1]", "p[0]"};
+  naming.outputs = {"x[0]", "x[1]", "x[2]", "x[3]", "x[4]"};
+  const std::string want =
+      "  const double t0 = std::sin(q[0]);\n"
+      "  const double t1 = std::cos(q[0]);\n"
+      "  const double t2 = p[0]*t0;\n"
+      "  const double t3 = 2.0*q[1];\n"
+      "  const double t4 = t2 - t3;\n"
+      "  const double t5 = p[0]*t1;\n"
+      "  const double t6 = 0.1 - t5;\n"
+      "  const double t7 = q[1]*q[1];\n"
+      "  const double t8 = t7/p[0];\n"
+      "  x[0] = t4;\n"
+      "  x[1] = t6;\n"
+      "  x[2] = -3.0;\n"
+      "  x[3] = q[1];\n"
+      "  x[4] = t8;\n";
+  CHECK(emit_cpp(p, naming) == want);
+  // Move-assigned: g++ 12 -O3 warns falsely (-Wrestrict) on assigning a short literal.
+  naming.temporary_prefix = std::string(1, 'w');
+  naming.scalar_type = std::string("long double");
+  naming.indent.clear();
+  CHECK(emit_cpp(p, naming).substr(0, 38) == "const long double w0 = std::sin(q[0]);");
+  // Signs fold into a subtraction and a negation; a negative constant that
+  // stays an operand is parenthesized.
+  const Program n = compile_program(std::vector{q0}, std::vector{-sin(q0 + rational(-5, 2)), atan2(q0, Expr(-1))});
+  CppNaming one;
+  one.inputs = {"q"};
+  one.outputs = {"y", "z"};
+  CHECK(emit_cpp(n, one) ==
+        "  const double t0 = q - 2.5;\n"
+        "  const double t1 = std::sin(t0);\n"
+        "  const double t2 = -t1;\n"
+        "  const double t3 = std::atan2(q, (-1.0));\n"
+        "  y = t2;\n"
+        "  z = t3;\n");
+}
+
+TEST_CASE("bad uses of compile_program, run and emit_cpp name the culprit", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), y = symbol("y"), z = symbol("z");
+  CHECK_THROWS_WITH(compile_program(std::vector{x, y}, std::vector{x * y, z + x}),
+                    "compile_program: output 1 uses symbol 'z', which is not an input");
+  CHECK_THROWS_WITH(compile_program(std::vector{x, y, x}, std::vector{x * y}),
+                    "compile_program: symbol 'x' is given twice as an input (positions 0 and 2)");
+  CHECK_THROWS_WITH(compile_program(std::vector{x, x + y}, std::vector{x}),
+                    "compile_program: input 1 (x + y) is not a symbol");
+  const Program p = compile_program(std::vector{x, y}, std::vector{x * y});
+  std::vector<double> in{1.0};
+  std::vector<double> out(1);
+  std::vector<double> work(p.workspace_size());
+  CHECK_THROWS_AS(p.run<double>(in, out, work), UsageError);
+  CppNaming naming;
+  naming.inputs = {"a"};
+  naming.outputs = {"b"};
+  CHECK_THROWS_WITH(emit_cpp(p, naming),
+                    "emit_cpp: naming has 1 inputs and 1 outputs; the program has 2 and 1");
+}
+
+TEST_CASE("the workspace is smaller than the slot count when slots are reused", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x");
+  Expr e = x;
+  for (int i = 0; i < 50; ++i) e = sin(e) + x;  // a long chain: few values live at once
+  const Program p = compile_program(std::vector{x}, std::vector{e});
+  CHECK(p.slot_count() > 100);
+  CHECK(p.workspace_size() <= 4);
+  Bindings<double> at{{x, 0.7}};
+  CHECK(run(p, {0.7})[0] == evaluate(e, at));
+}
