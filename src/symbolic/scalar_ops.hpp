@@ -65,9 +65,10 @@ template <class S>
 S power(const S& x, const Number& e) {
   using std::pow;
   using std::sqrt;
-  if (e.is_integer() && e.num() >= -kMaxMultipliedPower && e.num() <= kMaxMultipliedPower) {
-    return integer_power(x, e.num());
-  }
+  // Complex integer powers always multiply: complex pow goes through log, and for
+  // a negative real part its rounding swamps the 1e-30 imaginary part of a complex step.
+  const bool multiply = IsComplex<S>::value || (e.num() >= -kMaxMultipliedPower && e.num() <= kMaxMultipliedPower);
+  if (e.is_integer() && multiply) return integer_power(x, e.num());
   if (e.is_exact() && e.den() == 2 && e.num() >= -2 * kMaxMultipliedPower && e.num() <= 2 * kMaxMultipliedPower) {
     // x^(k/2) = x^((k-1)/2)·sqrt(x), and 1/x^(|k|/2) for a negative k.
     if (e.is_negative()) return S(1) / power(x, -e);

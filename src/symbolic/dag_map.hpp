@@ -1,0 +1,40 @@
+#pragma once
+// A memoized bottom-up map over an expression DAG, shared by differentiation,
+// the total time derivative and substitution.
+//
+// Why: a DAG with shared subexpressions can be exponentially larger as a tree,
+// so every pass that maps nodes to nodes must visit each node once. The images
+// live in a side table indexed by node id (ids are dense per context), never in
+// the nodes. The traversal is iterative, so deep DAGs cannot overflow the stack.
+
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "symbolic/expr.hpp"
+
+namespace symdyn::symbolic {
+
+class DagMap {
+ public:
+  // rule(node, images) returns the image of `node`, given the images of its
+  // arguments (empty for leaves), in the order of node.args().
+  using Rule = std::function<Expr(Expr node, std::span<const Expr> images)>;
+
+  explicit DagMap(Rule rule);
+
+  // The image of e. Nodes seen by earlier calls are not mapped again. A DagMap
+  // belongs to the context current at its first call: calling it from another
+  // context throws UsageError.
+  Expr operator()(Expr e);
+
+ private:
+  const Node* image(Expr e) const;
+  void set_image(Expr e, Expr image);
+
+  Rule rule_;
+  std::vector<const Node*> images_;  // (by node id) nullptr while not mapped
+  const Context* context_ = nullptr;
+};
+
+}  // namespace symdyn::symbolic
