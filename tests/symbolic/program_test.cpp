@@ -5,6 +5,8 @@
 #include <complex>
 #include <limits>
 
+#include <fmt/format.h>
+
 #include "support/random_expr.hpp"
 #include "symbolic/eval.hpp"
 #include "symbolic/expr.hpp"
@@ -106,6 +108,82 @@ TEST_CASE("program equals direct DAG evaluation on random expressions", "[progra
     repeated.insert(repeated.begin(), outputs[2]);
     CHECK(compile_program(xs, repeated).operation_count() == program.operation_count());
   }
+}
+
+// Wide sums of signed, scaled products and quotients over few symbols: many
+// shared operand pairs, so pair CSE and reciprocal sharing do most of the work.
+TEST_CASE("program equals DAG evaluation on wide sums and products with shared pairs", "[program]") {
+  for (unsigned seed = 0; seed < 300; ++seed) {
+    Context ctx;
+    Context::Scope scope(ctx);
+    std::vector<Expr> xs;
+    for (int i = 0; i < 6; ++i) xs.push_back(symbol(fmt::format("s{}", i)));
+    symdyn::testing::RandomExpr gen(seed, xs);
+    const std::vector<Expr> coefficients{Expr(1), Expr(-1), Expr(2), rational(-3, 2)};
+    std::vector<Expr> outputs;
+    for (int k = 0; k < 6; ++k) {
+      std::vector<Expr> terms;
+      const std::size_t n = 3 + gen.pick(10);
+      for (std::size_t t = 0; t < n; ++t) {
+        const Expr c = coefficients[gen.pick(coefficients.size())];
+        const Expr a = xs[gen.pick(xs.size())];
+        const Expr b = xs[gen.pick(xs.size())];
+        const Expr d = xs[gen.pick(xs.size())];
+        switch (gen.pick(3)) {
+          case 0: terms.push_back(c * a * b * d); break;
+          case 1: terms.push_back(c * a / (b * b + 1)); break;
+          default: terms.push_back(c * a); break;
+        }
+      }
+      outputs.push_back(add(terms));
+    }
+    const Program program = compile_program(xs, outputs);
+    const std::vector<double> point = gen.point();
+    INFO("seed " << seed << "\n" << to_string(program));
+    Bindings<double> at;
+    Bindings<Complex> at_z;
+    std::vector<Complex> zpoint(point.begin(), point.end());
+    zpoint[seed % xs.size()] += Complex(0, 1e-20);
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      at[xs[i]] = point[i];
+      at_z[xs[i]] = zpoint[i];
+    }
+    const std::vector<double> got = run(program, point);
+    const std::vector<Complex> got_z = program.evaluate<Complex>(zpoint);
+    for (std::size_t k = 0; k < outputs.size(); ++k) {
+      INFO("output " << k << ": " << outputs[k]);
+      CHECK(close(got[k], evaluate(outputs[k], at), 1e-12));
+      CHECK(close(got_z[k].imag() * 1e20, evaluate(outputs[k], at_z).imag() * 1e20, 1e-11));
+    }
+    std::vector<Expr> rotated(outputs.begin() + 2, outputs.end());
+    rotated.insert(rotated.end(), outputs.begin(), outputs.begin() + 2);
+    CHECK(compile_program(xs, rotated).operation_count() == program.operation_count());
+  }
+}
+
+TEST_CASE("a sum too wide for pair CSE is still computed right", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  std::vector<Expr> xs;
+  for (int i = 0; i < 20; ++i) xs.push_back(symbol(fmt::format("s{}", i)));
+  std::vector<Expr> terms;
+  for (int i = 0; i < 20; ++i) {
+    for (int j = i + 1; j < 20; ++j) terms.push_back((i + j) % 3 == 0 ? -xs[i] * xs[j] : xs[i] * xs[j]);
+  }
+  const Expr wide = add(terms);  // 190 terms
+  REQUIRE(wide.args().size() > 128);
+  const Program p = compile_program(xs, std::vector{wide, xs[0] * xs[1] + xs[2]});
+  std::vector<double> point;
+  Bindings<double> at;
+  for (int i = 0; i < 20; ++i) {
+    point.push_back(0.1 * i - 0.7);
+    at[xs[i]] = point.back();
+  }
+  const auto out = run(p, point);
+  CHECK(close(out[0], evaluate(wide, at), 1e-13));
+  CHECK(out[1] == point[0] * point[1] + point[2]);
+  // 190 products, 189 additions, s0·s1 once.
+  CHECK(p.operation_count() == ops(190, 190, 0, 0));
 }
 
 TEST_CASE("every instruction is scheduled before use and defines fresh slots", "[program]") {
