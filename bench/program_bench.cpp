@@ -19,16 +19,18 @@ namespace {
 
 using namespace symdyn::symbolic;
 
-std::size_t reachable_nodes(const std::vector<Expr>& outputs) {
-  std::unordered_set<std::uint32_t> seen;
-  std::vector<Expr> stack(outputs.begin(), outputs.end());
+// Adds the nodes e needs to `seen`; returns how many were new.
+std::size_t visit(Expr e, std::unordered_set<std::uint32_t>& seen) {
+  std::size_t added = 0;
+  std::vector<Expr> stack{e};
   while (!stack.empty()) {
-    const Expr e = stack.back();
+    const Expr top = stack.back();
     stack.pop_back();
-    if (!seen.insert(e.id()).second) continue;
-    for (Expr a : e.args()) stack.push_back(a);
+    if (!seen.insert(top.id()).second) continue;
+    ++added;
+    for (Expr a : top.args()) stack.push_back(a);
   }
-  return seen.size();
+  return added;
 }
 
 // Random outputs over six symbols, added until they need `target` DAG nodes.
@@ -37,8 +39,11 @@ struct Fixture {
     Context::Scope scope(context);
     for (int i = 0; i < 6; ++i) inputs.push_back(symbol(fmt::format("x{}", i)));
     symdyn::testing::RandomExpr gen(12345, inputs);
-    while (reachable_nodes(outputs) < target) outputs.push_back(gen(7));
-    dag_nodes = reachable_nodes(outputs);
+    std::unordered_set<std::uint32_t> seen;
+    while (dag_nodes < target) {
+      outputs.push_back(gen(7));
+      dag_nodes += visit(outputs.back(), seen);
+    }
     program = compile_program(inputs, outputs);
     point = gen.point();
     for (std::size_t i = 0; i < inputs.size(); ++i) bindings[inputs[i]] = point[i];

@@ -16,10 +16,12 @@
 //
 // What the compiler does with each kind of node (see expr.hpp):
 //   - sums and products are binarized into n-1 adds or multiplies;
-//   - signs fold away: a + (-1)·b is a - b, c·x with c = -1 is a negation or is
-//     absorbed by its consumer (a - x, x·y, x/y, a - (-x) = a + x), and
-//     a negative constant is loaded negative; an explicit `neg` remains only
-//     where nothing can absorb it (a function argument, an output);
+//   - signs fold away: a + (-1)·b is a - b; a negative sign travels up through
+//     products, quotients and negations ((-x)·y/z = -(x·y/z)) until a sum
+//     absorbs it as a subtraction; a negative constant is loaded negative; an
+//     explicit `neg` remains only where nothing can absorb the sign (a function
+//     argument, the base of a non-integer power, an output, a sum with no
+//     positive term);
 //   - a product with negative powers is one division: x·y⁻¹·z⁻² = x/(y·z·z);
 //     when two or more divisions share a denominator d, 1/d is computed once
 //     and the divisions become multiplications (a division costs 4 multiplies);

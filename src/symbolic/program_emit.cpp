@@ -28,21 +28,19 @@ std::string emit_cpp(const Program& program, const CppNaming& naming) {
   };
   for (const Instruction& ins : program.instructions()) {
     const std::uint32_t r = ins.results[0];
+    const OpcodeInfo& op = info(ins.op);
     const std::string literal = cpp_literal(ins.constant);
-    switch (ins.op) {
-      case Opcode::Const:
-        whole[r] = literal;
-        operand[r] = std::signbit(ins.constant) ? fmt::format("({})", literal) : literal;
-        break;
-      case Opcode::Input: operand[r] = whole[r] = naming.inputs[ins.input]; break;
-      default: {
-        const OpcodeInfo& op = info(ins.op);
-        std::vector<std::string> args(2);
-        for (int a = 0; a < op.arity; ++a) args[a] = operand[ins.args[a]];
-        define(r, op.format, args, literal);
-        if (op.results == 2) define(ins.results[1], op.format2, args, literal);
-      }
+    if (ins.op == Opcode::Const || ins.op == Opcode::Input) {  // loads print inline
+      const std::string& name = ins.op == Opcode::Input ? naming.inputs[ins.input] : literal;
+      whole[r] = fmt::format(fmt::runtime(op.format), "", "", literal, name);
+      const bool negative = ins.op == Opcode::Const && std::signbit(ins.constant);
+      operand[r] = negative ? fmt::format("({})", whole[r]) : whole[r];
+      continue;
     }
+    std::vector<std::string> args(2);
+    for (int a = 0; a < op.arity; ++a) args[a] = operand[ins.args[a]];
+    define(r, op.format, args, literal);
+    if (op.results == 2) define(ins.results[1], op.format2, args, literal);
   }
   for (std::size_t i = 0; i < program.output_count(); ++i) {
     out += fmt::format("{}{} = {};\n", naming.indent, naming.outputs[i], whole[program.output_slots()[i]]);
