@@ -46,7 +46,13 @@ class RandomExpr {
 
   symbolic::Expr leaf() {
     using namespace symbolic;
-    if (pick(4) == 0) return rational(static_cast<std::int64_t>(pick(7)) - 3, static_cast<std::int64_t>(pick(3)) + 1);
+    if (pick(4) == 0) {
+      // Two statements: the order of evaluation of arguments is unspecified, and
+      // a seed must give the same expression under every compiler.
+      const auto num = static_cast<std::int64_t>(pick(7)) - 3;
+      const auto den = static_cast<std::int64_t>(pick(3)) + 1;
+      return rational(num, den);
+    }
     return symbols_[pick(symbols_.size())];
   }
 
