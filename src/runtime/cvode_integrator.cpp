@@ -1,6 +1,7 @@
 #include "runtime/cvode_integrator.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 
 #include <cvode/cvode.h>
@@ -102,11 +103,19 @@ class Cvode final : public Integrator {
   void collect_statistics(const Sundials& sun, const CallbackData& data);
 };
 
+// CVODE's name of a return flag (CVodeGetReturnFlagName allocates it with malloc).
+std::string flag_name(int flag) {
+  char* name = CVodeGetReturnFlagName(flag);
+  std::string copy = name != nullptr ? name : fmt::format("flag {}", flag);
+  std::free(name);
+  return copy;
+}
+
 // Throws NumericError for a negative SUNDIALS flag, naming the call.
 void check(int flag, const char* call, const CallbackData& data) {
   if (flag >= 0) return;
   throw NumericError(fmt::format("integrator 'cvode': {} failed with {} ({})", call,
-                                 CVodeGetReturnFlagName(flag), data.cvode_message));
+                                 flag_name(flag), data.cvode_message));
 }
 
 void Cvode::setup(Sundials& sun, CallbackData& data, const State& initial, double t_end) {
@@ -191,7 +200,7 @@ State Cvode::run(DynamicSystem& system, const State& initial, double t_end) {
       CVodeGetCurrentTime(sun.cvode, &reached);
       throw NumericError(detail::at_time(
           reached, fmt::format("integrator 'cvode' failed with {} ({}){}",
-                               CVodeGetReturnFlagName(flag), data.cvode_message,
+                               flag_name(flag), data.cvode_message,
                                data.last_failure.empty() ? "" : "; last failure: " + data.last_failure)));
     }
     return reached;

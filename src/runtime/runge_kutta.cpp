@@ -89,6 +89,7 @@ class Rk4 final : public ExplicitIntegrator {
 
  private:
   double first_step(double) override { return options_.initial_step; }
+  bool fixed_step_only() const override { return true; }
 
   // x1 = x0 + h/6·(k1 + 2·k2 + 2·k3 + k4)
   detail::StepOutcome attempt(double h, bool) override {

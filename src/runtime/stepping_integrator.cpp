@@ -25,7 +25,7 @@ void SteppingIntegrator::residual(const State& s, const Vector& qdd, const Vecto
 }
 
 double SteppingIntegrator::initial_step(double t_end) {
-  if (options_.fixed_step || name() == "rk4") {
+  if (options_.fixed_step || fixed_step_only()) {
     if (!(options_.initial_step > 0.0)) {
       throw OptionError(fmt::format(
           "integrator '{}': a fixed-step run needs initial_step > 0 (the step)", name()));
@@ -59,7 +59,7 @@ void SteppingIntegrator::deliver(double t_previous, std::size_t& next_output) {
 
 State SteppingIntegrator::run(DynamicSystem& system, const State& initial, double t_end) {
   system_ = &system;
-  const bool fixed = options_.fixed_step || name() == "rk4";
+  const bool fixed = options_.fixed_step || fixed_step_only();
   // Steps other methods would take and we shorten to hit an output instant exactly.
   const bool hit_instants = !has_dense_output();
   start(initial);

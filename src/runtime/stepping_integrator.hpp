@@ -48,6 +48,9 @@ class SteppingIntegrator : public Integrator {
   // The first step when options_.initial_step is 0.
   virtual double first_step(double t_end) = 0;
 
+  // Whether the method only has fixed steps (rk4), whatever options_.fixed_step says.
+  virtual bool fixed_step_only() const { return false; }
+
   // Dense output: the state, qdd and yd at t in the last accepted step.
   virtual bool has_dense_output() const { return false; }
   virtual void interpolate(double t, State& s, Vector& qdd, Vector& yd);
