@@ -1,0 +1,138 @@
+#include "runtime/integrator.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "runtime/errors.hpp"
+#include "runtime/stepping_integrator.hpp"
+
+namespace symdyn::runtime {
+
+Integrator::Integrator(IntegratorOptions options) : options_(std::move(options)) {}
+
+void Integrator::check_options(double t_begin, double t_end) const {
+  const auto& o = options_;
+  auto fail = [this](const std::string& what) {
+    throw OptionError(fmt::format("integrator '{}': {}", name(), what));
+  };
+  if (!std::isfinite(t_begin) || !std::isfinite(t_end) || !(t_end > t_begin)) {
+    fail(fmt::format("the final time {} must be finite and after the initial time {}", t_end,
+                     t_begin));
+  }
+  if (!(o.relative_tolerance > 0.0) || !(o.absolute_tolerance > 0.0)) {
+    fail(fmt::format("tolerances must be positive (relative {}, absolute {})",
+                     o.relative_tolerance, o.absolute_tolerance));
+  }
+  if (!(o.min_step >= 0.0) || !(o.max_step > 0.0) || o.min_step > o.max_step) {
+    fail(fmt::format("need 0 <= min_step <= max_step, 0 < max_step (min_step {}, max_step {})",
+                     o.min_step, o.max_step));
+  }
+  if (!(o.initial_step >= 0.0)) fail(fmt::format("initial_step {} is negative", o.initial_step));
+  if (o.max_newton_iterations < 1) {
+    fail(fmt::format("max_newton_iterations {} must be at least 1", o.max_newton_iterations));
+  }
+  if (!(o.output_interval >= 0.0)) {
+    fail(fmt::format("output_interval {} is negative", o.output_interval));
+  }
+  if (o.output_interval > 0.0 && !o.output_times.empty()) {
+    fail("give either output_times or output_interval, not both");
+  }
+  for (std::size_t i = 0; i < o.output_times.size(); ++i) {
+    const double ti = o.output_times[i];
+    if (!(ti >= t_begin && ti <= t_end)) {
+      fail(fmt::format("output time {} is outside [{}, {}]", ti, t_begin, t_end));
+    }
+    if (i > 0 && !(ti > o.output_times[i - 1])) {
+      fail(fmt::format("output times must increase ({} after {})", ti, o.output_times[i - 1]));
+    }
+  }
+}
+
+// Instants after t_begin (the initial state is always delivered first), the last
+// one t_end. An interval's instants are t_begin + k·interval, computed by product
+// so that they do not drift; one closer to t_end than 1e-9 intervals merges with it.
+void Integrator::plan_outputs(double t_begin, double t_end) {
+  instants_.clear();
+  const auto& o = options_;
+  if (o.output_interval > 0.0) {
+    for (long k = 1;; ++k) {
+      const double ti = t_begin + static_cast<double>(k) * o.output_interval;
+      if (ti >= t_end - 1e-9 * o.output_interval) break;
+      instants_.push_back(ti);
+    }
+    instants_.push_back(t_end);
+  } else if (!o.output_times.empty()) {
+    for (double ti : o.output_times) {
+      if (ti > t_begin && ti < t_end) instants_.push_back(ti);
+    }
+    instants_.push_back(t_end);
+  }
+}
+
+State Integrator::integrate(DynamicSystem& system, const State& initial, double t_end) {
+  check_options(initial.t, t_end);
+  const int n = system.num_coordinates();
+  const int m = system.num_extra_states();
+  if (initial.q.size() != n || initial.qd.size() != n || initial.y.size() != m) {
+    throw ModelError(fmt::format(
+        "integrator '{}': the initial state has q ({}), qd ({}), y ({}); the system has {} "
+        "coordinates and {} extra states",
+        name(), initial.q.size(), initial.qd.size(), initial.y.size(), n, m));
+  }
+  const std::string bad = detail::non_finite_value(system, initial, Vector(), Vector());
+  if (!bad.empty()) throw NumericError(detail::at_time(initial.t, bad + " (initial state)"));
+  stats_ = Statistics{};
+  t_begin_ = initial.t;
+  t_end_ = t_end;
+  plan_outputs(initial.t, t_end);
+  return run(system, initial, t_end);
+}
+
+void Integrator::emit(DynamicSystem& system, const State& s, const Vector& qdd, const Vector& yd) {
+  const std::string bad = detail::non_finite_value(system, s, qdd, yd);
+  if (!bad.empty()) throw NumericError(detail::at_time(s.t, bad));
+  if (options_.on_output) options_.on_output(s, qdd, yd);
+}
+
+void Integrator::progress(double t) const {
+  if (options_.on_progress) options_.on_progress(t, t_begin_, t_end_);
+}
+
+namespace detail {
+
+std::string at_time(double t, const std::string& what) { return fmt::format("t = {}: {}", t, what); }
+
+std::string non_finite_entry(const DynamicSystem& system, const char* quantity, const Vector& v,
+                             bool extra) {
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (std::isfinite(v[i])) continue;
+    const int k = static_cast<int>(i);
+    return extra ? fmt::format("{} of extra state '{}' is {}", quantity,
+                               system.extra_state_name(k), v[i])
+                 : fmt::format("{} of coordinate '{}' is {}", quantity,
+                               system.coordinate_name(k), v[i]);
+  }
+  return {};
+}
+
+std::string non_finite_value(const DynamicSystem& system, const State& s, const Vector& qdd,
+                             const Vector& yd) {
+  struct Entry {
+    const char* quantity;
+    const Vector& v;
+    bool extra;
+  };
+  const Entry entries[] = {{"q", s.q, false},   {"qd", s.qd, false}, {"y", s.y, true},
+                           {"qdd", qdd, false}, {"yd", yd, true}};
+  for (const auto& e : entries) {
+    std::string bad = non_finite_entry(system, e.quantity, e.v, e.extra);
+    if (!bad.empty()) return bad;
+  }
+  return {};
+}
+
+}  // namespace detail
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,154 @@
+#pragma once
+// One interface for every time integrator of the runtime.
+//
+//   auto integ = make_integrator("newmark", options);
+//   State end = integ->integrate(system, initial, t_end);
+//   integ->statistics().steps ...
+//
+// The integrators, by name (make_integrator):
+//
+//   "newmark"            EasyDyn's scheme: Newmark beta = 1/4, gamma = 1/2 (average
+//                        acceleration, no numerical damping) with Newton iterations on
+//                        the residual; implicit, second order, A-stable.
+//   "generalized-alpha"  Chung-Hulbert's generalized-alpha (parameters from
+//                        rho_infinity) in Arnold-Bruls' form: the residual holds at
+//                        the step end; implicit, second order, damps high frequencies.
+//   "rk4"                classic fixed-step Runge-Kutta 4 on the first-order form.
+//   "dopri5"             Dormand-Prince 5(4), adaptive, with dense output.
+//   "cvode"              SUNDIALS CVODE, BDF orders 1-5 with Newton and a dense
+//                        linear solver (difference-quotient Jacobian): the reference
+//                        stiff solver.
+//
+// All of them integrate the n coordinates q (second order) and the m extra states y
+// (first order) of a DynamicSystem together. The implicit ones ("newmark",
+// "generalized-alpha") use the residual form and DynamicSystem::jacobians; the others
+// use the explicit form DynamicSystem::accelerations on x = (q, qd, y).
+//
+// Output instants: a list of times, or a fixed interval from the initial time, or
+// (both empty) every accepted step. The initial and final states are always
+// delivered. Newmark, generalized-alpha and RK4 shorten their steps to hit every
+// instant exactly; dopri5 interpolates with its continuous extension (order 4) and
+// cvode with its own interpolating polynomial, so their steps are not disturbed.
+//
+// Errors (errors.hpp), each naming the time and the culprit:
+//   OptionError   bad options (tolerances <= 0, min_step > max_step, rk4 without
+//                 initial_step, output times outside the interval, unknown name);
+//   ModelError    state sizes that do not match the system;
+//   NumericError  a value that is not finite (q, qd, y, qdd, yd or a residual, with
+//                 the coordinate or extra state named), a step size below min_step,
+//                 a Newton iteration that fails at a fixed step, a CVODE failure.
+// Adaptive methods treat a non-finite value or a failed Newton iteration as a
+// rejected step (the step is divided by 4, as in EasyDyn) and report it only when
+// the step size falls below min_step. Every output instant reached before an error
+// has already been delivered to the output callback when the exception is thrown.
+
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "runtime/dynamic_system.hpp"
+
+namespace symdyn::runtime {
+
+// Called at each output instant with the state, qdd (n) and yd (m) at that instant.
+using OutputCallback = std::function<void(const State& s, const Vector& qdd, const Vector& yd)>;
+
+// Called after each accepted step (or each output for cvode): current time, and the
+// interval of the run. Draw a progress bar with it (see progress_bar.hpp).
+using ProgressCallback = std::function<void(double t, double t_begin, double t_end)>;
+
+struct IntegratorOptions {
+  // Mixed error test, per component i: |error_i| <= absolute + relative·|x_i|,
+  // as a root mean square over the components.
+  double relative_tolerance = 1e-6;
+  double absolute_tolerance = 1e-8;
+
+  double initial_step = 0.0;  // 0: the integrator chooses (rk4 requires it > 0)
+  double min_step = 1e-12;    // below it, a run stops with a NumericError
+  double max_step = std::numeric_limits<double>::infinity();
+
+  // newmark, generalized-alpha and dopri5: take steps of exactly initial_step
+  // (shortened only to hit output instants), without error control. For order
+  // studies and for users who want EasyDyn's fixed-step mode. rk4 always is.
+  bool fixed_step = false;
+
+  // generalized-alpha: spectral radius at infinite frequency, in [0, 1];
+  // 1 is Newmark's trapezoidal rule, 0 annihilates the highest frequencies.
+  double rho_infinity = 0.8;
+
+  // newmark, generalized-alpha: Newton iterations per step attempt (EasyDyn: 100).
+  int max_newton_iterations = 100;
+
+  // Output instants: either a sorted list (each in [t_begin, t_end]) or an interval
+  // (instants t_begin + k·interval). Both empty: every accepted step.
+  std::vector<double> output_times;
+  double output_interval = 0.0;
+
+  OutputCallback on_output;      // may be empty
+  ProgressCallback on_progress;  // may be empty
+};
+
+// Counters of the last run (reset by integrate).
+struct Statistics {
+  long steps = 0;                   // accepted steps
+  long rejected_steps = 0;          // error test, Newton or non-finite failures
+  long rhs_evaluations = 0;         // DynamicSystem::accelerations calls
+  long residual_evaluations = 0;    // DynamicSystem::residual calls by the integrator
+  long jacobian_evaluations = 0;    // iteration matrices evaluated (jacobians, or CVODE's)
+  long newton_iterations = 0;       // linear solves with the iteration matrix
+};
+
+class Integrator {
+ public:
+  explicit Integrator(IntegratorOptions options);
+  virtual ~Integrator() = default;
+  Integrator(const Integrator&) = delete;
+  Integrator& operator=(const Integrator&) = delete;
+
+  // The name make_integrator knows it by.
+  virtual std::string_view name() const = 0;
+
+  // Integrates from initial (initial.t, q (n), qd (n), y (m)) to t_end > initial.t and
+  // returns the final state. Throws OptionError, ModelError, NumericError (see above).
+  State integrate(DynamicSystem& system, const State& initial, double t_end);
+
+  const Statistics& statistics() const { return stats_; }
+  const IntegratorOptions& options() const { return options_; }
+  IntegratorOptions& options() { return options_; }
+
+ protected:
+  // The run itself, after the checks: deliver outputs through emit(), count in stats_.
+  virtual State run(DynamicSystem& system, const State& initial, double t_end) = 0;
+
+  // Output instants of the run in increasing order, the last one t_end; empty for
+  // "every accepted step" (then t_end is delivered by the run itself).
+  const std::vector<double>& output_instants() const { return instants_; }
+  bool output_every_step() const { return instants_.empty(); }
+
+  // Delivers one output after checking every value is finite.
+  void emit(DynamicSystem& system, const State& s, const Vector& qdd, const Vector& yd);
+  void progress(double t) const;
+
+  IntegratorOptions options_;
+  Statistics stats_;
+
+ private:
+  void check_options(double t_begin, double t_end) const;
+  void plan_outputs(double t_begin, double t_end);
+
+  std::vector<double> instants_;
+  double t_begin_ = 0.0;
+  double t_end_ = 0.0;
+};
+
+// The integrator called `name` (see the list above). Throws OptionError naming the
+// valid names for an unknown one.
+std::unique_ptr<Integrator> make_integrator(std::string_view name, IntegratorOptions options = {});
+
+// The names make_integrator accepts, in the order of the list above.
+std::vector<std::string> integrator_names();
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,44 @@
+#pragma once
+// Newmark (EasyDyn's scheme) and generalized-alpha: one implicit method family
+// on the residual form f(t, q, qd, qdd, y) = 0, g(t, q, qd, y, yd) = 0.
+//
+// Arnold-Bruls' form of Chung-Hulbert's generalized-alpha, with an algorithmic
+// acceleration a (a = qdd for Newmark):
+//
+//   (1 - am)·a1 + am·a0 = (1 - af)·qdd1 + af·qdd0
+//   q1  = q0 + h·qd0 + h²·((1/2 - beta)·a0 + beta·a1)
+//   qd1 = qd0 + h·((1 - gamma)·a0 + gamma·a1)
+//   y1  = y0 + h/2·(yd0 + yd1)                              (trapezoidal)
+//   f(t1, q1, qd1, qdd1, y1) = 0,  g(t1, q1, qd1, y1, yd1) = 0
+//
+// Newmark: am = af = 0, beta = 1/4, gamma = 1/2. Generalized-alpha from rho_inf:
+// am = (2·rho - 1)/(rho + 1), af = rho/(rho + 1), gamma = 1/2 - am + af,
+// beta = (1 - am + af)²/4 (second order, unconditionally stable, high-frequency
+// dissipation set by rho; rho = 1 gives back Newmark).
+//
+// Each step: prediction qdd1 = qdd0, yd1 = yd0; modified Newton on (qdd1, yd1)
+// with the iteration matrix
+//   [ M + gamma'·h·C + beta'·h²·K     F_yd + h/2·F_y ]      beta'  = beta·c
+//   [ gamma'·h·G_qd + beta'·h²·G_q    G_yd + h/2·G_y ]      gamma' = gamma·c
+// (c = (1 - af)/(1 - am)), where M, C, K come from DynamicSystem::jacobians and the
+// blocks of the extra states from forward differences of the residual. The matrix is
+// kept across iterations and steps, refactored when h changes and re-evaluated when
+// the iteration converges slowly (rate above 1/4) or diverges.
+//
+// Local error (EasyDyn): h²·|qdd1 - qdd0|/12 per coordinate; for the extra states
+// the trapezoidal error h³·|y'''|/12 with y''' from divided differences of yd; mixed
+// tolerance, RMS. Step control (EasyDyn): a Newton failure or a non-finite value
+// divides h by 4, an error above tolerance halves it, an error below 1/16 of it
+// doubles it (the estimate is O(h³)).
+// At the start, Newton with h = 0 computes accelerations consistent with the state.
+
+#include <memory>
+
+#include "runtime/integrator.hpp"
+
+namespace symdyn::runtime {
+
+std::unique_ptr<Integrator> make_newmark(IntegratorOptions options);
+std::unique_ptr<Integrator> make_generalized_alpha(IntegratorOptions options);
+
+}  // namespace symdyn::runtime

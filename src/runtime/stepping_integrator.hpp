@@ -1,0 +1,73 @@
+#pragma once
+// Private to the runtime: the step loop shared by the one-step integrators
+// (newmark, generalized-alpha, rk4, dopri5), and the checks that name a
+// non-finite value.
+//
+// Why a shared loop: hitting output instants, step-size bounds, the underflow
+// test, rejected-step bookkeeping and progress are the same for every one-step
+// method; a method only says how to attempt one step and what step to try next.
+
+#include <string>
+
+#include "runtime/integrator.hpp"
+
+namespace symdyn::runtime::detail {
+
+// "" when every entry of v is finite, else "<quantity> of coordinate 'x' is nan"
+// (extra = false: v is indexed like q; extra = true: like y).
+std::string non_finite_entry(const DynamicSystem& system, const char* quantity, const Vector& v,
+                             bool extra);
+
+// The first non-finite value among q, qd, y, qdd, yd, or "".
+std::string non_finite_value(const DynamicSystem& system, const State& s, const Vector& qdd,
+                             const Vector& yd);
+
+// "t = <t>: <what>" with t printed round-trip.
+std::string at_time(double t, const std::string& what);
+
+// The outcome of one step attempt.
+struct StepOutcome {
+  bool accepted = false;
+  double next_step = 0.0;  // the step to try next (before the min/max bounds)
+  std::string failure;     // why a step failed (Newton, non-finite), with its time; "" otherwise
+};
+
+class SteppingIntegrator : public Integrator {
+ public:
+  using Integrator::Integrator;
+
+ protected:
+  // Sets current_, qdd_ (n), yd_ (m) at the initial state, consistent with the equations.
+  virtual void start(const State& initial) = 0;
+
+  // Tries a step of h from current_. If accepted, current_, qdd_ and yd_ are at
+  // current_.t + h; otherwise they are unchanged. With fixed = true there is no
+  // error test: the step is accepted unless it failed.
+  virtual StepOutcome attempt(double h, bool fixed) = 0;
+
+  // The first step when options_.initial_step is 0.
+  virtual double first_step(double t_end) = 0;
+
+  // Whether the method only has fixed steps (rk4), whatever options_.fixed_step says.
+  virtual bool fixed_step_only() const { return false; }
+
+  // Dense output: the state, qdd and yd at t in the last accepted step.
+  virtual bool has_dense_output() const { return false; }
+  virtual void interpolate(double t, State& s, Vector& qdd, Vector& yd);
+
+  // Evaluations through the system, counted.
+  void accelerations(const State& s, Vector& qdd, Vector& yd);
+  void residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f, Vector& g);
+
+  DynamicSystem* system_ = nullptr;
+  State current_;
+  Vector qdd_;  // (n) at current_
+  Vector yd_;   // (m) at current_
+
+ private:
+  State run(DynamicSystem& system, const State& initial, double t_end) final;
+  void deliver(double t_previous, std::size_t& next_output);
+  double initial_step(double t_end);
+};
+
+}  // namespace symdyn::runtime::detail

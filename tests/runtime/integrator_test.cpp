@@ -1,0 +1,289 @@
+// Integrators against closed-form solutions.
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "runtime/integrator.hpp"
+#include "runtime/test_systems.hpp"
+
+namespace {
+
+using namespace symdyn::runtime;
+using namespace symdyn::runtime::testing;
+
+// Options for a tight-tolerance run with outputs every `interval`.
+IntegratorOptions tight(const std::string& name, double tol, double interval) {
+  IntegratorOptions o;
+  o.relative_tolerance = tol;
+  o.absolute_tolerance = tol;
+  o.output_interval = interval;
+  if (name == "rk4") o.initial_step = 1e-3;
+  return o;
+}
+
+struct Sample {
+  State s;
+  Vector qdd, yd;
+};
+
+// Runs and returns every delivered output.
+std::vector<Sample> run(const std::string& name, IntegratorOptions o, DynamicSystem& sys,
+                        const State& s0, double t_end, Statistics* stats = nullptr) {
+  std::vector<Sample> out;
+  o.on_output = [&](const State& s, const Vector& qdd, const Vector& yd) {
+    out.push_back({s, qdd, yd});
+  };
+  auto integ = make_integrator(name, o);
+  integ->integrate(sys, s0, t_end);
+  if (stats != nullptr) *stats = integ->statistics();
+  return out;
+}
+
+TEST_CASE("every integrator follows q = cos 2 pi t at tight tolerance", "[integrator]") {
+  Oscillator osc;
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    // The second-order implicit methods reach a lesser accuracy at the same tolerance.
+    const bool second_order = name == "newmark" || name == "generalized-alpha";
+    IntegratorOptions o = tight(name, 1e-10, 0.05);
+    Statistics stats;
+    const auto out = run(name, o, osc, initial_state(1.0, 0.0), 2.0, &stats);
+    REQUIRE(out.size() == 41);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      const double t = out[k].s.t;
+      REQUIRE(t == 0.05 * static_cast<double>(k));  // output instants hit exactly
+      worst = std::max({worst, std::abs(out[k].s.q[0] - std::cos(two_pi * t)),
+                        std::abs(out[k].s.qd[0] + two_pi * std::sin(two_pi * t)) / two_pi,
+                        std::abs(out[k].qdd[0] + two_pi * two_pi * std::cos(two_pi * t)) /
+                            (two_pi * two_pi)});
+    }
+    CHECK(worst < (second_order ? 2e-6 : 1e-7));
+    CHECK(stats.steps > 0);
+  }
+}
+
+TEST_CASE("EasyDyn's spring along an arbitrary direction gives q = 1 + (q0 - 1) cos 2 pi t",
+          "[integrator]") {
+  const Eigen::Vector3d directions[] = {{1, 0, 0}, {0.3, -0.5, 0.8}, {-2, 1, 7}};
+  for (const auto& u : directions) {
+    SpringAlongDirection spring(u);
+    for (const auto& name : integrator_names()) {
+      CAPTURE(name, u.transpose());
+      const auto out = run(name, tight(name, 1e-10, 0.1), spring, initial_state(1.5, 0.0), 1.0);
+      for (const auto& o : out) {
+        CHECK(std::abs(o.s.q[0] - (1.0 + 0.5 * std::cos(two_pi * o.s.t))) < 2e-6);
+      }
+    }
+  }
+}
+
+// Largest |q - cos 2 pi t| over the outputs of a fixed-step run of step h on [0, 1].
+double fixed_step_error(const std::string& name, double h) {
+  Oscillator osc;
+  IntegratorOptions o;
+  o.fixed_step = true;
+  o.initial_step = h;
+  o.output_interval = 0.25;
+  o.relative_tolerance = 1e-13;  // Newton converged far below the truncation error
+  o.absolute_tolerance = 1e-13;
+  double worst = 0.0;
+  for (const auto& s : run(name, o, osc, initial_state(1.0, 0.0), 1.0)) {
+    worst = std::max(worst, std::abs(s.s.q[0] - std::cos(two_pi * s.s.t)));
+  }
+  return worst;
+}
+
+TEST_CASE("observed order of accuracy when halving a fixed step", "[integrator][order]") {
+  struct Case {
+    const char* name;
+    double order;
+    double h;
+  };
+  const Case cases[] = {{"rk4", 4, 1.0 / 40}, {"newmark", 2, 1.0 / 80},
+                        {"generalized-alpha", 2, 1.0 / 80}, {"dopri5", 5, 1.0 / 20}};
+  for (const auto& c : cases) {
+    const double e1 = fixed_step_error(c.name, c.h);
+    const double e2 = fixed_step_error(c.name, c.h / 2);
+    const double e3 = fixed_step_error(c.name, c.h / 4);
+    INFO(fmt::format("{}: errors {:.3e} {:.3e} {:.3e}, orders {:.3f} {:.3f}", c.name, e1, e2, e3,
+                     std::log2(e1 / e2), std::log2(e2 / e3)));
+    CHECK(std::abs(std::log2(e1 / e2) - c.order) < 0.3);
+    CHECK(std::abs(std::log2(e2 / e3) - c.order) < 0.3);
+  }
+}
+
+TEST_CASE("dopri5's error scales like its tolerance", "[integrator][order]") {
+  Oscillator osc;
+  auto error = [&](double tol) {
+    double worst = 0.0;
+    for (const auto& s : run("dopri5", tight("dopri5", tol, 0.1), osc, initial_state(1.0, 0.0), 2.0)) {
+      worst = std::max(worst, std::abs(s.s.q[0] - std::cos(two_pi * s.s.t)));
+    }
+    return worst;
+  };
+  // Proportional in the mean: a factor 100 in tolerance gives a factor ~100 in error.
+  const double e6 = error(1e-6), e8 = error(1e-8), e10 = error(1e-10);
+  INFO(fmt::format("errors {:.3e} {:.3e} {:.3e}", e6, e8, e10));
+  CHECK(std::log10(e6 / e8) > 1.5);
+  CHECK(std::log10(e6 / e8) < 2.5);
+  CHECK(std::log10(e8 / e10) > 1.5);
+  CHECK(std::log10(e8 / e10) < 2.5);
+}
+
+TEST_CASE("damped oscillator driving a low-pass filter (extra first-order state)",
+          "[integrator][extra]") {
+  const double w = two_pi, zeta = 0.1, tau = 0.2;
+  FilteredOscillator sys(w, zeta, tau);
+  const double q0 = 1.0, v0 = 0.5, y0 = -0.3;
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    const bool second_order = name == "newmark" || name == "generalized-alpha";
+    Statistics stats;
+    const auto out = run(name, tight(name, 1e-10, 0.1), sys, initial_state(q0, v0, y0), 3.0, &stats);
+    REQUIRE(out.size() == 31);
+    double worst_q = 0.0, worst_y = 0.0, worst_yd = 0.0;
+    for (const auto& o : out) {
+      const double t = o.s.t;
+      const double y = sys.exact_filter(t, q0, v0, y0);
+      worst_q = std::max(worst_q, std::abs(o.s.q[0] - sys.exact(t, q0, v0)));
+      worst_y = std::max(worst_y, std::abs(o.s.y[0] - y));
+      worst_yd = std::max(worst_yd, std::abs(o.yd[0] - (sys.exact(t, q0, v0) - y) / tau));
+    }
+    INFO(fmt::format("errors q {:.2e} y {:.2e} yd {:.2e}, {} steps", worst_q, worst_y, worst_yd,
+                     stats.steps));
+    CHECK(worst_q < (second_order ? 2e-6 : 1e-7));
+    CHECK(worst_y < (second_order ? 2e-6 : 1e-7));
+    CHECK(worst_yd < (second_order ? 2e-5 : 1e-6));
+  }
+}
+
+TEST_CASE("nonlinear pendulum conserves energy to 1e-9 with dopri5 and cvode", "[integrator]") {
+  Pendulum p;
+  const State s0 = initial_state(1.0, 0.0);
+  const double e0 = p.energy(s0);
+  for (const char* name : {"dopri5", "cvode"}) {
+    CAPTURE(name);
+    double worst = 0.0;
+    // BDF is dissipative: CVODE needs a tighter tolerance for the same drift.
+    const double tol = std::string(name) == "cvode" ? 1e-13 : 1e-12;
+    for (const auto& o : run(name, tight(name, tol, 0.01), p, s0, 10.0)) {
+      worst = std::max(worst, std::abs(p.energy(o.s) - e0) / std::abs(e0));
+    }
+    INFO(fmt::format("largest relative energy drift {:.3e}", worst));
+    CHECK(worst < 1e-9);
+  }
+}
+
+TEST_CASE("stiff spring-damper chain: implicit methods take few steps", "[integrator][stiff]") {
+  // Stiff mode: w ~ 1.4e4 rad/s, damping ratio ~ 0.7; soft mode 1 Hz.
+  StiffChain chain(1e8, 1e4);
+  Eigen::Vector2d q0(1.0, 1.0), v0(0.0, 0.0);
+  State s0;
+  s0.q = q0;
+  s0.qd = v0;
+  for (const char* name : {"newmark", "generalized-alpha", "cvode", "dopri5"}) {
+    CAPTURE(name);
+    IntegratorOptions o = tight(name, 1e-6, 0.1);
+    Statistics stats;
+    const auto out = run(name, o, chain, s0, 5.0, &stats);
+    double worst = 0.0;
+    for (const auto& s : out) {
+      worst = std::max(worst, (s.s.q - Vector(chain.exact(s.s.t, q0, v0))).cwiseAbs().maxCoeff());
+    }
+    INFO(fmt::format("{}: {} steps, {} rejected, {} rhs, {} residual, {} Jacobians, error {:.2e}",
+                     name, stats.steps, stats.rejected_steps, stats.rhs_evaluations,
+                     stats.residual_evaluations, stats.jacobian_evaluations, worst));
+    CHECK(worst < 3e-3);  // second-order methods: ~1e-3 over 5 periods at 1e-6
+    if (std::string(name) != "dopri5") CHECK(stats.steps < 3000);
+  }
+}
+
+TEST_CASE("newmark keeps its Jacobian across steps on a linear system", "[integrator]") {
+  StiffChain chain(1e4, 1.0);
+  State s0;
+  s0.q = Eigen::Vector2d(1.0, 1.0);
+  s0.qd = Eigen::Vector2d(0.0, 0.0);
+  IntegratorOptions o;
+  o.fixed_step = true;
+  o.initial_step = 1e-3;
+  auto integ = make_integrator("newmark", o);
+  integ->integrate(chain, s0, 1.0);
+  const auto& st = integ->statistics();
+  CHECK(st.steps == 1000);
+  CHECK(st.jacobian_evaluations == 1);                 // exact Jacobian never slows Newton
+  CHECK(st.newton_iterations <= 2 * (st.steps + 1));   // linear: one correction, one check
+  CHECK(st.residual_evaluations == st.newton_iterations);
+}
+
+TEST_CASE("outputs at a list of times, and at every step", "[integrator][output]") {
+  Oscillator osc;
+  const std::vector<double> times = {0.0, 0.013, 0.5, 0.77, 1.2};
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    IntegratorOptions o = tight(name, 1e-9, 0.0);
+    o.output_times = times;
+    std::vector<double> seen, progress;
+    o.on_progress = [&](double t, double t0, double t1) {
+      CHECK(t0 == 0.0);
+      CHECK(t1 == 1.5);
+      progress.push_back(t);
+    };
+    for (const auto& s : run(name, o, osc, initial_state(1.0, 0.0), 1.5)) {
+      seen.push_back(s.s.t);
+      CHECK(std::abs(s.s.q[0] - std::cos(two_pi * s.s.t)) < 1e-5);
+    }
+    std::vector<double> expected = times;
+    expected.push_back(1.5);
+    CHECK(seen == expected);
+    REQUIRE(!progress.empty());
+    CHECK(std::is_sorted(progress.begin(), progress.end()));
+    CHECK(progress.back() == 1.5);
+
+    // No schedule: every accepted step, ending at t_end.
+    IntegratorOptions every = tight(name, 1e-6, 0.0);
+    Statistics stats;
+    const auto all = run(name, every, osc, initial_state(1.0, 0.0), 1.5, &stats);
+    CHECK(static_cast<long>(all.size()) == stats.steps + 1);
+    CHECK(all.back().s.t == 1.5);
+  }
+}
+
+TEST_CASE("generalized-alpha with rho_infinity = 1 is Newmark", "[integrator]") {
+  Pendulum p;
+  IntegratorOptions o;
+  o.fixed_step = true;
+  o.initial_step = 0.01;
+  o.output_interval = 0.5;
+  o.rho_infinity = 1.0;
+  const auto a = run("newmark", o, p, initial_state(1.0, 0.0), 3.0);
+  const auto b = run("generalized-alpha", o, p, initial_state(1.0, 0.0), 3.0);
+  REQUIRE(a.size() == b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) CHECK(std::abs(a[k].s.q[0] - b[k].s.q[0]) < 1e-12);
+}
+
+TEST_CASE("generalized-alpha damps a high frequency that Newmark keeps", "[integrator]") {
+  // Steps of h·w = 100: Newmark's amplification is exactly 1 in modulus, the
+  // generalized-alpha's about rho_infinity. Energy measure: q² + (qd/w)².
+  const double w = 1000.0;
+  Oscillator fast(w);
+  IntegratorOptions o;
+  o.fixed_step = true;
+  o.initial_step = 0.1;
+  o.relative_tolerance = o.absolute_tolerance = 1e-12;
+  o.rho_infinity = 0.5;
+  auto energy = [w](const Sample& s) { return s.s.q[0] * s.s.q[0] + std::pow(s.s.qd[0] / w, 2); };
+  const auto n = run("newmark", o, fast, initial_state(1.0, 0.0), 3.0);
+  const auto g = run("generalized-alpha", o, fast, initial_state(1.0, 0.0), 3.0);
+  CHECK(std::abs(energy(n.back()) - 1.0) < 1e-9);
+  // 30 steps at |R| ~ 0.5 leave an energy ~ 0.25^30 ~ 1e-18, times the known
+  // overshoot of the first steps (a factor ~40 here).
+  CHECK(energy(g.back()) < 1e-10);
+}
+
+}  // namespace
