@@ -1,0 +1,66 @@
+#pragma once
+// Force elements: small types that add forces and moments at the centres of
+// gravity of bodies (global axes) and generalized forces on coordinates.
+//
+// Points are given in body coordinates (from G, in body axes); body index
+// `ground` (-1) attaches to the fixed ground, whose "body coordinates" are
+// global. A force F at a point P of a body is reduced to G exactly: the force
+// F at G plus the moment (P - G) x F. Reactions on the ground are dropped.
+
+#include <Eigen/Core>
+#include <string>
+
+#include "runtime/dynamic_system.hpp"
+#include "runtime/kinematics.hpp"
+
+namespace symdyn::runtime {
+
+// Forces F (3 x nbody), moments M (3 x nbody) at G in global axes, and
+// generalized forces Q (nq) on the coordinates. Preallocated; clear() zeroes.
+class Loads {
+ public:
+  Loads() = default;
+  Loads(int nq, int nbody) : F(3, nbody), M(3, nbody), Q(nq) { clear(); }
+
+  void clear() {
+    F.setZero();
+    M.setZero();
+    Q.setZero();
+  }
+  // Force at G of a body (ignored for the ground).
+  void add_force(int body, const Vec3& f) {
+    if (body != ground) F.col(body) += f;
+  }
+  void add_moment(int body, const Vec3& m) {
+    if (body != ground) M.col(body) += m;
+  }
+  // Force f at the global point X of a body with centre of gravity at G:
+  // f at G plus the moment (X - G) x f.
+  void add_force_at(int body, const Kinematics& k, const Vec3& X, const Vec3& f) {
+    if (body == ground) return;
+    F.col(body) += f;
+    M.col(body) += (X - k.x(body)).cross(f);
+  }
+  void add_generalized(int coordinate, double q) { Q(coordinate) += q; }
+
+  Eigen::Matrix<double, 3, Eigen::Dynamic> F;  // (3 x nbody)
+  Eigen::Matrix<double, 3, Eigen::Dynamic> M;  // (3 x nbody)
+  Vector Q;                                    // (nq)
+};
+
+// What a force element sees: the state (t, q, qd, y) and the kinematics at
+// velocity level of that state (R, x, v, w of every body; partial velocities).
+class ForceElement {
+ public:
+  virtual ~ForceElement() = default;
+  // A short description naming the element ("spring 'strut'").
+  virtual std::string name() const = 0;
+  // Adds this element's loads. Must not allocate (it runs in the hot path).
+  virtual void apply(const State& s, const Kinematics& k, Loads& loads) const = 0;
+  // Elastic energy stored in the element (0 for non-conservative elements).
+  virtual double potential_energy(const State& /*s*/, const Kinematics& /*k*/) const {
+    return 0.0;
+  }
+};
+
+}  // namespace symdyn::runtime

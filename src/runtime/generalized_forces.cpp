@@ -1,0 +1,38 @@
+#include "runtime/generalized_forces.hpp"
+
+#include <utility>
+
+namespace symdyn::runtime {
+
+CoordinateSpringDamper::CoordinateSpringDamper(std::string name, int coordinate,
+                                               double stiffness, double damping,
+                                               double free_value)
+    : name_(std::move(name)), j_(coordinate), k_(stiffness), c_(damping), q0_(free_value) {}
+
+void CoordinateSpringDamper::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {
+  loads.add_generalized(j_, -k_ * (s.q(j_) - q0_) - c_ * s.qd(j_));
+}
+
+double CoordinateSpringDamper::potential_energy(const State& s, const Kinematics& /*k*/) const {
+  const double e = s.q(j_) - q0_;
+  return 0.5 * k_ * e * e;
+}
+
+CoordinateForce::CoordinateForce(std::string name, int coordinate, Law law)
+    : name_(std::move(name)), j_(coordinate), law_(std::move(law)) {}
+
+void CoordinateForce::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {
+  loads.add_generalized(j_, law_(s.t, s.q(j_), s.qd(j_), s));
+}
+
+CoordinateTracking::CoordinateTracking(std::string name, int coordinate, double kp, double kd,
+                                       Reference r, Reference rd)
+    : name_(std::move(name)), j_(coordinate), kp_(kp), kd_(kd), r_(std::move(r)),
+      rd_(std::move(rd)) {}
+
+void CoordinateTracking::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {
+  const double rd = rd_ ? rd_(s.t) : 0.0;
+  loads.add_generalized(j_, -kp_ * (s.q(j_) - r_(s.t)) - kd_ * (s.qd(j_) - rd));
+}
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,61 @@
+#pragma once
+// Generalized forces acting directly on one coordinate q_j (a force for a
+// translation, a torque for a rotation). Positive Q pushes q_j up.
+
+#include <functional>
+#include <string>
+
+#include "runtime/force_element.hpp"
+
+namespace symdyn::runtime {
+
+// Linear spring-damper on a coordinate: Q = -k (q - free_value) - c qd.
+class CoordinateSpringDamper : public ForceElement {
+ public:
+  CoordinateSpringDamper(std::string name, int coordinate, double stiffness, double damping,
+                         double free_value = 0.0);
+  std::string name() const override { return "coordinate spring '" + name_ + "'"; }
+  void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+  // 1/2 k (q - free_value)^2
+  double potential_energy(const State& s, const Kinematics& k) const override;
+
+ private:
+  std::string name_;
+  int j_;
+  double k_, c_, q0_;
+};
+
+// Nonlinear generalized force Q = law(t, q_j, qd_j, state) on a coordinate
+// (the state gives access to the other coordinates and extra states).
+class CoordinateForce : public ForceElement {
+ public:
+  using Law = std::function<double(double t, double q, double qd, const State& s)>;
+  CoordinateForce(std::string name, int coordinate, Law law);
+  std::string name() const override { return "coordinate force '" + name_ + "'"; }
+  void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+
+ private:
+  std::string name_;
+  int j_;
+  Law law_;
+};
+
+// PD tracking of a reference r(t) (with optional rate rd(t), zero if absent):
+// Q = -kp (q - r(t)) - kd (qd - rd(t)). The trike's steering with kd on qd
+// alone is rd = null.
+class CoordinateTracking : public ForceElement {
+ public:
+  using Reference = std::function<double(double t)>;
+  CoordinateTracking(std::string name, int coordinate, double kp, double kd, Reference r,
+                     Reference rd = nullptr);
+  std::string name() const override { return "coordinate tracking '" + name_ + "'"; }
+  void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+
+ private:
+  std::string name_;
+  int j_;
+  double kp_, kd_;
+  Reference r_, rd_;
+};
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,104 @@
+#pragma once
+// Gim's brush tyre (the UA tyre documented for ADAMS, as EasyDyn used it) on a
+// flat ground.
+//
+// Geometry. Torus tyre: outer radius r1, section radius r2, centre C, spin
+// axis e (global). With n the ground normal, d = unit(n - (n.e) e) points
+// from C towards the ground in the wheel plane; the lowest point is
+// P = C - (r1 - r2) d - r2 n; penetration pen = -(P - O).n. Contact frame:
+// x = unit(e x n) (longitudinal), y = n x x (lateral), z = n. Camber
+// gamma = asin(e.n): positive when the wheel's top leans towards -y.
+//
+// Kinematics. vP: velocity of the wheel's material point at P; vC: of the
+// centre. Reference speed V = max(|vC.x|, 1e-3). Slips (sliding velocity over
+// V): s_long = vP.x / V, s_lat = vP.y / V.
+//
+// Forces (contact frame, acting on the wheel at P):
+//   Fz = max(0, Kz pen - sqrt(Kz pen / Fznom) Cz vP.n) when pen > 0 (no pull)
+//   a  = sqrt(2 r1 pen)                          half contact length
+//   mu = mu_s - (mu_s - mu_d) min(1, sqrt(s_long^2 + s_lat^2))
+//   C_long = Clongnom (Fz/Fznom)^nlong, C_lat, C_camber likewise
+// then gim_brush() below gives Fx, Fy and the aligning moment Mz. No rolling
+// resistance.
+//
+// The brush (derivation in gim_tyre.cpp). Parabolic pressure over the contact
+// length, xi in [0, 1] from the leading edge; bristle stress, per unit xi, of
+// 2 X xi along x and 2 Y xi + 6 G xi (1 - xi) along y, with X = C_long s_long,
+// Y = C_lat s_lat, G = C_camber gamma, and the friction limit
+// 6 mu Fz xi (1 - xi). Bristles adhere from the leading edge up to xi_s and
+// slide behind it. With u = 1 - xi the limit is reached where
+//   (X)^2 + (Y + 3 G u)^2 = (3 mu Fz u)^2        (a quadratic in u),
+// so full sliding (xi_s = 0) holds when X^2 + (Y + 3 G)^2 >= (3 mu Fz)^2.
+// The sliding stress has the direction of the bristle stress at xi_s,
+// t = unit(X, Y + 3 G (1 - xi_s)). With S = 1 - 3 xi_s^2 + 2 xi_s^3:
+//   Fx = -(X xi_s^2 + mu Fz t_x S)
+//   Fy = -(Y xi_s^2 + G (3 xi_s^2 - 2 xi_s^3) + mu Fz t_y S)
+//   Mz = -a (Y (xi_s^2 - 4/3 xi_s^3) + 3 (G - mu Fz t_y) xi_s^2 (1 - xi_s)^2)
+// (small slips: Fx = -X, Fy = -Y - G, pneumatic trail a/3; at the boundary of
+// full sliding xi_s -> 0 continuously: |F| = mu Fz, Mz = 0).
+
+#include <string>
+
+#include "runtime/contact.hpp"
+#include "runtime/force_element.hpp"
+
+namespace symdyn::runtime {
+
+struct BrushInput {
+  double normal_force = 0.0;      // Fz >= 0
+  double slip_long = 0.0;         // s_long
+  double slip_lat = 0.0;          // s_lat
+  double camber = 0.0;            // gamma (rad)
+  double friction = 1.0;          // mu
+  double stiffness_long = 0.0;    // C_long (N per unit slip)
+  double stiffness_lat = 0.0;     // C_lat (N per unit slip)
+  double stiffness_camber = 0.0;  // C_camber (N/rad)
+  double half_length = 0.0;       // a (m)
+};
+
+struct BrushOutput {
+  double Fx = 0.0, Fy = 0.0, Mz = 0.0;
+  double adhesion = 1.0;  // xi_s: adhesion fraction of the contact length
+  bool sliding = false;   // full sliding
+};
+
+BrushOutput gim_brush(const BrushInput& in);
+
+struct GimTyreProperties {
+  double r1 = 0.3;                 // outer radius (m)
+  double r2 = 0.1;                 // section radius (m)
+  double Kz = 2e5;                 // vertical stiffness (N/m)
+  double Cz = 500.0;               // vertical damping at Fznom (N s/m)
+  double Fznom = 3000.0;           // nominal load (N)
+  double Clongnom = 5e4, nlong = 1.0;
+  double Clatnom = 4e4, nlat = 1.0;
+  double Ccambernom = 2e3, ncamber = 1.0;
+  double mu_static = 1.0, mu_dynamic = 0.8;
+  Vec3 axis = Vec3::UnitY();       // spin axis in body axes
+  Vec3 centre = Vec3::Zero();      // wheel centre in body coordinates
+};
+
+class GimTyre : public ForceElement {
+ public:
+  GimTyre(std::string name, int body, const GimTyreProperties& p, const Plane& ground = {});
+  std::string name() const override { return "Gim tyre '" + name_ + "'"; }
+  void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+
+  struct Result {
+    Vec3 contact_point = Vec3::Zero();
+    Vec3 x = Vec3::Zero(), y = Vec3::Zero();  // contact frame axes
+    double penetration = 0.0, slip_long = 0.0, slip_lat = 0.0, camber = 0.0, friction = 0.0;
+    double Fz = 0.0;
+    BrushOutput brush;
+    Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // global, at the contact point
+  };
+  Result evaluate(const Kinematics& k) const;
+
+ private:
+  std::string name_;
+  int body_;
+  GimTyreProperties p_;
+  Plane ground_;
+};
+
+}  // namespace symdyn::runtime

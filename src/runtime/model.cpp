@@ -1,0 +1,180 @@
+#include "runtime/model.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace symdyn::runtime {
+
+namespace {
+
+int find_name(const std::vector<std::string>& names, std::string_view name, const char* what,
+              const std::string& model) {
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) throw ModelError(fmt::format("model '{}': no {} named '{}'", model, what, name));
+  return static_cast<int>(it - names.begin());
+}
+
+// Throws ModelError naming the body when (m, I) is not a rigid body's inertia.
+void validate_inertia(const std::string& body, double m, const Mat3& I) {
+  if (!(m > 0.0) || !std::isfinite(m)) {
+    throw ModelError(fmt::format("body '{}': mass {} is not positive", body, m));
+  }
+  if (!I.allFinite()) throw ModelError(fmt::format("body '{}': inertia is not finite", body));
+  const double scale = std::max(I.cwiseAbs().maxCoeff(), 1e-300);
+  const double asym = (I - I.transpose()).cwiseAbs().maxCoeff();
+  if (asym > 1e-9 * scale) {
+    throw ModelError(fmt::format("body '{}': inertia is not symmetric (|I - I^T| = {})", body, asym));
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (I + I.transpose()), Eigen::EigenvaluesOnly);
+  const Vec3 p = eig.eigenvalues();  // ascending
+  if (!(p(0) > 0.0)) {
+    throw ModelError(fmt::format(
+        "body '{}': inertia is not positive definite (principal moments {}, {}, {})", body, p(0),
+        p(1), p(2)));
+  }
+  // A + B >= C for the principal moments; rounding allowed (a thin rod or disc
+  // is exactly at the limit).
+  if (p(0) + p(1) < p(2) * (1.0 - 1e-9)) {
+    throw ModelError(fmt::format(
+        "body '{}': principal moments {}, {}, {} violate the triangle inequality", body, p(0),
+        p(1), p(2)));
+  }
+}
+
+}  // namespace
+
+Model::Model(ModelDescription d) : d_(std::move(d)) {
+  const auto check_size = [&](std::size_t got, int want, const char* what) {
+    if (got != static_cast<std::size_t>(want)) {
+      throw ModelError(fmt::format("model '{}': {} has {} entries, expected {}", d_.model, what,
+                                   got, want));
+    }
+  };
+  if (d_.nq < 0 || d_.nbody < 0 || d_.ndep < 0 || d_.nparam < 0) {
+    throw ModelError(fmt::format("model '{}': negative size", d_.model));
+  }
+  check_size(d_.q_names.size(), d_.nq, "q_names");
+  check_size(d_.q_initial.size(), d_.nq, "q_initial");
+  check_size(d_.qd_initial.size(), d_.nq, "qd_initial");
+  check_size(d_.body_names.size(), d_.nbody, "body_names");
+  check_size(d_.reference_body.size(), d_.nbody, "reference_body");
+  check_size(d_.param_names.size(), d_.nparam, "param_names");
+  check_size(d_.param_defaults.size(), d_.nparam, "param_defaults");
+  if (d_.inertia == nullptr) missing("inertia");
+  zeros_.assign(std::max(d_.nq, 1), 0.0);
+  param_ = d_.param_defaults;
+  if (param_.empty()) param_.push_back(0.0);
+  evaluate_inertia(param_, mass_, inertia_);
+}
+
+void Model::evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
+                             std::vector<Mat3>& inertia) const {
+  const int nb = std::max(d_.nbody, 1);
+  std::vector<double> m(nb, 0.0), I(9 * nb, 0.0);
+  d_.inertia(param.data(), m.data(), I.data());
+  mass.assign(m.begin(), m.begin() + d_.nbody);
+  inertia.resize(d_.nbody);
+  for (int i = 0; i < d_.nbody; ++i) {
+    inertia[i] = Eigen::Map<const RowMat3>(&I[9 * i]);
+    validate_inertia(d_.body_names[i], mass[i], inertia[i]);
+  }
+}
+
+void Model::missing(const char* entry) const {
+  throw ModelError(fmt::format("model '{}' (variant '{}'): entry point '{}' was not emitted",
+                               d_.model, d_.variant, entry));
+}
+
+int Model::body_index(std::string_view name) const {
+  return find_name(d_.body_names, name, "body", d_.model);
+}
+int Model::coordinate_index(std::string_view name) const {
+  return find_name(d_.q_names, name, "coordinate", d_.model);
+}
+int Model::parameter_index(std::string_view name) const {
+  return find_name(d_.param_names, name, "parameter", d_.model);
+}
+
+State Model::initial_state() const {
+  State s;
+  s.t = 0.0;
+  s.q = Eigen::Map<const Vector>(d_.q_initial.data(), d_.nq);
+  s.qd = Eigen::Map<const Vector>(d_.qd_initial.data(), d_.nq);
+  s.y.resize(0);
+  return s;
+}
+
+void Model::set_parameter(std::string_view name, double value) {
+  std::vector<double> p = param_;
+  p[parameter_index(name)] = value;
+  set_parameters(std::vector<double>(p.begin(), p.begin() + d_.nparam));
+}
+
+void Model::set_parameters(const std::vector<double>& values) {
+  if (values.size() != static_cast<std::size_t>(d_.nparam)) {
+    throw ModelError(fmt::format("model '{}': {} parameter values given, expected {}", d_.model,
+                                 values.size(), d_.nparam));
+  }
+  std::vector<double> p = values;
+  if (p.empty()) p.push_back(0.0);
+  std::vector<double> mass;
+  std::vector<Mat3> inertia;
+  evaluate_inertia(p, mass, inertia);  // throws before anything changes
+  param_ = std::move(p);
+  mass_ = std::move(mass);
+  inertia_ = std::move(inertia);
+}
+
+Mat3 Model::global_inertia(int i, const Kinematics& k) const {
+  const Mat3 R = k.R(i);
+  return R * inertia_[i] * R.transpose();
+}
+
+void Model::positions(double t, const double* q, Kinematics& k) const {
+  if (d_.positions != nullptr) {
+    d_.positions(t, q, param_.data(), k.R_data(), k.x_data());
+    k.clear_rates();
+    return;
+  }
+  // Positions are a by-product of the velocities at qd = 0.
+  if (d_.velocities == nullptr) missing("positions");
+  velocities(t, q, zeros_.data(), k);
+}
+
+void Model::velocities(double t, const double* q, const double* qd, Kinematics& k) const {
+  if (d_.velocities == nullptr) missing("velocities");
+  d_.velocities(t, q, qd, param_.data(), k.R_data(), k.x_data(), k.v_data(), k.w_data());
+}
+
+void Model::accelerations(double t, const double* q, const double* qd, const double* qdd,
+                          Kinematics& k) const {
+  if (d_.accelerations == nullptr) missing("accelerations");
+  d_.accelerations(t, q, qd, qdd, param_.data(), k.R_data(), k.x_data(), k.v_data(), k.w_data(),
+                   k.a_data(), k.dw_data());
+}
+
+void Model::partial_velocities(double t, const double* q, Kinematics& k) const {
+  if (d_.partial_velocities == nullptr) missing("partial_velocities");
+  d_.partial_velocities(t, q, param_.data(), k.dv_dqd_data(), k.dw_dqd_data());
+}
+
+void Model::dependent_parameters(double t, const double* q, const double* qd, const double* qdd,
+                                 Kinematics& k) const {
+  if (d_.dependent_parameters == nullptr) missing("dependent_parameters");
+  d_.dependent_parameters(t, q, qd, qdd, param_.data(), k.p_data(), k.pd_data(), k.pdd_data());
+}
+
+void Model::mass_matrix(double t, const double* q, double* M) const {
+  if (d_.mass_matrix == nullptr) missing("mass_matrix");
+  d_.mass_matrix(t, q, param_.data(), M);
+}
+
+void Model::bias_forces(double t, const double* q, const double* qd, double* h) const {
+  if (d_.bias_forces == nullptr) missing("bias_forces");
+  d_.bias_forces(t, q, qd, param_.data(), h);
+}
+
+}  // namespace symdyn::runtime

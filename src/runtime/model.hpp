@@ -1,0 +1,235 @@
+#pragma once
+// runtime::Model: the immutable description of one generated model, read from
+// the static members of the struct the generator emits (docs/emitted_interface.md)
+// by Model::from<Generated>(). The emitted code is the only bridge between
+// generation and simulation: this header knows no symbolic type.
+//
+// Sizes: nq coordinates, nbody bodies, ndep dependent parameters, nparam
+// run-time parameters. Entry points the generator did not emit are null and
+// reported by has_*(); calling one that is absent throws ModelError naming it.
+//
+// The inertia of every body is evaluated and validated at construction and
+// whenever a parameter changes (ModelError naming the body):
+//   mass > 0; inertia symmetric (to 1e-9 relative); positive definite;
+//   principal moments satisfying the triangle inequalities A + B >= C.
+
+#include <concepts>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "runtime/dynamic_system.hpp"
+#include "runtime/errors.hpp"
+#include "runtime/kinematics.hpp"
+
+namespace symdyn::runtime {
+
+// Signatures of the emitted entry points (shapes in docs/emitted_interface.md).
+using InertiaFn = void (*)(const double* param, double* mass, double* inertia);
+using PositionsFn = void (*)(double t, const double* q, const double* param, double* R, double* x);
+using VelocitiesFn = void (*)(double t, const double* q, const double* qd, const double* param,
+                              double* R, double* x, double* v, double* w);
+using AccelerationsFn = void (*)(double t, const double* q, const double* qd, const double* qdd,
+                                 const double* param, double* R, double* x, double* v, double* w,
+                                 double* a, double* dw);
+using PartialVelocitiesFn = void (*)(double t, const double* q, const double* param, double* dv,
+                                     double* dw);
+using DependentParametersFn = void (*)(double t, const double* q, const double* qd,
+                                       const double* qdd, const double* param, double* p,
+                                       double* pd, double* pdd);
+using MassMatrixFn = void (*)(double t, const double* q, const double* param, double* M);
+using BiasForcesFn = void (*)(double t, const double* q, const double* qd, const double* param,
+                              double* h);
+
+namespace detail {
+template <class G>
+concept has_positions = requires(double t, const double* c, double* o) {
+  G::positions(t, c, c, o, o);
+};
+template <class G>
+concept has_velocities = requires(double t, const double* c, double* o) {
+  G::velocities(t, c, c, c, o, o, o, o);
+};
+template <class G>
+concept has_accelerations = requires(double t, const double* c, double* o) {
+  G::accelerations(t, c, c, c, c, o, o, o, o, o, o);
+};
+template <class G>
+concept has_partial_velocities = requires(double t, const double* c, double* o) {
+  G::partial_velocities(t, c, c, o, o);
+};
+template <class G>
+concept has_dependent_parameters = requires(double t, const double* c, double* o) {
+  G::dependent_parameters(t, c, c, c, c, o, o, o);
+};
+template <class G>
+concept has_mass_matrix = requires(double t, const double* c, double* o) {
+  G::mass_matrix(t, c, c, o);
+};
+template <class G>
+concept has_bias_forces = requires(double t, const double* c, double* o) {
+  G::bias_forces(t, c, c, c, o);
+};
+template <class G>
+concept generated_model = requires {
+  { G::model } -> std::convertible_to<const char*>;
+  { G::nq } -> std::convertible_to<int>;
+  { G::nbody } -> std::convertible_to<int>;
+  { G::ndep } -> std::convertible_to<int>;
+  { G::nparam } -> std::convertible_to<int>;
+  G::q_names[0];
+  G::body_names[0];
+  G::param_names[0];
+  G::param_defaults[0];
+  G::q_initial[0];
+  G::qd_initial[0];
+  G::gravity[0];
+  G::reference_body[0];
+  G::inertia(static_cast<const double*>(nullptr), static_cast<double*>(nullptr),
+             static_cast<double*>(nullptr));
+};
+}  // namespace detail
+
+// The static facts and entry points of a generated model, as data.
+struct ModelDescription {
+  std::string model, variant;
+  int nq = 0, nbody = 0, ndep = 0, nparam = 0;
+  std::vector<std::string> q_names, body_names, param_names;
+  std::vector<double> param_defaults, q_initial, qd_initial;
+  Vec3 gravity = Vec3::Zero();
+  std::vector<int> reference_body;
+  InertiaFn inertia = nullptr;
+  PositionsFn positions = nullptr;
+  VelocitiesFn velocities = nullptr;
+  AccelerationsFn accelerations = nullptr;
+  PartialVelocitiesFn partial_velocities = nullptr;
+  DependentParametersFn dependent_parameters = nullptr;
+  MassMatrixFn mass_matrix = nullptr;
+  BiasForcesFn bias_forces = nullptr;
+};
+
+class Model {
+ public:
+  // Reads the static members of a generated struct. Throws ModelError if the
+  // inertia of a body is not physical.
+  template <detail::generated_model G>
+  static Model from();
+
+  // Builds from a description (what from<G>() fills); validates it.
+  explicit Model(ModelDescription d);
+
+  const std::string& name() const { return d_.model; }
+  const std::string& variant() const { return d_.variant; }
+  int nq() const { return d_.nq; }
+  int nbody() const { return d_.nbody; }
+  int ndep() const { return d_.ndep; }
+  int nparam() const { return d_.nparam; }
+
+  const std::vector<std::string>& q_names() const { return d_.q_names; }
+  const std::vector<std::string>& body_names() const { return d_.body_names; }
+  const std::vector<std::string>& param_names() const { return d_.param_names; }
+  // Index of a body or coordinate by name; ModelError naming it if unknown.
+  int body_index(std::string_view name) const;
+  int coordinate_index(std::string_view name) const;
+  int parameter_index(std::string_view name) const;
+
+  // Initial coordinates and rates from the model (nq each), as a State at t = 0.
+  State initial_state() const;
+  const Vec3& gravity() const { return d_.gravity; }
+  // Body a body's motion is relative to in the model, or -1.
+  int reference_body(int i) const { return d_.reference_body[i]; }
+
+  // Run-time parameters (nparam); setting one re-evaluates and re-validates
+  // the inertia (ModelError naming the body, the model keeps its old values).
+  const std::vector<double>& parameters() const { return param_; }
+  void set_parameter(std::string_view name, double value);
+  void set_parameters(const std::vector<double>& values);
+
+  // Mass and inertia tensor at G in body axes of body i.
+  double mass(int i) const { return mass_[i]; }
+  const Mat3& inertia(int i) const { return inertia_[i]; }
+  // Inertia tensor at G in global axes, J = R I R^T.
+  Mat3 global_inertia(int i, const Kinematics& k) const;
+
+  bool has_positions() const { return d_.positions != nullptr; }
+  bool has_velocities() const { return d_.velocities != nullptr; }
+  bool has_accelerations() const { return d_.accelerations != nullptr; }
+  bool has_partial_velocities() const { return d_.partial_velocities != nullptr; }
+  bool has_dependent_parameters() const { return d_.dependent_parameters != nullptr; }
+  bool has_equations_of_motion() const {
+    return d_.mass_matrix != nullptr && d_.bias_forces != nullptr;
+  }
+
+  // A kinematics buffer of the right sizes for this model.
+  Kinematics make_kinematics() const { return Kinematics(d_.nq, d_.nbody, d_.ndep); }
+
+  // Evaluate entry points into a buffer. q, qd, qdd have nq entries each.
+  // positions() clears the rates; velocities() leaves a and dw untouched.
+  void positions(double t, const double* q, Kinematics& k) const;
+  void velocities(double t, const double* q, const double* qd, Kinematics& k) const;
+  void accelerations(double t, const double* q, const double* qd, const double* qdd,
+                     Kinematics& k) const;
+  void partial_velocities(double t, const double* q, Kinematics& k) const;
+  void dependent_parameters(double t, const double* q, const double* qd, const double* qdd,
+                            Kinematics& k) const;
+  // Emitted equations of motion: M (nq x nq, row-major into a column-major
+  // Matrix is fine since M is symmetric) and h (nq).
+  void mass_matrix(double t, const double* q, double* M) const;
+  void bias_forces(double t, const double* q, const double* qd, double* h) const;
+
+ private:
+  void evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
+                        std::vector<Mat3>& inertia) const;
+  [[noreturn]] void missing(const char* entry) const;
+
+  ModelDescription d_;
+  std::vector<double> zeros_;  // (max(nq, 1)) qd = 0 for positions from velocities
+  std::vector<double> param_;  // (max(nparam, 1))
+  std::vector<double> mass_;   // (nbody)
+  std::vector<Mat3> inertia_;  // (nbody)
+};
+
+template <detail::generated_model G>
+Model Model::from() {
+  ModelDescription d;
+  d.model = G::model;
+  if constexpr (requires { G::variant; }) d.variant = G::variant;
+  d.nq = G::nq;
+  d.nbody = G::nbody;
+  d.ndep = G::ndep;
+  d.nparam = G::nparam;
+  for (int j = 0; j < G::nq; ++j) {
+    d.q_names.emplace_back(G::q_names[j]);
+    d.q_initial.push_back(G::q_initial[j]);
+    d.qd_initial.push_back(G::qd_initial[j]);
+  }
+  for (int i = 0; i < G::nbody; ++i) {
+    d.body_names.emplace_back(G::body_names[i]);
+    d.reference_body.push_back(G::reference_body[i]);
+  }
+  for (int k = 0; k < G::nparam; ++k) {
+    d.param_names.emplace_back(G::param_names[k]);
+    d.param_defaults.push_back(G::param_defaults[k]);
+  }
+  d.gravity = Vec3(G::gravity[0], G::gravity[1], G::gravity[2]);
+  d.inertia = &G::inertia;
+  if constexpr (detail::has_positions<G>) d.positions = &G::positions;
+  if constexpr (detail::has_velocities<G>) d.velocities = &G::velocities;
+  if constexpr (detail::has_accelerations<G>) d.accelerations = &G::accelerations;
+  if constexpr (detail::has_partial_velocities<G>) d.partial_velocities = &G::partial_velocities;
+  if constexpr (detail::has_dependent_parameters<G>) {
+    d.dependent_parameters = &G::dependent_parameters;
+  }
+  // The flag says whether the generator emitted the equations of motion.
+  bool eom = true;
+  if constexpr (requires { G::has_equations_of_motion; }) eom = G::has_equations_of_motion;
+  if constexpr (detail::has_mass_matrix<G> && detail::has_bias_forces<G>) {
+    if (eom) {
+      d.mass_matrix = &G::mass_matrix;
+      d.bias_forces = &G::bias_forces;
+    }
+  }
+  return Model(std::move(d));
+}
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,377 @@
+#include "runtime/multibody_system.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "runtime/errors.hpp"
+
+namespace symdyn::runtime {
+
+MultibodySystem::MultibodySystem(Model model, EquationsSource source)
+    : model_(std::move(model)), source_(source) {
+  const char* needed[] = {"velocities", "accelerations", "partial_velocities"};
+  const bool present[] = {model_.has_velocities(), model_.has_accelerations(),
+                          model_.has_partial_velocities()};
+  for (int n = 0; n < 3; ++n) {
+    if (!present[n]) {
+      throw ModelError(fmt::format("model '{}': a multibody system needs the entry point '{}'",
+                                   model_.name(), needed[n]));
+    }
+  }
+  set_source(source);
+  const int nq = model_.nq();
+  k_ = model_.make_kinematics();
+  loads_ = Loads(nq, model_.nbody());
+  zero_ = Vector::Zero(nq);
+  f0_.resize(nq);
+  Qa_.resize(nq);
+  h_.resize(nq);
+  M_.resize(nq, nq);
+  DwJ_.resize(nq, 3);
+  ldlt_ = Eigen::LDLT<Matrix>(nq);
+}
+
+void MultibodySystem::set_source(EquationsSource source) {
+  if (source == EquationsSource::emitted && !model_.has_equations_of_motion()) {
+    throw ModelError(fmt::format(
+        "model '{}': the emitted source needs mass_matrix and bias_forces, which were not emitted",
+        model_.name()));
+  }
+  source_ = source;
+}
+
+void MultibodySystem::add(std::shared_ptr<const ForceElement> element) {
+  if (!element) throw ModelError("a null force element was added");
+  elements_.push_back(std::move(element));
+}
+
+void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vector& initial,
+                                       ExtraEquations e) {
+  if (initial.size() != static_cast<Eigen::Index>(names.size())) {
+    throw ModelError(fmt::format("{} extra states named but {} initial values given",
+                                 names.size(), initial.size()));
+  }
+  if (!e && !names.empty()) throw ModelError("extra states need their equations");
+  extra_names_ = std::move(names);
+  extra_initial_ = initial;
+  extra_ = std::move(e);
+}
+
+State MultibodySystem::initial_state() const {
+  State s = model_.initial_state();
+  s.y = extra_initial_;
+  return s;
+}
+
+std::string MultibodySystem::describe(const State& s) const {
+  std::string out = "q = (";
+  for (int j = 0; j < model_.nq(); ++j) {
+    out += fmt::format("{}{} = {}", j ? ", " : "", model_.q_names()[j], s.q(j));
+  }
+  out += "), qd = (";
+  for (int j = 0; j < model_.nq(); ++j) {
+    out += fmt::format("{}{}", j ? ", " : "", s.qd(j));
+  }
+  return out + ")";
+}
+
+void MultibodySystem::check_state(const State& s) const {
+  const int nq = model_.nq();
+  if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != num_extra_states()) {
+    throw ModelError(fmt::format(
+        "model '{}': a state with {} q, {} qd, {} y given; expected {}, {}, {}", model_.name(),
+        s.q.size(), s.qd.size(), s.y.size(), nq, nq, num_extra_states()));
+  }
+  if (!std::isfinite(s.t)) throw NumericError(fmt::format("time is not finite ({})", s.t));
+  for (int j = 0; j < nq; ++j) {
+    if (!std::isfinite(s.q(j)) || !std::isfinite(s.qd(j))) {
+      throw NumericError(fmt::format("t = {}: coordinate '{}' is not finite (q = {}, qd = {})",
+                                     s.t, model_.q_names()[j], s.q(j), s.qd(j)));
+    }
+  }
+  for (int j = 0; j < num_extra_states(); ++j) {
+    if (!std::isfinite(s.y(j))) {
+      throw NumericError(fmt::format("t = {}: extra state '{}' is not finite ({})", s.t,
+                                     extra_names_[j], s.y(j)));
+    }
+  }
+}
+
+void MultibodySystem::check_kinematics(const State& s, bool accelerations) const {
+  struct Quantity {
+    const char* name;
+    bool finite;
+  };
+  for (int i = 0; i < model_.nbody(); ++i) {
+    const Quantity qs[] = {
+        {"rotation R", k_.R(i).allFinite()},
+        {"position x", k_.x(i).allFinite()},
+        {"velocity v", k_.v(i).allFinite()},
+        {"angular velocity w", k_.w(i).allFinite()},
+        {"acceleration a", !accelerations || k_.a(i).allFinite()},
+        {"angular acceleration dw", !accelerations || k_.dw(i).allFinite()},
+        {"partial velocity dv/dqd", k_.dv_dqd(i).allFinite()},
+        {"partial angular velocity dw/dqd", k_.dw_dqd(i).allFinite()},
+    };
+    for (const Quantity& q : qs) {
+      if (!q.finite) {
+        throw NumericError(fmt::format("t = {}: body '{}': {} is not finite at {}", s.t,
+                                       model_.body_names()[i], q.name, describe(s)));
+      }
+    }
+  }
+}
+
+void MultibodySystem::compute_loads(const State& s) {
+  loads_.clear();
+  for (const auto& e : elements_) e->apply(s, k_, loads_);
+  if (loads_.F.allFinite() && loads_.M.allFinite() && loads_.Q.allFinite()) return;
+  // Error path: find the element and the body or coordinate to name.
+  for (const auto& e : elements_) {
+    Loads one(model_.nq(), model_.nbody());
+    e->apply(s, k_, one);
+    for (int i = 0; i < model_.nbody(); ++i) {
+      if (!one.F.col(i).allFinite() || !one.M.col(i).allFinite()) {
+        throw NumericError(fmt::format("t = {}: {}: force or moment on body '{}' is not finite",
+                                       s.t, e->name(), model_.body_names()[i]));
+      }
+    }
+    for (int j = 0; j < model_.nq(); ++j) {
+      if (!std::isfinite(one.Q(j))) {
+        throw NumericError(fmt::format("t = {}: {}: generalized force on coordinate '{}' is not finite",
+                                       s.t, e->name(), model_.q_names()[j]));
+      }
+    }
+  }
+  throw NumericError(fmt::format("t = {}: a load is not finite", s.t));
+}
+
+void MultibodySystem::project_loads(Vector& Q) const {
+  Q = loads_.Q;
+  for (int i = 0; i < model_.nbody(); ++i) {
+    Q.noalias() += k_.dv_dqd(i) * loads_.F.col(i);
+    Q.noalias() += k_.dw_dqd(i) * loads_.M.col(i);
+  }
+}
+
+void MultibodySystem::assemble_residual(Vector& f, bool with_gravity, bool with_loads) const {
+  f.setZero();
+  const Vec3& g = model_.gravity();
+  for (int i = 0; i < model_.nbody(); ++i) {
+    const double m = model_.mass(i);
+    const Mat3 J = model_.global_inertia(i, k_);
+    const Vec3 w = k_.w(i);
+    // inertia force m a - F and moment J dw + w x (J w) - M
+    Vec3 force = m * k_.a(i);
+    Vec3 moment = J * k_.dw(i) + w.cross(J * w);
+    if (with_gravity) force -= m * g;
+    if (with_loads) {
+      force -= loads_.F.col(i);
+      moment -= loads_.M.col(i);
+    }
+    f.noalias() += k_.dv_dqd(i) * force;
+    f.noalias() += k_.dw_dqd(i) * moment;
+  }
+  if (with_loads) f -= loads_.Q;
+}
+
+void MultibodySystem::assemble_mass_matrix(Matrix& M) {
+  // M_jk = sum_i m_i dv_ij.dv_ik + dw_ij.J_i dw_ik
+  M.setZero();
+  for (int i = 0; i < model_.nbody(); ++i) {
+    const Mat3 J = model_.global_inertia(i, k_);
+    M.noalias() += model_.mass(i) * k_.dv_dqd(i) * k_.dv_dqd(i).transpose();
+    DwJ_.noalias() = k_.dw_dqd(i) * J;
+    M.noalias() += DwJ_ * k_.dw_dqd(i).transpose();
+  }
+}
+
+const Kinematics& MultibodySystem::evaluate_kinematics(const State& s) {
+  check_state(s);
+  model_.velocities(s.t, s.q.data(), s.qd.data(), k_);
+  model_.partial_velocities(s.t, s.q.data(), k_);
+  check_kinematics(s, false);
+  return k_;
+}
+
+void MultibodySystem::mass_matrix(const State& s, Matrix& M) {
+  if (source_ == EquationsSource::emitted) {
+    mass_matrix_emitted(s, M);
+  } else {
+    mass_matrix_assembled(s, M);
+  }
+}
+
+void MultibodySystem::mass_matrix_assembled(const State& s, Matrix& M) {
+  check_state(s);
+  model_.positions(s.t, s.q.data(), k_);
+  model_.partial_velocities(s.t, s.q.data(), k_);
+  check_kinematics(s, false);
+  M.resize(model_.nq(), model_.nq());
+  assemble_mass_matrix(M);
+}
+
+void MultibodySystem::mass_matrix_emitted(const State& s, Matrix& M) {
+  check_state(s);
+  // The emitted M is row-major and symmetric, so its column-major layout is
+  // the same array.
+  M.resize(model_.nq(), model_.nq());
+  model_.mass_matrix(s.t, s.q.data(), M.data());
+}
+
+void MultibodySystem::bias_forces_assembled(const State& s, Vector& h) {
+  check_state(s);
+  model_.accelerations(s.t, s.q.data(), s.qd.data(), zero_.data(), k_);
+  model_.partial_velocities(s.t, s.q.data(), k_);
+  check_kinematics(s, true);
+  h.resize(model_.nq());
+  assemble_residual(h, true, false);
+}
+
+void MultibodySystem::bias_forces_emitted(const State& s, Vector& h) {
+  check_state(s);
+  h.resize(model_.nq());
+  model_.bias_forces(s.t, s.q.data(), s.qd.data(), h.data());
+}
+
+void MultibodySystem::applied_forces(const State& s, Vector& Q) {
+  evaluate_kinematics(s);
+  compute_loads(s);
+  Q.resize(model_.nq());
+  project_loads(Q);
+}
+
+void MultibodySystem::solve(const State& s, const Matrix& M, const Vector& rhs, Vector& qdd) {
+  if (!M.allFinite()) {
+    throw NumericError(fmt::format("t = {}: mass matrix is not finite at {}", s.t, describe(s)));
+  }
+  ldlt_.compute(M);
+  const auto D = ldlt_.vectorD();
+  const double dmax = D.cwiseAbs().maxCoeff();
+  const double dmin = D.minCoeff();
+  // Pivots of an SPD matrix are positive; a tiny or negative one means M is
+  // singular (a coordinate without inertia, a gimbal lock) or indefinite.
+  if (ldlt_.info() != Eigen::Success || !(dmin > 1e-12 * dmax)) {
+    throw NumericError(fmt::format(
+        "t = {}: mass matrix is singular or indefinite (smallest LDLT pivot {} of largest {}) at {}",
+        s.t, dmin, dmax, describe(s)));
+  }
+  qdd = ldlt_.solve(rhs);
+}
+
+void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
+  check_state(s);
+  if (source_ == EquationsSource::assembled) {
+    // M qdd = -f(qdd = 0)
+    model_.accelerations(s.t, s.q.data(), s.qd.data(), zero_.data(), k_);
+    model_.partial_velocities(s.t, s.q.data(), k_);
+    check_kinematics(s, true);
+    compute_loads(s);
+    assemble_residual(f0_, true, true);
+    assemble_mass_matrix(M_);
+    f0_ = -f0_;
+  } else {
+    // M qdd = Q - h
+    evaluate_kinematics(s);
+    compute_loads(s);
+    project_loads(Qa_);
+    bias_forces_emitted(s, h_);
+    mass_matrix_emitted(s, M_);
+    f0_ = Qa_ - h_;
+  }
+  solve(s, M_, f0_, qdd);
+  yd.resize(num_extra_states());
+  if (extra_) extra_(s, k_, yd);
+}
+
+void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
+                               Vector& g) {
+  check_state(s);
+  f.resize(model_.nq());
+  if (source_ == EquationsSource::assembled) {
+    model_.accelerations(s.t, s.q.data(), s.qd.data(), qdd.data(), k_);
+    model_.partial_velocities(s.t, s.q.data(), k_);
+    check_kinematics(s, true);
+    compute_loads(s);
+    assemble_residual(f, true, true);
+  } else {
+    // f = M qdd + h - Q
+    evaluate_kinematics(s);
+    compute_loads(s);
+    project_loads(Qa_);
+    bias_forces_emitted(s, h_);
+    mass_matrix_emitted(s, M_);
+    f.noalias() = M_ * qdd;
+    f += h_ - Qa_;
+  }
+  g.resize(num_extra_states());
+  if (extra_) {
+    extra_(s, k_, g);
+    g = yd - g;
+  }
+}
+
+void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C,
+                                Matrix& K) {
+  const int n = model_.nq();
+  mass_matrix(s, M);
+  C.resize(n, n);
+  K.resize(n, n);
+  State p = s;
+  Vector yd = Vector::Zero(num_extra_states());
+  Vector fp(n), fm(n), g;
+  // Central differences with a relative step: error O(h^2) against rounding eps/h.
+  for (int j = 0; j < n; ++j) {
+    const double hq = 1e-6 * std::max(1.0, std::abs(s.q(j)));
+    p.q(j) = s.q(j) + hq;
+    residual(p, qdd, yd, fp, g);
+    p.q(j) = s.q(j) - hq;
+    residual(p, qdd, yd, fm, g);
+    p.q(j) = s.q(j);
+    K.col(j) = (fp - fm) / (2.0 * hq);
+    const double hv = 1e-6 * std::max(1.0, std::abs(s.qd(j)));
+    p.qd(j) = s.qd(j) + hv;
+    residual(p, qdd, yd, fp, g);
+    p.qd(j) = s.qd(j) - hv;
+    residual(p, qdd, yd, fm, g);
+    p.qd(j) = s.qd(j);
+    C.col(j) = (fp - fm) / (2.0 * hv);
+  }
+}
+
+Energies MultibodySystem::energies(const State& s) {
+  evaluate_kinematics(s);
+  Energies e;
+  e.kinetic = kinetic_energy(model_, k_);
+  e.gravitational = gravitational_energy(model_, k_);
+  for (const auto& el : elements_) e.elastic += el->potential_energy(s, k_);
+  return e;
+}
+
+Momentum MultibodySystem::momentum(const State& s) {
+  evaluate_kinematics(s);
+  return runtime::momentum(model_, k_);
+}
+
+SourceComparison compare_sources(MultibodySystem& system, const State& s) {
+  if (!system.model().has_equations_of_motion()) {
+    throw ModelError(fmt::format("model '{}': no emitted equations of motion to compare with",
+                                 system.model().name()));
+  }
+  Matrix Ma, Me;
+  Vector ha, he;
+  system.mass_matrix_assembled(s, Ma);
+  system.mass_matrix_emitted(s, Me);
+  system.bias_forces_assembled(s, ha);
+  system.bias_forces_emitted(s, he);
+  SourceComparison c;
+  c.mass_matrix = (Ma - Me).cwiseAbs().maxCoeff();
+  c.bias_forces = (ha - he).cwiseAbs().maxCoeff();
+  return c;
+}
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,147 @@
+#pragma once
+// MultibodySystem: the equations of motion of a generated model plus force
+// elements, as a DynamicSystem for integrators, statics and linearization.
+//
+// Residual (virtual power), for every coordinate j:
+//   f_j = sum_i (m_i a_i - F_i).dv_i/dqd_j + (J_i dw_i + w_i x (J_i w_i) - M_i).dw_i/dqd_j - Q_j
+// with J_i = R_i I_i R_i^T, F_i and M_i the applied forces and moments at G_i
+// (gravity m_i g included in F_i) and Q_j the generalized forces of elements.
+// Explicit form: M qdd = -f(qdd = 0), solved by LDLT; a singular or
+// indefinite M is a NumericError naming the time and the state.
+//
+// Two sources of M and h (selectable, compare_sources() checks they agree):
+//   assembled: M_jk = sum_i m_i dv_ij.dv_ik + dw_ij.J_i dw_ik from the partial
+//              velocities, h = f(qdd = 0) without applied forces but gravity;
+//   emitted:   the generated mass_matrix and bias_forces; partial velocities
+//              then serve only to project the applied forces of elements.
+//
+// Extra first-order states y (a motor current, a controller integral) have
+// yd = e(t, q, qd, y) given by a callback; force elements read y from the
+// state. Every value that crosses an API boundary is checked: a non-finite q,
+// qd, y, kinematic quantity or load is a NumericError naming the time, the
+// quantity and the body or coordinate (and the force element for loads).
+//
+// Not thread-safe: a system owns its workspace; use one system per thread.
+
+#include <Eigen/Cholesky>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "runtime/dynamic_system.hpp"
+#include "runtime/energy.hpp"
+#include "runtime/force_element.hpp"
+#include "runtime/model.hpp"
+
+namespace symdyn::runtime {
+
+enum class EquationsSource { assembled, emitted };
+
+class MultibodySystem : public DynamicSystem {
+ public:
+  // Throws ModelError when the model lacks the entry points the source needs
+  // (velocities, accelerations, partial_velocities; mass_matrix and
+  // bias_forces for the emitted source).
+  explicit MultibodySystem(Model model, EquationsSource source = EquationsSource::assembled);
+
+  const Model& model() const { return model_; }
+  // Sets a run-time model parameter (inertia re-validated: ModelError).
+  void set_parameter(std::string_view name, double value) { model_.set_parameter(name, value); }
+  EquationsSource source() const { return source_; }
+  void set_source(EquationsSource source);
+
+  // Force elements, applied in the order added.
+  void add(std::shared_ptr<const ForceElement> element);
+  template <class E, class... Args>
+  std::shared_ptr<E> add(Args&&... args) {
+    auto e = std::make_shared<E>(std::forward<Args>(args)...);
+    add(e);
+    return e;
+  }
+  const std::vector<std::shared_ptr<const ForceElement>>& force_elements() const {
+    return elements_;
+  }
+
+  // Extra states: names (m), initial values (m) and e(s, k, out) writing yd
+  // (m) from the state and its velocity-level kinematics.
+  using ExtraEquations =
+      std::function<void(const State& s, const Kinematics& k, Eigen::Ref<Vector> yd)>;
+  void set_extra_states(std::vector<std::string> names, const Vector& initial, ExtraEquations e);
+
+  // The model's initial q and qd at t = 0, with the extra states' initial values.
+  State initial_state() const;
+
+  // DynamicSystem
+  int num_coordinates() const override { return model_.nq(); }
+  int num_extra_states() const override { return static_cast<int>(extra_names_.size()); }
+  std::string coordinate_name(int i) const override { return model_.q_names()[i]; }
+  std::string extra_state_name(int i) const override { return extra_names_[i]; }
+  void accelerations(const State& s, Vector& qdd, Vector& yd) override;
+  void residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
+                Vector& g) override;
+  // M exact (from the chosen source), C and K by central differences of the
+  // residual (relative step 1e-6 with floor 1e-6).
+  void jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K) override;
+
+  // The pieces, each evaluated at the state s (nq x nq and nq).
+  void mass_matrix(const State& s, Matrix& M);
+  void mass_matrix_assembled(const State& s, Matrix& M);
+  void mass_matrix_emitted(const State& s, Matrix& M);
+  // h = inertia terms at qdd = 0 and gravity (the emitted bias_forces' meaning).
+  void bias_forces_assembled(const State& s, Vector& h);
+  void bias_forces_emitted(const State& s, Vector& h);
+  // Generalized applied forces of the force elements (gravity excluded):
+  // Q_j = sum_i F_i.dv_ij + M_i.dw_ij + Q_j.
+  void applied_forces(const State& s, Vector& Q);
+
+  Energies energies(const State& s);
+  Momentum momentum(const State& s);
+
+  // The kinematics and loads of the last evaluation.
+  const Kinematics& kinematics() const { return k_; }
+  const Loads& loads() const { return loads_; }
+
+  // Evaluates velocity-level kinematics and partial velocities at s into
+  // kinematics() (checked for finite values).
+  const Kinematics& evaluate_kinematics(const State& s);
+
+ private:
+  void check_state(const State& s) const;
+  void check_kinematics(const State& s, bool accelerations) const;
+  void compute_loads(const State& s);
+  // sum_i F_i.dv_ij + M_i.dw_ij + Q_j of the current loads and kinematics.
+  void project_loads(Vector& Q) const;
+  // f of the assembled residual from the current kinematics (with a, dw) and
+  // loads; with_gravity adds the weights to the applied forces.
+  void assemble_residual(Vector& f, bool with_gravity, bool with_loads) const;
+  void assemble_mass_matrix(Matrix& M);
+  void solve(const State& s, const Matrix& M, const Vector& rhs, Vector& qdd);
+  std::string describe(const State& s) const;
+
+  Model model_;
+  EquationsSource source_;
+  std::vector<std::shared_ptr<const ForceElement>> elements_;
+  std::vector<std::string> extra_names_;
+  Vector extra_initial_;
+  ExtraEquations extra_;
+
+  // Workspace: sized at construction, reused by every evaluation.
+  Kinematics k_;
+  Loads loads_;
+  Vector zero_, f0_, Qa_, h_;
+  Matrix M_;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> DwJ_;  // (nq x 3)
+  Eigen::LDLT<Matrix> ldlt_;
+};
+
+// Largest absolute differences between the assembled and the emitted mass
+// matrix and bias forces at s (ModelError if the model has no emitted ones).
+struct SourceComparison {
+  double mass_matrix = 0.0;
+  double bias_forces = 0.0;
+};
+SourceComparison compare_sources(MultibodySystem& system, const State& s);
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,72 @@
+#pragma once
+// Forces between and at points of bodies (points in body coordinates from G;
+// `ground` for a fixed global point), and user forces.
+
+#include <functional>
+#include <string>
+
+#include "runtime/force_element.hpp"
+
+namespace symdyn::runtime {
+
+// A body point: the body index (or `ground`) and its coordinates in body axes
+// from G (global coordinates for the ground).
+struct BodyPoint {
+  int body = ground;
+  Vec3 point = Vec3::Zero();
+};
+
+// Linear spring and damper between two body points, along their line:
+// with L = |P_b - P_a|, u = (P_b - P_a)/L and Ld = u . (v_Pb - v_Pa),
+// the tension T = k (L - free_length) + c Ld pulls P_b towards P_a (-T u on b,
+// +T u on a), each reduced to G. Throws NumericError when the points coincide.
+class PointSpringDamper : public ForceElement {
+ public:
+  PointSpringDamper(std::string name, BodyPoint a, BodyPoint b, double stiffness,
+                    double free_length, double damping = 0.0);
+  std::string name() const override { return "spring '" + name_ + "'"; }
+  void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+  // 1/2 k (L - free_length)^2
+  double potential_energy(const State& s, const Kinematics& k) const override;
+  // Length and its rate at the last kinematics given.
+  double length(const Kinematics& k) const;
+
+ private:
+  std::string name_;
+  BodyPoint a_, b_;
+  double k_, L0_, c_;
+};
+
+// A force and a torque (global axes) at a point of a body, constant or a
+// function of time, state and kinematics.
+class PointLoad : public ForceElement {
+ public:
+  using Law = std::function<void(const State& s, const Kinematics& k, Vec3& force, Vec3& torque)>;
+  // Constant force and torque.
+  PointLoad(std::string name, BodyPoint at, const Vec3& force, const Vec3& torque = Vec3::Zero());
+  // Force and torque computed by law at each evaluation.
+  PointLoad(std::string name, BodyPoint at, Law law);
+  std::string name() const override { return "load '" + name_ + "'"; }
+  void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+
+ private:
+  std::string name_;
+  BodyPoint at_;
+  Vec3 force_, torque_;
+  Law law_;
+};
+
+// Anything else: a callback that adds loads given (t, state, kinematics).
+class UserForce : public ForceElement {
+ public:
+  using Callback = std::function<void(const State& s, const Kinematics& k, Loads& loads)>;
+  UserForce(std::string name, Callback callback);
+  std::string name() const override { return "user force '" + name_ + "'"; }
+  void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+
+ private:
+  std::string name_;
+  Callback callback_;
+};
+
+}  // namespace symdyn::runtime
