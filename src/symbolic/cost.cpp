@@ -1,0 +1,107 @@
+// The operation count of a DAG; see cost.hpp for the model.
+#include "symbolic/cost.hpp"
+
+#include <bit>
+#include <vector>
+
+namespace symdyn::symbolic {
+namespace {
+
+bool is_reciprocal(Expr f) {
+  return f.kind() == Kind::Pow && f.arg(1).number().is_integer() && f.arg(1).number().is_negative();
+}
+
+// Products: k - 1 multiplications between the non-numeric factors (a
+// reciprocal factor is a division instead of a multiplication), plus one for
+// a coefficient other than +-1, plus one for 1/(x·y) with no numerator.
+int product_cost(Expr e, std::vector<Expr>* operands) {
+  int cost = 0;
+  int factors = 0;
+  bool has_numerator = false;
+  for (Expr f : e.args()) {
+    if (f.is_number()) {
+      const Number& c = f.number();
+      if (!c.is_one() && !(-c).is_one()) {
+        cost += 1;
+        has_numerator = true;
+      }
+      continue;
+    }
+    ++factors;
+    if (is_reciprocal(f)) {
+      cost += power_multiplications(-f.arg(1).number().num());
+      operands->push_back(f.arg(0));
+    } else {
+      has_numerator = true;
+      operands->push_back(f);
+    }
+  }
+  cost += factors - 1;
+  if (!has_numerator) cost += 1;
+  return cost;
+}
+
+int power_cost(const Number& exponent) {
+  if (!exponent.is_integer()) return info(Kind::Pow).cost;
+  const std::int64_t n = exponent.num();
+  return n < 0 ? power_multiplications(-n) + 1 : power_multiplications(n);
+}
+
+class CostCounter {
+ public:
+  CostCounter() : seen_(Context::current().size(), false) {}
+
+  int total(std::span<const Expr> outputs) {
+    for (Expr e : outputs) push(e);
+    std::vector<Expr> operands;
+    while (!stack_.empty()) {
+      const Expr e = stack_.back();
+      stack_.pop_back();
+      operands.clear();
+      total_ += own_cost(e, &operands);
+      for (Expr a : operands) push(a);
+    }
+    return total_;
+  }
+
+ private:
+  // Queues a node unless it is already counted.
+  void push(Expr e) {
+    const std::uint32_t id = e.id();
+    if (id >= seen_.size()) seen_.resize(id + 1, false);
+    if (seen_[id]) return;
+    seen_[id] = true;
+    stack_.push_back(e);
+  }
+
+  std::vector<bool> seen_;
+  std::vector<Expr> stack_;
+  int total_ = 0;
+};
+
+}  // namespace
+
+int own_cost(Expr e, std::vector<Expr>* operands) {
+  switch (e.kind()) {
+    case Kind::Rational:
+    case Kind::Real:
+    case Kind::Symbol: return 0;
+    case Kind::Mul: return product_cost(e, operands);
+    default: break;
+  }
+  operands->insert(operands->end(), e.args().begin(), e.args().end());
+  if (e.kind() == Kind::Add) return static_cast<int>(e.args().size()) - 1;
+  if (e.kind() == Kind::Pow) return power_cost(e.arg(1).number());
+  return info(e.kind()).cost;
+}
+
+int power_multiplications(std::int64_t n) {
+  const auto u = static_cast<std::uint64_t>(n);
+  return static_cast<int>(std::bit_width(u)) - 1 + std::popcount(u) - 1;
+}
+
+int operation_cost(std::span<const Expr> outputs) { return CostCounter().total(outputs); }
+
+int operation_cost(Expr e) { return operation_cost(std::span<const Expr>(&e, 1)); }
+
+}  // namespace symdyn::symbolic

@@ -1,0 +1,582 @@
+// The rewrite engine: matching modulo commutativity and sub-multisets, and
+// bottom-up application of rule tables. See rewrite.hpp for the semantics.
+//
+// Matching is a backtracking search written in continuation-passing style:
+// match(p, t, k) calls k() once per way p matches t (with the bindings made),
+// and stops as soon as k() returns true. That is what lets a sum pattern try
+// every assignment of its terms and a product pattern every sub-multiset,
+// while a wildcard bound in one term constrains the next.
+#include "symbolic/rewrite.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <iostream>
+
+#include "symbolic/cost.hpp"
+
+namespace symdyn::symbolic {
+namespace {
+
+enum class WildClass { One, Cofactor, Rest };
+
+WildClass wild_class(Expr w) {
+  const char c = w.name()[1];
+  if (c >= 'a' && c <= 'd') return WildClass::Cofactor;
+  if (std::isupper(static_cast<unsigned char>(c)) != 0) return WildClass::Rest;
+  return WildClass::One;
+}
+
+bool trace_rules() {
+  static const bool enabled = [] {
+    const char* v = std::getenv("SYMDYN_TRACE_RULES");
+    return v != nullptr && *v != '\0' && std::string_view(v) != "0";
+  }();
+  return enabled;
+}
+
+struct Factor {
+  Expr base;
+  Number exponent;
+};
+
+// An expression seen as coefficient · factors (a lone x is 1·x, a number is
+// a coefficient). For a product pattern the cofactor wildcard is set apart.
+struct Product {
+  Number coefficient{1};
+  std::vector<Factor> factors;
+  Expr cofactor;
+  bool has_cofactor = false;
+};
+
+Product split_product(Expr e, bool pattern) {
+  Product out;
+  auto take = [&](Expr f) {
+    if (f.is_number()) {
+      out.coefficient = f.number();
+    } else if (pattern && is_wildcard(f) && wild_class(f) != WildClass::One) {
+      out.cofactor = f;
+      out.has_cofactor = true;
+    } else {
+      auto [b, x] = split_power(f);
+      out.factors.push_back({b, x});
+    }
+  };
+  if (e.kind() == Kind::Mul) {
+    for (Expr f : e.args()) take(f);
+  } else {
+    take(e);
+  }
+  return out;
+}
+
+}  // namespace
+
+// Decompositions of the products met while matching, by node id: a rewriter
+// matches the same terms against many rules and steps.
+class MatchCache {
+ public:
+  const Product& target(Expr e) { return get(targets_, e, false); }
+  const Product& pattern(Expr e) { return get(patterns_, e, true); }
+
+ private:
+  static const Product& get(std::unordered_map<std::uint32_t, Product>& map, Expr e, bool pattern) {
+    auto it = map.find(e.id());
+    if (it == map.end()) it = map.emplace(e.id(), split_product(e, pattern)).first;
+    return it->second;
+  }
+  std::unordered_map<std::uint32_t, Product> targets_;
+  std::unordered_map<std::uint32_t, Product> patterns_;
+};
+
+namespace {
+
+// How many units of a target factor with `remaining` exponent a pattern factor
+// with exponent `wanted` takes: integer powers count as repeated factors.
+bool can_take(const Number& remaining, const Number& wanted) {
+  if (remaining.is_zero()) return false;
+  if (remaining == wanted) return true;
+  if (!remaining.is_integer() || !wanted.is_integer()) return false;
+  if (remaining.is_negative() != wanted.is_negative()) return false;
+  const std::int64_t r = remaining.num() < 0 ? -remaining.num() : remaining.num();
+  const std::int64_t w = wanted.num() < 0 ? -wanted.num() : wanted.num();
+  return r >= w;
+}
+
+class Matcher {
+ public:
+  using Cont = std::function<bool()>;
+
+  Matcher(Match* match, int budget, MatchCache* cache) : m_(match), budget_(budget), cache_(cache) {}
+
+  // Top of a rule: a sum pattern keeps the unmatched terms in Match::remainder.
+  bool match_top(Expr p, Expr t, const Cont& k) {
+    if (p.kind() == Kind::Add) return match_sum(p, t, true, k);
+    return match(p, t, k);
+  }
+
+  bool exhausted() const { return budget_ < 0; }
+
+ private:
+  bool match(Expr p, Expr t, const Cont& k) {
+    if (--budget_ < 0) return false;
+    if (is_wildcard(p)) return bind(p, t, k);
+    switch (p.kind()) {
+      case Kind::Rational:
+      case Kind::Real:
+      case Kind::Symbol: return p == t && k();
+      case Kind::Mul: return match_product(p, t, k);
+      case Kind::Add: return match_sum(p, t, false, k);
+      default: break;
+    }
+    if (p.kind() != t.kind()) return false;
+    if (p.kind() == Kind::Pow && p.arg(1) != t.arg(1)) return false;
+    return match_args(p.args(), t.args(), 0, k);
+  }
+
+  bool match_args(std::span<const Expr> ps, std::span<const Expr> ts, std::size_t i, const Cont& k) {
+    if (i == ps.size()) return k();
+    return match(ps[i], ts[i], [&] { return match_args(ps, ts, i + 1, k); });
+  }
+
+  bool bind(Expr w, Expr value, const Cont& k) {
+    if (auto bound = m_->find(w)) return *bound == value && k();
+    m_->bind(w, value);
+    const bool accepted = k();
+    m_->unbind();
+    return accepted;
+  }
+
+  // ---- products ----
+
+  struct ProductState {
+    const Product* pattern;
+    const Product* target;
+    std::vector<Number> remaining;
+  };
+
+  bool match_product(Expr p, Expr t, const Cont& k) {
+    ProductState s{&cache_->pattern(p), &cache_->target(t), {}};
+    s.remaining.reserve(s.target->factors.size());
+    for (const Factor& f : s.target->factors) s.remaining.push_back(f.exponent);
+    return assign_factor(s, 0, k);
+  }
+
+  bool assign_factor(ProductState& s, std::size_t i, const Cont& k) {
+    if (i == s.pattern->factors.size()) return finish_product(s, k);
+    const Factor& pf = s.pattern->factors[i];
+    const bool whole = is_wildcard(pf.base) && pf.exponent.is_one();
+    for (std::size_t j = 0; j < s.target->factors.size(); ++j) {
+      const Number before = s.remaining[j];
+      if (before.is_zero()) continue;
+      const Factor& tf = s.target->factors[j];
+      if (whole) {
+        s.remaining[j] = Number(0);
+        const bool accepted = match(pf.base, pow(tf.base, Expr(before)), [&] { return assign_factor(s, i + 1, k); });
+        s.remaining[j] = before;
+        if (accepted) return true;
+        continue;
+      }
+      if (!is_wildcard(pf.base) && pf.base.kind() != tf.base.kind()) continue;
+      if (!can_take(before, pf.exponent)) continue;
+      s.remaining[j] = before - pf.exponent;
+      const bool accepted = match(pf.base, tf.base, [&] { return assign_factor(s, i + 1, k); });
+      s.remaining[j] = before;
+      if (accepted) return true;
+      if (exhausted()) return false;
+    }
+    return false;
+  }
+
+  bool finish_product(ProductState& s, const Cont& k) {
+    const Number coefficient = s.target->coefficient / s.pattern->coefficient;
+    if (!s.pattern->has_cofactor) {
+      // Without a cofactor the target must be used up exactly.
+      if (!coefficient.is_one()) return false;
+      for (const Number& r : s.remaining) {
+        if (!r.is_zero()) return false;
+      }
+      return k();
+    }
+    std::vector<Expr> rest{Expr(coefficient)};
+    for (std::size_t j = 0; j < s.target->factors.size(); ++j) {
+      if (!s.remaining[j].is_zero()) rest.push_back(pow(s.target->factors[j].base, Expr(s.remaining[j])));
+    }
+    return bind(s.pattern->cofactor, mul(rest), k);
+  }
+
+  // ---- sums ----
+
+  struct SumState {
+    std::vector<Expr> pattern;  // structural terms first, bare wildcards last
+    Expr rest;
+    bool has_rest = false;
+    bool top = false;
+    std::span<const Expr> target;
+    std::vector<bool> used;
+  };
+
+  bool match_sum(Expr p, Expr t, bool top, const Cont& k) {
+    if (t.kind() != Kind::Add) return false;
+    SumState s;
+    s.top = top;
+    std::vector<Expr> wild_terms;
+    for (Expr term : p.args()) {
+      if (is_wildcard(term) && wild_class(term) == WildClass::Rest) {
+        s.rest = term;
+        s.has_rest = true;
+      } else if (is_wildcard(term)) {
+        wild_terms.push_back(term);
+      } else {
+        s.pattern.push_back(term);
+      }
+    }
+    s.pattern.insert(s.pattern.end(), wild_terms.begin(), wild_terms.end());
+    s.target = t.args();
+    if (s.target.size() < s.pattern.size()) return false;
+    s.used.assign(s.target.size(), false);
+    return assign_term(s, 0, k);
+  }
+
+  bool assign_term(SumState& s, std::size_t i, const Cont& k) {
+    if (i == s.pattern.size()) return finish_sum(s, k);
+    for (std::size_t j = 0; j < s.target.size(); ++j) {
+      if (s.used[j] || !could_match(s.pattern[i], s.target[j])) continue;
+      s.used[j] = true;
+      const bool accepted = match(s.pattern[i], s.target[j], [&] { return assign_term(s, i + 1, k); });
+      s.used[j] = false;
+      if (accepted) return true;
+      if (exhausted()) return false;
+    }
+    return false;
+  }
+
+  bool finish_sum(SumState& s, const Cont& k) {
+    std::vector<Expr> leftover;
+    std::vector<Expr> matched;
+    for (std::size_t j = 0; j < s.target.size(); ++j) {
+      (s.used[j] ? matched : leftover).push_back(s.target[j]);
+    }
+    if (s.has_rest) return bind(s.rest, add(leftover), k);
+    if (!s.top) return leftover.empty() && k();
+    std::vector<Expr> saved = std::move(m_->remainder);
+    std::vector<Expr> saved_matched = std::move(m_->matched);
+    m_->remainder = std::move(leftover);
+    m_->matched = std::move(matched);
+    const bool accepted = k();
+    m_->remainder = std::move(saved);
+    m_->matched = std::move(saved_matched);
+    return accepted;
+  }
+
+  // A cheap necessary condition: every non-wildcard factor base of a product
+  // pattern term has a factor of the same kind in the target term.
+  bool could_match(Expr p, Expr t) {
+    if (is_wildcard(p)) return true;
+    if (p.kind() != Kind::Mul && p.kind() != Kind::Pow && !is_function(p.kind())) return true;
+    const Product& target = cache_->target(t);
+    for (const Factor& f : cache_->pattern(p).factors) {
+      if (is_wildcard(f.base)) continue;
+      bool found = false;
+      for (const Factor& g : target.factors) found = found || g.base.kind() == f.base.kind();
+      if (!found) return false;
+    }
+    return true;
+  }
+
+  Match* m_;
+  int budget_;
+  MatchCache* cache_;
+};
+
+// The cost of a sum under the removal of some terms and the addition of
+// others, without building the new sum: reference counts over the sum's DAG
+// say which nodes a removed term alone needed (saved) and which nodes an added
+// term brings (paid). Exact but for the merging of like terms, which only
+// lowers the cost further. Building the sum and rewriting its new parts is the
+// expensive part of a step, so only matches that pass this test pay for it.
+class SumCost {
+ public:
+  explicit SumCost(Expr sum) : terms_(static_cast<int>(sum.args().size())) {
+    for (Expr t : sum.args()) add_ref(t, nullptr);
+  }
+
+  // Change of cost when `removed` terms leave and `added` terms join.
+  int delta(std::span<const Expr> removed, std::span<const Expr> added) {
+    int change = 0;
+    for (Expr t : removed) change -= drop_ref(t);
+    for (Expr t : added) change += add_ref(t, &log_);
+    change += static_cast<int>(added.size()) - static_cast<int>(removed.size());
+    if (terms_ - static_cast<int>(removed.size()) + static_cast<int>(added.size()) <= 1) change -= 1;  // no sum left
+    undo();
+    return change;
+  }
+
+ private:
+  // References e once more; returns the cost of the nodes that were absent.
+  int add_ref(Expr e, std::vector<std::uint32_t>* log) {
+    int& r = refs_[e.id()];
+    if (log) log->push_back(e.id());
+    if (r++ > 0) return 0;
+    std::vector<Expr> operands;
+    int cost = own_cost(e, &operands);
+    for (Expr a : operands) cost += add_ref(a, log);
+    return cost;
+  }
+
+  // Drops one reference to e; returns the cost of the nodes no longer needed.
+  int drop_ref(Expr e) {
+    int& r = refs_[e.id()];
+    dropped_.push_back(e.id());
+    if (--r > 0) return 0;
+    std::vector<Expr> operands;
+    int cost = own_cost(e, &operands);
+    for (Expr a : operands) cost += drop_ref(a);
+    return cost;
+  }
+
+  void undo() {
+    for (std::uint32_t id : log_) --refs_[id];
+    for (std::uint32_t id : dropped_) ++refs_[id];
+    log_.clear();
+    dropped_.clear();
+  }
+
+  int terms_;
+  std::unordered_map<std::uint32_t, int> refs_;
+  std::vector<std::uint32_t> log_;
+  std::vector<std::uint32_t> dropped_;
+};
+
+// The change of cost a match of a top-level sum pattern would make.
+int estimated_delta(const Rule& r, const Match& m, SumCost* cost) {
+  Match core = m;
+  core.remainder.clear();
+  const Expr replacement = instantiate(r.replacement, core);
+  std::vector<Expr> added;
+  if (replacement.kind() == Kind::Add) {
+    added.assign(replacement.args().begin(), replacement.args().end());
+  } else if (!replacement.is_zero()) {
+    added.push_back(replacement);
+  }
+  return cost->delta(m.matched, added);
+}
+
+void collect_wildcards(Expr e, std::vector<Expr>* out) {
+  if (is_wildcard(e)) {
+    for (Expr w : *out) {
+      if (w == e) return;
+    }
+    out->push_back(e);
+    return;
+  }
+  for (Expr a : e.args()) collect_wildcards(a, out);
+}
+
+Expr substitute(Expr e, const Match& m, std::unordered_map<std::uint32_t, Expr>* memo) {
+  if (is_wildcard(e)) return m[e];
+  if (e.args().empty()) return e;
+  if (auto it = memo->find(e.id()); it != memo->end()) return it->second;
+  std::vector<Expr> args;
+  args.reserve(e.args().size());
+  for (Expr a : e.args()) args.push_back(substitute(a, m, memo));
+  const Expr out = make(e.kind(), args);
+  memo->emplace(e.id(), out);
+  return out;
+}
+
+void check_rule(const Rule& r) {
+  if (is_wildcard(r.pattern)) throw UsageError(fmt::format("rule '{}': the pattern is a bare wildcard", r.name));
+  std::vector<Expr> bound;
+  collect_wildcards(r.pattern, &bound);
+  std::vector<Expr> used;
+  collect_wildcards(r.replacement, &used);
+  for (Expr w : used) {
+    if (std::find(bound.begin(), bound.end(), w) == bound.end()) {
+      throw UsageError(fmt::format("rule '{}': the replacement uses '{}', which the pattern does not bind", r.name, w.name()));
+    }
+  }
+  // At most one cofactor per product and one rest per sum, anywhere in the pattern.
+  std::function<void(Expr)> check = [&](Expr e) {
+    if (e.kind() == Kind::Mul || e.kind() == Kind::Add) {
+      int n = 0;
+      for (Expr a : e.args()) n += is_wildcard(a) && wild_class(a) != WildClass::One && (e.kind() == Kind::Mul || wild_class(a) == WildClass::Rest);
+      if (n > 1) {
+        throw UsageError(fmt::format("rule '{}': '{}' has {} rest wildcards, at most one is allowed", r.name, e.str(), n));
+      }
+    }
+    for (Expr a : e.args()) check(a);
+  };
+  check(r.pattern);
+}
+
+}  // namespace
+
+Expr wildcard(std::string_view name) {
+  if (name.size() < 2 || name[0] != '_') {
+    throw UsageError(fmt::format("wildcard '{}': a wildcard name is '_' followed by a name", name));
+  }
+  return symbol(name, SymbolKind::Free);
+}
+
+bool is_wildcard(Expr e) {
+  return e.is_symbol() && e.symbol_kind() == SymbolKind::Free && e.name().size() >= 2 && e.name()[0] == '_';
+}
+
+std::optional<Expr> Match::find(Expr wildcard) const {
+  for (const auto& [w, v] : bindings_) {
+    if (w == wildcard) return v;
+  }
+  return std::nullopt;
+}
+
+Expr Match::operator[](Expr wildcard) const {
+  if (auto v = find(wildcard)) return *v;
+  throw UsageError(fmt::format("match: wildcard '{}' is unbound", wildcard.str()));
+}
+
+Expr Match::operator[](std::string_view wildcard_name) const { return (*this)[wildcard(wildcard_name)]; }
+
+Rule rule(std::string name, Expr pattern, Expr replacement, Condition condition) {
+  Rule r{std::move(name), pattern, replacement, std::move(condition)};
+  check_rule(r);
+  return r;
+}
+
+bool is_nonnegative(Expr e) {
+  switch (e.kind()) {
+    case Kind::Rational:
+    case Kind::Real: return !e.number().is_negative();
+    case Kind::Pow: {
+      const Number& x = e.arg(1).number();
+      // Even powers are squares; a fractional power is real only for a base >= 0.
+      if (!x.is_integer()) return true;
+      return x.num() % 2 == 0 || is_nonnegative(e.arg(0));
+    }
+    case Kind::Exp:
+    case Kind::Abs: return true;
+    case Kind::Add:
+    case Kind::Mul: {
+      for (Expr a : e.args()) {
+        if (!is_nonnegative(a)) return false;
+      }
+      return true;
+    }
+    default: return false;
+  }
+}
+
+Condition nonnegative(std::string_view wildcard_name) {
+  const Expr w = wildcard(wildcard_name);
+  return [w](const Match& m) { return is_nonnegative(m[w]); };
+}
+
+Condition integer_coefficient(std::string_view wildcard_name) {
+  const Expr w = wildcard(wildcard_name);
+  return [w](const Match& m) {
+    const Expr e = m[w];
+    return e.kind() != Kind::Add && split_coefficient(e).first.is_integer();
+  };
+}
+
+std::vector<Match> find_matches(Expr pattern, Expr target, std::size_t limit) {
+  std::vector<Match> out;
+  Match m;
+  MatchCache cache;
+  Matcher matcher(&m, 1 << 20, &cache);
+  matcher.match_top(pattern, target, [&] {
+    out.push_back(m);
+    return out.size() >= limit;
+  });
+  return out;
+}
+
+Expr instantiate(Expr replacement, const Match& match) {
+  std::unordered_map<std::uint32_t, Expr> memo;
+  const Expr core = substitute(replacement, match, &memo);
+  if (match.remainder.empty()) return core;
+  std::vector<Expr> terms = match.remainder;
+  terms.push_back(core);
+  return add(terms);
+}
+
+Rewriter::Rewriter(std::vector<Rule> rules, Strategy strategy, Budget budget)
+    : rules_(std::move(rules)), strategy_(strategy), budget_(budget), cache_(std::make_unique<MatchCache>()) {}
+
+Rewriter::~Rewriter() = default;
+Rewriter::Rewriter(Rewriter&&) noexcept = default;
+
+Expr Rewriter::operator()(Expr e) { return rewrite(e); }
+
+Expr Rewriter::rewrite(Expr e) {
+  if (e.args().empty()) return e;
+  if (auto it = memo_.find(e.id()); it != memo_.end()) return it->second;
+  // A node met again while it is being rewritten (a rule rebuilt it inside
+  // its own replacement) is left as it is: that keeps the recursion finite.
+  if (!in_progress_.insert(e.id()).second) return e;
+  const Expr out = apply_at(rewrite_children(e));
+  in_progress_.erase(e.id());
+  memo_.emplace(e.id(), out);
+  return out;
+}
+
+Expr Rewriter::rewrite_children(Expr e) {
+  if (e.args().empty()) return e;
+  std::vector<Expr> args;
+  args.reserve(e.args().size());
+  bool changed = false;
+  for (Expr a : e.args()) {
+    args.push_back(rewrite(a));
+    changed = changed || args.back() != a;
+  }
+  return changed ? make(e.kind(), args) : e;
+}
+
+Expr Rewriter::apply_at(Expr e) {
+  Expr current = e;
+  int cost = strategy_ == Strategy::Improve ? operation_cost(current) : 0;
+  for (int i = 0; i < budget_.steps_per_node; ++i) {
+    auto next = step(current, cost);
+    if (!next) break;
+    current = *next;
+    if (strategy_ == Strategy::Improve) cost = operation_cost(current);
+  }
+  return current;
+}
+
+// One rule application at the root of e: the first match whose result is
+// accepted by the strategy, or nothing.
+std::optional<Expr> Rewriter::step(Expr e, int cost) {
+  if (e.args().empty()) return std::nullopt;
+  std::optional<SumCost> sum_cost;
+  if (strategy_ == Strategy::Improve && e.kind() == Kind::Add) sum_cost.emplace(e);
+  for (const Rule& r : rules_) {
+    Match m;
+    Matcher matcher(&m, budget_.attempts_per_rule, cache_.get());
+    std::optional<Expr> accepted;
+    matcher.match_top(r.pattern, e, [&] {
+      if (r.condition && !r.condition(m)) return false;
+      if (sum_cost && !m.remainder.empty() && estimated_delta(r, m, &*sum_cost) >= 0) return false;
+      const Expr candidate = instantiate(r.replacement, m);
+      if (candidate == e) return false;
+      if (strategy_ == Strategy::Normalize) {
+        accepted = candidate;
+        return true;
+      }
+      const Expr rewritten = rewrite_children(candidate);
+      if (operation_cost(rewritten) >= cost) return false;
+      accepted = rewritten;
+      return true;
+    });
+    if (accepted) {
+      if (trace_rules()) std::cerr << "symdyn rule: " << r.name << '\n';
+      if (strategy_ == Strategy::Normalize) return rewrite_children(*accepted);
+      return accepted;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace symdyn::symbolic
