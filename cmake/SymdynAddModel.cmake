@@ -1,0 +1,46 @@
+# symdyn_add_model(<target> <model.cpp> [VARIANT <v>] [PARTIALS numeric|symbolic]
+#                  [NO_SIMPLIFY] [NO_EOM])
+#
+# Builds the model's generator (the model file linked with symdyn's generator
+# main; one per model file, shared by every variant), runs it at build time
+# whenever the model or the generator changes, and makes <target> a static
+# library of the emitted code. Link it into a simulation:
+#
+#   symdyn_add_model(double_pendulum_absolute double_pendulum.cpp VARIANT absolute)
+#   target_link_libraries(my_simulation PRIVATE double_pendulum_absolute symdyn::runtime)
+#
+# The emitted header is <target>.hpp; the struct inside is symdyn_generated::<target>.
+function(symdyn_add_model target model_source)
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM" "VARIANT;PARTIALS" "" ${ARGN})
+  get_filename_component(model_name ${model_source} NAME_WE)
+  get_filename_component(model_path ${model_source} ABSOLUTE)
+  set(generator symdyn_generator_${model_name})
+  if(NOT TARGET ${generator})
+    add_executable(${generator} ${model_path})
+    target_link_libraries(${generator} PRIVATE symdyn::generator_main)
+    symdyn_set_compile_options(${generator})
+  endif()
+  set(flags --basename ${target})
+  if(ARG_VARIANT)
+    list(APPEND flags --variant ${ARG_VARIANT})
+  endif()
+  if(ARG_PARTIALS)
+    list(APPEND flags --partials ${ARG_PARTIALS})
+  endif()
+  if(ARG_NO_SIMPLIFY)
+    list(APPEND flags --no-simplify)
+  endif()
+  if(ARG_NO_EOM)
+    list(APPEND flags --no-eom)
+  endif()
+  set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/generated/${target})
+  add_custom_command(
+    OUTPUT ${out_dir}/${target}.hpp ${out_dir}/${target}.cpp
+    COMMAND ${generator} --out ${out_dir} ${flags}
+    DEPENDS ${generator}
+    COMMENT "symdyn: generating ${target} from ${model_name}"
+    VERBATIM)
+  add_library(${target} STATIC ${out_dir}/${target}.cpp ${out_dir}/${target}.hpp)
+  target_include_directories(${target} PUBLIC ${out_dir})
+  symdyn_set_compile_options(${target})
+endfunction()

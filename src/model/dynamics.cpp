@@ -1,0 +1,65 @@
+#include "model/dynamics.hpp"
+
+#include <fmt/format.h>
+
+#include <unordered_map>
+
+#include "symbolic/diff.hpp"
+
+namespace symdyn::model {
+namespace {
+
+Vec3 substitute(const Vec3& v, symbolic::Substitution& s) { return {s(v[0]), s(v[1]), s(v[2])}; }
+
+Vec3 times(const Mat3& I, const Vec3& v) { return I * v; }
+
+}  // namespace
+
+Dynamics derive_dynamics(const Model& model, const Kinematics& k) {
+  const std::size_t nq = model.coordinates().size();
+  if (!k.bodies.empty() && k.bodies.front().dv_dqd.size() != nq) {
+    throw ModelError(fmt::format("model '{}': the equations of motion need symbolic partial velocities", model.name()));
+  }
+  Dynamics d;
+  // qdd -> 0; each pdd_k -> pdd⁰_k, its expression at qdd = 0 (earlier ones substituted).
+  std::unordered_map<Expr, Expr> zero;
+  for (const Coordinate& c : model.coordinates()) zero.emplace(c.qdd, Expr(0));
+  for (const DependentKinematics& p : k.dependents) {
+    const Expr at_rest = symbolic::symbol(fmt::format("{}__0", p.symbols.acceleration.name()),
+                                          symbolic::SymbolKind::DependentAcceleration);
+    d.zero_qdd_definitions.emplace_back(at_rest, symbolic::substitute(p.acceleration, zero));
+    zero.emplace(p.symbols.acceleration, at_rest);
+  }
+  symbolic::Substitution at_zero_qdd(zero);
+
+  d.mass_matrix.assign(nq * nq, Expr(0));
+  d.bias.assign(nq, Expr(0));
+  const Vec3& g = model.gravity();
+  for (std::size_t i = 0; i < k.bodies.size(); ++i) {
+    const BodyKinematics& b = k.bodies[i];
+    const Body& body = model.bodies()[i];
+    const Expr m = body.mass();
+    const Mat3& I = body.inertia();
+    // Partial angular velocities in body axes.
+    std::vector<Vec3> dW;
+    for (const Vec3& dw : b.dw_dqd) dW.push_back(transpose_times(b.R, dw));
+    std::vector<Vec3> I_dW;
+    for (const Vec3& v : dW) I_dW.push_back(times(I, v));
+    const Vec3 W = transpose_times(b.R, b.w);
+    const Vec3 dW0 = transpose_times(b.R, substitute(b.dw, at_zero_qdd));
+    const Vec3 moment = times(I, dW0) + cross(W, times(I, W));
+    const Vec3 force_per_mass = substitute(b.a, at_zero_qdd) - g;
+    for (std::size_t j = 0; j < nq; ++j) {
+      d.bias[j] += m * dot(force_per_mass, b.dv_dqd[j]) + dot(moment, dW[j]);
+      for (std::size_t l = j; l < nq; ++l) {
+        d.mass_matrix[j * nq + l] += m * dot(b.dv_dqd[j], b.dv_dqd[l]) + dot(dW[j], I_dW[l]);
+      }
+    }
+  }
+  for (std::size_t j = 0; j < nq; ++j) {
+    for (std::size_t l = 0; l < j; ++l) d.mass_matrix[j * nq + l] = d.mass_matrix[l * nq + j];
+  }
+  return d;
+}
+
+}  // namespace symdyn::model
