@@ -221,6 +221,29 @@ TEST_CASE("newmark keeps its Jacobian across steps on a linear system", "[integr
   CHECK(st.residual_evaluations == st.newton_iterations);
 }
 
+TEST_CASE("newmark refreshes its kept Jacobian when the stiffness changes", "[integrator]") {
+  ConfigurationStiff sys(1e8, 1e4);
+  State s0;
+  s0.q = Eigen::Vector2d(1.0, 1.0);
+  s0.qd = Eigen::Vector2d(0.0, 0.0);
+  const auto reference = run("cvode", tight("cvode", 1e-11, 0.05), sys, s0, 2.0);
+  for (const char* name : {"newmark", "generalized-alpha"}) {
+    CAPTURE(name);
+    Statistics stats;
+    const auto out = run(name, tight(name, 1e-6, 0.05), sys, s0, 2.0, &stats);
+    REQUIRE(out.size() == reference.size());
+    double worst = 0.0;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      worst = std::max(worst, (out[k].s.q - reference[k].s.q).cwiseAbs().maxCoeff());
+    }
+    INFO(fmt::format("error {:.2e}; {} steps, {} Jacobians, {} Newton iterations", worst,
+                     stats.steps, stats.jacobian_evaluations, stats.newton_iterations));
+    CHECK(worst < 1e-3);
+    CHECK(stats.jacobian_evaluations > 1);            // refreshed when convergence slowed
+    CHECK(stats.jacobian_evaluations < stats.steps);  // and kept across steps otherwise
+  }
+}
+
 TEST_CASE("outputs at a list of times, and at every step", "[integrator][output]") {
   Oscillator osc;
   const std::vector<double> times = {0.0, 0.013, 0.5, 0.77, 1.2};

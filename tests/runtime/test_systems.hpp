@@ -173,6 +173,38 @@ class StiffChain : public DynamicSystem {
   Eigen::Matrix2d K_, C_;
 };
 
+// A stiff element whose stiffness depends on the configuration (as a stiff bushing
+// does when it turns): unit masses q0 (soft spring (2π)² to the ground) and q1,
+// tied by the potential k·(1 + q0²)·(q1 - q0)²/2 and a damper c. The stiff
+// iteration matrix changes by a factor 2 as q0 swings between 0 and 1: a matrix
+// kept from an earlier step must then be refreshed.
+class ConfigurationStiff : public DynamicSystem {
+ public:
+  ConfigurationStiff(double k, double c) : k_(k), c_(c) {}
+  int num_coordinates() const override { return 2; }
+  void accelerations(const State& s, Vector& qdd, Vector& yd) override {
+    qdd = -forces(s);
+    yd.resize(0);
+  }
+  void residual(const State& s, const Vector& qdd, const Vector&, Vector& f, Vector& g) override {
+    f = qdd + forces(s);
+    g.resize(0);
+  }
+
+ private:
+  // dV/dq + damping, V = (2π)²·q0²/2 + k·(1 + q0²)·d²/2 with d = q1 - q0.
+  Vector forces(const State& s) const {
+    const double q0 = s.q[0], d = s.q[1] - s.q[0], dv = s.qd[1] - s.qd[0];
+    const double stiff = k_ * (1.0 + q0 * q0) * d;
+    Vector f(2);
+    f[0] = two_pi * two_pi * q0 + k_ * q0 * d * d - stiff - c_ * dv;
+    f[1] = stiff + c_ * dv;
+    return f;
+  }
+  double k_;
+  double c_;
+};
+
 // q'' = 2·q³ from q = 1, q' = 1: q = 1/(1 - t), which blows up at t = 1.
 class BlowUp : public DynamicSystem {
  public:
