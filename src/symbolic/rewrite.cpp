@@ -87,8 +87,31 @@ class MatchCache {
     if (it == map.end()) it = map.emplace(e.id(), split_product(e, pattern)).first;
     return it->second;
   }
+
+ public:
+  // For a sum: the positions of its terms that have `base` as a factor base.
+  const std::vector<std::size_t>& terms_with(Expr sum, Expr base) {
+    auto it = by_base_.find(sum.id());
+    if (it == by_base_.end()) {
+      std::unordered_map<std::uint32_t, std::vector<std::size_t>> index;
+      const auto terms = sum.args();
+      for (std::size_t j = 0; j < terms.size(); ++j) {
+        for (const Factor& f : target(terms[j]).factors) {
+          auto& list = index[f.base.id()];
+          if (list.empty() || list.back() != j) list.push_back(j);
+        }
+      }
+      it = by_base_.emplace(sum.id(), std::move(index)).first;
+    }
+    static const std::vector<std::size_t> none;
+    auto found = it->second.find(base.id());
+    return found == it->second.end() ? none : found->second;
+  }
+
+ private:
   std::unordered_map<std::uint32_t, Product> targets_;
   std::unordered_map<std::uint32_t, Product> patterns_;
+  std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::vector<std::size_t>>> by_base_;
 };
 
 namespace {
@@ -104,6 +127,8 @@ bool can_take(const Number& remaining, const Number& wanted) {
   const std::int64_t w = wanted.num() < 0 ? -wanted.num() : wanted.num();
   return r >= w;
 }
+
+Expr substitute(Expr e, const Match& m, std::unordered_map<std::uint32_t, Expr>* memo);
 
 class Matcher {
  public:
@@ -200,11 +225,42 @@ class Matcher {
       }
       return k();
     }
+    if (auto bound = m_->find(s.pattern->cofactor); bound && !needs_building(s, coefficient)) {
+      return same_product(cache_->target(*bound), coefficient, s) && k();
+    }
     std::vector<Expr> rest{Expr(coefficient)};
     for (std::size_t j = 0; j < s.target->factors.size(); ++j) {
       if (!s.remaining[j].is_zero()) rest.push_back(pow(s.target->factors[j].base, Expr(s.remaining[j])));
     }
     return bind(s.pattern->cofactor, mul(rest), k);
+  }
+
+  // The leftover coefficient · factors is the canonical product of its parts,
+  // except that a coefficient times a lone sum is distributed over the sum.
+  static bool needs_building(const ProductState& s, const Number& coefficient) {
+    if (coefficient.is_one()) return false;
+    int left = 0;
+    bool sum = false;
+    for (std::size_t j = 0; j < s.remaining.size(); ++j) {
+      if (s.remaining[j].is_zero()) continue;
+      ++left;
+      sum = s.target->factors[j].base.kind() == Kind::Add && s.remaining[j].is_one();
+    }
+    return left == 1 && sum;
+  }
+
+  // Whether the leftover equals the already bound product, compared part by
+  // part (both lists are in canonical order), without making a node.
+  static bool same_product(const Product& bound, const Number& coefficient, const ProductState& s) {
+    if (!(bound.coefficient == coefficient)) return false;
+    std::size_t i = 0;
+    for (std::size_t j = 0; j < s.remaining.size(); ++j) {
+      if (s.remaining[j].is_zero()) continue;
+      if (i == bound.factors.size()) return false;
+      const Factor& b = bound.factors[i++];
+      if (b.base != s.target->factors[j].base || !(b.exponent == s.remaining[j])) return false;
+    }
+    return i == bound.factors.size();
   }
 
   // ---- sums ----
@@ -215,6 +271,7 @@ class Matcher {
     bool has_rest = false;
     bool top = false;
     std::span<const Expr> target;
+    Expr sum;
     std::vector<bool> used;
   };
 
@@ -235,6 +292,7 @@ class Matcher {
     }
     s.pattern.insert(s.pattern.end(), wild_terms.begin(), wild_terms.end());
     s.target = t.args();
+    s.sum = t;
     if (s.target.size() < s.pattern.size()) return false;
     s.used.assign(s.target.size(), false);
     return assign_term(s, 0, k);
@@ -242,15 +300,50 @@ class Matcher {
 
   bool assign_term(SumState& s, std::size_t i, const Cont& k) {
     if (i == s.pattern.size()) return finish_sum(s, k);
+    // Once the wildcards of a factor are bound, only the terms that have that
+    // factor can match: look them up instead of scanning the sum.
+    if (auto base = bound_factor(s.pattern[i])) {
+      for (std::size_t j : cache_->terms_with(s.sum, *base)) {
+        if (try_term(s, i, j, k)) return true;
+        if (exhausted()) return false;
+      }
+      return false;
+    }
     for (std::size_t j = 0; j < s.target.size(); ++j) {
-      if (s.used[j] || !could_match(s.pattern[i], s.target[j])) continue;
-      s.used[j] = true;
-      const bool accepted = match(s.pattern[i], s.target[j], [&] { return assign_term(s, i + 1, k); });
-      s.used[j] = false;
-      if (accepted) return true;
+      if (try_term(s, i, j, k)) return true;
       if (exhausted()) return false;
     }
     return false;
+  }
+
+  bool try_term(SumState& s, std::size_t i, std::size_t j, const Cont& k) {
+    if (s.used[j] || !could_match(s.pattern[i], s.target[j])) return false;
+    s.used[j] = true;
+    const bool accepted = match(s.pattern[i], s.target[j], [&] { return assign_term(s, i + 1, k); });
+    s.used[j] = false;
+    return accepted;
+  }
+
+  // The first factor base of a product (or power, or call) pattern term whose
+  // wildcards are all bound, with the bindings substituted.
+  std::optional<Expr> bound_factor(Expr p) {
+    if (is_wildcard(p) || (p.kind() != Kind::Mul && p.kind() != Kind::Pow && !is_function(p.kind()))) return std::nullopt;
+    for (const Factor& f : cache_->pattern(p).factors) {
+      if (is_wildcard(f.base)) continue;
+      if (all_bound(f.base)) {
+        std::unordered_map<std::uint32_t, Expr> memo;
+        return substitute(f.base, *m_, &memo);
+      }
+    }
+    return std::nullopt;
+  }
+
+  bool all_bound(Expr e) const {
+    if (is_wildcard(e)) return m_->find(e).has_value();
+    for (Expr a : e.args()) {
+      if (!all_bound(a)) return false;
+    }
+    return true;
   }
 
   bool finish_sum(SumState& s, const Cont& k) {
@@ -350,18 +443,12 @@ class SumCost {
   std::vector<std::uint32_t> dropped_;
 };
 
-// The change of cost a match of a top-level sum pattern would make.
-int estimated_delta(const Rule& r, const Match& m, SumCost* cost) {
-  Match core = m;
-  core.remainder.clear();
-  const Expr replacement = instantiate(r.replacement, core);
-  std::vector<Expr> added;
-  if (replacement.kind() == Kind::Add) {
-    added.assign(replacement.args().begin(), replacement.args().end());
-  } else if (!replacement.is_zero()) {
-    added.push_back(replacement);
-  }
-  return cost->delta(m.matched, added);
+void trace(const Rule& r) {
+  if (trace_rules()) std::cerr << "symdyn rule: " << r.name << '\n';
+}
+
+std::span<const Expr> terms_of(const Expr& e) {
+  return e.kind() == Kind::Add ? e.args() : std::span<const Expr>(&e, 1);
 }
 
 void collect_wildcards(Expr e, std::vector<Expr>* out) {
@@ -550,15 +637,17 @@ Expr Rewriter::apply_at(Expr e) {
 // accepted by the strategy, or nothing.
 std::optional<Expr> Rewriter::step(Expr e, int cost) {
   if (e.args().empty()) return std::nullopt;
-  std::optional<SumCost> sum_cost;
-  if (strategy_ == Strategy::Improve && e.kind() == Kind::Add) sum_cost.emplace(e);
+  const bool sum_rules_done = strategy_ == Strategy::Improve && e.kind() == Kind::Add;
+  if (sum_rules_done) {
+    if (auto better = improve_sum(e, cost)) return better;
+  }
   for (const Rule& r : rules_) {
+    if (sum_rules_done && r.pattern.kind() == Kind::Add) continue;
     Match m;
     Matcher matcher(&m, budget_.attempts_per_rule, cache_.get());
     std::optional<Expr> accepted;
     matcher.match_top(r.pattern, e, [&] {
       if (r.condition && !r.condition(m)) return false;
-      if (sum_cost && !m.remainder.empty() && estimated_delta(r, m, &*sum_cost) >= 0) return false;
       const Expr candidate = instantiate(r.replacement, m);
       if (candidate == e) return false;
       if (strategy_ == Strategy::Normalize) {
@@ -571,9 +660,79 @@ std::optional<Expr> Rewriter::step(Expr e, int cost) {
       return true;
     });
     if (accepted) {
-      if (trace_rules()) std::cerr << "symdyn rule: " << r.name << '\n';
+      trace(r);
       if (strategy_ == Strategy::Normalize) return rewrite_children(*accepted);
       return accepted;
+    }
+  }
+  return std::nullopt;
+}
+
+// Sum rules on a sum, Improve strategy. Every match is scored by the cost
+// change it would make (SumCost, without building anything); the improving
+// ones are applied together, best first, as long as they use disjoint terms.
+// One step then does the work of many, which matters on long sums where
+// restarting the search after each rewrite would repeat it over and over.
+// If the batch is not cheaper after all (sharing), single rewrites are tried.
+std::optional<Expr> Rewriter::improve_sum(Expr e, int cost) {
+  struct Found {
+    int delta;
+    const Rule* rule;
+    std::vector<Expr> matched;
+    Expr replacement;
+  };
+  SumCost sum_cost(e);
+  std::vector<Found> found;
+  for (const Rule& r : rules_) {
+    if (r.pattern.kind() != Kind::Add) continue;
+    Match m;
+    Matcher matcher(&m, budget_.attempts_per_rule, cache_.get());
+    matcher.match_top(r.pattern, e, [&] {
+      if (r.condition && !r.condition(m)) return false;
+      Match core = m;
+      core.remainder.clear();
+      const Expr replacement = instantiate(r.replacement, core);
+      const std::span<const Expr> added = replacement.is_zero() ? std::span<const Expr>() : terms_of(replacement);
+      const int delta = sum_cost.delta(m.matched, added);
+      if (delta < 0) found.push_back({delta, &r, m.matched, replacement});
+      return false;
+    });
+  }
+  if (found.empty()) return std::nullopt;
+  std::stable_sort(found.begin(), found.end(), [](const Found& a, const Found& b) { return a.delta < b.delta; });
+  auto build = [&](std::span<const Found* const> chosen) {
+    std::unordered_set<std::uint32_t> removed;
+    std::vector<Expr> terms;
+    for (const Found* f : chosen) {
+      for (Expr t : f->matched) removed.insert(t.id());
+      terms.push_back(f->replacement);
+    }
+    for (Expr t : e.args()) {
+      if (!removed.contains(t.id())) terms.push_back(t);
+    }
+    return rewrite_children(add(terms));
+  };
+  // The batch: best first, skipping matches that overlap a chosen one.
+  std::vector<const Found*> batch;
+  std::unordered_set<std::uint32_t> taken;
+  for (const Found& f : found) {
+    const bool overlaps = std::any_of(f.matched.begin(), f.matched.end(), [&](Expr t) { return taken.contains(t.id()); });
+    if (overlaps) continue;
+    for (Expr t : f.matched) taken.insert(t.id());
+    batch.push_back(&f);
+  }
+  const Expr all = build(batch);
+  if (operation_cost(all) < cost) {
+    for (const Found* f : batch) trace(*f->rule);
+    return all;
+  }
+  const std::size_t singles = std::min<std::size_t>(found.size(), 8);
+  for (std::size_t i = 0; i < singles; ++i) {
+    const Found* f = &found[i];
+    const Expr one = build(std::span<const Found* const>(&f, 1));
+    if (operation_cost(one) < cost) {
+      trace(*f->rule);
+      return one;
     }
   }
   return std::nullopt;

@@ -139,6 +139,7 @@ class Rewriter {
   Expr rewrite_children(Expr e);
   Expr apply_at(Expr e);
   std::optional<Expr> step(Expr e, int cost);
+  std::optional<Expr> improve_sum(Expr e, int cost);
 
   std::vector<Rule> rules_;
   Strategy strategy_;

