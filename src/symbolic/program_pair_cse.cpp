@@ -13,48 +13,99 @@
 // whether their signs differ: {+a, -b} and {-a, +b} are both ±(a - b), and
 // {+a, +b} and {-a, -b} both ±(a + b). The extracted node is a + b or a - b (a
 // the operand created first) and replaces the pair with the sign a had there.
-#include <algorithm>
-#include <map>
-#include <set>
+//
+// The tables. A pair is a 64-bit key whose integer order is the order of
+// (op, lo, hi, differ), so "the smallest key among equals" is an integer
+// comparison. A pair of two operands of the input can only lose holders (a
+// node gains operands only as fresh pairs are extracted), so a pair with one
+// holder after the initial count is never extracted and is not tracked
+// further; tracked pairs (the others, and every pair with a fresh operand)
+// keep their holders, with the times each holds them, in a vector sorted by
+// node. A max-heap of (holders, pair) is kept lazily: every tracked pair with
+// two holders or more has an entry whose count is at least its own. Pairs
+// whose count rose during an extraction push one entry each at its end;
+// counts that fall push nothing, and an entry found on top with a count above
+// the pair's is replaced then by one with the right count.
+#include <fmt/format.h>
 
+#include <algorithm>
+#include <queue>
+#include <stdexcept>
+
+#include "symbolic/flat_map.hpp"
 #include "symbolic/program_ir.hpp"
 
 namespace symdyn::symbolic::ir {
 namespace {
 
-struct PairKey {
-  Op op = Op::Sum;
-  std::uint32_t lo = 0;
-  std::uint32_t hi = 0;
-  bool differ = false;  // sums: the two signs differ
-  friend auto operator<=>(const PairKey&, const PairKey&) = default;
-};
+// Operand ids take 31 bits each in a pair key.
+constexpr std::uint32_t kMaxPairOperandId = (1U << 31) - 1;
 
-PairKey key_of(Op op, Term a, Term b) {
+// (op, lo, hi, differ) packed so that integer order is lexicographic order:
+// op (Sum before Prod) in bit 63, lo in bits 62..32, hi in bits 31..1, differ in bit 0.
+std::uint64_t key_of(Op op, Term a, Term b) {
   if (b.id < a.id) std::swap(a, b);
-  return {op, a.id, b.id, op == Op::Sum && a.neg != b.neg};
+  const bool differ = op == Op::Sum && a.neg != b.neg;
+  return (std::uint64_t{op == Op::Prod} << 63) | (std::uint64_t{a.id} << 32) | (std::uint64_t{b.id} << 1) |
+         std::uint64_t{differ};
 }
+Op op_of(std::uint64_t key) { return (key >> 63) != 0 ? Op::Prod : Op::Sum; }
+std::uint32_t lo_of(std::uint64_t key) { return static_cast<std::uint32_t>(key >> 32) & kMaxPairOperandId; }
+std::uint32_t hi_of(std::uint64_t key) { return static_cast<std::uint32_t>(key >> 1) & kMaxPairOperandId; }
+bool differ_of(std::uint64_t key) { return (key & 1U) != 0; }
 
 class PairTable {
  public:
-  explicit PairTable(Graph& graph) : g_(graph) {}
+  explicit PairTable(Graph& graph) : g_(graph), index_(4096) {}
 
+  // Counts the pairs of a holder. Before rank(); holders in increasing order.
   void add_holder(std::uint32_t node) {
-    const std::vector<Term>& terms = g_.nodes[node].terms;
-    for (std::size_t i = 0; i < terms.size(); ++i) {
-      for (std::size_t j = i + 1; j < terms.size(); ++j) count(key_of(g_.nodes[node].op, terms[i], terms[j]), node, +1);
+    holder_nodes_.push_back(node);
+    for_each_pair(node, [&](std::uint64_t key) {
+      const std::uint32_t id = id_of(key);
+      enumerated_.push_back(id);
+      InitialCount& c = initial_[id];
+      if (c.last_holder != node) {
+        c.last_holder = node;
+        ++c.holders;
+      }
+    });
+  }
+
+  // Tracks the pairs with two holders or more, and ranks them.
+  void rank() {
+    record_of_.assign(initial_.size(), kNone);
+    std::size_t next = 0;  // in enumerated_: the pairs of each holder, in the order add_holder saw them
+    for (std::uint32_t node : holder_nodes_) {
+      const std::size_t n = g_.nodes[node].terms.size();
+      for (std::size_t k = 0; k < n * (n - 1) / 2; ++k) {
+        const std::uint32_t id = enumerated_[next++];
+        if (initial_[id].holders < 2) continue;
+        if (record_of_[id] == kNone) record_of_[id] = new_record(id);
+        std::vector<Holder>& holders = pairs_[record_of_[id]].holders;
+        if (holders.empty() || holders.back().node != node) {
+          holders.push_back({node, 1});
+        } else {
+          ++holders.back().times;
+        }
+      }
     }
+    enumerated_ = {};
+    std::vector<Ranked> entries;
+    for (std::uint32_t p = 0; p < pairs_.size(); ++p) entries.push_back({holders(p), pairs_[p].key, p});
+    ranked_ = std::priority_queue<Ranked>(std::less<Ranked>(), std::move(entries));
   }
 
   // Extracts the pair with the most holders (the smallest key among equals).
   // Returns false when no pair has two holders.
   bool extract_best() {
-    if (ranked_.empty()) return false;
-    const PairKey key = ranked_.begin()->second;
-    const std::uint32_t pair = g_.append(Node::of(key.op, {{key.lo, false}, {key.hi, key.differ}}));
-    std::vector<std::uint32_t> holders;
-    for (const auto& [node, multiplicity] : holders_.at(key)) holders.push_back(node);
-    for (std::uint32_t node : holders) {
+    const std::uint32_t best = pop_best();
+    if (best == kNone) return false;
+    const std::uint64_t key = pairs_[best].key;
+    const std::uint32_t pair = g_.append(Node::of(op_of(key), {{lo_of(key), false}, {hi_of(key), differ_of(key)}}));
+    std::vector<std::uint32_t> holder_list;  // increasing node order
+    for (const Holder& h : pairs_[best].holders) holder_list.push_back(h.node);
+    for (std::uint32_t node : holder_list) {
       std::size_t i = 0;
       std::size_t j = 0;
       while (find(node, key, &i, &j)) {
@@ -64,18 +115,94 @@ class PairTable {
         add_term(node, {pair, sign});
       }
     }
+    for (std::uint32_t p : risen_) {
+      pairs_[p].risen = false;
+      if (holders(p) >= 2) ranked_.push({holders(p), pairs_[p].key, p});
+    }
+    risen_.clear();
     return true;
   }
 
  private:
-  // Positions i != j of the pair's operands in node (with matching signs).
-  bool find(std::uint32_t node, const PairKey& key, std::size_t* i, std::size_t* j) const {
+  static constexpr std::uint32_t kNone = ~std::uint32_t{0};
+
+  struct Holder {
+    std::uint32_t node;
+    int times;  // > 0
+  };
+
+  // A tracked pair.
+  struct Pair {
+    std::uint64_t key;
+    bool risen = false;           // in risen_
+    std::vector<Holder> holders;  // by increasing node
+  };
+
+  // The initial count of a pair: its distinct holders, and the last one counted.
+  struct InitialCount {
+    std::uint32_t last_holder = kNone;
+    int holders = 0;
+  };
+
+  // A heap entry: the pair had `holders` holders when pushed.
+  struct Ranked {
+    int holders;
+    std::uint64_t key;
+    std::uint32_t pair;
+    // Most holders first, then the smallest key.
+    friend bool operator<(const Ranked& a, const Ranked& b) {
+      return a.holders != b.holders ? a.holders < b.holders : a.key > b.key;
+    }
+  };
+
+  template <class F>
+  void for_each_pair(std::uint32_t node, F&& f) const {
     const std::vector<Term>& terms = g_.nodes[node].terms;
+    const Op op = g_.nodes[node].op;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      for (std::size_t j = i + 1; j < terms.size(); ++j) f(key_of(op, terms[i], terms[j]));
+    }
+  }
+
+  // The dense id of a pair key, given on first sight.
+  std::uint32_t id_of(std::uint64_t key) {
+    auto [id, inserted] = index_.try_emplace(key, static_cast<std::uint32_t>(keys_.size()));
+    if (inserted) {
+      keys_.push_back(key);
+      initial_.emplace_back();
+      record_of_.push_back(kNone);
+    }
+    return *id;
+  }
+
+  std::uint32_t new_record(std::uint32_t id) {
+    pairs_.push_back({keys_[id], false, {}});
+    return static_cast<std::uint32_t>(pairs_.size() - 1);
+  }
+
+  int holders(std::uint32_t p) const { return static_cast<int>(pairs_[p].holders.size()); }
+
+  std::uint32_t pop_best() {
+    while (!ranked_.empty()) {
+      const Ranked top = ranked_.top();
+      const int now = holders(top.pair);
+      if (now == top.holders) return top.pair;
+      ranked_.pop();  // stale: the count has changed since
+      if (now < top.holders && now >= 2) ranked_.push({now, top.key, top.pair});
+    }
+    return kNone;
+  }
+
+  // Positions i != j of the pair's operands in node (with matching signs).
+  bool find(std::uint32_t node, std::uint64_t key, std::size_t* i, std::size_t* j) const {
+    const std::vector<Term>& terms = g_.nodes[node].terms;
+    const std::uint32_t lo = lo_of(key);
+    const std::uint32_t hi = hi_of(key);
     for (std::size_t a = 0; a < terms.size(); ++a) {
-      if (terms[a].id != key.lo) continue;
+      if (terms[a].id != lo) continue;
       for (std::size_t b = 0; b < terms.size(); ++b) {
-        if (b == a || terms[b].id != key.hi) continue;
-        if (key.op == Op::Sum && (terms[a].neg != terms[b].neg) != key.differ) continue;
+        if (b == a || terms[b].id != hi) continue;
+        if (op_of(key) == Op::Sum && (terms[a].neg != terms[b].neg) != differ_of(key)) continue;
         *i = a;
         *j = b;
         return true;
@@ -98,28 +225,54 @@ class PairTable {
     terms.push_back(t);
   }
 
-  // Adds delta to the number of times node holds the pair, keeping `ranked_`
-  // in step with the number of distinct holders.
-  void count(const PairKey& key, std::uint32_t node, int delta) {
-    auto& holders = holders_[key];
-    const auto before = static_cast<int>(holders.size());
-    if ((holders[node] += delta) == 0) holders.erase(node);
-    const auto after = static_cast<int>(holders.size());
-    if (before != after) {
-      if (before >= 2) ranked_.erase({-before, key});
-      if (after >= 2) ranked_.insert({-after, key});
+  // Adds delta (+1 or -1) to the number of times node holds the pair, after rank().
+  void count(std::uint64_t key, std::uint32_t node, int delta) {
+    const std::uint32_t* found = index_.find(key);
+    if (found == nullptr && delta < 0) return;  // never counted: not a pair of a holder
+    const std::uint32_t id = found != nullptr ? *found : id_of(key);
+    if (record_of_[id] == kNone) {
+      if (found == nullptr) {
+        record_of_[id] = new_record(id);  // a pair with a fresh operand
+      } else if (delta > 0) {
+        throw std::logic_error(fmt::format("pair CSE: untracked pair {:#x} gains a holder", key));
+      } else {
+        return;  // one holder at most, for ever
+      }
     }
-    if (holders.empty()) holders_.erase(key);
+    const std::uint32_t p = record_of_[id];
+    Pair& pair = pairs_[p];
+    auto it = std::lower_bound(pair.holders.begin(), pair.holders.end(), node,
+                               [](const Holder& h, std::uint32_t n) { return h.node < n; });
+    if (it != pair.holders.end() && it->node == node) {
+      if ((it->times += delta) == 0) pair.holders.erase(it);
+      return;
+    }
+    if (delta < 0) throw std::logic_error(fmt::format("pair CSE: node {} loses a pair it does not hold", node));
+    pair.holders.insert(it, {node, delta});
+    if (!pair.risen) {
+      pair.risen = true;
+      risen_.push_back(p);
+    }
   }
 
   Graph& g_;
-  std::map<PairKey, std::map<std::uint32_t, int>> holders_;  // pair -> node -> times held
-  std::set<std::pair<int, PairKey>> ranked_;                  // (-holders, pair), holders >= 2
+  detail::FlatMap64<std::uint32_t> index_;   // key -> dense id
+  std::vector<std::uint64_t> keys_;          // (by id)
+  std::vector<std::uint32_t> record_of_;     // (by id) index in pairs_, kNone if untracked
+  std::vector<Pair> pairs_;                  // the tracked pairs
+  std::vector<InitialCount> initial_;        // (by id) the counts rank() starts from
+  std::vector<std::uint32_t> enumerated_;    // until rank(): ids of each holder's pairs, in order
+  std::vector<std::uint32_t> holder_nodes_;  // every holder, increasing
+  std::priority_queue<Ranked> ranked_;       // tracked pairs, holders >= 2 when pushed
+  std::vector<std::uint32_t> risen_;         // pairs whose count rose in this extraction
 };
 
 }  // namespace
 
 void extract_common_pairs(Graph& graph) {
+  if (graph.nodes.size() > kMaxPairOperandId) {
+    throw UsageError(fmt::format("pair CSE: {} program nodes, more than the pair keys can hold", graph.nodes.size()));
+  }
   const std::vector<bool> live = graph.live();
   PairTable table(graph);
   for (std::uint32_t id = 0; id < live.size(); ++id) {
@@ -127,6 +280,7 @@ void extract_common_pairs(Graph& graph) {
     const bool nary = node.op == Op::Sum || node.op == Op::Prod;
     if (live[id] && nary && node.terms.size() <= kMaxPairOperands) table.add_holder(id);
   }
+  table.rank();
   while (table.extract_best()) {
   }
 }
