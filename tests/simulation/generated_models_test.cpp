@@ -36,7 +36,7 @@ double max_abs(const Matrix& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.
 
 }  // namespace
 
-TEMPLATE_LIST_TEST_CASE("emitted M and h equal the assembled ones; qdd agree", "[models][equations]",
+TEMPLATE_LIST_TEST_CASE("emitted M and h equal the assembled ones, and qdd agree", "[models][equations]",
                         symdyn_test::all_models) {
   const Model model = Model::from<TestType>();
   INFO("model " << model.name() << " variant " << model.variant());
