@@ -34,7 +34,7 @@ echo "== simulate 10 s: $sim double_pendulum --out out/double_pendulum.csv"
 
 echo
 echo "== q0 and q1 (rad) over time (s)"
-gnuplot -e "set terminal dumb size 100,28; set datafile separator ','; set key top left;
+gnuplot -e "set terminal dumb size 100,24; set datafile separator ','; set key below;
   set xlabel 't (s)'; set ylabel 'rad';
   plot 'out/double_pendulum.csv' using 1:2 with lines title 'q0',
        '' using 1:3 with lines title 'q1'"

@@ -89,8 +89,8 @@ std::vector<Headline> headline(const RunResult& run, runtime::MultibodySystem& s
   const State& end = run.final().state;
   return {{"final forward speed", forward_speed(system.evaluate_kinematics(end)), "m/s", 4.5, 5.5},
           {"yaw turned", end.q(yaw) - run.initial().state.q(yaw), "rad", 0.2, 3.0},
-          {"lowest chassis height", low, "m", 0.1, 0.5},
-          {"highest chassis height", high, "m", 0.5, 0.8}};
+          {"lowest chassis height", low, "m", 0.3, 0.5},
+          {"highest chassis height", high, "m", 0.5, 0.7}};
 }
 
 const Registration registration({
