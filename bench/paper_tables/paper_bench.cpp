@@ -14,7 +14,8 @@
 //     matrix, right-hand side and LDLT solve for qdd; assembled from the
 //     kinematics and partial velocities in cases 1-3 (EasyDyn's way), from
 //     the emitted mass_matrix and bias_forces in case 4.
-// Each is the median of --reps runs, in CPU time of the measuring thread. Errors: against the independent
+// Each is the median of --reps runs, in CPU time of the measuring thread
+// (and the fastest run, as <name>_min). Errors: against the independent
 // reference of reference.hpp at --states random states (seeded: the same
 // states in every case), each as max |emitted - reference| / max(1, max |reference|)
 // over the array. The qdd at those states are printed too, so that the report
@@ -96,9 +97,14 @@ double thread_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-// Seconds (thread CPU time) of the median of `reps` runs of `evaluations` calls of f.
+struct Timing {
+  double median = 0.0, min = 0.0;
+};
+
+// Seconds (thread CPU time) of `reps` runs of `evaluations` calls of f: the
+// median, and the fastest run (least disturbed by other jobs' use of caches).
 template <class F>
-double median_seconds(int reps, int evaluations, F&& f) {
+Timing time_runs(int reps, int evaluations, F&& f) {
   for (int i = 0; i < std::max(1, evaluations / 10); ++i) f();  // warm caches and branch predictors
   std::vector<double> runs;
   for (int r = 0; r < reps; ++r) {
@@ -107,7 +113,7 @@ double median_seconds(int reps, int evaluations, F&& f) {
     runs.push_back(thread_seconds() - start);
   }
   std::sort(runs.begin(), runs.end());
-  return runs[runs.size() / 2];
+  return {runs[runs.size() / 2], runs.front()};
 }
 
 double error(const double* emitted, const std::vector<double>& reference) {
@@ -184,18 +190,22 @@ json timings(const Arguments& args, runtime::Model& m, runtime::MultibodySystem&
   runtime::Kinematics k = m.make_kinematics();
   const bool symbolic_partials = args.case_number >= 3;
   json out;
-  out["T1"] = median_seconds(args.reps, args.kinematics_evaluations, [&] {
+  auto record = [&](const char* name, Timing timing) {
+    out[name] = timing.median;
+    out[std::string(name) + "_min"] = timing.min;
+  };
+  record("T1", time_runs(args.reps, args.kinematics_evaluations, [&] {
     m.accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), k);
     if (symbolic_partials) m.partial_velocities(s.t, s.q.data(), k);
-  });
-  out["T1_accelerations"] = median_seconds(args.reps, args.kinematics_evaluations, [&] {
+  }));
+  record("T1_accelerations", time_runs(args.reps, args.kinematics_evaluations, [&] {
     m.accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), k);
-  });
-  out["T1_partials"] = median_seconds(args.reps, args.kinematics_evaluations,
-                                      [&] { m.partial_velocities(s.t, s.q.data(), k); });
+  }));
+  record("T1_partials", time_runs(args.reps, args.kinematics_evaluations,
+                                  [&] { m.partial_velocities(s.t, s.q.data(), k); }));
   const runtime::State state = to_state(s);
   runtime::Vector qdd(m.nq()), yd(0);
-  out["T2"] = median_seconds(args.reps, args.eom_evaluations, [&] { system.accelerations(state, qdd, yd); });
+  record("T2", time_runs(args.reps, args.eom_evaluations, [&] { system.accelerations(state, qdd, yd); }));
   out["reps"] = args.reps;
   out["kinematics_evaluations"] = args.kinematics_evaluations;
   out["eom_evaluations"] = args.eom_evaluations;

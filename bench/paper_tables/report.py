@@ -107,6 +107,7 @@ def load_row(case_dir, model, variant, case):
         "compile_time": compile_user + compile_system, "compile_wall": compile_wall,
         "T1": bench["timings"]["T1"], "T1_accelerations": bench["timings"]["T1_accelerations"],
         "T1_partials": bench["timings"]["T1_partials"], "T2": bench["timings"]["T2"],
+        "T1_min": bench["timings"]["T1_min"], "T2_min": bench["timings"]["T2_min"],
         "reps": bench["timings"]["reps"], "equations": bench["equations"],
         "errors": {k: v for k, v in bench["errors"].items() if k != "qdd_at_states"},
         "qdd_at_states": bench["errors"]["qdd_at_states"],
@@ -268,8 +269,9 @@ def verdict(ok):
 
 def targets(rows, out):
     out.append("## Targets of issue 7\n")
-    out.append("Measured figures from the tables above; timings are medians; a timing within 5 % counts as equal "
-               "(the machine is shared).\n")
+    out.append("Measured figures from the tables above. Generation times are medians; the comparison of T1 and T2 "
+               "between cases uses the fastest of the runs (least disturbed by the other jobs of this shared machine, "
+               "where medians of identical code differ by up to 1.7x) and counts a timing within 5 % as equal.\n")
     results = []
 
     def add(name, ok, text):
@@ -313,8 +315,8 @@ def targets(rows, out):
         pairs += 1
         checks = [("size", r2["size"] <= r1["size"], f"{r2['size']} > {r1['size']} bytes"),
                   ("ops", r2["kinematics_ops"] <= r1["kinematics_ops"], f"{r2['kinematics_ops']} > {r1['kinematics_ops']} ops"),
-                  ("T1", r2["T1"] <= NOISE * r1["T1"], f"T1 {fmt_s(r2['T1'])} > {fmt_s(r1['T1'])} s"),
-                  ("T2", r2["T2"] <= NOISE * r1["T2"], f"T2 {fmt_s(r2['T2'])} > {fmt_s(r1['T2'])} s")]
+                  ("T1", r2["T1_min"] <= NOISE * r1["T1_min"], f"T1 {fmt_s(r2['T1_min'])} > {fmt_s(r1['T1_min'])} s"),
+                  ("T2", r2["T2_min"] <= NOISE * r1["T2_min"], f"T2 {fmt_s(r2['T2_min'])} > {fmt_s(r1['T2_min'])} s")]
         for _, ok, text in checks:
             if not ok:
                 bad.append(f"{r1['model']} {r1['variant']}: {text}")
