@@ -10,6 +10,9 @@
 #   target_link_libraries(my_simulation PRIVATE double_pendulum_absolute symdyn::runtime)
 #
 # The emitted header is <target>.hpp; the struct inside is symdyn_generated::<target>.
+# Every target with equations of motion (no NO_EOM) is appended to the global
+# property SYMDYN_MODELS, in the order added: tests/simulation checks each of
+# them (emitted against assembled equations) without being told.
 function(symdyn_add_model target model_source)
   cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM" "VARIANT;PARTIALS" "" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
@@ -43,4 +46,7 @@ function(symdyn_add_model target model_source)
   add_library(${target} STATIC ${out_dir}/${target}.cpp ${out_dir}/${target}.hpp)
   target_include_directories(${target} PUBLIC ${out_dir})
   symdyn_set_compile_options(${target})
+  if(NOT ARG_NO_EOM)
+    set_property(GLOBAL APPEND PROPERTY SYMDYN_MODELS ${target})
+  endif()
 endfunction()

@@ -233,3 +233,19 @@ TEST_CASE("each entry point computes only what it needs", "[codegen]") {
   // positions() takes no rate: its signature has no qd.
   CHECK_THAT(code.header, Contains("static void positions(double t, const double* q, const double* param, double* R, double* x);"));
 }
+
+TEST_CASE("run-time parameters are inputs of the emitted programs", "[codegen]") {
+  model::Model m("swing");
+  const model::Expr q0 = m.coordinate("q0");
+  const model::Expr length = m.parameter("length", 1.0, true);
+  m.body("bob").mass(2.0).inertia(0.01, 0.01, 0.01).motion(model::Trotz(q0) * model::Tdisp(length, 0, 0));
+  const auto code = codegen::generate(m, "default", "swing");
+  CHECK_THAT(code.header, Contains("static constexpr const char* param_names[1] = {\"length\"};"));
+  for (const auto& f : code.functions) {
+    if (f.name != "positions") continue;
+    // inputs: t, q0, length; outputs: R (9), x (3)
+    const std::vector<double> out = f.program->evaluate<double>(std::vector<double>{0.0, 0.4, 2.5});
+    CHECK(out[9] == Approx(2.5 * std::cos(0.4)).epsilon(1e-15));
+    CHECK(out[10] == Approx(2.5 * std::sin(0.4)).epsilon(1e-15));
+  }
+}

@@ -24,6 +24,12 @@ void prescribed(model::Model& m, std::string_view) {
   m.body("slider").mass(1.0).inertia(0.01, 0.02, 0.02)
       .motion(model::Tdisp(q[0] * t, 0, 0.1) * model::Troty(q[1] + 2 * t) * model::Tdisp(0.2, 0, 0))
       .relative_to("carrier");
+  // A rotation about an oblique constant axis (Rodrigues), with a run-time parameter.
+  const Expr arm = m.parameter("arm", 0.3, true);
+  const model::Vec3 axis{symbolic::rational(1, 3), symbolic::rational(2, 3), symbolic::rational(2, 3)};
+  m.body("tilted").mass(0.5).inertia(0.01, 0.01, 0.01)
+      .motion(model::Trot(axis, q[0] - q[1]) * model::Tdisp(arm, 0, 0) * model::Trotx(q[1]))
+      .relative_to("slider");
 }
 
 const model::Registration registration({"prescribed_spin", {"default"}, prescribed});

@@ -1,0 +1,149 @@
+#!/usr/bin/env bash
+# The paper's tables (Tgen, Size, T1, T2) for every model, variant and case,
+# with operation counts, compile time and errors, and the chain_N scaling study.
+#
+#   bench/paper_tables/run.sh [--models a,b] [--quick] [--reps N] [--gen-runs N]
+#                             [--build DIR] [--work DIR] [--results DIR] [--no-build]
+#
+#   --models a,b   only these models (double_pendulum, robot3d, slider_crank, trike,
+#                  amru5, hexapod_tree, chain = every chain_N, or chain_8 ...)
+#   --quick        3 repetitions, 3 generator runs, chain_N up to N = 16
+#   --reps N       timed repetitions of T1 and T2 (median; default 7)
+#   --gen-runs N   generations for Tgen (median; default 5)
+#   --build DIR    CMake build directory (default build/release, the release preset)
+#   --work DIR     scratch directory for emitted code and raw results (default build/paper_tables)
+#   --results DIR  where paper_tables.md/.json and chain_scaling.png go (default bench/results)
+#   --no-build     do not build the generators and symdyn_paper_bench first
+#
+# Per model, variant and case (1: --no-simplify --partials numeric --no-eom,
+# 2: --partials numeric --no-eom, 3: --no-eom, 4: default with mass_matrix and
+# bias_forces): runs the generator once (its files, size and operation counts),
+# symdyn_paper_tgen (Tgen: median of --gen-runs generations in process, CPU
+# time), compiles the emitted source at -O2 (CPU and wall time), links it with adapter.cpp into a shared
+# object and runs symdyn_paper_bench on it (T1, T2, errors). report.py then
+# writes the tables. Runs everything one after another: timings never overlap.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=$root/build/release
+work=$root/build/paper_tables
+results=$root/bench/results
+models=""
+quick=0
+reps=7
+gen_runs=5
+do_build=1
+
+while [[ $# -gt 0 ]]; do
+  case $1 in
+    --models) models=$2; shift 2 ;;
+    --quick) quick=1; reps=3; gen_runs=3; shift ;;
+    --reps) reps=$2; shift 2 ;;
+    --gen-runs) gen_runs=$2; shift 2 ;;
+    --build) build=$(realpath -m "$2"); shift 2 ;;
+    --work) work=$(realpath -m "$2"); shift 2 ;;
+    --results) results=$(realpath -m "$2"); shift 2 ;;
+    --no-build) do_build=0; shift ;;
+    -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    *) echo "run.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+
+cxx=${CXX:-g++}
+cxxflags=(-std=c++20 -O2 -fPIC -fvisibility=hidden)
+
+# The model files present decide what is measured: models/<file>.cpp gives the
+# generator symdyn_generator_<file>; chain.cpp registers chain_2 ... chain_64.
+model_files=()
+for f in "$root"/models/*.cpp; do model_files+=("$(basename "$f" .cpp)"); done
+
+wanted() {  # wanted <model name>: is it selected by --models?
+  [[ -z $models ]] && return 0
+  local m
+  IFS=, read -ra list <<< "$models"
+  for m in "${list[@]}"; do
+    [[ $m == "$1" ]] && return 0
+    [[ $m == chain && $1 == chain_* ]] && return 0
+  done
+  return 1
+}
+
+if [[ $do_build == 1 ]]; then
+  [[ -f $build/CMakeCache.txt ]] || cmake --preset release -S "$root"
+  targets=(symdyn_paper_bench symdyn_paper_tgen)
+  for f in "${model_files[@]}"; do targets+=("symdyn_generator_$f"); done
+  cmake --build "$build" -j2 --target "${targets[@]}"
+fi
+
+bench=$build/bench/symdyn_paper_bench
+tgen=$build/bench/symdyn_paper_tgen
+mkdir -p "$work" "$results"
+rm -rf "$work/rows"
+mkdir -p "$work/rows"
+
+chain_sizes=(2 4 8 16 32 64)
+[[ $quick == 1 ]] && chain_sizes=(2 4 8 16)
+
+case_flags() {
+  case $1 in
+    1) echo "--no-simplify --partials numeric --no-eom" ;;
+    2) echo "--partials numeric --no-eom" ;;
+    3) echo "--no-eom" ;;
+    4) echo "" ;;
+  esac
+}
+
+# timed <file> <command...>: runs the command, writes "wall user system" seconds to file.
+timed() {
+  local file=$1; shift
+  /usr/bin/time -f "%e %U %S" -o "$file" "$@"
+}
+
+# measure <generator> <model> <variant> <case> [--model name]
+measure() {
+  local gen=$1 model=$2 variant=$3 c=$4; shift 4
+  local dir=$work/rows/$model/$variant/case$c
+  mkdir -p "$dir"
+  local flags
+  read -ra flags <<< "$(case_flags "$c")"
+  echo "== $model $variant case $c" >&2
+  timed "$dir/generator_time.txt" "$gen" "$@" --variant "$variant" --out "$dir" "${flags[@]}" --stats \
+    > "$dir/stats.txt"
+  "$tgen" --model "$model" --variant "$variant" --case "$c" --runs "$gen_runs" > "$dir/tgen.json"
+  local base=${model}_${variant}
+  timed "$dir/compile_time.txt" "$cxx" "${cxxflags[@]}" -c "$dir/$base.cpp" -o "$dir/$base.o"
+  "$cxx" "${cxxflags[@]}" -I"$here" -I"$dir" -include "$base.hpp" \
+    -DSYMDYN_PAPER_STRUCT="symdyn_generated::$base" -c "$here/adapter.cpp" -o "$dir/adapter.o"
+  "$cxx" -shared -o "$dir/$base.so" "$dir/$base.o" "$dir/adapter.o"
+  "$bench" --lib "$dir/$base.so" --model "$model" --variant "$variant" --case "$c" \
+    --reps "$reps" --out "$dir/bench.json"
+  rm -f "$dir/$base.o" "$dir/adapter.o"
+}
+
+missing=()
+for f in double_pendulum robot3d slider_crank trike amru5 hexapod_tree chain; do
+  [[ -f $root/models/$f.cpp ]] || missing+=("$f")
+done
+
+for f in "${model_files[@]}"; do
+  gen=$build/models/symdyn_generator_$f
+  if [[ $f == chain ]]; then
+    for n in "${chain_sizes[@]}"; do
+      wanted "chain_$n" || continue
+      for variant in relative absolute; do
+        for c in 1 2 3 4; do measure "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"; done
+      done
+    done
+    continue
+  fi
+  wanted "$f" || continue
+  # "double_pendulum: variants absolute, relative"
+  variants=$("$gen" --list | sed 's/^[^:]*: variants //; s/,//g')
+  for variant in $variants; do
+    for c in 1 2 3 4; do measure "$gen" "$f" "$variant" "$c"; done
+  done
+done
+
+python3 "$here/report.py" --work "$work/rows" --results "$results" --paper "$here/paper_numbers.json" \
+  --missing "${missing[*]}" --reps "$reps" --gen-runs "$gen_runs"

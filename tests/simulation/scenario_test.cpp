@@ -1,0 +1,134 @@
+// The scenarios of symdyn-sim (models/sim): every registered one runs with its
+// defaults and its headline numbers fall in their bands; the double pendulum's
+// and the slider-crank's runs are also checked against closed forms.
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "run.hpp"
+#include "runtime/errors.hpp"
+
+namespace {
+
+using namespace symdyn;
+using Catch::Matchers::Contains;
+
+constexpr double two_pi = 2.0 * std::numbers::pi;
+
+// qd0 where q0 passes target (mod 2 pi), from the parabola through the three
+// samples around each passage (q0 increasing; samples 0.05 rad apart).
+std::vector<double> speeds_at(const sim::RunResult& r, double target) {
+  std::vector<double> out;
+  for (std::size_t k = 1; k + 1 < r.samples.size(); ++k) {
+    const auto& a = r.samples[k - 1].state;
+    const auto& b = r.samples[k].state;
+    const auto& c = r.samples[k + 1].state;
+    const double ub = std::floor((b.q(0) - target) / two_pi), uc = std::floor((c.q(0) - target) / two_pi);
+    if (ub == uc) continue;
+    const double x = target + uc * two_pi;
+    const double xa = a.q(0), xb = b.q(0), xc = c.q(0);
+    out.push_back(a.qd(0) * (x - xb) * (x - xc) / ((xa - xb) * (xa - xc)) +
+                  b.qd(0) * (x - xa) * (x - xc) / ((xb - xa) * (xb - xc)) +
+                  c.qd(0) * (x - xa) * (x - xb) / ((xc - xa) * (xc - xb)));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("every scenario runs with its defaults and its headline numbers are in their bands",
+          "[models][scenario]") {
+  REQUIRE(sim::scenarios().size() >= 2);
+  for (const sim::Scenario* s : sim::scenarios()) {
+    CAPTURE(s->model);
+    const sim::RunResult r = sim::run_scenario(*s);
+    CHECK(r.final().state.t == s->t_end);
+    CHECK(r.statistics.steps > 0);
+    REQUIRE_FALSE(r.headlines.empty());
+    for (const auto& h : r.headlines) {
+      INFO(h.name << " = " << h.value << " " << h.unit << ", expected " << h.low << " .. " << h.high);
+      CHECK(h.ok());
+    }
+  }
+}
+
+TEST_CASE("double pendulum scenario: CSV columns, rows, and the tip from the coordinates",
+          "[models][scenario]") {
+  std::ostringstream csv;
+  sim::RunOptions o;
+  o.csv = &csv;
+  o.t_end = 2.0;
+  const sim::RunResult r = sim::run_scenario(sim::find_scenario("double_pendulum"), o);
+  CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "kinetic_energy",
+                                              "gravitational_energy", "elastic_energy", "total_energy",
+                                              "tip_x", "tip_y"});
+  REQUIRE(r.samples.size() == 201);
+  std::istringstream in(csv.str());
+  std::string line, last;
+  int lines = 0;
+  while (std::getline(in, line)) {
+    ++lines;
+    last = line;
+  }
+  CHECK(lines == 202);  // header and 201 instants
+  // The tip of rod 2: (cos q0 + cos(q0 + q1), sin q0 + sin(q0 + q1)) for l1 = l2 = 1.
+  const auto& q = r.final().state.q;
+  std::vector<double> values;
+  std::istringstream fields(last);
+  for (std::string f; std::getline(fields, f, ',');) values.push_back(std::stod(f));
+  REQUIRE(values.size() == 11);
+  CHECK(values[0] == 2.0);
+  CHECK(values[9] == Approx(std::cos(q(0)) + std::cos(q(0) + q(1))).margin(1e-12));
+  CHECK(values[10] == Approx(std::sin(q(0)) + std::sin(q(0) + q(1))).margin(1e-12));
+  CHECK(sim::summary(r).find("energy: initial 0 J") != std::string::npos);
+}
+
+TEST_CASE("slider-crank scenario: crank speed where energy conservation gives it in closed form",
+          "[models][scenario]") {
+  // E = 1/2 M(q0) qd0^2 + V(q0) with, by hand (l1 = 0.1, l2 = 0.3, models.md):
+  //   q0 = 0 (dead centre, alpha = 0, alpha' = qd0 / 3, slider at rest):
+  //     M = (8.333e-4 + 1 * 0.05^2) + 0.5 * 0.05^2 + 3.75e-3 / 9 = 5e-3, V = 0
+  //   q0 = pi/2 and 3 pi/2 (alpha' = 0, rod and slider translate at l1 qd0):
+  //     M = 3.333e-3 + (0.5 + 0.3) * 0.1^2 = 1.1333e-2,
+  //     V = +-9.81 (1 * 0.05 + 0.5 * 0.05) = +-0.73575 J
+  const double M0 = 8.3333333333333333e-4 + 0.0025 + 0.5 * 0.0025 + 3.75e-3 / 9.0;
+  const double M90 = 8.3333333333333333e-4 + 0.0025 + 0.8 * 0.01;
+  const double E = 0.5 * M0 * 50.0 * 50.0, V90 = 9.81 * 0.075;
+  const double at_90 = std::sqrt(2.0 * (E - V90) / M90), at_270 = std::sqrt(2.0 * (E + V90) / M90);
+  const sim::Scenario& s = sim::find_scenario("slider_crank");
+  std::vector<sim::RunResult> runs;
+  for (const auto& v : s.variants) {
+    sim::RunOptions o;
+    o.variant = v.name;
+    runs.push_back(sim::run_scenario(s, o));
+    const sim::RunResult& r = runs.back();
+    CAPTURE(v.name);
+    const auto w0 = speeds_at(r, 0.0), w90 = speeds_at(r, std::numbers::pi / 2), w270 = speeds_at(r, 1.5 * std::numbers::pi);
+    REQUIRE(w0.size() >= 5);
+    REQUIRE(w90.size() >= 5);
+    REQUIRE(w270.size() >= 5);
+    for (double w : w0) CHECK(w == Approx(50.0).epsilon(1e-4));
+    for (double w : w90) CHECK(w == Approx(at_90).epsilon(1e-4));
+    for (double w : w270) CHECK(w == Approx(at_270).epsilon(1e-4));
+  }
+  // Inline and dependent variants: the same motion.
+  REQUIRE(runs.size() == 2);
+  REQUIRE(runs[0].samples.size() == runs[1].samples.size());
+  for (std::size_t k = 0; k < runs[0].samples.size(); ++k) {
+    CHECK(std::abs(runs[0].samples[k].state.q(0) - runs[1].samples[k].state.q(0)) < 1e-7);
+  }
+}
+
+TEST_CASE("scenario errors name the culprit", "[models][scenario]") {
+  CHECK_THROWS_WITH(sim::find_scenario("pendulum"), Contains("no scenario for model 'pendulum'") &&
+                                                        Contains("double_pendulum"));
+  CHECK_THROWS_WITH(sim::find_scenario("double_pendulum").variant("inline"),
+                    Contains("no variant 'inline'") && Contains("absolute, relative"));
+  sim::RunOptions o;
+  o.integrator = "euler";
+  CHECK_THROWS_AS(sim::run_scenario(sim::find_scenario("double_pendulum"), o), runtime::OptionError);
+}
