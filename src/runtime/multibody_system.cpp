@@ -32,7 +32,8 @@ MultibodySystem::MultibodySystem(Model model, EquationsSource source)
   h_.resize(nq);
   M_.resize(nq, nq);
   DwJ_.resize(nq, 3);
-  ldlt_ = Eigen::LDLT<Matrix>(nq);
+  // Eigen leaves an LDLT's status unset until compute(): factor once so that copies are defined.
+  ldlt_.compute(Matrix::Identity(nq, nq));
 }
 
 void MultibodySystem::set_source(EquationsSource source) {
