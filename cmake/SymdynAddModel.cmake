@@ -1,10 +1,11 @@
-# symdyn_add_model(<target> <model.cpp> [VARIANT <v>] [PARTIALS numeric|symbolic]
-#                  [NO_SIMPLIFY] [NO_EOM])
+# symdyn_add_model(<target> <model.cpp> [MODEL <name>] [VARIANT <v>]
+#                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM])
 #
 # Builds the model's generator (the model file linked with symdyn's generator
 # main; one per model file, shared by every variant), runs it at build time
 # whenever the model or the generator changes, and makes <target> a static
-# library of the emitted code. Link it into a simulation:
+# library of the emitted code. MODEL chooses among the models of a file that
+# registers several (chain.cpp: chain_2 ... chain_64). Link it into a simulation:
 #
 #   symdyn_add_model(double_pendulum_absolute double_pendulum.cpp VARIANT absolute)
 #   target_link_libraries(my_simulation PRIVATE double_pendulum_absolute symdyn::runtime)
@@ -14,7 +15,7 @@
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
 function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM" "VARIANT;PARTIALS" "" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM" "MODEL;VARIANT;PARTIALS" "" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
   get_filename_component(model_path ${model_source} ABSOLUTE)
   set(generator symdyn_generator_${model_name})
@@ -24,6 +25,9 @@ function(symdyn_add_model target model_source)
     symdyn_set_compile_options(${generator})
   endif()
   set(flags --basename ${target})
+  if(ARG_MODEL)
+    list(APPEND flags --model ${ARG_MODEL})
+  endif()
   if(ARG_VARIANT)
     list(APPEND flags --variant ${ARG_VARIANT})
   endif()

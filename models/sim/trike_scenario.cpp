@@ -17,8 +17,8 @@
 #include "runtime/generalized_forces.hpp"
 #include "runtime/point_forces.hpp"
 
-#if __has_include("trike_default.hpp")
-#include "trike_default.hpp"
+#if __has_include("trike.hpp")
+#include "trike.hpp"
 #endif
 
 namespace symdyn::sim {
@@ -29,8 +29,8 @@ using runtime::State;
 
 std::vector<Variant> variants() {
   std::vector<Variant> v;
-#if __has_include("trike_default.hpp")
-  v.push_back({"default", &Model::from<symdyn_generated::trike_default>});
+#if __has_include("trike.hpp")
+  v.push_back({"default", &Model::from<symdyn_generated::trike>});
 #endif
   return v;
 }

@@ -17,7 +17,8 @@
 namespace symdyn::codegen {
 
 struct Options {
-  bool simplify = true;             // trigonometric simplification of the relative kinematics
+  bool simplify = true;             // trigonometric simplification of the relative kinematics; each
+                                    // entry point keeps the shorter of the simplified and plain programs
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
   bool equations_of_motion = true;  // emit mass_matrix and bias_forces (needs symbolic partials)
   std::string name_space = "symdyn_generated";

@@ -32,8 +32,10 @@ Dynamics derive_dynamics(const Model& model, const Kinematics& k) {
   }
   symbolic::Substitution at_zero_qdd(zero);
 
-  d.mass_matrix.assign(nq * nq, Expr(0));
-  d.bias.assign(nq, Expr(0));
+  // Each entry sums one term per body: the terms are gathered and added once,
+  // since adding them one by one would rebuild (and re-sort) the growing sum
+  // at every body, quadratic in the number of bodies.
+  std::vector<std::vector<Expr>> mass_terms(nq * nq), bias_terms(nq);
   const Vec3& g = model.gravity();
   for (std::size_t i = 0; i < k.bodies.size(); ++i) {
     const BodyKinematics& b = k.bodies[i];
@@ -50,11 +52,17 @@ Dynamics derive_dynamics(const Model& model, const Kinematics& k) {
     const Vec3 moment = times(I, dW0) + cross(W, times(I, W));
     const Vec3 force_per_mass = substitute(b.a, at_zero_qdd) - g;
     for (std::size_t j = 0; j < nq; ++j) {
-      d.bias[j] += m * dot(force_per_mass, b.dv_dqd[j]) + dot(moment, dW[j]);
+      bias_terms[j].push_back(m * dot(force_per_mass, b.dv_dqd[j]) + dot(moment, dW[j]));
       for (std::size_t l = j; l < nq; ++l) {
-        d.mass_matrix[j * nq + l] += m * dot(b.dv_dqd[j], b.dv_dqd[l]) + dot(dW[j], I_dW[l]);
+        mass_terms[j * nq + l].push_back(m * dot(b.dv_dqd[j], b.dv_dqd[l]) + dot(dW[j], I_dW[l]));
       }
     }
+  }
+  d.mass_matrix.assign(nq * nq, Expr(0));
+  d.bias.assign(nq, Expr(0));
+  for (std::size_t j = 0; j < nq; ++j) {
+    d.bias[j] = symbolic::add(bias_terms[j]);
+    for (std::size_t l = j; l < nq; ++l) d.mass_matrix[j * nq + l] = symbolic::add(mass_terms[j * nq + l]);
   }
   for (std::size_t j = 0; j < nq; ++j) {
     for (std::size_t l = 0; l < j; ++l) d.mass_matrix[j * nq + l] = d.mass_matrix[l * nq + j];

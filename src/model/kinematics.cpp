@@ -35,11 +35,16 @@ class Deriver {
     for (const Dependent& d : model_.dependents()) k.dependents.push_back(derive_dependent(d, k.dependents));
     const std::vector<int> refs = model_.reference_indices();
     k.bodies.resize(model_.bodies().size());
+    if (options_.symbolic_partials) {
+      for (const Coordinate& c : model_.coordinates()) by_qd_.emplace_back(c.qd);
+      for (const DependentKinematics& d : k.dependents) by_pd_.emplace_back(d.symbols.rate);
+    }
     for (int i : model_.topological_order()) {
       const Local local = derive_local(model_.bodies()[i].motion());
-      k.bodies[i] = refs[i] < 0 ? absolute(local) : compose(k.bodies[refs[i]], local);
+      BodyKinematics& b = k.bodies[i];
+      b = refs[i] < 0 ? absolute(local) : compose(k.bodies[refs[i]], local);
+      if (options_.symbolic_partials) add_partials(k.dependents, refs[i] < 0 ? nullptr : &k.bodies[refs[i]], local, b);
     }
-    if (options_.symbolic_partials) add_partials(k);
     return k;
   }
 
@@ -110,21 +115,31 @@ class Deriver {
     return b;
   }
 
-  // dv/dqd_j = ∂v/∂qd_j + Σ_k ∂v/∂pd_k · dp_k/dq_j
-  void add_partials(Kinematics& k) const {
-    const auto& coords = model_.coordinates();
-    for (std::size_t j = 0; j < coords.size(); ++j) {
-      symbolic::Differentiator by_qd(coords[j].qd);
-      std::vector<symbolic::Differentiator> by_pd;
-      for (const DependentKinematics& d : k.dependents) by_pd.emplace_back(d.symbols.rate);
+  // Partial velocities of the local motion (simplified: they are short), then
+  // composed with the reference's like the velocities themselves, since r does
+  // not depend on qd:
+  //   dv/dqd_j = dv_B/dqd_j + dw_B/dqd_j × r + R_B·dv_rel/dqd_j,
+  //   dw/dqd_j = dw_B/dqd_j + R_B·dw_rel/dqd_j.
+  // Differentiating the composed velocities instead would hand the simplifier
+  // the whole chain above the body, whose expansion costs time and operations.
+  // A local partial is total: dv_rel/dqd_j = ∂v_rel/∂qd_j + Σ_k ∂v_rel/∂pd_k · dp_k/dq_j.
+  void add_partials(const std::vector<DependentKinematics>& dependents, const BodyKinematics* B, const Local& l,
+                    BodyKinematics& b) {
+    for (std::size_t j = 0; j < by_qd_.size(); ++j) {
       auto partial = [&](Expr e) {
-        Expr total = by_qd(e);
-        for (std::size_t m = 0; m < by_pd.size(); ++m) total += by_pd[m](e) * k.dependents[m].jacobian_symbols[j];
+        Expr total = by_qd_[j](e);
+        for (std::size_t m = 0; m < by_pd_.size(); ++m) total += by_pd_[m](e) * dependents[m].jacobian_symbols[j];
         return simplify(total);
       };
-      for (BodyKinematics& b : k.bodies) {
-        b.dv_dqd.push_back({partial(b.v[0]), partial(b.v[1]), partial(b.v[2])});
-        b.dw_dqd.push_back({partial(b.w[0]), partial(b.w[1]), partial(b.w[2])});
+      const Vec3 dv_rel{partial(l.v[0]), partial(l.v[1]), partial(l.v[2])};
+      const Vec3 dw_rel{partial(l.w[0]), partial(l.w[1]), partial(l.w[2])};
+      if (B == nullptr) {
+        b.dv_dqd.push_back(dv_rel);
+        b.dw_dqd.push_back(dw_rel);
+      } else {
+        const Vec3 r = B->R * l.x;
+        b.dv_dqd.push_back(B->dv_dqd[j] + cross(B->dw_dqd[j], r) + B->R * dv_rel);
+        b.dw_dqd.push_back(B->dw_dqd[j] + B->R * dw_rel);
       }
     }
   }
@@ -132,6 +147,8 @@ class Deriver {
   const Model& model_;
   const DeriveOptions& options_;
   std::unique_ptr<symbolic::TimeDerivative> d_dt_;
+  // d/dqd_j and d/dpd_k, memoized across bodies.
+  std::vector<symbolic::Differentiator> by_qd_, by_pd_;
 };
 
 }  // namespace

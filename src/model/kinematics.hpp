@@ -12,9 +12,11 @@
 //   v = v_B + w_B×r + R_B·v_rel,
 //   a = a_B + dw_B×r + w_B×(w_B×r) + 2·w_B×(R_B·v_rel) + R_B·a_rel,
 //   dw = dw_B + w_B×(R_B·w_rel) + R_B·dw_rel.
-// Partial velocities dv/dqd_j, dw/dqd_j (symbolic) differentiate the composed
-// velocities with respect to qd_j; a dependent parameter's rate pd_k carries
-// its own dependence on qd through the Jacobian dp_k/dq_j (see DependentKinematics).
+// Partial velocities dv/dqd_j, dw/dqd_j (symbolic) differentiate the local
+// velocities with respect to qd_j and are composed the same way:
+//   dv_j = dv_B,j + dw_B,j×r + R_B·dv_rel,j,   dw_j = dw_B,j + R_B·dw_rel,j;
+// a dependent parameter's rate pd_k carries its own dependence on qd through
+// the Jacobian dp_k/dq_j (see DependentKinematics).
 //
 // Simplification, when asked, is progressive (as CAGeM did under Giac): the
 // relative positions are simplified, velocities derived from the simplified

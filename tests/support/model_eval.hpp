@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <complex>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "model/kinematics.hpp"
@@ -61,6 +62,20 @@ Matrix3<S> eval33(const model::Mat3& m, const symbolic::Bindings<S>& b) {
   return out;
 }
 
+// The same through one Evaluator, whose memo shares the nodes common to many
+// expressions (a big model's bodies share most of their DAG).
+template <class S>
+Vector3<S> eval3(const model::Vec3& v, symbolic::Evaluator<S>& e) {
+  return {e(v[0]), e(v[1]), e(v[2])};
+}
+
+template <class S>
+Matrix3<S> eval33(const model::Mat3& m, symbolic::Evaluator<S>& e) {
+  Matrix3<S> out;
+  for (int i = 0; i < 9; ++i) out(i / 3, i % 3) = e(m[i]);
+  return out;
+}
+
 // T0G of every body by multiplying the 4x4 matrices of its elementary motions
 // numerically (Rodrigues for each rotation), independently of the symbolic path.
 template <class S>
@@ -101,6 +116,23 @@ inline ModelState<double> random_state(std::mt19937& rng, std::size_t nq) {
     s.qdd.push_back(u(rng));
   }
   return s;
+}
+
+// A random state near the model's initial configuration: q = q_initial + amplitude·u,
+// qd, qdd and t = u, with every u drawn uniformly in [-1, 1] (in the order of
+// random_state, which this is for a model starting at q = 0 and amplitude 1).
+// Models whose dependent parameters exist only near their initial
+// configuration (a closed loop that must close) need a small amplitude.
+inline ModelState<double> random_state_near(std::mt19937& rng, std::span<const double> q_initial, double amplitude) {
+  ModelState<double> s = random_state(rng, q_initial.size());
+  for (std::size_t i = 0; i < s.q.size(); ++i) s.q[i] = q_initial[i] + amplitude * s.q[i];
+  return s;
+}
+
+inline ModelState<double> random_state_near(std::mt19937& rng, const model::Model& m, double amplitude) {
+  std::vector<double> q_initial;
+  for (const auto& c : m.coordinates()) q_initial.push_back(c.initial);
+  return random_state_near(rng, q_initial, amplitude);
 }
 
 // The state moved along its own path by tau (complex tau for the complex step):

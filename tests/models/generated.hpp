@@ -1,0 +1,21 @@
+#pragma once
+// Every reference model generated at build time (models/CMakeLists.txt).
+
+#include "amru5_dependent.hpp"
+#include "amru5_inline.hpp"
+#include "chain_16_absolute.hpp"
+#include "chain_16_relative.hpp"
+#include "chain_2_absolute.hpp"
+#include "chain_2_relative.hpp"
+#include "chain_4_absolute.hpp"
+#include "chain_4_relative.hpp"
+#include "chain_8_absolute.hpp"
+#include "chain_8_relative.hpp"
+#include "double_pendulum_absolute.hpp"
+#include "double_pendulum_relative.hpp"
+#include "hexapod_tree.hpp"
+#include "robot3d_absolute.hpp"
+#include "robot3d_relative.hpp"
+#include "slider_crank_dependent.hpp"
+#include "slider_crank_inline.hpp"
+#include "trike.hpp"

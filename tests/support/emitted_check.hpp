@@ -1,0 +1,172 @@
+#pragma once
+// Checks of an emitted struct G (docs/emitted_interface.md), compiled at build
+// time by symdyn_add_model, against its model derived afresh in process:
+// the DAG evaluated directly, the interpreter over the very programs that were
+// printed, and a numerical assembly of the equations of motion. Catch2 checks;
+// include from test sources only.
+
+#include <catch2/catch.hpp>
+
+#include <Eigen/Dense>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "codegen/generate.hpp"
+#include "model/kinematics.hpp"
+#include "support/model_eval.hpp"
+
+namespace symdyn::testing {
+
+// Largest |a_i - b_i| / max(1, |b_i|).
+inline double gap(const std::vector<double>& a, const std::vector<double>& b) {
+  REQUIRE(a.size() == b.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    worst = std::max(worst, std::abs(a[i] - b[i]) / std::max(1.0, std::abs(b[i])));
+  }
+  return worst;
+}
+
+// Everything the emitted functions compute at one state.
+template <class G>
+struct Emitted {
+  std::vector<double> R = std::vector<double>(G::nbody * 9), x = std::vector<double>(G::nbody * 3),
+                      v = x, w = x, a = x, dw = x;
+  std::vector<double> dv = std::vector<double>(G::nbody * G::nq * 3), dwp = dv;
+  std::vector<double> M = std::vector<double>(G::nq * G::nq), h = std::vector<double>(G::nq);
+
+  explicit Emitted(const ModelState<double>& s) {
+    const double* param = G::param_defaults;
+    G::accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), param, R.data(), x.data(), v.data(), w.data(),
+                     a.data(), dw.data());
+    G::partial_velocities(s.t, s.q.data(), param, dv.data(), dwp.data());
+    if constexpr (G::has_equations_of_motion) {
+      G::mass_matrix(s.t, s.q.data(), param, M.data());
+      G::bias_forces(s.t, s.q.data(), s.qd.data(), param, h.data());
+    }
+  }
+};
+
+// The outputs of the emitted entry point `name`, concatenated in declaration order.
+template <class G>
+std::vector<double> call_entry(const std::string& name, const ModelState<double>& s) {
+  const double* p = G::param_defaults;
+  std::vector<double> out;
+  auto take = [&out](std::initializer_list<const std::vector<double>*> arrays) {
+    for (const auto* a : arrays) out.insert(out.end(), a->begin(), a->end());
+  };
+  std::vector<double> R(G::nbody * 9), x(G::nbody * 3), v(x), w(x), a(x), dw(x);
+  std::vector<double> dv(G::nbody * G::nq * 3), dwp(dv), M(G::nq * G::nq), h(G::nq);
+  std::vector<double> mass(G::nbody), inertia(G::nbody * 9), dep(G::ndep > 0 ? G::ndep : 1), dep_d(dep), dep_dd(dep);
+  if (name == "inertia") G::inertia(p, mass.data(), inertia.data()), take({&mass, &inertia});
+  if (name == "positions") G::positions(s.t, s.q.data(), p, R.data(), x.data()), take({&R, &x});
+  if (name == "velocities") {
+    G::velocities(s.t, s.q.data(), s.qd.data(), p, R.data(), x.data(), v.data(), w.data());
+    take({&R, &x, &v, &w});
+  }
+  if (name == "accelerations") {
+    G::accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(), w.data(), a.data(),
+                     dw.data());
+    take({&R, &x, &v, &w, &a, &dw});
+  }
+  if (name == "partial_velocities") G::partial_velocities(s.t, s.q.data(), p, dv.data(), dwp.data()), take({&dv, &dwp});
+  if (name == "dependent_parameters") {
+    G::dependent_parameters(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dep.data(), dep_d.data(), dep_dd.data());
+    for (auto* d : {&dep, &dep_d, &dep_dd}) d->resize(G::ndep);
+    take({&dep, &dep_d, &dep_dd});
+  }
+  if constexpr (G::has_equations_of_motion) {
+    if (name == "mass_matrix") G::mass_matrix(s.t, s.q.data(), p, M.data()), take({&M});
+    if (name == "bias_forces") G::bias_forces(s.t, s.q.data(), s.qd.data(), p, h.data()), take({&h});
+  }
+  return out;
+}
+
+struct EmittedSetup {
+  std::string name, variant;
+  codegen::Options options;  // those G was generated with
+  int trials = 20;           // random states
+  double amplitude = 1.0;    // of q around the initial configuration (random_state_near)
+  // Also run the interpreter over the printed programs: this generates the
+  // model again in process, which costs the model's generation time.
+  bool interpreter = true;
+};
+
+// Checks one generated struct G against its model, derived afresh without simplification.
+template <class G>
+void check_emitted(const EmittedSetup& setup) {
+  const model::Model m = model::find_definition(setup.name).make(setup.variant);
+  model::DeriveOptions derive;
+  derive.symbolic_partials = true;
+  const model::Kinematics k = model::derive_kinematics(m, derive);
+  std::optional<codegen::GeneratedCode> code;
+  if (setup.interpreter) code = codegen::generate(m, setup.variant, "x", setup.options);
+  const std::vector<codegen::EmittedFunction> none;
+  const std::vector<codegen::EmittedFunction>& functions = code ? code->functions : none;
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < setup.trials; ++trial) {
+    const auto s = random_state_near(rng, m, setup.amplitude);
+    const Emitted<G> e(s);
+    const auto b = bind_state(m, k, s);
+    symbolic::Evaluator<double> eval(b);
+    // Against the DAG evaluated directly.
+    std::vector<double> R, x, v, w, a, dw, dv, dwp;
+    for (const auto& body : k.bodies) {
+      for (auto r : body.R) R.push_back(eval(r));
+      auto push = [&](std::vector<double>& out, const model::Vec3& vec) {
+        for (auto c : vec) out.push_back(eval(c));
+      };
+      push(x, body.x), push(v, body.v), push(w, body.w), push(a, body.a), push(dw, body.dw);
+      for (std::size_t j = 0; j < G::nq; ++j) push(dv, body.dv_dqd[j]), push(dwp, body.dw_dqd[j]);
+    }
+    CHECK(gap(e.R, R) < 1e-12);
+    CHECK(gap(e.x, x) < 1e-12);
+    CHECK(gap(e.v, v) < 1e-12);
+    CHECK(gap(e.w, w) < 1e-12);
+    CHECK(gap(e.a, a) < 1e-12);
+    CHECK(gap(e.dw, dw) < 1e-12);
+    CHECK(gap(e.dv, dv) < 1e-12);
+    CHECK(gap(e.dwp, dwp) < 1e-12);
+    // Against the interpreter over the printed program, entry point by entry point.
+    for (const auto& f : functions) {
+      if (!f.program) continue;
+      INFO("entry point " << f.name);
+      std::vector<double> in;
+      for (const std::string& arr : f.inputs) {
+        if (arr == "t") in.push_back(s.t);
+        if (arr == "q") in.insert(in.end(), s.q.begin(), s.q.end());
+        if (arr == "qd") in.insert(in.end(), s.qd.begin(), s.qd.end());
+        if (arr == "qdd") in.insert(in.end(), s.qdd.begin(), s.qdd.end());
+        if (arr == "param") in.insert(in.end(), G::param_defaults, G::param_defaults + G::nparam);
+      }
+      CHECK(gap(call_entry<G>(f.name, s), f.program->evaluate<double>(in)) < 1e-14);
+    }
+    if constexpr (G::has_equations_of_motion) {
+      // M·qdd + h against the residual assembled numerically in the global frame:
+      // f_j = Σ (m a - m g)·dv_ij + (J dw + w × J w)·dw_ij, J = R I Rᵀ.
+      std::vector<double> mass(G::nbody), inertia(G::nbody * 9);
+      G::inertia(G::param_defaults, mass.data(), inertia.data());
+      Eigen::VectorXd f = Eigen::VectorXd::Zero(G::nq);
+      for (int i = 0; i < G::nbody; ++i) {
+        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Ri(&e.R[9 * i]), Ii(&inertia[9 * i]);
+        const Eigen::Matrix3d J = Ri * Ii * Ri.transpose();
+        const Eigen::Vector3d ai(&e.a[3 * i]), wi(&e.w[3 * i]), dwi(&e.dw[3 * i]), g(G::gravity);
+        const Eigen::Vector3d force = mass[i] * (ai - g);
+        const Eigen::Vector3d moment = J * dwi + wi.cross(J * wi);
+        for (int j = 0; j < G::nq; ++j) {
+          f[j] += force.dot(Eigen::Vector3d(&e.dv[3 * (i * G::nq + j)])) +
+                  moment.dot(Eigen::Vector3d(&e.dwp[3 * (i * G::nq + j)]));
+        }
+      }
+      const Eigen::Map<const Eigen::Matrix<double, G::nq, G::nq, Eigen::RowMajor>> M(e.M.data());
+      const Eigen::Map<const Eigen::Matrix<double, G::nq, 1>> qdd(s.qdd.data()), h(e.h.data());
+      const Eigen::VectorXd lhs = M * qdd + h;
+      CHECK((lhs - f).cwiseAbs().maxCoeff() < 1e-10 * std::max(1.0, f.cwiseAbs().maxCoeff()));
+      CHECK((M - M.transpose()).cwiseAbs().maxCoeff() == 0.0);
+      CHECK(Eigen::LLT<Eigen::MatrixXd>(Eigen::MatrixXd(M)).info() == Eigen::Success);
+    }
+  }
+}
+
+}  // namespace symdyn::testing
