@@ -4,7 +4,8 @@
 // "foot", in leg order.
 //
 // Headlines: the main body stays up on its legs (height, roll and pitch
-// bounded) while the gait moves it.
+// bounded) and advances in both halves of the run. Channels: the body's height
+// and each foot's normal force (0 while the foot is in the air).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -74,9 +75,13 @@ std::vector<Channel> configure(runtime::MultibodySystem& system) {
   ground.slip_speed = 0.01;
   ground.regularization = runtime::FrictionRegularization::smooth;
   const std::vector<int> foot = feet(system.model());
+  std::vector<Channel> channels{{"body_height", [](const State& s) { return s.q(2); }}};
   for (int k = 0; k < legs; ++k) {
-    system.add<runtime::PlaneContact>(fmt::format("foot {}", k), foot[static_cast<std::size_t>(k)], runtime::Vec3::Zero(),
-                                      0.0, runtime::Plane{}, ground);
+    auto contact = system.add<runtime::PlaneContact>(fmt::format("foot {}", k), foot[static_cast<std::size_t>(k)],
+                                                     runtime::Vec3::Zero(), 0.0, runtime::Plane{}, ground);
+    channels.push_back({fmt::format("foot_{}_normal_force", k), [&system, contact](const State& s) {
+                          return contact->evaluate(system.evaluate_kinematics(s)).normal_force;
+                        }});
     const double s = side(k), phi = phase(k);
     system.add<runtime::CoordinateTracking>(fmt::format("leg {} yaw", k), yaw_of(k), 500.0, 20.0,
                                             [s, phi](double t) { return s * 0.2 * std::sin(omega * t + phi); });
@@ -84,9 +89,12 @@ std::vector<Channel> configure(runtime::MultibodySystem& system) {
                                             [phi](double t) { return 0.04 * std::max(0.0, std::cos(omega * t + phi)); });
     system.add<runtime::CoordinateSpringDamper>(fmt::format("leg {} reach", k), h_of(k), 20000.0, 500.0, 0.35);
   }
-  return {{"body_height", [](const State& s) { return s.q(2); }}};
+  return channels;
 }
 
+// The gait moves each stance foot towards +x relative to the main body (the
+// yaw of a left leg turns its foot forwards while the foot is down, v_ref = 0,
+// and backwards while it is lifted), so the body advances towards -x.
 std::vector<Headline> headline(const RunResult& run, runtime::MultibodySystem&) {
   double low = run.initial().state.q(2), high = low, tilt = 0.0;
   for (const auto& s : run.samples) {
@@ -94,11 +102,15 @@ std::vector<Headline> headline(const RunResult& run, runtime::MultibodySystem&) 
     high = std::max(high, s.state.q(2));
     tilt = std::max({tilt, std::abs(s.state.q(4)), std::abs(s.state.q(5))});
   }
+  const State& start = run.initial().state;
   const State& end = run.final().state;
+  // Half-way through, so that a body that stopped walking shows.
+  const State& middle = run.samples[run.samples.size() / 2].state;
   return {{"lowest body height", low, "m", 0.3, 0.62},
           {"highest body height", high, "m", 0.62, 0.8},
           {"largest roll or pitch", tilt, "rad", 0.0, 0.3},
-          {"distance travelled", std::hypot(end.q(0), end.q(1)), "m", 0.0, 5.0}};
+          {"advance along -x, first half", start.q(0) - middle.q(0), "m", 0.01, 1.0},
+          {"advance along -x, second half", middle.q(0) - end.q(0), "m", 0.01, 1.0}};
 }
 
 std::vector<double> initial_q() {

@@ -5,11 +5,13 @@
 //
 // Headlines: the drive holds the forward speed near its 5 m/s set point, the
 // chassis rides on its tyres (neither falls through the ground nor flies), and
-// the steering turns the trike to the left (the yaw grows).
+// the steering turns the trike to the left (the yaw grows) at the steady yaw rate
+// of a rolling vehicle, v·tan(delta)/wheelbase, within the tyres' slip.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "run.hpp"
 #include "runtime/contact.hpp"
@@ -80,6 +82,14 @@ std::vector<Channel> configure(runtime::MultibodySystem& system) {
   return channels;
 }
 
+// Yaw rate of a rolling vehicle steered by delta with wheelbase l: v·tan(delta)/l.
+// The wheelbase runs from the front wheel's hub (x = 1.2 in the chassis) to the
+// rear axle at the suspension's static travel.
+double kinematic_yaw_rate(double speed, double delta, double rear_travel) {
+  const double wheelbase = 1.2 - (-0.9 - rear_travel * std::cos(std::numbers::pi / 4));
+  return speed * std::tan(delta) / wheelbase;
+}
+
 std::vector<Headline> headline(const RunResult& run, runtime::MultibodySystem& system) {
   double low = run.initial().state.q(2), high = low;
   for (const auto& s : run.samples) {
@@ -87,8 +97,16 @@ std::vector<Headline> headline(const RunResult& run, runtime::MultibodySystem& s
     high = std::max(high, s.state.q(2));
   }
   const State& end = run.final().state;
-  return {{"final forward speed", forward_speed(system.evaluate_kinematics(end)), "m/s", 4.5, 5.5},
+  // The yaw rate one second before the end, to see that the turn is steady.
+  const auto before = std::find_if(run.samples.begin(), run.samples.end(),
+                                   [&](const Sample& s) { return s.state.t >= end.t - 1.0; });
+  const double speed = forward_speed(system.evaluate_kinematics(end));
+  const double yaw_rate = end.qd(yaw);
+  return {{"final forward speed", speed, "m/s", 4.5, 5.5},
           {"yaw turned", end.q(yaw) - run.initial().state.q(yaw), "rad", 0.2, 3.0},
+          {"final yaw rate / v·tan(delta)/wheelbase", yaw_rate / kinematic_yaw_rate(speed, end.q(steering), end.q(rear_suspension)),
+           "", 0.9, 1.1},
+          {"yaw rate change over the last second", std::abs(yaw_rate - before->state.qd(yaw)) / yaw_rate, "", 0.0, 0.02},
           {"lowest chassis height", low, "m", 0.3, 0.5},
           {"highest chassis height", high, "m", 0.5, 0.7}};
 }
