@@ -32,6 +32,15 @@ Expr cheapest(Expr original, std::initializer_list<Expr> candidates) {
 constexpr std::size_t kMaxContractTerms = 96;
 constexpr int kMaxGrowth = 3;
 constexpr int kGrowthSlack = 40;
+// Nodes whose expansion would have more terms than this only get contracted
+// as they are: expanding them grows with the product of their factors' terms
+// (a chain of n rotations expands into 3^n), the expanded form would be too
+// big to contract anyway, and their operands were already simplified.
+constexpr std::size_t kMaxExpandedTerms = 4 * kMaxContractTerms;
+// Only nodes up to this cost are expanded: beyond, the search is long and
+// rarely shorter. Products to sums and sin and cos of sums, which multiply
+// terms further (a product of k sines is 2^(k-1) terms), only up to half of it.
+constexpr int kMaxExpandCost = 256;
 
 std::vector<Rule> concat(std::vector<Rule> a, std::vector<Rule> b) {
   a.insert(a.end(), std::make_move_iterator(b.begin()), std::make_move_iterator(b.end()));
@@ -165,13 +174,14 @@ Expr Simplifier::best_form(Expr original, Expr rebuilt) {
   };
   consider(rebuilt);
   consider(contract_(rebuilt));
+  if (rebuilt_cost > kMaxExpandCost || expanded_terms(rebuilt) > kMaxExpandedTerms) return best;
   contract_if_small(expand_(rebuilt));
-  if (has_trig(rebuilt)) {
-    contract_if_small(expand_(eliminate_sin_(rebuilt)));
-    contract_if_small(expand_(eliminate_cos_(rebuilt)));
-    contract_if_small(linearize(rebuilt));
-    contract_if_small(expand_(expand_trig_(rebuilt)));
-  }
+  if (!has_trig(rebuilt)) return best;
+  contract_if_small(expand_(eliminate_sin_(rebuilt)));
+  contract_if_small(expand_(eliminate_cos_(rebuilt)));
+  if (rebuilt_cost > kMaxExpandCost / 2) return best;
+  contract_if_small(linearize(rebuilt));
+  contract_if_small(expand_(expand_trig_(rebuilt)));
   return best;
 }
 
@@ -184,6 +194,33 @@ Expr Simplifier::linearize(Expr e) {
     current = next;
   }
   return current;
+}
+
+// The number of terms of the full expansion before like terms are collected,
+// saturated just above kMaxExpandedTerms.
+std::size_t Simplifier::expanded_terms(Expr e) {
+  if (e.args().empty()) return 1;
+  if (auto it = terms_memo_.find(e.id()); it != terms_memo_.end()) return it->second;
+  constexpr std::size_t saturated = kMaxExpandedTerms + 1;
+  std::size_t n = 1;
+  switch (e.kind()) {
+    case Kind::Add:
+      n = 0;
+      for (Expr a : e.args()) n = std::min(saturated, n + expanded_terms(a));
+      break;
+    case Kind::Mul:
+      for (Expr a : e.args()) n = std::min(saturated, n * expanded_terms(a));
+      break;
+    case Kind::Pow:
+      if (!e.args()[1].is_number()) break;
+      if (const Number& k = e.args()[1].number(); k.is_integer() && k.num() >= 2) {
+        for (std::int64_t i = 0; i < k.num() && n < saturated; ++i) n = std::min(saturated, n * expanded_terms(e.args()[0]));
+      }
+      break;
+    default: break;  // a function call is one term
+  }
+  terms_memo_.emplace(e.id(), n);
+  return n;
 }
 
 bool Simplifier::has_trig(Expr e) {

@@ -72,6 +72,7 @@ class Simplifier {
   Expr best_form(Expr original, Expr rebuilt);
   Expr linearize(Expr e);
   bool has_trig(Expr e);
+  std::size_t expanded_terms(Expr e);
 
   Expander expand_;
   Rewriter contract_;
@@ -81,6 +82,7 @@ class Simplifier {
   Rewriter expand_trig_;
   std::unordered_map<std::uint32_t, Expr> memo_;
   std::unordered_map<std::uint32_t, bool> trig_memo_;
+  std::unordered_map<std::uint32_t, std::size_t> terms_memo_;
 };
 
 Expr simplify(Expr e);

@@ -19,10 +19,9 @@ void check_against_model() {
   const TestPlan plan = test_plan(G::model);
   INFO(G::model << " " << G::variant);
   EmittedSetup setup{G::model, G::variant, {}};
-  setup.options.simplify = plan.simplified(G::variant);
   setup.trials = std::max(2, plan.states);
   setup.amplitude = plan.amplitude;
-  // amru5's generation takes seconds (inline: about 15 s); its printed programs
+  // amru5's generation takes seconds; its printed programs
   // are checked against the interpreter on the smaller models.
   setup.interpreter = std::string_view(G::model) != "amru5";
   check_emitted<G>(setup);
