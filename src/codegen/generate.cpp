@@ -99,7 +99,6 @@ class Emitter {
     // less, so each entry point keeps the shorter of the two programs.
     if (options_.simplify) keep_shorter_programs(chosen, derive(false));
     entries_ = std::move(chosen.entries);
-    simplified_ = std::move(chosen.simplified);
     GeneratedCode code;
     code.struct_name = struct_name_;
     std::string definitions;
@@ -116,11 +115,10 @@ class Emitter {
 
  private:
   // The entry points of one derivation, each with its compiled program
-  // (absent for a hand-written body), and whether simplification made it.
+  // (absent for a hand-written body).
   struct Derivation {
     std::vector<EntryPoint> entries;
     std::vector<std::optional<symbolic::Program>> programs;
-    std::vector<bool> simplified;
   };
 
   Derivation derive(bool simplify) {
@@ -134,7 +132,6 @@ class Emitter {
     Derivation d;
     d.entries = build_entry_points(k);
     for (const EntryPoint& e : d.entries) d.programs.push_back(compile(e));
-    d.simplified.assign(d.entries.size(), simplify);
     return d;
   }
 
@@ -145,7 +142,6 @@ class Emitter {
       if (mine && theirs && theirs->operation_count().total() < mine->operation_count().total()) {
         chosen.entries[i] = std::move(other.entries[i]);
         mine = std::move(theirs);
-        chosen.simplified[i] = other.simplified[i];
       }
     }
   }
@@ -312,13 +308,10 @@ class Emitter {
     }
     for (Expr g : model_.gravity()) gravity.push_back(g.number().to_double());
     std::string counts;
-    for (std::size_t i = 0; i < stats.size(); ++i) {
-      const EmittedFunction& s = stats[i];
-      const bool unsimplified = options_.simplify && !simplified_[i];
-      counts += fmt::format("//   {:<22} {}{}\n", s.name,
+    for (const auto& s : stats) {
+      counts += fmt::format("//   {:<22} {}\n", s.name,
                             !s.program ? std::string("(loops over velocities)")
-                                       : fmt::format("{} operations: {}", s.operations.total(), s.operations.str()),
-                            unsimplified ? " (unsimplified: shorter here)" : "");
+                                       : fmt::format("{} operations: {}", s.operations.total(), s.operations.str()));
     }
     std::string declarations;
     for (const EntryPoint& e : entries_) {
@@ -374,7 +367,6 @@ class Emitter {
   std::unordered_map<std::string, std::vector<Expr>> symbols_;
   std::unordered_map<Expr, Expr> definitions_;
   std::vector<EntryPoint> entries_;
-  std::vector<bool> simplified_;  // per entry point: made from the simplified derivation
 };
 
 }  // namespace
