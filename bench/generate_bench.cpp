@@ -24,39 +24,6 @@ namespace {
 
 using namespace symdyn;
 
-#ifndef SYMDYN_HAVE_CHAIN_MODEL
-// TEMPORARY, bench-local: chain_N (models.md 6) built here with the builder API
-// until models/chain.cpp exists; CMake defines SYMDYN_HAVE_CHAIN_MODEL then,
-// and this block is to be deleted. Variants "relative" and "absolute".
-void build_chain(model::Model& m, std::string_view variant, int n) {
-  using namespace symdyn::model;
-  constexpr double L = 0.5;
-  const auto q = m.coordinates(n);
-  Transform T0G;  // the product of the chain up to link k
-  for (int k = 0; k < n; ++k) {
-    const Transform turn = k % 3 == 0 ? Trotz(q[k]) : (k % 3 == 1 ? Troty(q[k]) : Trotx(q[k]));
-    const Transform local = k == 0 ? turn * Tdisp(L / 2, 0, 0) : Tdisp(L / 2, 0, 0) * turn * Tdisp(L / 2, 0, 0);
-    T0G *= local;
-    Body& link = m.body(fmt::format("link{}", k)).mass(1.0).inertia(0.001, 0.020833333333333333, 0.020833333333333333);
-    if (k == 0 || variant == "absolute") {
-      link.motion(T0G);
-    } else {
-      link.motion(local).relative_to(fmt::format("link{}", k - 1));
-    }
-    m.initial(q[k], 0.1);
-  }
-  m.gravity(0, 0, -9.81);
-}
-
-model::Definition bench_chain(int n) {
-  return {fmt::format("chain_{}", n), {"relative", "absolute"},
-          [n](model::Model& m, std::string_view variant) { build_chain(m, variant, n); }};
-}
-
-const model::Registration kBenchChains[] = {model::Registration(bench_chain(16)), model::Registration(bench_chain(32)),
-                                            model::Registration(bench_chain(64))};
-#endif
-
 // The paper's cases (its Tables 1-7).
 struct Case {
   int number;
