@@ -146,29 +146,19 @@ class Emitter {
     }
   }
 
-  // Every dependent symbol (p, pd, pdd, their Jacobians, pdd at qdd = 0) is
-  // replaced at emission by the node of its expression: the DAG shares that
-  // node, so each is computed once, and only where an entry point needs it.
-  // Definitions come in dependency order; each is resolved against the earlier ones.
-  void define(Expr symbol, Expr value) {
-    definitions_.emplace(symbol, symbolic::substitute(value, definitions_));
-  }
-
+  // Every dependent symbol (p, pd, pdd, their Jacobians, pdd at qdd = 0) and
+  // every intermediate is a definition of the programs: computed once, and
+  // only where an entry point needs it.
   void define_dependents(const model::Kinematics& k) {
-    for (const auto& d : k.dependents) define(d.symbols.symbol, d.value);
-    for (const auto& d : k.dependents) define(d.symbols.rate, d.rate);
-    for (const auto& d : k.dependents) define(d.symbols.acceleration, d.acceleration);
+    for (const auto& d : k.dependents) definitions_.push_back({d.symbols.symbol, d.value});
+    for (const auto& d : k.dependents) definitions_.push_back({d.symbols.rate, d.rate});
+    for (const auto& d : k.dependents) definitions_.push_back({d.symbols.acceleration, d.acceleration});
     for (const auto& d : k.dependents) {
-      for (std::size_t j = 0; j < d.jacobian.size(); ++j) define(d.jacobian_symbols[j], d.jacobian[j]);
+      for (std::size_t j = 0; j < d.jacobian.size(); ++j) {
+        if (d.jacobian_symbols[j] != d.jacobian[j]) definitions_.push_back({d.jacobian_symbols[j], d.jacobian[j]});
+      }
     }
-  }
-
-  std::vector<Expr> resolve(const std::vector<Expr>& values) const {
-    if (definitions_.empty()) return values;
-    symbolic::Substitution substitution(definitions_);
-    std::vector<Expr> out;
-    for (Expr v : values) out.push_back(substitution(v));
-    return out;
+    definitions_.insert(definitions_.end(), k.intermediates.begin(), k.intermediates.end());
   }
 
   std::vector<EntryPoint> build_entry_points(const model::Kinematics& k) {
@@ -216,7 +206,7 @@ class Emitter {
                         {"t", "q", "qd", "qdd", "param"}, {{"p", dep_shape, p}, {"pd", dep_shape, pd}, {"pdd", dep_shape, pdd}}, {}});
     if (options_.equations_of_motion) {
       const model::Dynamics dyn = model::derive_dynamics(model_, k);
-      for (const auto& [symbol, value] : dyn.zero_qdd_definitions) define(symbol, value);
+      definitions_.insert(definitions_.end(), dyn.zero_qdd_definitions.begin(), dyn.zero_qdd_definitions.end());
       entries.push_back({"mass_matrix", "Mass matrix M(q, t).", {"t", "q", "param"},
                           {{"M", fmt::format("({} x {})", nq, nq), dyn.mass_matrix}}, {}});
       entries.push_back({"bias_forces", "h(q, qd, t): inertia terms at qdd = 0 and gravity (M qdd + h = Q).",
@@ -264,7 +254,7 @@ class Emitter {
     }
     std::vector<Expr> outputs;
     for (const OutputArray& o : e.outputs) outputs.insert(outputs.end(), o.values.begin(), o.values.end());
-    return symbolic::compile_program(inputs, resolve(outputs));
+    return symbolic::compile_program(inputs, outputs, definitions_);
   }
 
   std::string emit_function(const EntryPoint& e, std::optional<symbolic::Program> program,
@@ -365,7 +355,7 @@ class Emitter {
   const Options& options_;
   std::string struct_name_;
   std::unordered_map<std::string, std::vector<Expr>> symbols_;
-  std::unordered_map<Expr, Expr> definitions_;
+  std::vector<symbolic::Definition> definitions_;  // of the current derivation
   std::vector<EntryPoint> entries_;
 };
 

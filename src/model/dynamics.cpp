@@ -21,16 +21,27 @@ Dynamics derive_dynamics(const Model& model, const Kinematics& k) {
     throw ModelError(fmt::format("model '{}': the equations of motion need symbolic partial velocities", model.name()));
   }
   Dynamics d;
-  // qdd -> 0; each pdd_k -> pdd⁰_k, its expression at qdd = 0 (earlier ones substituted).
+  // qdd -> 0; each pdd_k -> pdd⁰_k and each intermediate that depends on an
+  // acceleration -> its own value at qdd = 0, defined in order on the ones before.
   std::unordered_map<Expr, Expr> zero;
   for (const Coordinate& c : model.coordinates()) zero.emplace(c.qdd, Expr(0));
+  symbolic::Substitution at_zero_qdd(std::move(zero));
+  // A value that is a number or a symbol replaces the symbol as it is, so that
+  // zeros cancel the terms they multiply.
+  auto define_at_rest = [&](Expr symbol, Expr value, symbolic::SymbolKind kind) {
+    const Expr at_rest_value = at_zero_qdd(value);
+    if (at_rest_value == value) return;
+    if (at_rest_value.is_number() || at_rest_value.is_symbol()) return at_zero_qdd.add(symbol, at_rest_value);
+    const Expr at_rest = symbolic::symbol(fmt::format("{}__0", symbol.name()), kind);
+    d.zero_qdd_definitions.push_back({at_rest, at_rest_value});
+    at_zero_qdd.add(symbol, at_rest);
+  };
   for (const DependentKinematics& p : k.dependents) {
-    const Expr at_rest = symbolic::symbol(fmt::format("{}__0", p.symbols.acceleration.name()),
-                                          symbolic::SymbolKind::DependentAcceleration);
-    d.zero_qdd_definitions.emplace_back(at_rest, symbolic::substitute(p.acceleration, zero));
-    zero.emplace(p.symbols.acceleration, at_rest);
+    define_at_rest(p.symbols.acceleration, p.acceleration, symbolic::SymbolKind::DependentAcceleration);
   }
-  symbolic::Substitution at_zero_qdd(zero);
+  for (const symbolic::Definition& i : k.intermediates) {
+    define_at_rest(i.symbol, i.value, symbolic::SymbolKind::Intermediate);
+  }
 
   // Each entry sums one term per body: the terms are gathered and added once,
   // since adding them one by one would rebuild (and re-sort) the growing sum

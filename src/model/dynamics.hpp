@@ -21,8 +21,9 @@ struct Dynamics {
   std::vector<Expr> mass_matrix;  // (nq x nq) row-major; the lower triangle mirrors the upper
   std::vector<Expr> bias;         // (nq) h
   // The accelerations at qdd = 0 use the dependent parameters' accelerations at
-  // qdd = 0: pdd⁰_k, defined here (symbols and their expressions, in order).
-  std::vector<std::pair<Expr, Expr>> zero_qdd_definitions;
+  // qdd = 0, pdd⁰_k, and the intermediates' values at qdd = 0 where they
+  // differ: defined here (symbols and their expressions, in order).
+  std::vector<symbolic::Definition> zero_qdd_definitions;
 };
 
 Dynamics derive_dynamics(const Model& model, const Kinematics& kinematics);

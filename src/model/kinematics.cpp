@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <unordered_map>
+
 #include "symbolic/diff.hpp"
 
 namespace symdyn::model {
@@ -39,11 +41,16 @@ class Deriver {
       for (const Coordinate& c : model_.coordinates()) by_qd_.emplace_back(c.qd);
       for (const DependentKinematics& d : k.dependents) by_pd_.emplace_back(d.symbols.rate);
     }
+    std::vector<bool> is_reference(refs.size(), false);
+    for (int r : refs) {
+      if (r >= 0) is_reference[r] = true;
+    }
     for (int i : model_.topological_order()) {
       const Local local = derive_local(model_.bodies()[i].motion());
       BodyKinematics& b = k.bodies[i];
       b = refs[i] < 0 ? absolute(local) : compose(k.bodies[refs[i]], local);
       if (options_.symbolic_partials) add_partials(k.dependents, refs[i] < 0 ? nullptr : &k.bodies[refs[i]], local, b);
+      if (is_reference[i]) name_quantities(model_.bodies()[i].name(), b, k.intermediates);
     }
     return k;
   }
@@ -72,8 +79,11 @@ class Deriver {
         total += symbolic::diff(out.value, e.symbols.symbol) * e.jacobian_symbols[j];
       }
       out.jacobian.push_back(simplify(total));
-      out.jacobian_symbols.push_back(
-          symbolic::symbol(fmt::format("{}__d{}", d.symbol.name(), c.q.name()), SymbolKind::Dependent));
+      const Expr entry = out.jacobian.back();
+      out.jacobian_symbols.push_back(entry.is_number() || entry.is_symbol()
+                                         ? entry
+                                         : symbolic::symbol(fmt::format("{}__d{}", d.symbol.name(), c.q.name()),
+                                                            SymbolKind::Dependent));
     }
     return out;
   }
@@ -144,8 +154,35 @@ class Deriver {
     }
   }
 
+  // Replaces every entry of b by a named intermediate, unless it is as cheap
+  // to repeat as to read (a number, a symbol, or a number times one); a value
+  // met before keeps its first name. Names read "<body>.<quantity><index>".
+  void name_quantities(const std::string& body, BodyKinematics& b, std::vector<symbolic::Definition>& out) {
+    auto name_all = [&](auto& entries, const std::string& quantity) {
+      for (std::size_t i = 0; i < entries.size(); ++i) entries[i] = named(entries[i], fmt::format("{}.{}{}", body, quantity, i), out);
+    };
+    name_all(b.R, "R"), name_all(b.x, "x"), name_all(b.v, "v"), name_all(b.w, "w"), name_all(b.a, "a");
+    name_all(b.dw, "dw");
+    for (std::size_t j = 0; j < b.dv_dqd.size(); ++j) {
+      name_all(b.dv_dqd[j], fmt::format("dv_dqd{}_", j));
+      name_all(b.dw_dqd[j], fmt::format("dw_dqd{}_", j));
+    }
+  }
+
+  Expr named(Expr e, const std::string& name, std::vector<symbolic::Definition>& out) {
+    const auto [coefficient, rest] = symbolic::split_coefficient(e);
+    if (rest.kind() != symbolic::Kind::Add) return e;
+    auto [it, inserted] = names_.try_emplace(rest, Expr());
+    if (inserted) {
+      it->second = symbolic::symbol(name, SymbolKind::Intermediate);
+      out.push_back({it->second, rest});
+    }
+    return Expr(coefficient) * it->second;
+  }
+
   const Model& model_;
   const DeriveOptions& options_;
+  std::unordered_map<Expr, Expr> names_;  // value -> its intermediate symbol
   std::unique_ptr<symbolic::TimeDerivative> d_dt_;
   // d/dqd_j and d/dpd_k, memoized across bodies.
   std::vector<symbolic::Differentiator> by_qd_, by_pd_;

@@ -6,8 +6,11 @@
 //   w = Σ_k R_(before k)·axis_k·d(angle_k)/dt  (exact and short; skew(w) = dR/dt·Rᵀ)
 //   dw = dw/dt
 // For a body relative to B, only T_BG is derived; the absolute quantities are
-// composed from B's (design.md), as plain expressions over B's nodes, so the
-// emitted code evaluates the composition numerically:
+// composed from B's (design.md), so the emitted code evaluates the composition
+// numerically. B's quantities enter as named intermediates (symbols defined in
+// Kinematics::intermediates), each computed once: substituted, B's sums would
+// merge into the body's own and a chain's k-th body would cost O(k).
+//
 //   r = R_B·x_rel, x = x_B + r, R = R_B·R_rel, w = w_B + R_B·w_rel,
 //   v = v_B + w_B×r + R_B·v_rel,
 //   a = a_B + dw_B×r + w_B×(w_B×r) + 2·w_B×(R_B·v_rel) + R_B·a_rel,
@@ -39,12 +42,18 @@ struct DependentKinematics {
   Dependent symbols;
   Expr value, rate, acceleration;  // p, pd, pdd as expressions of q, qd, qdd, t, earlier p
   std::vector<Expr> jacobian;      // (nq) total dp/dq_j, for symbolic partial velocities
-  std::vector<Expr> jacobian_symbols;  // (nq) symbols standing for the jacobian entries
+  // (nq) symbols standing for the Jacobian entries, or the entry itself when it
+  // is a number or a symbol (a zero then cancels the terms it multiplies)
+  std::vector<Expr> jacobian_symbols;
 };
 
 struct Kinematics {
   std::vector<BodyKinematics> bodies;           // in model order, absolute
   std::vector<DependentKinematics> dependents;  // in dependency order
+  // The quantities of every body that others are relative to, as symbols of
+  // kind Intermediate with their values, each after those it uses. A body's
+  // expressions may use them (and dependent symbols): evaluate them in order.
+  std::vector<symbolic::Definition> intermediates;
 };
 
 using SimplifyFunction = std::function<Expr(Expr)>;

@@ -178,6 +178,7 @@ std::string_view to_string(SymbolKind kind) {
     case SymbolKind::DependentAcceleration: return "dependent acceleration";
     case SymbolKind::Parameter: return "parameter";
     case SymbolKind::Time: return "time";
+    case SymbolKind::Intermediate: return "intermediate";
     case SymbolKind::Free: return "free";
   }
   return "?";

@@ -27,6 +27,8 @@ class DagMap {
   // belongs to the context current at its first call: calling it from another
   // context throws UsageError.
   Expr operator()(Expr e);
+  // Whether an earlier call has mapped e.
+  bool has_mapped(Expr e) const { return image(e) != nullptr; }
 
  private:
   const Node* image(Expr e) const;

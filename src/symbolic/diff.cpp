@@ -149,9 +149,8 @@ DagMap::Rule time_derivative_rule(RateMap rates) {
 
 // Symbols replaced by their values; a node whose arguments are unchanged is
 // kept, any other is rebuilt through its smart constructor.
-DagMap::Rule substitution_rule(std::unordered_map<Expr, Expr> replacements) {
-  require_symbol_keys(replacements, "substitute");
-  return [replacements = std::move(replacements)](Expr node, std::span<const Expr> images) {
+DagMap::Rule substitution_rule(const std::unordered_map<Expr, Expr>& replacements) {
+  return [&replacements](Expr node, std::span<const Expr> images) {
     if (node.is_symbol()) {
       auto it = replacements.find(node);
       return it == replacements.end() ? node : it->second;
@@ -187,9 +186,18 @@ Expr TimeDerivative::operator()(Expr e) { return map_(e); }
 Expr time_derivative(Expr e, const RateMap& rates) { return TimeDerivative(rates)(e); }
 
 Substitution::Substitution(std::unordered_map<Expr, Expr> replacements)
-    : map_(substitution_rule(std::move(replacements))) {}
+    : replacements_(std::move(replacements)), map_(substitution_rule(replacements_)) {
+  require_symbol_keys(replacements_, "substitute");
+}
 
 Expr Substitution::operator()(Expr e) { return map_(e); }
+
+void Substitution::add(Expr symbol, Expr value) {
+  if (!symbol.is_symbol()) throw UsageError(fmt::format("substitute: key '{}' is not a symbol", symbol.str()));
+  if (map_.has_mapped(symbol) || !replacements_.try_emplace(symbol, value).second) {
+    throw UsageError(fmt::format("substitute: '{}' is already met or replaced", symbol.name()));
+  }
+}
 
 Expr substitute(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
   return Substitution(replacements)(e);

@@ -85,9 +85,16 @@ Expr time_derivative(Expr e, const RateMap& rates);
 class Substitution {
  public:
   explicit Substitution(std::unordered_map<Expr, Expr> replacements);
+  Substitution(const Substitution&) = delete;
+  Substitution& operator=(const Substitution&) = delete;
   Expr operator()(Expr e);
+  // One more replacement, for a symbol no earlier call has met (its image is
+  // fixed once met): lets a chain of definitions be substituted in order.
+  // Throws UsageError otherwise.
+  void add(Expr symbol, Expr value);
 
  private:
+  std::unordered_map<Expr, Expr> replacements_;
   DagMap map_;
 };
 Expr substitute(Expr e, const std::unordered_map<Expr, Expr>& replacements);

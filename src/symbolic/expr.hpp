@@ -79,7 +79,8 @@ enum class SymbolKind : std::uint8_t {
   DependentAcceleration,
   Parameter,  // a constant known only at run time
   Time,
-  Free,  // anything else
+  Intermediate,  // stands for an expression (a definition of compile_program); no time derivative
+  Free,          // anything else
 };
 std::string_view to_string(SymbolKind kind);
 
@@ -159,6 +160,13 @@ Expr make(Kind kind, std::span<const Expr> args);
 // Declares a symbol, or returns the one already declared with this name and
 // kind. Throws UsageError if the name is declared with another kind.
 Expr symbol(std::string_view name, SymbolKind kind = SymbolKind::Free);
+
+// A named intermediate: `symbol` (usually of kind Intermediate) stands for
+// `value`. compile_program computes it once instead of substituting it.
+struct Definition {
+  Expr symbol;
+  Expr value;
+};
 
 // Structural total order used for canonical forms: numbers < symbols < compound
 // nodes; symbols by declaration order; compound nodes by kind, then operands.

@@ -311,8 +311,9 @@ Allocation allocate(const std::vector<Instruction>& code, const std::vector<std:
 
 const OpcodeInfo& info(Opcode op) { return kOpcodes[static_cast<std::size_t>(op)]; }
 
-Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs) {
-  ir::Graph graph = ir::lower(inputs, outputs);
+Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
+                        std::span<const Definition> definitions) {
+  ir::Graph graph = ir::lower(inputs, outputs, definitions);
   ir::fold_reciprocals(graph);
   ir::extract_common_pairs(graph);
 

@@ -3,6 +3,7 @@
 // numbered slots, ready to be interpreted or printed as C++.
 //
 //   Program p = compile_program(inputs, outputs);    // inputs: symbols, outputs: any expressions
+//   Program p = compile_program(inputs, outputs, definitions);  // plus named intermediates
 //   p.run<double>(input_values, output_values, workspace);
 //   std::string body = emit_cpp(p, naming);          // "const double t0 = q[0]*q[1];" ...
 //
@@ -29,6 +30,14 @@
 //     (x² = x·x, x³ = x·x·x, x⁻² = 1/(x·x)); x^(k/2) is x^((k-1)/2)·sqrt(x)
 //     (x^(-1/2) = 1/sqrt(x)); any other exponent is a `pow`;
 //   - functions are calls, sin and cos of one argument one `sincos`.
+//
+// Definitions: a symbol may stand for an expression over the inputs and other
+// definitions (a named intermediate). It is computed once, where an output
+// needs it, as the value of its expression, never substituted into its users:
+// a sum over a defined symbol stays a sum of two operands instead of merging
+// the definition's terms into its own. That is what keeps chains of
+// definitions (each body's kinematics composed from its reference's) linear
+// in size. Definitions may come in any order; a cycle is an error.
 //
 // Guarantees:
 //   - Sharing: every distinct node of the DAG is computed once (interning makes
@@ -168,7 +177,8 @@ class Program {
   std::vector<S> evaluate(std::span<const S> inputs) const;
 
  private:
-  friend Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs);
+  friend Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
+                                 std::span<const Definition> definitions);
   void check_sizes(std::size_t inputs, std::size_t outputs, std::size_t workspace) const;
 
   std::size_t input_count_ = 0;
@@ -182,9 +192,12 @@ class Program {
 };
 
 // Schedules `outputs` into a program whose inputs are `inputs`, in that order.
-// Throws UsageError if an input is not a symbol or is given twice, or if an
-// output uses a symbol that is not an input (the message names it).
-Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs);
+// Throws UsageError if an input is not a symbol or is given twice, if a
+// definition's symbol is not a symbol, is an input or is defined twice, if
+// definitions depend on themselves, or if an output uses a symbol that is
+// neither an input nor defined (the message names it).
+Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
+                        std::span<const Definition> definitions = {});
 
 // A readable listing, one instruction a line: "s4 = mul s1 s3", "s0 = input 2",
 // then "out 0 = s4".

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "symbolic/expr.hpp"
+#include "symbolic/program.hpp"
 
 namespace symdyn::symbolic::ir {
 
@@ -74,8 +75,9 @@ class Graph {
   std::map<Key, std::uint32_t> index_;
 };
 
-// Throws UsageError for a bad input list or a symbol that is not an input.
-Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs);
+// Throws UsageError for a bad input or definition list, or a symbol that is
+// neither an input nor defined.
+Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::span<const Definition> definitions);
 void fold_reciprocals(Graph& graph);
 void extract_common_pairs(Graph& graph);
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <queue>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -62,10 +63,16 @@ bool is_multiplied_power(const Number& e) {
   return e.den() == 2 && e.num() >= -2 * limit && e.num() <= 2 * limit;
 }
 
+// What the symbols of a program are: inputs (by symbol node id, their index)
+// or definitions (by symbol node id, their value).
+struct Symbols {
+  std::unordered_map<std::uint32_t, std::uint32_t> input_of;
+  std::unordered_map<std::uint32_t, Expr> definition_of;
+};
+
 class Lowerer {
  public:
-  Lowerer(Graph& graph, const std::unordered_map<std::uint32_t, std::uint32_t>& input_of)
-      : g_(graph), input_of_(input_of) {}
+  Lowerer(Graph& graph, const Symbols& symbols) : g_(graph), symbols_(symbols) {}
 
   // Lowers e, whose arguments are already lowered.
   void lower(Expr e) { memo_.emplace(e.id(), lower_node(e)); }
@@ -80,8 +87,11 @@ class Lowerer {
         return v < 0 ? Term{g_.constant(-v), true} : Term{g_.constant(v), false};
       }
       case Kind::Symbol: {
+        if (auto it = symbols_.definition_of.find(e.id()); it != symbols_.definition_of.end()) {
+          return lowered(it->second);  // the value of its definition, lowered before it
+        }
         Node node = Node::of(Op::Input);
-        node.input = input_of_.at(e.id());
+        node.input = symbols_.input_of.at(e.id());
         return {g_.intern(std::move(node)), false};
       }
       case Kind::Add: return lower_sum(e);
@@ -176,30 +186,97 @@ class Lowerer {
   }
 
   Graph& g_;
-  const std::unordered_map<std::uint32_t, std::uint32_t>& input_of_;
+  const Symbols& symbols_;
   std::unordered_map<std::uint32_t, Term> memo_;  // by node id; looked up, never iterated
 };
 
-// Inputs by symbol node id; throws UsageError for a non-symbol or a repeated symbol.
-std::unordered_map<std::uint32_t, std::uint32_t> index_inputs(std::span<const Expr> inputs) {
-  std::unordered_map<std::uint32_t, std::uint32_t> input_of;
+// Throws UsageError for a non-symbol, a repeated input or a symbol both input and defined.
+Symbols index_symbols(std::span<const Expr> inputs, std::span<const Definition> definitions) {
+  Symbols symbols;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     if (!inputs[i].is_symbol()) {
       throw UsageError(fmt::format("compile_program: input {} ({}) is not a symbol", i, inputs[i].str()));
     }
-    auto [it, inserted] = input_of.try_emplace(inputs[i].id(), static_cast<std::uint32_t>(i));
+    auto [it, inserted] = symbols.input_of.try_emplace(inputs[i].id(), static_cast<std::uint32_t>(i));
     if (!inserted) {
       throw UsageError(fmt::format("compile_program: symbol '{}' is given twice as an input (positions {} and {})",
                                    inputs[i].name(), it->second, i));
     }
   }
-  return input_of;
+  for (const Definition& d : definitions) {
+    if (!d.symbol.is_symbol()) {
+      throw UsageError(fmt::format("compile_program: a definition names '{}', which is not a symbol", d.symbol.str()));
+    }
+    if (symbols.input_of.contains(d.symbol.id())) {
+      throw UsageError(fmt::format("compile_program: symbol '{}' is both an input and defined", d.symbol.name()));
+    }
+    if (!symbols.definition_of.try_emplace(d.symbol.id(), d.value).second) {
+      throw UsageError(fmt::format("compile_program: symbol '{}' is defined twice", d.symbol.name()));
+    }
+  }
+  return symbols;
 }
 
-// Every node the outputs need, sorted by node id (so that arguments come before
-// their users, and the order does not depend on the order of the outputs).
-std::vector<Expr> reachable(std::span<const Expr> outputs,
-                            const std::unordered_map<std::uint32_t, std::uint32_t>& input_of) {
+// What node e needs computed before it: its arguments, or a defined symbol's value.
+std::vector<Expr> dependencies(Expr e, const Symbols& symbols) {
+  if (auto it = symbols.definition_of.find(e.id()); it != symbols.definition_of.end()) return {it->second};
+  const auto args = e.args();
+  return {args.begin(), args.end()};
+}
+
+// Nodes left waiting after Kahn's algorithm each wait for another: walking
+// from one to a waiting dependency, nodes.size() steps surely end on a cycle,
+// and every cycle passes through a definition (the DAG itself has none).
+[[noreturn]] void throw_cycle(const std::vector<Expr>& nodes, const std::vector<std::size_t>& waiting,
+                              const std::unordered_map<std::uint32_t, std::size_t>& index, const Symbols& symbols) {
+  std::size_t at = 0;
+  while (waiting[at] == 0) ++at;
+  auto step = [&](std::size_t i) {
+    for (Expr d : dependencies(nodes[i], symbols)) {
+      if (waiting[index.at(d.id())] > 0) return index.at(d.id());
+    }
+    return i;
+  };
+  for (std::size_t k = 0; k < nodes.size(); ++k) at = step(at);
+  while (!symbols.definition_of.contains(nodes[at].id())) at = step(at);
+  throw UsageError(fmt::format("compile_program: the definition of '{}' depends on itself", nodes[at].name()));
+}
+
+// Kahn's algorithm over `nodes` (closed under dependencies), the smallest
+// node id first among the ready ones. Without definitions this is id order.
+std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symbols) {
+  std::unordered_map<std::uint32_t, std::size_t> index;  // node id -> position in nodes
+  for (std::size_t i = 0; i < nodes.size(); ++i) index.emplace(nodes[i].id(), i);
+  std::vector<std::size_t> waiting(nodes.size(), 0);  // dependencies not yet ordered
+  std::vector<std::vector<std::size_t>> users(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for (Expr d : dependencies(nodes[i], symbols)) {
+      users[index.at(d.id())].push_back(i);
+      ++waiting[i];
+    }
+  }
+  auto later = [&](std::size_t a, std::size_t b) { return nodes[a].id() > nodes[b].id(); };
+  std::priority_queue<std::size_t, std::vector<std::size_t>, decltype(later)> ready(later);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (waiting[i] == 0) ready.push(i);
+  }
+  std::vector<Expr> order;
+  order.reserve(nodes.size());
+  while (!ready.empty()) {
+    const std::size_t i = ready.top();
+    ready.pop();
+    order.push_back(nodes[i]);
+    for (std::size_t u : users[i]) {
+      if (--waiting[u] == 0) ready.push(u);
+    }
+  }
+  if (order.size() < nodes.size()) throw_cycle(nodes, waiting, index, symbols);
+  return order;
+}
+
+// Every node the outputs need, each after what it depends on, ties broken by
+// node id (so the order does not depend on the order of the outputs).
+std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbols) {
   std::vector<Expr> found;
   std::unordered_set<std::uint32_t> seen;  // looked up, never iterated
   for (std::size_t i = 0; i < outputs.size(); ++i) {
@@ -208,24 +285,23 @@ std::vector<Expr> reachable(std::span<const Expr> outputs,
       const Expr e = stack.back();
       stack.pop_back();
       if (!seen.insert(e.id()).second) continue;
-      if (e.is_symbol() && !input_of.contains(e.id())) {
-        throw UsageError(fmt::format("compile_program: output {} uses symbol '{}', which is not an input", i, e.name()));
+      if (e.is_symbol() && !symbols.input_of.contains(e.id()) && !symbols.definition_of.contains(e.id())) {
+        throw UsageError(fmt::format(
+            "compile_program: output {} uses symbol '{}', which is neither an input nor defined", i, e.name()));
       }
       found.push_back(e);
-      for (Expr a : e.args()) stack.push_back(a);
+      for (Expr d : dependencies(e, symbols)) stack.push_back(d);
     }
   }
-  std::sort(found.begin(), found.end(), [](Expr a, Expr b) { return a.id() < b.id(); });
-  return found;
+  return topological_order(std::move(found), symbols);
 }
-
 }  // namespace
 
-Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs) {
-  const auto input_of = index_inputs(inputs);
+Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::span<const Definition> definitions) {
+  const Symbols symbols = index_symbols(inputs, definitions);
   Graph graph;
-  Lowerer lowerer(graph, input_of);
-  for (Expr e : reachable(outputs, input_of)) lowerer.lower(e);
+  Lowerer lowerer(graph, symbols);
+  for (Expr e : reachable(outputs, symbols)) lowerer.lower(e);
   for (Expr e : outputs) graph.outputs.push_back(lowerer.lowered(e));
   return graph;
 }

@@ -21,7 +21,8 @@ struct ModelState {
 };
 
 // Bindings of every symbol of the model at a state, dependent parameters
-// (values, rates, accelerations, Jacobians) computed in dependency order.
+// (values, rates, accelerations, Jacobians) and intermediates computed in
+// dependency order.
 template <class S>
 symbolic::Bindings<S> bind_state(const model::Model& m, const model::Kinematics& k, const ModelState<S>& s) {
   symbolic::Bindings<S> b;
@@ -38,8 +39,11 @@ symbolic::Bindings<S> bind_state(const model::Model& m, const model::Kinematics&
   for (const auto& d : k.dependents) b.emplace(d.symbols.rate, eval(d.rate));
   for (const auto& d : k.dependents) b.emplace(d.symbols.acceleration, eval(d.acceleration));
   for (const auto& d : k.dependents) {
-    for (std::size_t j = 0; j < d.jacobian.size(); ++j) b.emplace(d.jacobian_symbols[j], eval(d.jacobian[j]));
+    for (std::size_t j = 0; j < d.jacobian.size(); ++j) {
+      if (d.jacobian_symbols[j] != d.jacobian[j]) b.emplace(d.jacobian_symbols[j], eval(d.jacobian[j]));
+    }
   }
+  for (const auto& i : k.intermediates) b.emplace(i.symbol, eval(i.value));
   return b;
 }
 

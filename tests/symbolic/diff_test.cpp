@@ -375,6 +375,20 @@ TEST_CASE("substitution keys must be symbols; partial() of a leaf is an error", 
   CHECK_THROWS_AS(substitute(log(x), {{x, Expr(0)}}), DomainError);
 }
 
+TEST_CASE("a substitution grows along a chain of definitions, never behind what it met", "[substitute]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), a = symbol("a", SymbolKind::Intermediate), b = symbol("b", SymbolKind::Intermediate);
+  Substitution s(std::unordered_map<Expr, Expr>{{x, Expr(0)}});
+  const Expr a0 = symbol("a0", SymbolKind::Intermediate);
+  CHECK(s(sin(x) + 3) == Expr(3));
+  s.add(a, a0);  // a = x + 1 at x = 0: the value of a is a0
+  CHECK(s(a * cos(x) + b) == a0 + b);
+  CHECK_THROWS_WITH(s.add(b, Expr(2)), "substitute: 'b' is already met or replaced");
+  CHECK_THROWS_WITH(s.add(a, Expr(2)), "substitute: 'a' is already met or replaced");
+  CHECK_THROWS_WITH(s.add(sin(x), Expr(2)), "substitute: key 'sin(x)' is not a symbol");
+}
+
 // ---------------------------------------------------------------------------
 // Sizes on the chain model: positions, velocities, accelerations stay small
 
