@@ -34,11 +34,12 @@ struct EntryPoint {
   std::string body;  // a hand-written body instead of a program (numeric partials)
 };
 
+// One field of every body's absolute (or, with `relative`, relative) motion, flattened.
 template <class Field>
-std::vector<Expr> flatten(const std::vector<model::BodyKinematics>& bodies, Field field) {
+std::vector<Expr> flatten(const std::vector<model::BodyKinematics>& bodies, Field field, bool relative = false) {
   std::vector<Expr> out;
   for (const auto& b : bodies) {
-    const auto& v = b.*field;
+    const auto& v = relative ? b.relative.*field : b.*field;
     out.insert(out.end(), v.begin(), v.end());
   }
   return out;
@@ -46,10 +47,11 @@ std::vector<Expr> flatten(const std::vector<model::BodyKinematics>& bodies, Fiel
 
 // dv/dqd or dw/dqd of every body: (nbody x nq x 3).
 std::vector<Expr> flatten_partials(const std::vector<model::BodyKinematics>& bodies,
-                                   std::vector<model::Vec3> model::BodyKinematics::*field) {
+                                   std::vector<model::Vec3> model::Motion::*field, bool relative = false) {
   std::vector<Expr> out;
   for (const auto& b : bodies) {
-    for (const model::Vec3& v : b.*field) out.insert(out.end(), v.begin(), v.end());
+    const auto& partials = relative ? b.relative.*field : b.*field;
+    for (const model::Vec3& v : partials) out.insert(out.end(), v.begin(), v.end());
   }
   return out;
 }
@@ -184,11 +186,26 @@ class Emitter {
     entries.push_back({"velocities", "Positions and velocities.", {"t", "q", "qd", "param"}, {R, x, v, w}, {}});
     entries.push_back({"accelerations", "Positions, velocities and accelerations.", {"t", "q", "qd", "qdd", "param"},
                         {R, x, v, w, a, dw}, {}});
+    auto relative = [&](OutputArray o, auto field) {
+      o.values = flatten(k.bodies, field, true);
+      return o;
+    };
+    entries.push_back({"relative_accelerations",
+                        "Each body's motion relative to its reference (reference_body; the ground for -1), in the\n"
+                        "// reference's axes, as CAGeM emitted it: compose as EasyDyn did (runtime/relative_motion.hpp).",
+                        {"t", "q", "qd", "qdd", "param"},
+                        {relative(R, &BK::R), relative(x, &BK::x), relative(v, &BK::v), relative(w, &BK::w),
+                         relative(a, &BK::a), relative(dw, &BK::dw)}, {}});
     const std::string pv_shape = fmt::format("({} x {} x 3)", nb, nq);
     if (options_.symbolic_partials) {
       entries.push_back({"partial_velocities", "Partial velocities dv/dqd and dw/dqd (symbolic).", {"t", "q", "param"},
                           {{"dv", pv_shape, flatten_partials(k.bodies, &BK::dv_dqd)},
                            {"dw", pv_shape, flatten_partials(k.bodies, &BK::dw_dqd)}}, {}});
+      entries.push_back({"relative_partial_velocities",
+                          "Partial velocities of each body's motion relative to its reference, in the reference's axes.",
+                          {"t", "q", "param"},
+                          {{"dv", pv_shape, flatten_partials(k.bodies, &BK::dv_dqd, true)},
+                           {"dw", pv_shape, flatten_partials(k.bodies, &BK::dw_dqd, true)}}, {}});
     } else {
       entries.push_back({"partial_velocities",
                           "Partial velocities dv/dqd and dw/dqd, numeric as in EasyDyn: velocities are affine in qd, so\n"

@@ -11,12 +11,6 @@ namespace {
 
 using symbolic::SymbolKind;
 
-// Kinematics of a motion relative to its reference frame (or the ground).
-struct Local {
-  Mat3 R;
-  Vec3 x, v, w, a, dw;
-};
-
 class Deriver {
  public:
   Deriver(const Model& model, const DeriveOptions& options) : model_(model), options_(options) {
@@ -46,10 +40,10 @@ class Deriver {
       if (r >= 0) is_reference[r] = true;
     }
     for (int i : model_.topological_order()) {
-      const Local local = derive_local(model_.bodies()[i].motion());
       BodyKinematics& b = k.bodies[i];
-      b = refs[i] < 0 ? absolute(local) : compose(k.bodies[refs[i]], local);
-      if (options_.symbolic_partials) add_partials(k.dependents, refs[i] < 0 ? nullptr : &k.bodies[refs[i]], local, b);
+      b = refs[i] < 0 ? absolute(derive_local(model_.bodies()[i].motion()))
+                      : compose(k.bodies[refs[i]], derive_local(model_.bodies()[i].motion()));
+      if (options_.symbolic_partials) add_partials(k.dependents, refs[i] < 0 ? nullptr : &k.bodies[refs[i]], b);
       if (is_reference[i]) name_quantities(model_.bodies()[i].name(), b, k.intermediates);
     }
     return k;
@@ -88,8 +82,8 @@ class Deriver {
     return out;
   }
 
-  Local derive_local(const Transform& T) const {
-    Local k;
+  Motion derive_local(const Transform& T) const {
+    Motion k;
     k.R = simplify(T.rotation());
     k.x = simplify(T.translation());
     k.v = simplify(d_dt(k.x));
@@ -99,20 +93,17 @@ class Deriver {
     return k;
   }
 
-  static BodyKinematics absolute(const Local& l) {
+  static BodyKinematics absolute(const Motion& l) {
     BodyKinematics b;
-    b.R = l.R;
-    b.x = l.x;
-    b.v = l.v;
-    b.w = l.w;
-    b.a = l.a;
-    b.dw = l.dw;
+    static_cast<Motion&>(b) = l;
+    b.relative = l;
     return b;
   }
 
   // Composition with the reference body B (design.md).
-  static BodyKinematics compose(const BodyKinematics& B, const Local& l) {
+  static BodyKinematics compose(const BodyKinematics& B, const Motion& l) {
     BodyKinematics b;
+    b.relative = l;
     const Vec3 r = B.R * l.x;
     const Vec3 v_rel = B.R * l.v;
     const Vec3 w_rel = B.R * l.w;
@@ -133,8 +124,8 @@ class Deriver {
   // Differentiating the composed velocities instead would hand the simplifier
   // the whole chain above the body, whose expansion costs time and operations.
   // A local partial is total: dv_rel/dqd_j = ∂v_rel/∂qd_j + Σ_k ∂v_rel/∂pd_k · dp_k/dq_j.
-  void add_partials(const std::vector<DependentKinematics>& dependents, const BodyKinematics* B, const Local& l,
-                    BodyKinematics& b) {
+  void add_partials(const std::vector<DependentKinematics>& dependents, const BodyKinematics* B, BodyKinematics& b) {
+    Motion& l = b.relative;
     for (std::size_t j = 0; j < by_qd_.size(); ++j) {
       auto partial = [&](Expr e) {
         Expr total = by_qd_[j](e);
@@ -143,6 +134,8 @@ class Deriver {
       };
       const Vec3 dv_rel{partial(l.v[0]), partial(l.v[1]), partial(l.v[2])};
       const Vec3 dw_rel{partial(l.w[0]), partial(l.w[1]), partial(l.w[2])};
+      l.dv_dqd.push_back(dv_rel);
+      l.dw_dqd.push_back(dw_rel);
       if (B == nullptr) {
         b.dv_dqd.push_back(dv_rel);
         b.dw_dqd.push_back(dw_rel);

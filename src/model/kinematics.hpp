@@ -32,10 +32,18 @@
 
 namespace symdyn::model {
 
-struct BodyKinematics {
+// A motion: pose, velocities, accelerations and partial velocities.
+struct Motion {
   Mat3 R;
   Vec3 x, v, w, a, dw;
   std::vector<Vec3> dv_dqd, dw_dqd;  // (nq) each; empty unless symbolic partials
+};
+
+// A body's absolute motion, and its motion relative to its reference (the
+// same for an absolute motion) in the reference's axes: what CAGeM emitted for
+// EasyDyn to compose.
+struct BodyKinematics : Motion {
+  Motion relative;
 };
 
 struct DependentKinematics {

@@ -156,6 +156,18 @@ void Model::accelerations(double t, const double* q, const double* qd, const dou
                    k.a_data(), k.dw_data());
 }
 
+void Model::relative_accelerations(double t, const double* q, const double* qd, const double* qdd,
+                                   RelativeMotion& rel) const {
+  if (d_.relative_accelerations == nullptr) missing("relative_accelerations");
+  d_.relative_accelerations(t, q, qd, qdd, param_.data(), rel.R_data(), rel.x_data(), rel.v_data(), rel.w_data(),
+                            rel.a_data(), rel.dw_data());
+}
+
+void Model::relative_partial_velocities(double t, const double* q, RelativeMotion& rel) const {
+  if (d_.relative_partial_velocities == nullptr) missing("relative_partial_velocities");
+  d_.relative_partial_velocities(t, q, param_.data(), rel.dv_dqd_data(), rel.dw_dqd_data());
+}
+
 void Model::partial_velocities(double t, const double* q, Kinematics& k) const {
   if (d_.partial_velocities == nullptr) missing("partial_velocities");
   d_.partial_velocities(t, q, param_.data(), k.dv_dqd_data(), k.dw_dqd_data());

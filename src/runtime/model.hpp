@@ -21,6 +21,7 @@
 #include "runtime/dynamic_system.hpp"
 #include "runtime/errors.hpp"
 #include "runtime/kinematics.hpp"
+#include "runtime/relative_motion.hpp"
 
 namespace symdyn::runtime {
 
@@ -34,6 +35,9 @@ using AccelerationsFn = void (*)(double t, const double* q, const double* qd, co
                                  double* a, double* dw);
 using PartialVelocitiesFn = void (*)(double t, const double* q, const double* param, double* dv,
                                      double* dw);
+// The relative entry points have the shapes of their absolute counterparts.
+using RelativeAccelerationsFn = AccelerationsFn;
+using RelativePartialVelocitiesFn = PartialVelocitiesFn;
 using DependentParametersFn = void (*)(double t, const double* q, const double* qd,
                                        const double* qdd, const double* param, double* p,
                                        double* pd, double* pdd);
@@ -57,6 +61,14 @@ concept has_accelerations = requires(double t, const double* c, double* o) {
 template <class G>
 concept has_partial_velocities = requires(double t, const double* c, double* o) {
   G::partial_velocities(t, c, c, o, o);
+};
+template <class G>
+concept has_relative_accelerations = requires(double t, const double* c, double* o) {
+  G::relative_accelerations(t, c, c, c, c, o, o, o, o, o, o);
+};
+template <class G>
+concept has_relative_partial_velocities = requires(double t, const double* c, double* o) {
+  G::relative_partial_velocities(t, c, c, o, o);
 };
 template <class G>
 concept has_dependent_parameters = requires(double t, const double* c, double* o) {
@@ -103,6 +115,8 @@ struct ModelDescription {
   VelocitiesFn velocities = nullptr;
   AccelerationsFn accelerations = nullptr;
   PartialVelocitiesFn partial_velocities = nullptr;
+  RelativeAccelerationsFn relative_accelerations = nullptr;
+  RelativePartialVelocitiesFn relative_partial_velocities = nullptr;
   DependentParametersFn dependent_parameters = nullptr;
   MassMatrixFn mass_matrix = nullptr;
   BiasForcesFn bias_forces = nullptr;
@@ -155,6 +169,8 @@ class Model {
   bool has_velocities() const { return d_.velocities != nullptr; }
   bool has_accelerations() const { return d_.accelerations != nullptr; }
   bool has_partial_velocities() const { return d_.partial_velocities != nullptr; }
+  bool has_relative_accelerations() const { return d_.relative_accelerations != nullptr; }
+  bool has_relative_partial_velocities() const { return d_.relative_partial_velocities != nullptr; }
   bool has_dependent_parameters() const { return d_.dependent_parameters != nullptr; }
   bool has_equations_of_motion() const {
     return d_.mass_matrix != nullptr && d_.bias_forces != nullptr;
@@ -172,6 +188,13 @@ class Model {
   void partial_velocities(double t, const double* q, Kinematics& k) const;
   void dependent_parameters(double t, const double* q, const double* qd, const double* qdd,
                             Kinematics& k) const;
+  // Each body's motion relative to its reference (relative_motion.hpp), into
+  // a buffer from make_relative_motion(); rel.compose(k, ...) makes it absolute.
+  RelativeMotion make_relative_motion() const { return RelativeMotion(d_.reference_body, d_.nq); }
+  void relative_accelerations(double t, const double* q, const double* qd, const double* qdd,
+                              RelativeMotion& rel) const;
+  void relative_partial_velocities(double t, const double* q, RelativeMotion& rel) const;
+
   // Emitted equations of motion: M (nq x nq, row-major into a column-major
   // Matrix is fine since M is symmetric) and h (nq).
   void mass_matrix(double t, const double* q, double* M) const;
@@ -217,6 +240,10 @@ Model Model::from() {
   if constexpr (detail::has_velocities<G>) d.velocities = &G::velocities;
   if constexpr (detail::has_accelerations<G>) d.accelerations = &G::accelerations;
   if constexpr (detail::has_partial_velocities<G>) d.partial_velocities = &G::partial_velocities;
+  if constexpr (detail::has_relative_accelerations<G>) d.relative_accelerations = &G::relative_accelerations;
+  if constexpr (detail::has_relative_partial_velocities<G>) {
+    d.relative_partial_velocities = &G::relative_partial_velocities;
+  }
   if constexpr (detail::has_dependent_parameters<G>) {
     d.dependent_parameters = &G::dependent_parameters;
   }

@@ -5,12 +5,14 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 
 #include "all_models.hpp"
 #include "runtime/errors.hpp"
 #include "runtime/multibody_system.hpp"
+#include "runtime/relative_motion.hpp"
 
 namespace {
 
@@ -75,4 +77,61 @@ TEMPLATE_LIST_TEST_CASE("emitted M and h equal the assembled ones, and qdd agree
     emitted.accelerations(s, qdde, yd);
     CHECK(max_abs(qdda - qdde) <= 1e-8 * (1.0 + max_abs(qdda)));
   }
+}
+
+TEMPLATE_LIST_TEST_CASE("relative motions composed at run time equal the emitted absolute kinematics",
+                        "[models][relative]", symdyn_test::all_models) {
+  const Model model = Model::from<TestType>();
+  INFO("model " << model.name() << " variant " << model.variant());
+  REQUIRE(model.has_relative_accelerations());
+  REQUIRE(model.has_relative_partial_velocities());
+  MultibodySystem system(model, EquationsSource::emitted);
+  std::mt19937 rng(777u + static_cast<unsigned>(model.nq()));
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Kinematics emitted = model.make_kinematics(), composed = model.make_kinematics();
+  RelativeMotion rel = model.make_relative_motion();
+  auto gap = [](const double* a, const double* b, int n) {
+    double worst = 0.0, scale = 1.0;
+    for (int i = 0; i < n; ++i) worst = std::max(worst, std::abs(a[i] - b[i])), scale = std::max(scale, std::abs(b[i]));
+    return worst / scale;
+  };
+  for (int k = 0; k < 20; ++k) {
+    const State s = random_state(system, rng);
+    Vector qdd(model.nq());
+    for (int j = 0; j < model.nq(); ++j) qdd(j) = 10.0 * u(rng);
+    model.accelerations(s.t, s.q.data(), s.qd.data(), qdd.data(), emitted);
+    model.partial_velocities(s.t, s.q.data(), emitted);
+    model.relative_accelerations(s.t, s.q.data(), s.qd.data(), qdd.data(), rel);
+    model.relative_partial_velocities(s.t, s.q.data(), rel);
+    rel.compose(composed, true);
+    const int nb = model.nbody(), nq = model.nq();
+    CHECK(gap(composed.R_data(), emitted.R_data(), 9 * nb) < 1e-13);
+    CHECK(gap(composed.x_data(), emitted.x_data(), 3 * nb) < 1e-13);
+    CHECK(gap(composed.v_data(), emitted.v_data(), 3 * nb) < 1e-12);
+    CHECK(gap(composed.w_data(), emitted.w_data(), 3 * nb) < 1e-12);
+    CHECK(gap(composed.a_data(), emitted.a_data(), 3 * nb) < 1e-11);
+    CHECK(gap(composed.dw_data(), emitted.dw_data(), 3 * nb) < 1e-11);
+    CHECK(gap(composed.dv_dqd_data(), emitted.dv_dqd_data(), 3 * nb * nq) < 1e-12);
+    CHECK(gap(composed.dw_dqd_data(), emitted.dw_dqd_data(), 3 * nb * nq) < 1e-12);
+  }
+}
+
+TEST_CASE("a relative motion with a cycle or an unknown reference names the body", "[relative]") {
+  CHECK_THROWS_WITH(RelativeMotion({-1, 2, 1}, 1), "relative motion: body 1 is relative to itself");
+  CHECK_THROWS_WITH(RelativeMotion({-1, 5}, 1), "relative motion: body 1 has reference 5, not a body");
+  // Two bodies, the second turned by 90° about z and moved 1 m along the first's x
+  // while the first spins at 1 rad/s about z: the second's point moves at 1 m/s along y.
+  RelativeMotion rel({-1, 0}, 1);
+  const double R0[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, R1[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1};
+  std::copy_n(R0, 9, rel.R_data());
+  std::copy_n(R1, 9, rel.R_data() + 9);
+  rel.w_data()[2] = 1.0;  // body 0
+  rel.x_data()[3] = 1.0;  // body 1 at x = 1 in body 0's axes
+  Kinematics k(1, 2, 0);
+  rel.compose(k, false);
+  CHECK(k.x(1).isApprox(Vec3(1, 0, 0)));
+  CHECK(k.v(1).isApprox(Vec3(0, 1, 0)));
+  CHECK(k.a(1).isApprox(Vec3(-1, 0, 0)));  // centripetal
+  CHECK(k.w(1).isApprox(Vec3(0, 0, 1)));
+  CHECK(k.R(1).isApprox(Eigen::Map<const RowMat3>(R1)));
 }

@@ -70,7 +70,18 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
                      dw.data());
     take({&R, &x, &v, &w, &a, &dw});
   }
+  if (name == "relative_accelerations") {
+    G::relative_accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(), w.data(),
+                              a.data(), dw.data());
+    take({&R, &x, &v, &w, &a, &dw});
+  }
   if (name == "partial_velocities") G::partial_velocities(s.t, s.q.data(), p, dv.data(), dwp.data()), take({&dv, &dwp});
+  if constexpr (requires { G::relative_partial_velocities; }) {
+    if (name == "relative_partial_velocities") {
+      G::relative_partial_velocities(s.t, s.q.data(), p, dv.data(), dwp.data());
+      take({&dv, &dwp});
+    }
+  }
   if (name == "dependent_parameters") {
     G::dependent_parameters(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dep.data(), dep_d.data(), dep_dd.data());
     for (auto* d : {&dep, &dep_d, &dep_dd}) d->resize(G::ndep);
@@ -128,6 +139,18 @@ void check_emitted(const EmittedSetup& setup) {
     CHECK(gap(e.dw, dw) < 1e-12);
     CHECK(gap(e.dv, dv) < 1e-12);
     CHECK(gap(e.dwp, dwp) < 1e-12);
+    // The relative motions likewise.
+    std::vector<double> relative;
+    for (const auto& body : k.bodies) {
+      const model::Motion& r = body.relative;
+      for (auto c : r.R) relative.push_back(eval(c));
+    }
+    for (auto field : {&model::Motion::x, &model::Motion::v, &model::Motion::w, &model::Motion::a, &model::Motion::dw}) {
+      for (const auto& body : k.bodies) {
+        for (auto c : body.relative.*field) relative.push_back(eval(c));
+      }
+    }
+    CHECK(gap(call_entry<G>("relative_accelerations", s), relative) < 1e-12);
     // Against the interpreter over the printed program, entry point by entry point.
     for (const auto& f : functions) {
       if (!f.program) continue;
