@@ -8,6 +8,8 @@
 #   --models a,b   only these models (double_pendulum, robot3d, slider_crank, trike,
 #                  amru5, hexapod_tree, chain = every chain_N, or chain_8 ...)
 #   --quick        3 repetitions, 3 generator runs, chain_N up to N = 16
+# chain_32 and chain_64 are measured for generation only (sizes, operations,
+# one Tgen): their emitted code is not compiled or timed.
 #   --reps N       timed repetitions of T1 and T2 (median; default 7)
 #   --gen-runs N   generations for Tgen (median; default 5)
 #   --build DIR    CMake build directory (default build/release, the release preset)
@@ -121,6 +123,23 @@ measure() {
   rm -f "$dir/$base.o" "$dir/adapter.o"
 }
 
+# measure_generation <generator> <model> <variant> <case> [--model name]: the
+# generator's files, sizes and operation counts and Tgen (one generation) only.
+# For chain_32 and chain_64, whose case-4 sources (6 to 27 MB) would take many
+# minutes each to compile at -O2.
+measure_generation() {
+  local gen=$1 model=$2 variant=$3 c=$4; shift 4
+  local dir=$work/rows/$model/$variant/case$c
+  rm -rf "$dir" && mkdir -p "$dir"
+  local flags
+  read -ra flags <<< "$(case_flags "$c")"
+  echo "== $model $variant case $c (generation only)" >&2
+  timed "$dir/generator_time.txt" "$gen" "$@" --variant "$variant" --out "$dir" "${flags[@]}" --stats \
+    > "$dir/stats.txt"
+  "$tgen" --model "$model" --variant "$variant" --case "$c" --runs 1 > "$dir/tgen.json"
+  rm -f "$dir"/*.cpp
+}
+
 missing=()
 for f in double_pendulum robot3d slider_crank trike amru5 hexapod_tree chain; do
   [[ -f $root/models/$f.cpp ]] || missing+=("$f")
@@ -132,7 +151,9 @@ for f in "${model_files[@]}"; do
     for n in "${chain_sizes[@]}"; do
       wanted "chain_$n" || continue
       for variant in relative absolute; do
-        for c in 1 2 3 4; do measure "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"; done
+        how=measure
+        (( n >= 32 )) && how=measure_generation
+        for c in 1 2 3 4; do $how "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"; done
       done
     done
     continue
