@@ -159,13 +159,14 @@ void Model::accelerations(double t, const double* q, const double* qd, const dou
 void Model::relative_accelerations(double t, const double* q, const double* qd, const double* qdd,
                                    RelativeMotion& rel) const {
   if (d_.relative_accelerations == nullptr) missing("relative_accelerations");
-  d_.relative_accelerations(t, q, qd, qdd, param_.data(), rel.R_data(), rel.x_data(), rel.v_data(), rel.w_data(),
-                            rel.a_data(), rel.dw_data());
+  Kinematics& r = rel.relative();
+  d_.relative_accelerations(t, q, qd, qdd, param_.data(), r.R_data(), r.x_data(), r.v_data(), r.w_data(), r.a_data(),
+                            r.dw_data());
 }
 
 void Model::relative_partial_velocities(double t, const double* q, RelativeMotion& rel) const {
   if (d_.relative_partial_velocities == nullptr) missing("relative_partial_velocities");
-  d_.relative_partial_velocities(t, q, param_.data(), rel.dv_dqd_data(), rel.dw_dqd_data());
+  d_.relative_partial_velocities(t, q, param_.data(), rel.relative().dv_dqd_data(), rel.relative().dw_dqd_data());
 }
 
 void Model::partial_velocities(double t, const double* q, Kinematics& k) const {

@@ -8,9 +8,7 @@ namespace symdyn::runtime {
 namespace {
 
 using Map3 = Eigen::Map<Vec3>;
-using ConstMap3 = Eigen::Map<const Vec3>;
 using MapR = Eigen::Map<RowMat3>;
-using ConstMapR = Eigen::Map<const RowMat3>;
 
 // Bodies in an order where each comes after its reference.
 std::vector<int> references_first(const std::vector<int>& reference) {
@@ -38,28 +36,27 @@ std::vector<int> references_first(const std::vector<int>& reference) {
 }  // namespace
 
 RelativeMotion::RelativeMotion(std::vector<int> reference_body, int nq)
-    : reference_(std::move(reference_body)), order_(references_first(reference_)), nq_(nq) {
-  const std::size_t n = reference_.size();
-  R_.assign(9 * n, 0.0);
-  for (auto* a : {&x_, &v_, &w_, &a_, &dw_}) a->assign(3 * n, 0.0);
-  dv_.assign(3 * n * nq, 0.0);
-  dwq_.assign(3 * n * nq, 0.0);
-}
+    : reference_(std::move(reference_body)),
+      order_(references_first(reference_)),
+      nq_(nq),
+      relative_(nq, static_cast<int>(reference_.size()), 0) {}
 
 void RelativeMotion::compose(Kinematics& k, bool partials) const {
   for (int i : order_) {
     MapR R(k.R_data() + 9 * i);
     Map3 x(k.x_data() + 3 * i), v(k.v_data() + 3 * i), w(k.w_data() + 3 * i), a(k.a_data() + 3 * i),
         dw(k.dw_data() + 3 * i);
-    const ConstMapR R_rel(&R_[9 * i]);
-    const ConstMap3 x_rel(&x_[3 * i]), v_rel(&v_[3 * i]), w_rel(&w_[3 * i]), a_rel(&a_[3 * i]),
-        dw_rel(&dw_[3 * i]);
+    const Kinematics& l = relative_;
+    const auto R_rel = l.R(i);
+    const auto x_rel = l.x(i), v_rel = l.v(i), w_rel = l.w(i), a_rel = l.a(i), dw_rel = l.dw(i);
     const int b = reference_[i];
     if (b < 0) {
       R = R_rel, x = x_rel, v = v_rel, w = w_rel, a = a_rel, dw = dw_rel;
       if (partials) {
-        std::copy_n(&dv_[3 * i * nq_], 3 * nq_, k.dv_dqd_data() + 3 * i * nq_);
-        std::copy_n(&dwq_[3 * i * nq_], 3 * nq_, k.dw_dqd_data() + 3 * i * nq_);
+        for (int j = 0; j < nq_; ++j) {
+          Map3(k.dv_dqd_data() + 3 * (i * nq_ + j)) = l.dv_dqd(i, j);
+          Map3(k.dw_dqd_data() + 3 * (i * nq_ + j)) = l.dw_dqd(i, j);
+        }
       }
       continue;
     }
@@ -77,8 +74,8 @@ void RelativeMotion::compose(Kinematics& k, bool partials) const {
     if (!partials) continue;
     for (int j = 0; j < nq_; ++j) {
       const std::size_t at = 3 * (static_cast<std::size_t>(i) * nq_ + j);
-      const Vec3 dv_j = k.dv_dqd(b, j) + k.dw_dqd(b, j).cross(r) + RB * ConstMap3(&dv_[at]);
-      const Vec3 dw_j = k.dw_dqd(b, j) + RB * ConstMap3(&dwq_[at]);
+      const Vec3 dv_j = k.dv_dqd(b, j) + k.dw_dqd(b, j).cross(r) + RB * l.dv_dqd(i, j);
+      const Vec3 dw_j = k.dw_dqd(b, j) + RB * l.dw_dqd(i, j);
       Map3(k.dv_dqd_data() + at) = dv_j;
       Map3(k.dw_dqd_data() + at) = dw_j;
     }

@@ -27,15 +27,9 @@ class RelativeMotion {
   int nbody() const { return static_cast<int>(reference_.size()); }
   int nq() const { return nq_; }
 
-  // Raw arrays for the emitted relative entry points (shapes as Kinematics').
-  double* R_data() { return R_.data(); }         // (nbody x 3 x 3)
-  double* x_data() { return x_.data(); }         // (nbody x 3)
-  double* v_data() { return v_.data(); }         // (nbody x 3)
-  double* w_data() { return w_.data(); }         // (nbody x 3)
-  double* a_data() { return a_.data(); }         // (nbody x 3)
-  double* dw_data() { return dw_.data(); }       // (nbody x 3)
-  double* dv_dqd_data() { return dv_.data(); }   // (nbody x nq x 3)
-  double* dw_dqd_data() { return dwq_.data(); }  // (nbody x nq x 3)
+  // The relative motions, in a buffer of Kinematics' shapes: the emitted
+  // relative entry points write its raw arrays (no dependent parameters).
+  Kinematics& relative() { return relative_; }
 
   // Writes the absolute R, x, v, w, a, dw of every body into k, and its
   // partial velocities when `partials` (then relative ones must be evaluated).
@@ -45,7 +39,7 @@ class RelativeMotion {
   std::vector<int> reference_;
   std::vector<int> order_;  // every reference before the bodies relative to it
   int nq_;
-  std::vector<double> R_, x_, v_, w_, a_, dw_, dv_, dwq_;
+  Kinematics relative_;
 };
 
 }  // namespace symdyn::runtime

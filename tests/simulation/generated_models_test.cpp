@@ -123,10 +123,10 @@ TEST_CASE("a relative motion with a cycle or an unknown reference names the body
   // while the first spins at 1 rad/s about z: the second's point moves at 1 m/s along y.
   RelativeMotion rel({-1, 0}, 1);
   const double R0[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, R1[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1};
-  std::copy_n(R0, 9, rel.R_data());
-  std::copy_n(R1, 9, rel.R_data() + 9);
-  rel.w_data()[2] = 1.0;  // body 0
-  rel.x_data()[3] = 1.0;  // body 1 at x = 1 in body 0's axes
+  std::copy_n(R0, 9, rel.relative().R_data());
+  std::copy_n(R1, 9, rel.relative().R_data() + 9);
+  rel.relative().w_data()[2] = 1.0;  // body 0
+  rel.relative().x_data()[3] = 1.0;  // body 1 at x = 1 in body 0's axes
   Kinematics k(1, 2, 0);
   rel.compose(k, false);
   CHECK(k.x(1).isApprox(Vec3(1, 0, 0)));
