@@ -223,7 +223,7 @@ class Emitter {
                         {"t", "q", "qd", "qdd", "param"}, {{"p", dep_shape, p}, {"pd", dep_shape, pd}, {"pdd", dep_shape, pdd}}, {}});
     if (options_.equations_of_motion) {
       const model::Dynamics dyn = model::derive_dynamics(model_, k);
-      definitions_.insert(definitions_.end(), dyn.zero_qdd_definitions.begin(), dyn.zero_qdd_definitions.end());
+      definitions_.insert(definitions_.end(), dyn.definitions.begin(), dyn.definitions.end());
       entries.push_back({"mass_matrix", "Mass matrix M(q, t).", {"t", "q", "param"},
                           {{"M", fmt::format("({} x {})", nq, nq), dyn.mass_matrix}}, {}});
       entries.push_back({"bias_forces", "h(q, qd, t): inertia terms at qdd = 0 and gravity (M qdd + h = Q).",

@@ -4,14 +4,259 @@
 
 #include <unordered_map>
 
+#include "model/intermediates.hpp"
 #include "symbolic/diff.hpp"
 
 namespace symdyn::model {
 namespace {
 
-Vec3 substitute(const Vec3& v, symbolic::Substitution& s) { return {s(v[0]), s(v[1]), s(v[2])}; }
+Vec3 zero3() { return {Expr(0), Expr(0), Expr(0)}; }
 
-Vec3 times(const Mat3& I, const Vec3& v) { return I * v; }
+// A twist (angular velocity, velocity of the body point at O) or a wrench
+// (moment about O, force): their dot product is a power.
+struct Spatial {
+  Vec3 angular, linear;
+};
+
+Expr dot(const Spatial& a, const Spatial& b) { return model::dot(a.angular, b.angular) + model::dot(a.linear, b.linear); }
+
+Spatial sum(const Spatial& a, const Spatial& b) { return {a.angular + b.angular, a.linear + b.linear}; }
+
+bool is_zero(const Spatial& s) {
+  for (int i = 0; i < 3; ++i) {
+    if (!s.angular[i].is_zero() || !s.linear[i].is_zero()) return false;
+  }
+  return true;
+}
+
+// The inertia about O of a body or a subtree: mass m, first moment m·c and
+// rotational inertia K about O (c from O to the centre of mass).
+struct SpatialInertia {
+  Expr mass{0};
+  Vec3 moment = zero3();
+  Mat3 rotational{Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0)};
+};
+
+SpatialInertia sum(const SpatialInertia& a, const SpatialInertia& b) {
+  SpatialInertia sum{a.mass + b.mass, a.moment + b.moment, {}};
+  for (int i = 0; i < 9; ++i) sum.rotational[i] = a.rotational[i] + b.rotational[i];
+  return sum;
+}
+
+// The momentum a twist s gives: (K·ω + m·c×v, m·v + ω×m·c).
+Spatial momentum(const SpatialInertia& I, const Spatial& s) {
+  return {I.rotational * s.angular + cross(I.moment, s.linear), I.mass * s.linear + cross(s.angular, I.moment)};
+}
+
+// A body of mass m and inertia J (world axes, at G) whose G is at c from O:
+// K = J + m·(|c|²·1 - c·cᵀ).
+SpatialInertia about(Expr m, const Vec3& c, const Mat3& J) {
+  SpatialInertia I{m, m * c, J};
+  for (int i = 0; i < 3; ++i) {
+    const Expr& c1 = c[(i + 1) % 3];
+    const Expr& c2 = c[(i + 2) % 3];
+    I.rotational[3 * i + i] += m * (c1 * c1 + c2 * c2);
+    for (int j = 0; j < 3; ++j) {
+      if (j != i) I.rotational[3 * i + j] -= m * c[i] * c[j];
+    }
+  }
+  return I;
+}
+
+// A principal moment that occurs twice (or more) in a diagonal inertia, else 0.
+Expr repeated_moment(const Mat3& I) {
+  if (!(I[1].is_zero() && I[2].is_zero() && I[5].is_zero())) return Expr(0);
+  if (I[0] == I[4] || I[0] == I[8]) return I[0];
+  return I[4] == I[8] ? I[4] : Expr(0);
+}
+
+// R·I·Rᵀ, an inertia tensor in body axes turned to world axes, as
+// λ·1 + R·(I - λ·1)·Rᵀ since R is a rotation: with λ a repeated principal
+// moment, none of R's columns remain for a ball and one for a rod.
+Mat3 to_world(const Mat3& R, const Mat3& I) {
+  const Expr lambda = repeated_moment(I);
+  Mat3 shifted = I;
+  for (int i = 0; i < 3; ++i) shifted[4 * i] -= lambda;
+  const Mat3 RI = R * shifted;
+  Mat3 J;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      J[3 * i + j] = RI[3 * i] * R[3 * j] + RI[3 * i + 1] * R[3 * j + 1] + RI[3 * i + 2] * R[3 * j + 2];
+      if (i == j) J[3 * i + j] += lambda;
+    }
+  }
+  return J;
+}
+
+// A tree's reference point O, as seen from the world origin: where the root's
+// motion has taken it before its first rotation. A fixed pivot for an arm, the
+// body's own centre for a floating one: a point about which the partial
+// twists are short, and near the tree wherever it wanders. (A body alone is
+// its own tree, about its centre of mass.)
+Vec3 leading_displacement(const Transform& motion) {
+  Vec3 O = zero3();
+  for (const Transform::Step& s : motion.steps()) {
+    if (s.is_rotation) break;
+    O = O + s.displacement;
+  }
+  return O;
+}
+
+class EquationsOfMotion {
+ public:
+  EquationsOfMotion(const Model& model, const Kinematics& k)
+      : model_(model),
+        k_(k),
+        refs_(model.reference_indices()),
+        at_zero_qdd_(zero_qdd(model)),
+        bodies_(k.bodies.size()),
+        is_reference_(k.bodies.size(), false) {
+    for (int r : refs_) {
+      if (r >= 0) is_reference_[r] = true;
+    }
+  }
+
+  Dynamics run() {
+    define_at_zero_qdd();
+    const std::vector<int> order = model_.topological_order();
+    for (int i : order) add_body(i);
+    for (auto it = order.rbegin(); it != order.rend(); ++it) gather_subtree(*it);
+    const std::size_t nq = model_.coordinates().size();
+    std::vector<std::vector<Expr>> mass_terms(nq * nq), bias_terms(nq);
+    for (std::size_t a = 0; a < bodies_.size(); ++a) add_terms(a, mass_terms, bias_terms);
+    d_.mass_matrix.assign(nq * nq, Expr(0));
+    d_.bias.assign(nq, Expr(0));
+    for (std::size_t j = 0; j < nq; ++j) {
+      d_.bias[j] = symbolic::add(bias_terms[j]);
+      for (std::size_t l = j; l < nq; ++l) d_.mass_matrix[j * nq + l] = symbolic::add(mass_terms[j * nq + l]);
+      for (std::size_t l = 0; l < j; ++l) d_.mass_matrix[j * nq + l] = d_.mass_matrix[l * nq + j];
+    }
+    std::vector<symbolic::Definition> composites = names_.take_definitions();
+    d_.definitions.insert(d_.definitions.end(), composites.begin(), composites.end());
+    return std::move(d_);
+  }
+
+ private:
+  // What the sums need of each body, about its tree's O.
+  struct Body {
+    Vec3 offset = zero3();                 // c: O to the body's centre of mass
+    std::vector<std::pair<std::size_t, Spatial>> local;  // (j, l_j) for every nonzero l_j
+    std::vector<Spatial> partial;          // (nq) S_j = S_B,j + l_j: the partial twists
+    SpatialInertia inertia;                // of the body, then of its subtree
+    Spatial wrench;                        // of the body, then of its subtree (at qdd = 0)
+  };
+
+  static symbolic::Substitution zero_qdd(const Model& model) {
+    std::unordered_map<Expr, Expr> zero;
+    for (const Coordinate& c : model.coordinates()) zero.emplace(c.qdd, Expr(0));
+    return symbolic::Substitution(std::move(zero));
+  }
+
+  // qdd -> 0; each pdd_k -> pdd⁰_k and each intermediate that depends on an
+  // acceleration -> its own value at qdd = 0, defined in order on the ones
+  // before. A value that is a number or a symbol replaces the symbol as it is,
+  // so that zeros cancel the terms they multiply.
+  void define_at_zero_qdd() {
+    auto define = [&](Expr symbol, Expr value, symbolic::SymbolKind kind) {
+      const Expr at_rest_value = at_zero_qdd_(value);
+      if (at_rest_value == value) return;
+      if (at_rest_value.is_number() || at_rest_value.is_symbol()) return at_zero_qdd_.add(symbol, at_rest_value);
+      const Expr at_rest = symbolic::symbol(fmt::format("{}__0", symbol.name()), kind);
+      d_.definitions.push_back({at_rest, at_rest_value});
+      at_zero_qdd_.add(symbol, at_rest);
+    };
+    for (const DependentKinematics& p : k_.dependents) {
+      define(p.symbols.acceleration, p.acceleration, symbolic::SymbolKind::DependentAcceleration);
+    }
+    for (const symbolic::Definition& i : k_.intermediates) define(i.symbol, i.value, symbolic::SymbolKind::Intermediate);
+  }
+
+  Vec3 at_zero_qdd(const Vec3& v) { return {at_zero_qdd_(v[0]), at_zero_qdd_(v[1]), at_zero_qdd_(v[2])}; }
+
+  void name(Spatial& s, const std::string& prefix) {
+    names_.name_all(s.angular, prefix + "w");
+    names_.name_all(s.linear, prefix + "v");
+  }
+
+  // The body's offset from O, local partial twists, inertia and wrench.
+  void add_body(int i) {
+    const BodyKinematics& b = k_.bodies[i];
+    const model::Body& body = model_.bodies()[i];
+    const std::string& n = body.name();
+    Body& out = bodies_[i];
+    const int ref = refs_[i];
+    const Mat3 R_B = ref >= 0 ? k_.bodies[ref].R : identity3();
+    if (ref >= 0) {
+      out.offset = bodies_[ref].offset + R_B * b.relative.x;
+    } else if (is_reference_[i]) {
+      out.offset = b.relative.x - leading_displacement(body.motion());
+    }
+    names_.name_all(out.offset, n + ".c");
+    for (std::size_t j = 0; j < b.dv_dqd.size(); ++j) {
+      Spatial l{R_B * b.relative.dw_dqd[j], {}};
+      l.linear = R_B * b.relative.dv_dqd[j] - cross(l.angular, out.offset);
+      out.partial.push_back(ref >= 0 ? bodies_[ref].partial[j] : Spatial{zero3(), zero3()});
+      if (is_zero(l)) continue;
+      name(l, fmt::format("{}.l{}_", n, j));
+      out.local.emplace_back(j, l);
+      if (ref < 0) {
+        out.partial[j] = l;
+      } else {
+        out.partial[j] = sum(out.partial[j], l);
+        name(out.partial[j], fmt::format("{}.S{}_", n, j));
+      }
+    }
+    Mat3 J = to_world(b.R, body.inertia());
+    names_.name_all(J, n + ".J");
+    out.inertia = about(body.mass(), out.offset, J);
+    const Vec3 w = b.w;
+    const Vec3 force = body.mass() * (at_zero_qdd(b.a) - model_.gravity());
+    out.wrench = {cross(out.offset, force) + J * at_zero_qdd(b.dw) + cross(w, J * w), force};
+  }
+
+  // Called children first: names the subtree's inertia and wrench, and adds
+  // them to the reference's.
+  void gather_subtree(int i) {
+    Body& b = bodies_[i];
+    const std::string& n = model_.bodies()[i].name();
+    b.inertia.mass = names_(b.inertia.mass, n + ".mass");
+    names_.name_all(b.inertia.moment, n + ".mc");
+    names_.name_all(b.inertia.rotational, n + ".K");
+    name(b.wrench, n + ".f");
+    if (refs_[i] < 0) return;
+    Body& B = bodies_[refs_[i]];
+    B.inertia = sum(B.inertia, b.inertia);
+    B.wrench = sum(B.wrench, b.wrench);
+  }
+
+  // Body a's terms of M_jk (j <= k), F_ak·S_aj for k in a's own coordinates
+  // and F_aj·S_Bk for j in them (B, a's reference), and of h_j, l_aj·f^C_a.
+  void add_terms(std::size_t a, std::vector<std::vector<Expr>>& mass_terms, std::vector<std::vector<Expr>>& bias_terms) {
+    const std::size_t nq = model_.coordinates().size();
+    const Body& body = bodies_[a];
+    const Body* reference = refs_[a] >= 0 ? &bodies_[refs_[a]] : nullptr;
+    for (const auto& [k, l_k] : body.local) {
+      Spatial F = momentum(body.inertia, l_k);
+      name(F, fmt::format("{}.F{}_", model_.bodies()[a].name(), k));
+      for (std::size_t j = 0; j < nq; ++j) {
+        if (j <= k && !is_zero(body.partial[j])) mass_terms[j * nq + k].push_back(dot(F, body.partial[j]));
+        if (j >= k && reference && !is_zero(reference->partial[j])) {
+          mass_terms[k * nq + j].push_back(dot(F, reference->partial[j]));
+        }
+      }
+      bias_terms[k].push_back(dot(l_k, body.wrench));
+    }
+  }
+
+  const Model& model_;
+  const Kinematics& k_;
+  const std::vector<int> refs_;
+  symbolic::Substitution at_zero_qdd_;
+  IntermediateNames names_;
+  std::vector<Body> bodies_;
+  std::vector<bool> is_reference_;
+  Dynamics d_;
+};
 
 }  // namespace
 
@@ -20,65 +265,7 @@ Dynamics derive_dynamics(const Model& model, const Kinematics& k) {
   if (!k.bodies.empty() && k.bodies.front().dv_dqd.size() != nq) {
     throw ModelError(fmt::format("model '{}': the equations of motion need symbolic partial velocities", model.name()));
   }
-  Dynamics d;
-  // qdd -> 0; each pdd_k -> pdd⁰_k and each intermediate that depends on an
-  // acceleration -> its own value at qdd = 0, defined in order on the ones before.
-  std::unordered_map<Expr, Expr> zero;
-  for (const Coordinate& c : model.coordinates()) zero.emplace(c.qdd, Expr(0));
-  symbolic::Substitution at_zero_qdd(std::move(zero));
-  // A value that is a number or a symbol replaces the symbol as it is, so that
-  // zeros cancel the terms they multiply.
-  auto define_at_rest = [&](Expr symbol, Expr value, symbolic::SymbolKind kind) {
-    const Expr at_rest_value = at_zero_qdd(value);
-    if (at_rest_value == value) return;
-    if (at_rest_value.is_number() || at_rest_value.is_symbol()) return at_zero_qdd.add(symbol, at_rest_value);
-    const Expr at_rest = symbolic::symbol(fmt::format("{}__0", symbol.name()), kind);
-    d.zero_qdd_definitions.push_back({at_rest, at_rest_value});
-    at_zero_qdd.add(symbol, at_rest);
-  };
-  for (const DependentKinematics& p : k.dependents) {
-    define_at_rest(p.symbols.acceleration, p.acceleration, symbolic::SymbolKind::DependentAcceleration);
-  }
-  for (const symbolic::Definition& i : k.intermediates) {
-    define_at_rest(i.symbol, i.value, symbolic::SymbolKind::Intermediate);
-  }
-
-  // Each entry sums one term per body: the terms are gathered and added once,
-  // since adding them one by one would rebuild (and re-sort) the growing sum
-  // at every body, quadratic in the number of bodies.
-  std::vector<std::vector<Expr>> mass_terms(nq * nq), bias_terms(nq);
-  const Vec3& g = model.gravity();
-  for (std::size_t i = 0; i < k.bodies.size(); ++i) {
-    const BodyKinematics& b = k.bodies[i];
-    const Body& body = model.bodies()[i];
-    const Expr m = body.mass();
-    const Mat3& I = body.inertia();
-    // Partial angular velocities in body axes.
-    std::vector<Vec3> dW;
-    for (const Vec3& dw : b.dw_dqd) dW.push_back(transpose_times(b.R, dw));
-    std::vector<Vec3> I_dW;
-    for (const Vec3& v : dW) I_dW.push_back(times(I, v));
-    const Vec3 W = transpose_times(b.R, b.w);
-    const Vec3 dW0 = transpose_times(b.R, substitute(b.dw, at_zero_qdd));
-    const Vec3 moment = times(I, dW0) + cross(W, times(I, W));
-    const Vec3 force_per_mass = substitute(b.a, at_zero_qdd) - g;
-    for (std::size_t j = 0; j < nq; ++j) {
-      bias_terms[j].push_back(m * dot(force_per_mass, b.dv_dqd[j]) + dot(moment, dW[j]));
-      for (std::size_t l = j; l < nq; ++l) {
-        mass_terms[j * nq + l].push_back(m * dot(b.dv_dqd[j], b.dv_dqd[l]) + dot(dW[j], I_dW[l]));
-      }
-    }
-  }
-  d.mass_matrix.assign(nq * nq, Expr(0));
-  d.bias.assign(nq, Expr(0));
-  for (std::size_t j = 0; j < nq; ++j) {
-    d.bias[j] = symbolic::add(bias_terms[j]);
-    for (std::size_t l = j; l < nq; ++l) d.mass_matrix[j * nq + l] = symbolic::add(mass_terms[j * nq + l]);
-  }
-  for (std::size_t j = 0; j < nq; ++j) {
-    for (std::size_t l = 0; l < j; ++l) d.mass_matrix[j * nq + l] = d.mass_matrix[l * nq + j];
-  }
-  return d;
+  return EquationsOfMotion(model, k).run();
 }
 
 }  // namespace symdyn::model

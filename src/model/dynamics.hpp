@@ -3,13 +3,29 @@
 //
 //   M(q, t)·qdd + h(q, qd, t) = Q
 //
-//   M_jk = Σ_i m_i·dv_ij·dv_ik + (R_iᵀ·dw_ij)·I_i·(R_iᵀ·dw_ik)
-//   h_j  = Σ_i m_i·(a_i⁰ - g)·dv_ij + (I_i·Ω̇_i⁰ + Ω_i×(I_i·Ω_i))·(R_iᵀ·dw_ij)
+//   M_jk = Σ_i S_ijᵀ·I_i·S_ik,   h_j = Σ_i S_ijᵀ·f_i
 //
-// with dv_ij = dv_i/dqd_j, dw_ij = dw_i/dqd_j, Ω = Rᵀ·w and Ω̇ = Rᵀ·dw the
-// angular velocity and acceleration in body axes (so J = R·I·Rᵀ is never
-// formed), and ⁰ the accelerations at qdd = 0. Only the upper triangle of the
-// symmetric M is derived. Needs symbolic partial velocities.
+// with S_ij body i's partial twist for qd_j (its partial angular velocity
+// dw_ij and the partial velocity of the body point at O), I_i its spatial
+// inertia and f_i the wrench of its momentum rate at qdd = 0, less gravity,
+// all about a reference point O: the centre of mass of the root of i's tree
+// of relative motions (so that the moments stay small wherever the system
+// wanders). About a common point a body's partial twist is its reference's
+// plus its own local part,
+//
+//   S_ij = S_Bj + l_ij,   l_ij = (R_B·dw_rel,j, R_B·dv_rel,j - (R_B·dw_rel,j)×c_i),
+//
+// (c_i: O to i's centre of mass), so the sums over bodies gather into
+// composite inertias and wrenches of subtrees, as in the composite-rigid-body
+// algorithm: with I^C_a and f^C_a the sums over a's subtree and F_ak = I^C_a·l_ak,
+//
+//   M_jk = Σ_a Σ_(c ∈ a and its references) F_ak·l_cj  (+ the transpose for c ≠ a),
+//   h_j  = Σ_a l_aj·f^C_a.
+//
+// A body's cost then grows with its depth, not with the square of its number
+// of coordinates. Every composite quantity is a named intermediate
+// (intermediates.hpp). Only the upper triangle of the symmetric M is derived.
+// Needs symbolic partial velocities.
 
 #include <vector>
 
@@ -20,10 +36,10 @@ namespace symdyn::model {
 struct Dynamics {
   std::vector<Expr> mass_matrix;  // (nq x nq) row-major; the lower triangle mirrors the upper
   std::vector<Expr> bias;         // (nq) h
-  // The accelerations at qdd = 0 use the dependent parameters' accelerations at
-  // qdd = 0, pdd⁰_k, and the intermediates' values at qdd = 0 where they
-  // differ: defined here (symbols and their expressions, in order).
-  std::vector<symbolic::Definition> zero_qdd_definitions;
+  // The symbols the expressions above use besides the kinematics': the values
+  // at qdd = 0 of the dependent accelerations and intermediates that differ
+  // there ("<name>__0"), and the composite quantities; each after those it uses.
+  std::vector<symbolic::Definition> definitions;
 };
 
 Dynamics derive_dynamics(const Model& model, const Kinematics& kinematics);

@@ -4,6 +4,7 @@
 
 #include <unordered_map>
 
+#include "model/intermediates.hpp"
 #include "symbolic/diff.hpp"
 
 namespace symdyn::model {
@@ -44,8 +45,9 @@ class Deriver {
       b = refs[i] < 0 ? absolute(derive_local(model_.bodies()[i].motion()))
                       : compose(k.bodies[refs[i]], derive_local(model_.bodies()[i].motion()));
       if (options_.symbolic_partials) add_partials(k.dependents, refs[i] < 0 ? nullptr : &k.bodies[refs[i]], b);
-      if (is_reference[i]) name_quantities(model_.bodies()[i].name(), b, k.intermediates);
+      if (is_reference[i]) name_quantities(model_.bodies()[i].name(), b);
     }
+    k.intermediates = names_.take_definitions();
     return k;
   }
 
@@ -147,35 +149,20 @@ class Deriver {
     }
   }
 
-  // Replaces every entry of b by a named intermediate, unless it is as cheap
-  // to repeat as to read (a number, a symbol, or a number times one); a value
-  // met before keeps its first name. Names read "<body>.<quantity><index>".
-  void name_quantities(const std::string& body, BodyKinematics& b, std::vector<symbolic::Definition>& out) {
-    auto name_all = [&](auto& entries, const std::string& quantity) {
-      for (std::size_t i = 0; i < entries.size(); ++i) entries[i] = named(entries[i], fmt::format("{}.{}{}", body, quantity, i), out);
-    };
-    name_all(b.R, "R"), name_all(b.x, "x"), name_all(b.v, "v"), name_all(b.w, "w"), name_all(b.a, "a");
-    name_all(b.dw, "dw");
+  // Names every entry of a reference body's quantities (intermediates.hpp):
+  // "<body>.<quantity><index>".
+  void name_quantities(const std::string& body, BodyKinematics& b) {
+    names_.name_all(b.R, body + ".R"), names_.name_all(b.x, body + ".x"), names_.name_all(b.v, body + ".v");
+    names_.name_all(b.w, body + ".w"), names_.name_all(b.a, body + ".a"), names_.name_all(b.dw, body + ".dw");
     for (std::size_t j = 0; j < b.dv_dqd.size(); ++j) {
-      name_all(b.dv_dqd[j], fmt::format("dv_dqd{}_", j));
-      name_all(b.dw_dqd[j], fmt::format("dw_dqd{}_", j));
+      names_.name_all(b.dv_dqd[j], fmt::format("{}.dv_dqd{}_", body, j));
+      names_.name_all(b.dw_dqd[j], fmt::format("{}.dw_dqd{}_", body, j));
     }
-  }
-
-  Expr named(Expr e, const std::string& name, std::vector<symbolic::Definition>& out) {
-    const auto [coefficient, rest] = symbolic::split_coefficient(e);
-    if (rest.kind() != symbolic::Kind::Add) return e;
-    auto [it, inserted] = names_.try_emplace(rest, Expr());
-    if (inserted) {
-      it->second = symbolic::symbol(name, SymbolKind::Intermediate);
-      out.push_back({it->second, rest});
-    }
-    return Expr(coefficient) * it->second;
   }
 
   const Model& model_;
   const DeriveOptions& options_;
-  std::unordered_map<Expr, Expr> names_;  // value -> its intermediate symbol
+  IntermediateNames names_;
   std::unique_ptr<symbolic::TimeDerivative> d_dt_;
   // d/dqd_j and d/dpd_k, memoized across bodies.
   std::vector<symbolic::Differentiator> by_qd_, by_pd_;

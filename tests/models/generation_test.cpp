@@ -58,3 +58,25 @@ TEST_CASE("the relative kinematics of chain_N grow linearly in N", "[models]") {
   CHECK(n64 - n32 <= 2.05 * (n32 - n16));  // the same cost per body added (quadratic growth would give 4x)
   CHECK(n64 < 64 * 130);                   // measured 120 per body: R, x, v, w, a, dw composed in 3D
 }
+
+// The equations of motion gather each subtree's inertia and wrench about a
+// common point (model/dynamics.hpp): h then costs the same per body added,
+// and M one dot product of two 6-vectors (11 operations) per entry of its
+// upper triangle, plus the same per body. Summed body by body over every
+// partial velocity, they grew as N³.
+TEST_CASE("the equations of motion of chain_N cost a dot product per entry of M", "[models]") {
+  auto equations = [](const char* name) {
+    const model::Model m = model::find_definition(name).make("relative");
+    std::map<std::string, std::size_t> counts = operation_counts(m, "relative", true);
+    return std::pair<int, int>(counts.at("mass_matrix"), counts.at("bias_forces"));
+  };
+  const auto [m8, h8] = equations("chain_8");
+  const auto [m16, h16] = equations("chain_16");
+  const auto [m32, h32] = equations("chain_32");
+  INFO("M: chain_8 " << m8 << ", chain_16 " << m16 << ", chain_32 " << m32 << " operations; h: " << h8 << ", " << h16
+                     << ", " << h32);
+  CHECK(h32 - h16 <= 2.05 * (h16 - h8));
+  for (const auto& [n, ops] : {std::pair(8, m8), std::pair(16, m16), std::pair(32, m32)}) {
+    CHECK(ops <= 11 * n * (n + 1) / 2 + 120 * n);  // measured chain_16 3 042, chain_32 9 115
+  }
+}
