@@ -292,8 +292,13 @@ TEST_CASE("every rule row is an identity: both sides agree at random points", "[
           if (is_wildcard(w)) m.bind(w, trial % 3 == 0 ? gen.leaf() : gen(3));
         }
         if (r.condition && !r.condition(m)) continue;
-        const Expr lhs = instantiate(r.pattern, m);
-        const Expr rhs = instantiate(r.replacement, m);
+        Expr lhs, rhs;
+        try {
+          lhs = instantiate(r.pattern, m);
+          rhs = instantiate(r.replacement, m);
+        } catch (const DomainError&) {
+          continue;  // a number outside asin's or acos's domain: the identity holds only inside
+        }
         INFO("rule '" << r.name << "' (" << table.name << "): " << lhs << "  vs  " << rhs);
         CHECK(same_values(lhs, rhs, rng, 3));
         ++checked;
