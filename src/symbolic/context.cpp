@@ -23,50 +23,56 @@ std::size_t hash_number(const Number& n) {
 // The interned nodes by their cached hash, in one open-addressed array
 // (linear probing, at most half full). Why: a map from hash to a vector of
 // nodes allocated a bucket and a vector per node, and every construction
-// chased three pointers to find a node that usually already exists.
+// chased three pointers to find a node that usually already exists. Each slot
+// keeps the hash beside the node, so probing past other nodes reads no node.
 class InternTable {
  public:
-  InternTable() : slots_(1024, nullptr), mask_(1023) {}
+  InternTable() : slots_(1024), mask_(1023) {}
 
   // The node with hash h for which same(node) holds, or nullptr.
   template <class Same>
   const Node* find(std::size_t h, const Same& same) const {
     for (std::size_t i = slot_of(h);; i = (i + 1) & mask_) {
-      const Node* n = slots_[i];
-      if (n == nullptr) return nullptr;
-      if (n->hash() == h && same(n)) return n;
+      const Slot& slot = slots_[i];
+      if (slot.node == nullptr) return nullptr;
+      if (slot.hash == h && same(slot.node)) return slot.node;
     }
   }
 
   void insert(const Node* n) {
     if (2 * (size_ + 1) > slots_.size()) grow();
-    place(n);
+    place({n->hash(), n});
     ++size_;
   }
 
-  std::size_t bytes() const { return slots_.capacity() * sizeof(const Node*); }
+  std::size_t bytes() const { return slots_.capacity() * sizeof(Slot); }
 
  private:
+  struct Slot {
+    std::size_t hash = 0;
+    const Node* node = nullptr;
+  };
+
   // Fibonacci hashing: the high bits of h·φ, whatever the quality of h's low bits.
   std::size_t slot_of(std::size_t h) const { return (h * 0x9e3779b97f4a7c15ULL) >> shift_; }
 
-  void place(const Node* n) {
-    std::size_t i = slot_of(n->hash());
-    while (slots_[i] != nullptr) i = (i + 1) & mask_;
-    slots_[i] = n;
+  void place(Slot s) {
+    std::size_t i = slot_of(s.hash);
+    while (slots_[i].node != nullptr) i = (i + 1) & mask_;
+    slots_[i] = s;
   }
 
   void grow() {
-    std::vector<const Node*> old(2 * slots_.size(), nullptr);
+    std::vector<Slot> old(2 * slots_.size());
     old.swap(slots_);
     mask_ = slots_.size() - 1;
     --shift_;
-    for (const Node* n : old) {
-      if (n != nullptr) place(n);
+    for (const Slot& s : old) {
+      if (s.node != nullptr) place(s);
     }
   }
 
-  std::vector<const Node*> slots_;
+  std::vector<Slot> slots_;
   std::size_t mask_;
   int shift_ = 64 - 10;
   std::size_t size_ = 0;
