@@ -19,11 +19,11 @@ Expr number(const Number& n) { return intern_number(n); }
 class Collector {
  public:
   void add(Expr key, const Number& weight) {
-    auto [it, inserted] = index_.try_emplace(key.node(), entries_.size());
-    if (inserted) {
+    const std::size_t i = position(key);
+    if (i == entries_.size()) {
       entries_.push_back({key, weight});
     } else {
-      entries_[it->second].second = entries_[it->second].second + weight;
+      entries_[i].second = entries_[i].second + weight;
     }
   }
   // Entries with a non-zero weight, in structural order of their keys.
@@ -39,6 +39,23 @@ class Collector {
   }
 
  private:
+  // Where key is among the entries (entries_.size() if absent). Most sums and
+  // products have a few operands: scanning them beats hashing; a long sum
+  // gets an index.
+  std::size_t position(Expr key) {
+    constexpr std::size_t kScanned = 16;
+    if (entries_.size() < kScanned) {
+      for (std::size_t i = 0; i < entries_.size(); ++i) {
+        if (entries_[i].first == key) return i;
+      }
+      return entries_.size();
+    }
+    if (index_.empty()) {
+      for (std::size_t i = 0; i < entries_.size(); ++i) index_.emplace(entries_[i].first.node(), i);
+    }
+    return index_.try_emplace(key.node(), entries_.size()).first->second;
+  }
+
   std::vector<std::pair<Expr, Number>> entries_;
   std::unordered_map<const Node*, std::size_t> index_;
 };

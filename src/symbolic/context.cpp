@@ -4,7 +4,7 @@
 #include <deque>
 #include <memory_resource>
 #include <unordered_map>
-#include <unordered_set>
+#include <vector>
 
 #include "symbolic/expr.hpp"
 
@@ -20,9 +20,62 @@ std::size_t hash_number(const Number& n) {
   return mix(0x51ed27, std::hash<double>{}(n.to_double()));
 }
 
-// Shallow identity of a node: kind, payload and argument pointers.
-struct NodeHash {
-  std::size_t operator()(const Node* n) const { return n->hash(); }
+// The interned nodes by their cached hash, in one open-addressed array
+// (linear probing, at most half full). Why: a map from hash to a vector of
+// nodes allocated a bucket and a vector per node, and every construction
+// chased three pointers to find a node that usually already exists. Each slot
+// keeps the hash beside the node, so probing past other nodes reads no node.
+class InternTable {
+ public:
+  InternTable() : slots_(1024), mask_(1023) {}
+
+  // The node with hash h for which same(node) holds, or nullptr.
+  template <class Same>
+  const Node* find(std::size_t h, const Same& same) const {
+    for (std::size_t i = slot_of(h);; i = (i + 1) & mask_) {
+      const Slot& slot = slots_[i];
+      if (slot.node == nullptr) return nullptr;
+      if (slot.hash == h && same(slot.node)) return slot.node;
+    }
+  }
+
+  void insert(const Node* n) {
+    if (2 * (size_ + 1) > slots_.size()) grow();
+    place({n->hash(), n});
+    ++size_;
+  }
+
+  std::size_t bytes() const { return slots_.capacity() * sizeof(Slot); }
+
+ private:
+  struct Slot {
+    std::size_t hash = 0;
+    const Node* node = nullptr;
+  };
+
+  // Fibonacci hashing: the high bits of h·φ, whatever the quality of h's low bits.
+  std::size_t slot_of(std::size_t h) const { return (h * 0x9e3779b97f4a7c15ULL) >> shift_; }
+
+  void place(Slot s) {
+    std::size_t i = slot_of(s.hash);
+    while (slots_[i].node != nullptr) i = (i + 1) & mask_;
+    slots_[i] = s;
+  }
+
+  void grow() {
+    std::vector<Slot> old(2 * slots_.size());
+    old.swap(slots_);
+    mask_ = slots_.size() - 1;
+    --shift_;
+    for (const Slot& s : old) {
+      if (s.node != nullptr) place(s);
+    }
+  }
+
+  std::vector<Slot> slots_;
+  std::size_t mask_;
+  int shift_ = 64 - 10;
+  std::size_t size_ = 0;
 };
 
 }  // namespace
@@ -31,7 +84,7 @@ struct Context::Impl {
   std::deque<Node> nodes;                       // stable addresses
   std::pmr::monotonic_buffer_resource args_arena;
   std::deque<std::string> names;
-  std::unordered_map<std::size_t, std::vector<const Node*>> table;  // hash -> nodes
+  InternTable table;  // numbers and compound nodes; symbols are found by name
   std::unordered_map<std::string, const Node*> symbols;
   std::size_t symbol_count = 0;
   std::size_t args_bytes = 0;
@@ -56,11 +109,7 @@ Context& Context::current() { return g_current != nullptr ? *g_current : default
 std::size_t Context::size() const { return impl_->nodes.size(); }
 std::size_t Context::symbol_count() const { return impl_->symbol_count; }
 std::size_t Context::memory_bytes() const {
-  std::size_t table_bytes = 0;
-  for (const auto& [h, bucket] : impl_->table) {
-    table_bytes += sizeof(h) + sizeof(bucket) + bucket.capacity() * sizeof(const Node*) + 2 * sizeof(void*);
-  }
-  return impl_->nodes.size() * sizeof(Node) + impl_->args_bytes + table_bytes;
+  return impl_->nodes.size() * sizeof(Node) + impl_->args_bytes + impl_->table.bytes();
 }
 
 Context::Scope::Scope(Context& context) : previous_(g_current) { g_current = &context; }
@@ -70,13 +119,10 @@ Expr intern_node(Kind kind, std::span<const Expr> args) {
   Context::Impl& impl = *Context::current().impl_;
   std::size_t h = mix(0x1234567, static_cast<std::size_t>(kind));
   for (Expr a : args) h = mix(h, a.hash());
-  auto& bucket = impl.table[h];
-  for (const Node* n : bucket) {
-    if (n->kind() == kind && n->n_args_ == args.size() &&
-        std::equal(args.begin(), args.end(), n->args_)) {
-      return Expr(n);
-    }
-  }
+  const Node* found = impl.table.find(h, [&](const Node* n) {
+    return n->kind() == kind && n->n_args_ == args.size() && std::equal(args.begin(), args.end(), n->args_);
+  });
+  if (found != nullptr) return Expr(found);
   auto* stored = static_cast<Expr*>(impl.args_arena.allocate(args.size() * sizeof(Expr), alignof(Expr)));
   std::uninitialized_copy(args.begin(), args.end(), stored);
   impl.args_bytes += args.size() * sizeof(Expr);
@@ -86,7 +132,7 @@ Expr intern_node(Kind kind, std::span<const Expr> args) {
   node.n_args_ = static_cast<std::uint32_t>(args.size());
   node.hash_ = h;
   node.args_ = stored;
-  bucket.push_back(&node);
+  impl.table.insert(&node);
   return Expr(&node);
 }
 
@@ -94,16 +140,14 @@ Expr intern_number(const Number& value) {
   Context::Impl& impl = *Context::current().impl_;
   const Kind kind = value.is_exact() ? Kind::Rational : Kind::Real;
   const std::size_t h = mix(static_cast<std::size_t>(kind), hash_number(value));
-  auto& bucket = impl.table[h];
-  for (const Node* n : bucket) {
-    if (n->kind() == kind && n->number_ == value) return Expr(n);
-  }
+  const Node* found = impl.table.find(h, [&](const Node* n) { return n->kind() == kind && n->number_ == value; });
+  if (found != nullptr) return Expr(found);
   Node& node = impl.nodes.emplace_back();
   node.kind_ = kind;
   node.id_ = static_cast<std::uint32_t>(impl.nodes.size() - 1);
   node.hash_ = h;
   node.number_ = value;
-  bucket.push_back(&node);
+  impl.table.insert(&node);
   return Expr(&node);
 }
 
@@ -142,14 +186,6 @@ Expr::Expr(double value) : node_(nullptr) {
 }
 Expr::Expr(const Number& value) : Expr(intern_number(value)) {}
 
-Kind Expr::kind() const { return node_->kind(); }
-std::uint32_t Expr::id() const { return node_->id(); }
-std::size_t Expr::hash() const { return node_->hash(); }
-std::span<const Expr> Expr::args() const { return node_->args(); }
-bool Expr::is_number() const { return kind() == Kind::Rational || kind() == Kind::Real; }
-bool Expr::is_exact_number() const { return kind() == Kind::Rational; }
-bool Expr::is_zero() const { return is_number() && node_->number_.is_zero(); }
-bool Expr::is_one() const { return is_number() && node_->number_.is_one(); }
 
 const Number& Expr::number() const {
   if (!is_number()) throw UsageError(fmt::format("'{}' is not a number", str()));

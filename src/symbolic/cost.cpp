@@ -1,6 +1,7 @@
 // The operation count of a DAG; see cost.hpp for the model.
 #include "symbolic/cost.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <vector>
 
@@ -47,9 +48,18 @@ int power_cost(const Number& exponent) {
   return n < 0 ? power_multiplications(-n) + 1 : power_multiplications(n);
 }
 
+// The nodes counted by one call are marked with that call's stamp, in a table
+// by node id kept between calls. Why: the simplifier asks for the cost of
+// small expressions millions of times in a context of millions of nodes, and
+// clearing a fresh mark per node of the context dominated each call.
 class CostCounter {
  public:
-  CostCounter() : seen_(Context::current().size(), false) {}
+  CostCounter() : seen_(marks()), stamp_(++current_stamp()) {
+    if (stamp_ == 0) {  // the stamps wrapped around: old marks could collide
+      std::fill(seen_.begin(), seen_.end(), 0);
+      stamp_ = ++current_stamp();
+    }
+  }
 
   int total(std::span<const Expr> outputs) {
     for (Expr e : outputs) push(e);
@@ -68,13 +78,23 @@ class CostCounter {
   // Queues a node unless it is already counted.
   void push(Expr e) {
     const std::uint32_t id = e.id();
-    if (id >= seen_.size()) seen_.resize(id + 1, false);
-    if (seen_[id]) return;
-    seen_[id] = true;
+    if (id >= seen_.size()) seen_.resize(std::max<std::size_t>(id + 1, Context::current().size()), 0);
+    if (seen_[id] == stamp_) return;
+    seen_[id] = stamp_;
     stack_.push_back(e);
   }
 
-  std::vector<bool> seen_;
+  static std::vector<std::uint32_t>& marks() {
+    thread_local std::vector<std::uint32_t> marks;
+    return marks;
+  }
+  static std::uint32_t& current_stamp() {
+    thread_local std::uint32_t stamp = 0;
+    return stamp;
+  }
+
+  std::vector<std::uint32_t>& seen_;
+  std::uint32_t stamp_;
   std::vector<Expr> stack_;
   int total_ = 0;
 };

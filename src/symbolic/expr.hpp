@@ -99,6 +99,8 @@ class Expr {
   explicit Expr(const Node* node) : node_(node) {}
 
   const Node* node() const { return node_; }
+  // The accessors are inline (defined after Node): every pass calls them in
+  // its innermost loops.
   Kind kind() const;
   std::uint32_t id() const;  // dense per context, in creation order
   std::size_t hash() const;
@@ -208,6 +210,15 @@ class Node {
   Number number_;
   const std::string* name_ = nullptr;
 };
+
+inline Kind Expr::kind() const { return node_->kind(); }
+inline std::uint32_t Expr::id() const { return node_->id(); }
+inline std::size_t Expr::hash() const { return node_->hash(); }
+inline std::span<const Expr> Expr::args() const { return node_->args(); }
+inline bool Expr::is_number() const { return kind() == Kind::Rational || kind() == Kind::Real; }
+inline bool Expr::is_exact_number() const { return kind() == Kind::Rational; }
+inline bool Expr::is_zero() const { return is_number() && node_->number_.is_zero(); }
+inline bool Expr::is_one() const { return is_number() && node_->number_.is_one(); }
 
 // Owns the nodes (an arena: no reference counts, no recursive destruction of
 // deep DAGs) and the table that interns them. Expressions from different

@@ -26,6 +26,10 @@ WideInt gcd128(WideInt a, WideInt b) {
   return a;
 }
 
+std::int64_t gcd64(WideInt a, WideInt b) {
+  return static_cast<std::int64_t>(std::gcd(static_cast<std::uint64_t>(a < 0 ? -a : a), static_cast<std::uint64_t>(b < 0 ? -b : b)));
+}
+
 Number inexact(double v) {
   Number n = Number::from_double(v);
   return n;
@@ -43,7 +47,10 @@ Number Number::make_exact(WideInt num, WideInt den) {
     num = -num;
     den = -den;
   }
-  const WideInt g = gcd128(num, den);
+  // Most constants are small integers: skip the division loop, and run it in
+  // 64 bits when both parts fit (128-bit remainders are a library call).
+  WideInt g = 1;
+  if (den != 1) g = fits(num) && fits(den) ? WideInt{gcd64(num, den)} : gcd128(num, den);
   if (g > 1) {
     num /= g;
     den /= g;

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <tuple>
+#include <unordered_map>
 
 #include "symbolic/program_ir.hpp"
 
@@ -206,10 +207,20 @@ class Scheduler {
   }
 
   using Key = std::tuple<Opcode, std::uint32_t, std::uint32_t, std::uint64_t, std::uint32_t>;
+  struct KeyHash {
+    std::size_t operator()(const Key& key) const {
+      const auto& [op, a, b, constant, input] = key;
+      std::size_t h = static_cast<std::size_t>(op);
+      for (std::uint64_t v : {std::uint64_t{a}, std::uint64_t{b}, constant, std::uint64_t{input}}) {
+        h = (h ^ v) * 0x9e3779b97f4a7c15ULL;
+      }
+      return h ^ (h >> 29);
+    }
+  };
   const ir::Graph& g_;
   std::vector<std::optional<ir::Term>> resolved_;  // by IR node id
   std::vector<Instruction> code_;
-  std::map<Key, std::uint32_t> index_;
+  std::unordered_map<Key, std::uint32_t, KeyHash> index_;  // looked up, never iterated
 };
 
 // Drops what no output needs, fuses sin and cos of one argument into sincos

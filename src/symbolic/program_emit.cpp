@@ -2,6 +2,8 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <iterator>
+#include <string>
 
 #include "symbolic/print.hpp"
 #include "symbolic/program.hpp"
@@ -21,15 +23,19 @@ std::string emit_cpp(const Program& program, const CppNaming& naming) {
   int next_temporary = 0;
   auto define = [&](std::uint32_t slot, std::string_view format, const std::vector<std::string>& args,
                     const std::string& constant) {
-    const std::string name = fmt::format("{}{}", naming.temporary_prefix, next_temporary++);
-    const std::string value = fmt::format(fmt::runtime(format), args[0], args[1], constant, "");
-    out += fmt::format("{}const {} {} = {};\n", naming.indent, naming.scalar_type, name, value);
+    const std::string name = naming.temporary_prefix + std::to_string(next_temporary++);
+    // indent "const" type name " = " value ";": appended, as fmt would print it.
+    out.append(naming.indent).append("const ").append(naming.scalar_type).append(" ").append(name).append(" = ");
+    fmt::format_to(std::back_inserter(out), fmt::runtime(format), args[0], args[1], constant, "");
+    out.append(";\n");
     operand[slot] = whole[slot] = name;
   };
   for (const Instruction& ins : program.instructions()) {
     const std::uint32_t r = ins.results[0];
     const OpcodeInfo& op = info(ins.op);
-    const std::string literal = cpp_literal(ins.constant);
+    // Only loads and pow print their constant ({2}); formatting a double is not free.
+    const bool prints_constant = op.format.find("{2}") != std::string_view::npos;
+    const std::string literal = prints_constant ? cpp_literal(ins.constant) : std::string();
     if (ins.op == Opcode::Const || ins.op == Opcode::Input) {  // loads print inline
       const std::string& name = ins.op == Opcode::Input ? naming.inputs[ins.input] : literal;
       whole[r] = fmt::format(fmt::runtime(op.format), "", "", literal, name);

@@ -17,6 +17,7 @@
 #include <map>
 #include <span>
 #include <tuple>
+#include <unordered_map>
 #include <vector>
 
 #include "symbolic/expr.hpp"
@@ -72,7 +73,11 @@ class Graph {
 
  private:
   using Key = std::tuple<Op, Kind, std::vector<Term>, std::uint64_t, std::uint32_t>;
-  std::map<Key, std::uint32_t> index_;
+  struct KeyHash {
+    std::size_t operator()(const Key& key) const;
+  };
+  // Looked up, never iterated: hashing cannot leak into the program.
+  std::unordered_map<Key, std::uint32_t, KeyHash> index_;
 };
 
 // Throws UsageError for a bad input or definition list, or a symbol that is

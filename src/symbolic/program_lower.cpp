@@ -6,12 +6,22 @@
 #include <cmath>
 #include <queue>
 #include <unordered_map>
-#include <unordered_set>
 
+#include "symbolic/flat_map.hpp"
 #include "symbolic/program_ir.hpp"
 #include "symbolic/scalar_ops.hpp"
 
 namespace symdyn::symbolic::ir {
+
+std::size_t Graph::KeyHash::operator()(const Key& key) const {
+  const auto& [op, kind, terms, constant, input] = key;
+  std::size_t h = (static_cast<std::size_t>(op) << 8) ^ static_cast<std::size_t>(kind);
+  auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 0x9e3779b97f4a7c15ULL; };
+  for (Term t : terms) mix((std::uint64_t{t.id} << 1) | std::uint64_t{t.neg});
+  mix(constant);
+  mix(input);
+  return h ^ (h >> 29);
+}
 
 std::uint32_t Graph::intern(Node node) {
   if (node.op == Op::Sum || node.op == Op::Prod) std::sort(node.terms.begin(), node.terms.end());
@@ -75,8 +85,11 @@ class Lowerer {
   Lowerer(Graph& graph, const Symbols& symbols) : g_(graph), symbols_(symbols) {}
 
   // Lowers e, whose arguments are already lowered.
-  void lower(Expr e) { memo_.emplace(e.id(), lower_node(e)); }
-  Term lowered(Expr e) const { return memo_.at(e.id()); }
+  void lower(Expr e) {
+    const Term t = lower_node(e);
+    memo_.try_emplace(e.id(), t);
+  }
+  Term lowered(Expr e) const { return *memo_.find(e.id()); }  // lowered before: see lower()
 
  private:
   Term lower_node(Expr e) {
@@ -187,7 +200,7 @@ class Lowerer {
 
   Graph& g_;
   const Symbols& symbols_;
-  std::unordered_map<std::uint32_t, Term> memo_;  // by node id; looked up, never iterated
+  detail::FlatMap64<Term> memo_;  // by node id
 };
 
 // Throws UsageError for a non-symbol, a repeated input or a symbol both input and defined.
@@ -228,12 +241,12 @@ std::vector<Expr> dependencies(Expr e, const Symbols& symbols) {
 // from one to a waiting dependency, nodes.size() steps surely end on a cycle,
 // and every cycle passes through a definition (the DAG itself has none).
 [[noreturn]] void throw_cycle(const std::vector<Expr>& nodes, const std::vector<std::size_t>& waiting,
-                              const std::unordered_map<std::uint32_t, std::size_t>& index, const Symbols& symbols) {
+                              const detail::FlatMap64<std::size_t>& index, const Symbols& symbols) {
   std::size_t at = 0;
   while (waiting[at] == 0) ++at;
   auto step = [&](std::size_t i) {
     for (Expr d : dependencies(nodes[i], symbols)) {
-      if (waiting[index.at(d.id())] > 0) return index.at(d.id());
+      if (waiting[*index.find(d.id())] > 0) return *index.find(d.id());
     }
     return i;
   };
@@ -245,13 +258,13 @@ std::vector<Expr> dependencies(Expr e, const Symbols& symbols) {
 // Kahn's algorithm over `nodes` (closed under dependencies), the smallest
 // node id first among the ready ones. Without definitions this is id order.
 std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symbols) {
-  std::unordered_map<std::uint32_t, std::size_t> index;  // node id -> position in nodes
-  for (std::size_t i = 0; i < nodes.size(); ++i) index.emplace(nodes[i].id(), i);
+  detail::FlatMap64<std::size_t> index(nodes.size());  // node id -> position in nodes
+  for (std::size_t i = 0; i < nodes.size(); ++i) index.try_emplace(nodes[i].id(), i);
   std::vector<std::size_t> waiting(nodes.size(), 0);  // dependencies not yet ordered
   std::vector<std::vector<std::size_t>> users(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     for (Expr d : dependencies(nodes[i], symbols)) {
-      users[index.at(d.id())].push_back(i);
+      users[*index.find(d.id())].push_back(i);
       ++waiting[i];
     }
   }
@@ -278,13 +291,13 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
 // node id (so the order does not depend on the order of the outputs).
 std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbols) {
   std::vector<Expr> found;
-  std::unordered_set<std::uint32_t> seen;  // looked up, never iterated
+  detail::FlatMap64<bool> seen;
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     std::vector<Expr> stack{outputs[i]};
     while (!stack.empty()) {
       const Expr e = stack.back();
       stack.pop_back();
-      if (!seen.insert(e.id()).second) continue;
+      if (!seen.try_emplace(e.id(), true).second) continue;
       if (e.is_symbol() && !symbols.input_of.contains(e.id()) && !symbols.definition_of.contains(e.id())) {
         throw UsageError(fmt::format(
             "compile_program: output {} uses symbol '{}', which is neither an input nor defined", i, e.name()));

@@ -14,6 +14,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <iostream>
+#include <type_traits>
 
 #include "symbolic/cost.hpp"
 
@@ -130,9 +131,24 @@ bool can_take(const Number& remaining, const Number& wanted) {
 
 Expr substitute(Expr e, const Match& m, std::unordered_map<std::uint32_t, Expr>* memo);
 
+// A non-owning reference to a continuation `bool()`. Each continuation is a
+// lambda on the caller's stack that outlives the call it is passed to; a
+// std::function would copy it to the heap, once per step of the search.
+class Cont {
+ public:
+  template <class F>
+    requires(!std::is_same_v<std::remove_cvref_t<F>, Cont>)
+  Cont(const F& f)  // NOLINT(google-explicit-constructor): lambdas convert implicitly
+      : callable_(&f), call_([](const void* c) { return (*static_cast<const F*>(c))(); }) {}
+  bool operator()() const { return call_(callable_); }
+
+ private:
+  const void* callable_;
+  bool (*call_)(const void*);
+};
+
 class Matcher {
  public:
-  using Cont = std::function<bool()>;
 
   Matcher(Match* match, int budget, MatchCache* cache) : m_(match), budget_(budget), cache_(cache) {}
 
