@@ -13,10 +13,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <deque>
 #include <iostream>
 #include <type_traits>
 
 #include "symbolic/cost.hpp"
+#include "symbolic/flat_map.hpp"
 
 namespace symdyn::symbolic {
 namespace {
@@ -83,10 +85,18 @@ class MatchCache {
   const Product& pattern(Expr e) { return get(patterns_, e, true); }
 
  private:
-  static const Product& get(std::unordered_map<std::uint32_t, Product>& map, Expr e, bool pattern) {
-    auto it = map.find(e.id());
-    if (it == map.end()) it = map.emplace(e.id(), split_product(e, pattern)).first;
-    return it->second;
+  // The decompositions, and where each node's is (by node id). A deque keeps
+  // the references handed out valid as more are added.
+  struct Products {
+    detail::FlatMap64<std::uint32_t> index;
+    std::deque<Product> stored;
+  };
+
+  static const Product& get(Products& products, Expr e, bool pattern) {
+    const auto next = static_cast<std::uint32_t>(products.stored.size());
+    const auto [at, inserted] = products.index.try_emplace(e.id(), next);
+    if (inserted) products.stored.push_back(split_product(e, pattern));
+    return products.stored[*at];
   }
 
  public:
@@ -110,8 +120,8 @@ class MatchCache {
   }
 
  private:
-  std::unordered_map<std::uint32_t, Product> targets_;
-  std::unordered_map<std::uint32_t, Product> patterns_;
+  Products targets_;
+  Products patterns_;
   std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::vector<std::size_t>>> by_base_;
 };
 
@@ -245,10 +255,35 @@ class Matcher {
       return same_product(cache_->target(*bound), coefficient, s) && k();
     }
     std::vector<Expr> rest{Expr(coefficient)};
+    std::vector<Expr> bases;
     for (std::size_t j = 0; j < s.target->factors.size(); ++j) {
-      if (!s.remaining[j].is_zero()) rest.push_back(pow(s.target->factors[j].base, Expr(s.remaining[j])));
+      if (s.remaining[j].is_zero()) continue;
+      rest.push_back(pow(s.target->factors[j].base, Expr(s.remaining[j])));
+      bases.push_back(s.target->factors[j].base);
     }
-    return bind(s.pattern->cofactor, mul(rest), k);
+    return bind(s.pattern->cofactor, leftover_product(coefficient, rest, bases), k);
+  }
+
+  // mul(rest), rest = {coefficient, the leftover factors}, whose bases are
+  // those of a canonical product: distinct and in canonical order. Then mul
+  // would only sort what is sorted and intern the product (and the product
+  // scaled by the coefficient): that is done directly, making the same nodes
+  // in the same order. Anything else (one factor, a factor folded into a
+  // number or a product, a changed base) goes through mul.
+  static Expr leftover_product(const Number& coefficient, std::span<const Expr> rest, std::span<const Expr> bases) {
+    const auto factors = rest.subspan(1);
+    bool plain = factors.size() >= 2 && !coefficient.is_zero();
+    for (std::size_t j = 0; plain && j < factors.size(); ++j) {
+      const Expr f = factors[j];
+      plain = f == bases[j] || (f.kind() == Kind::Pow && f.arg(0) == bases[j]);
+      plain = plain && !bases[j].is_number() && bases[j].kind() != Kind::Mul && bases[j].kind() != Kind::Pow;
+    }
+    if (!plain) return mul(rest);
+    const Expr monomial = intern_node(Kind::Mul, factors);
+    if (coefficient.is_one()) return monomial;
+    std::vector<Expr> scaled{rest[0]};
+    scaled.insert(scaled.end(), factors.begin(), factors.end());
+    return intern_node(Kind::Mul, scaled);
   }
 
   // The leftover coefficient · factors is the canonical product of its parts,
