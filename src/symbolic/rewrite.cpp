@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
-#include <deque>
 #include <iostream>
 #include <type_traits>
 
@@ -85,18 +84,10 @@ class MatchCache {
   const Product& pattern(Expr e) { return get(patterns_, e, true); }
 
  private:
-  // The decompositions, and where each node's is (by node id). A deque keeps
-  // the references handed out valid as more are added.
-  struct Products {
-    detail::FlatMap64<std::uint32_t> index;
-    std::deque<Product> stored;
-  };
-
-  static const Product& get(Products& products, Expr e, bool pattern) {
-    const auto next = static_cast<std::uint32_t>(products.stored.size());
-    const auto [at, inserted] = products.index.try_emplace(e.id(), next);
-    if (inserted) products.stored.push_back(split_product(e, pattern));
-    return products.stored[*at];
+  static const Product& get(std::unordered_map<std::uint32_t, Product>& map, Expr e, bool pattern) {
+    auto it = map.find(e.id());
+    if (it == map.end()) it = map.emplace(e.id(), split_product(e, pattern)).first;
+    return it->second;
   }
 
  public:
@@ -120,8 +111,8 @@ class MatchCache {
   }
 
  private:
-  Products targets_;
-  Products patterns_;
+  std::unordered_map<std::uint32_t, Product> targets_;
+  std::unordered_map<std::uint32_t, Product> patterns_;
   std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::vector<std::size_t>>> by_base_;
 };
 
@@ -459,11 +450,12 @@ class SumCost {
   }
 
  private:
+  int& refs(Expr e) { return *refs_.try_emplace(e.id()).first; }  // valid until the next call
+
   // References e once more; returns the cost of the nodes that were absent.
   int add_ref(Expr e, std::vector<std::uint32_t>* log) {
-    int& r = refs_[e.id()];
     if (log) log->push_back(e.id());
-    if (r++ > 0) return 0;
+    if (refs(e)++ > 0) return 0;
     std::vector<Expr> operands;
     int cost = own_cost(e, &operands);
     for (Expr a : operands) cost += add_ref(a, log);
@@ -472,9 +464,8 @@ class SumCost {
 
   // Drops one reference to e; returns the cost of the nodes no longer needed.
   int drop_ref(Expr e) {
-    int& r = refs_[e.id()];
     dropped_.push_back(e.id());
-    if (--r > 0) return 0;
+    if (--refs(e) > 0) return 0;
     std::vector<Expr> operands;
     int cost = own_cost(e, &operands);
     for (Expr a : operands) cost += drop_ref(a);
@@ -482,14 +473,14 @@ class SumCost {
   }
 
   void undo() {
-    for (std::uint32_t id : log_) --refs_[id];
-    for (std::uint32_t id : dropped_) ++refs_[id];
+    for (std::uint32_t id : log_) --*refs_.try_emplace(id).first;
+    for (std::uint32_t id : dropped_) ++*refs_.try_emplace(id).first;
     log_.clear();
     dropped_.clear();
   }
 
   int terms_;
-  std::unordered_map<std::uint32_t, int> refs_;
+  detail::FlatMap64<int> refs_;  // by node id
   std::vector<std::uint32_t> log_;
   std::vector<std::uint32_t> dropped_;
 };
