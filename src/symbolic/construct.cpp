@@ -26,16 +26,15 @@ class Collector {
       entries_[i].second = entries_[i].second + weight;
     }
   }
-  // Entries with a non-zero weight, in structural order of their keys.
+  explicit Collector(std::size_t expected) { entries_.reserve(expected); }
+
+  // Entries with a non-zero weight, in structural order of their keys (the
+  // keys are distinct, so the order is total). Consumes the collector.
   std::vector<std::pair<Expr, Number>> sorted() {
-    std::vector<std::pair<Expr, Number>> out;
-    out.reserve(entries_.size());
-    for (auto& e : entries_) {
-      if (!e.second.is_zero()) out.push_back(e);
-    }
-    std::sort(out.begin(), out.end(),
+    std::erase_if(entries_, [](const auto& e) { return e.second.is_zero(); });
+    std::sort(entries_.begin(), entries_.end(),
               [](const auto& x, const auto& y) { return compare(x.first, y.first) < 0; });
-    return out;
+    return std::move(entries_);
   }
 
  private:
@@ -65,7 +64,9 @@ class Collector {
 Expr scale(const Number& coefficient, Expr monomial) {
   if (coefficient.is_one()) return monomial;
   if (coefficient.is_zero()) return number(Number(0));
-  std::vector<Expr> factors{number(coefficient)};
+  std::vector<Expr> factors;
+  factors.reserve(1 + monomial.args().size());
+  factors.push_back(number(coefficient));
   if (monomial.kind() == Kind::Mul) {
     factors.insert(factors.end(), monomial.args().begin(), monomial.args().end());
   } else {
@@ -147,7 +148,7 @@ bool has_negative_sign(Expr e) {
 
 Expr add(std::span<const Expr> terms) {
   Number constant(0);
-  Collector collector;
+  Collector collector(terms.size());
   auto take = [&](Expr t) {
     if (t.is_number()) {
       constant = constant + t.number();
@@ -164,8 +165,10 @@ Expr add(std::span<const Expr> terms) {
     }
   }
   std::vector<Expr> out;
+  auto collected = collector.sorted();
+  out.reserve(1 + collected.size());
   if (!constant.is_zero()) out.push_back(number(constant));
-  for (const auto& [m, c] : collector.sorted()) out.push_back(scale(c, m));
+  for (const auto& [m, c] : collected) out.push_back(scale(c, m));
   if (out.empty()) return number(Number(0));
   if (out.size() == 1) return out[0];
   return intern_node(Kind::Add, out);
@@ -173,7 +176,7 @@ Expr add(std::span<const Expr> terms) {
 
 Expr mul(std::span<const Expr> factors) {
   Number coefficient(1);
-  Collector collector;
+  Collector collector(factors.size());
   auto take = [&](Expr f) {
     if (f.is_number()) {
       coefficient = coefficient * f.number();

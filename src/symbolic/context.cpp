@@ -187,21 +187,8 @@ Expr::Expr(double value) : node_(nullptr) {
 Expr::Expr(const Number& value) : Expr(intern_number(value)) {}
 
 
-const Number& Expr::number() const {
-  if (!is_number()) throw UsageError(fmt::format("'{}' is not a number", str()));
-  return node_->number_;
-}
-const std::string& Expr::name() const {
-  if (!is_symbol()) throw UsageError(fmt::format("'{}' is not a symbol", str()));
-  return *node_->name_;
-}
-SymbolKind Expr::symbol_kind() const {
-  if (!is_symbol()) throw UsageError(fmt::format("'{}' is not a symbol", str()));
-  return node_->symbol_kind_;
-}
-std::uint32_t Expr::symbol_index() const {
-  if (!is_symbol()) throw UsageError(fmt::format("'{}' is not a symbol", str()));
-  return node_->symbol_index_;
+void Expr::throw_not_a(std::string_view what) const {
+  throw UsageError(fmt::format("'{}' is not a {}", str(), what));
 }
 
 std::string_view to_string(SymbolKind kind) {

@@ -123,6 +123,7 @@ class Expr {
   friend bool operator!=(Expr a, Expr b) { return a.node_ != b.node_; }
 
  private:
+  [[noreturn]] void throw_not_a(std::string_view what) const;  // UsageError "'<e>' is not a <what>"
   const Node* node_;
 };
 
@@ -219,6 +220,22 @@ inline bool Expr::is_number() const { return kind() == Kind::Rational || kind() 
 inline bool Expr::is_exact_number() const { return kind() == Kind::Rational; }
 inline bool Expr::is_zero() const { return is_number() && node_->number_.is_zero(); }
 inline bool Expr::is_one() const { return is_number() && node_->number_.is_one(); }
+inline const Number& Expr::number() const {
+  if (!is_number()) throw_not_a("number");
+  return node_->number_;
+}
+inline const std::string& Expr::name() const {
+  if (!is_symbol()) throw_not_a("symbol");
+  return *node_->name_;
+}
+inline SymbolKind Expr::symbol_kind() const {
+  if (!is_symbol()) throw_not_a("symbol");
+  return node_->symbol_kind_;
+}
+inline std::uint32_t Expr::symbol_index() const {
+  if (!is_symbol()) throw_not_a("symbol");
+  return node_->symbol_index_;
+}
 
 // Owns the nodes (an arena: no reference counts, no recursive destruction of
 // deep DAGs) and the table that interns them. Expressions from different

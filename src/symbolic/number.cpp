@@ -95,6 +95,10 @@ double Number::to_double() const {
 }
 
 Number operator+(const Number& a, const Number& b) {
+  // Integers (exponents, most coefficients): no 128-bit arithmetic, same result.
+  if (std::int64_t sum = 0; a.is_integer() && b.is_integer() && !__builtin_add_overflow(a.num_, b.num_, &sum)) {
+    return Number::make_exact(sum, 1);
+  }
   if (a.exact_ && b.exact_) {
     return Number::make_exact(WideInt{a.num_} * b.den_ + WideInt{b.num_} * a.den_,
                               WideInt{a.den_} * b.den_);

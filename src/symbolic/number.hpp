@@ -9,6 +9,7 @@
 
 #include <compare>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace symdyn::symbolic {
@@ -19,7 +20,12 @@ __extension__ typedef __int128 WideInt;  // NOLINT(modernize-use-using): __exten
 class Number {
  public:
   Number() = default;
-  Number(std::int64_t num, std::int64_t den = 1);  // throws DivisionByZero if den == 0
+  // An integer: inline, as constructions make one per operand. The one
+  // integer whose negation does not fit becomes a double, like any overflow.
+  Number(std::int64_t num) : num_(num) {  // NOLINT(google-explicit-constructor)
+    if (num == std::numeric_limits<std::int64_t>::min()) *this = Number(num, 1);
+  }
+  Number(std::int64_t num, std::int64_t den);  // throws DivisionByZero if den == 0
   static Number from_double(double value);
 
   bool is_exact() const { return exact_; }

@@ -17,6 +17,7 @@
 #include <type_traits>
 
 #include "symbolic/cost.hpp"
+#include "symbolic/flat_map.hpp"
 
 namespace symdyn::symbolic {
 namespace {
@@ -245,10 +246,35 @@ class Matcher {
       return same_product(cache_->target(*bound), coefficient, s) && k();
     }
     std::vector<Expr> rest{Expr(coefficient)};
+    std::vector<Expr> bases;
     for (std::size_t j = 0; j < s.target->factors.size(); ++j) {
-      if (!s.remaining[j].is_zero()) rest.push_back(pow(s.target->factors[j].base, Expr(s.remaining[j])));
+      if (s.remaining[j].is_zero()) continue;
+      rest.push_back(pow(s.target->factors[j].base, Expr(s.remaining[j])));
+      bases.push_back(s.target->factors[j].base);
     }
-    return bind(s.pattern->cofactor, mul(rest), k);
+    return bind(s.pattern->cofactor, leftover_product(coefficient, rest, bases), k);
+  }
+
+  // mul(rest), rest = {coefficient, the leftover factors}, whose bases are
+  // those of a canonical product: distinct and in canonical order. Then mul
+  // would only sort what is sorted and intern the product (and the product
+  // scaled by the coefficient): that is done directly, making the same nodes
+  // in the same order. Anything else (one factor, a factor folded into a
+  // number or a product, a changed base) goes through mul.
+  static Expr leftover_product(const Number& coefficient, std::span<const Expr> rest, std::span<const Expr> bases) {
+    const auto factors = rest.subspan(1);
+    bool plain = factors.size() >= 2 && !coefficient.is_zero();
+    for (std::size_t j = 0; plain && j < factors.size(); ++j) {
+      const Expr f = factors[j];
+      plain = f == bases[j] || (f.kind() == Kind::Pow && f.arg(0) == bases[j]);
+      plain = plain && !bases[j].is_number() && bases[j].kind() != Kind::Mul && bases[j].kind() != Kind::Pow;
+    }
+    if (!plain) return mul(rest);
+    const Expr monomial = intern_node(Kind::Mul, factors);
+    if (coefficient.is_one()) return monomial;
+    std::vector<Expr> scaled{rest[0]};
+    scaled.insert(scaled.end(), factors.begin(), factors.end());
+    return intern_node(Kind::Mul, scaled);
   }
 
   // The leftover coefficient · factors is the canonical product of its parts,
@@ -424,11 +450,12 @@ class SumCost {
   }
 
  private:
+  int& refs(Expr e) { return *refs_.try_emplace(e.id()).first; }  // valid until the next call
+
   // References e once more; returns the cost of the nodes that were absent.
   int add_ref(Expr e, std::vector<std::uint32_t>* log) {
-    int& r = refs_[e.id()];
     if (log) log->push_back(e.id());
-    if (r++ > 0) return 0;
+    if (refs(e)++ > 0) return 0;
     std::vector<Expr> operands;
     int cost = own_cost(e, &operands);
     for (Expr a : operands) cost += add_ref(a, log);
@@ -437,9 +464,8 @@ class SumCost {
 
   // Drops one reference to e; returns the cost of the nodes no longer needed.
   int drop_ref(Expr e) {
-    int& r = refs_[e.id()];
     dropped_.push_back(e.id());
-    if (--r > 0) return 0;
+    if (--refs(e) > 0) return 0;
     std::vector<Expr> operands;
     int cost = own_cost(e, &operands);
     for (Expr a : operands) cost += drop_ref(a);
@@ -447,14 +473,14 @@ class SumCost {
   }
 
   void undo() {
-    for (std::uint32_t id : log_) --refs_[id];
-    for (std::uint32_t id : dropped_) ++refs_[id];
+    for (std::uint32_t id : log_) --*refs_.try_emplace(id).first;
+    for (std::uint32_t id : dropped_) ++*refs_.try_emplace(id).first;
     log_.clear();
     dropped_.clear();
   }
 
   int terms_;
-  std::unordered_map<std::uint32_t, int> refs_;
+  detail::FlatMap64<int> refs_;  // by node id
   std::vector<std::uint32_t> log_;
   std::vector<std::uint32_t> dropped_;
 };
