@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <optional>
 #include <unordered_map>
 
 #include "model/intermediates.hpp"
 #include "symbolic/diff.hpp"
+#include "symbolic/traversal.hpp"
 
 namespace symdyn::model {
 namespace {
@@ -137,10 +139,17 @@ class EquationsOfMotion {
   }
 
  private:
+  struct LocalTwist {
+    std::size_t j;
+    Expr coefficient;
+    std::size_t direction;
+  };
+
   // What the sums need of each body, about its tree's O.
   struct Body {
     Vec3 offset = zero3();                 // c: O to the body's centre of mass
-    std::vector<std::pair<std::size_t, Spatial>> local;  // (j, l_j) for every nonzero l_j
+    std::vector<Spatial> directions;       // of the local twists
+    std::vector<LocalTwist> local;         // l_j = coefficient·direction, for every nonzero l_j
     std::vector<Spatial> partial;          // (nq) S_j = S_B,j + l_j: the partial twists
     SpatialInertia inertia;                // of the body, then of its subtree
     Spatial wrench;                        // of the body, then of its subtree (at qdd = 0)
@@ -192,19 +201,39 @@ class EquationsOfMotion {
       out.offset = b.relative.x - leading_displacement(body.motion());
     }
     names_.name_all(out.offset, n + ".c");
+    auto twist = [&](const Vec3& dv_rel, const Vec3& dw_rel) {
+      Spatial l{R_B * dw_rel, {}};
+      l.linear = R_B * dv_rel - cross(l.angular, out.offset);
+      return l;
+    };
+    std::vector<std::pair<std::size_t, Spatial>> by_coordinate;
     for (std::size_t j = 0; j < b.dv_dqd.size(); ++j) {
-      Spatial l{R_B * b.relative.dw_dqd[j], {}};
-      l.linear = R_B * b.relative.dv_dqd[j] - cross(l.angular, out.offset);
-      out.partial.push_back(ref >= 0 ? bodies_[ref].partial[j] : Spatial{zero3(), zero3()});
-      if (is_zero(l)) continue;
-      name(l, fmt::format("{}.l{}_", n, j));
-      out.local.emplace_back(j, l);
-      if (ref < 0) {
-        out.partial[j] = l;
-      } else {
-        out.partial[j] = sum(out.partial[j], l);
-        name(out.partial[j], fmt::format("{}.S{}_", n, j));
+      Spatial l = twist(b.relative.dv_dqd[j], b.relative.dw_dqd[j]);
+      if (!is_zero(l)) by_coordinate.emplace_back(j, l);
+    }
+    // A local motion driven by one dependent parameter alone has one twist
+    // direction, dp_m/dq_j times its partial in pd_m: its momentum is then
+    // computed once instead of once per coordinate.
+    const std::optional<std::size_t> m = by_coordinate.size() > 1 ? sole_dependent_rate(b.relative) : std::nullopt;
+    if (m) {
+      const DependentKinematics& p = k_.dependents[*m];
+      symbolic::Differentiator by_rate(p.symbols.rate);
+      out.directions.push_back(twist({by_rate(b.relative.v[0]), by_rate(b.relative.v[1]), by_rate(b.relative.v[2])},
+                                     {by_rate(b.relative.w[0]), by_rate(b.relative.w[1]), by_rate(b.relative.w[2])}));
+      for (const auto& [j, l] : by_coordinate) out.local.push_back({j, p.jacobian_symbols[j], 0});
+    } else {
+      for (const auto& [j, l] : by_coordinate) {
+        out.local.push_back({j, Expr(1), out.directions.size()});
+        out.directions.push_back(l);
       }
+    }
+    for (std::size_t d = 0; d < out.directions.size(); ++d) name(out.directions[d], fmt::format("{}.l{}_", n, d));
+    out.partial.assign(b.dv_dqd.size(), Spatial{zero3(), zero3()});
+    if (ref >= 0) out.partial = bodies_[ref].partial;
+    for (const LocalTwist& l : out.local) {
+      const Spatial& direction = out.directions[l.direction];
+      out.partial[l.j] = sum(out.partial[l.j], {l.coefficient * direction.angular, l.coefficient * direction.linear});
+      if (ref >= 0) name(out.partial[l.j], fmt::format("{}.S{}_", n, l.j));
     }
     Mat3 J = to_world(b.R, body.inertia());
     names_.name_all(J, n + ".J");
@@ -235,17 +264,38 @@ class EquationsOfMotion {
     const std::size_t nq = model_.coordinates().size();
     const Body& body = bodies_[a];
     const Body* reference = refs_[a] >= 0 ? &bodies_[refs_[a]] : nullptr;
-    for (const auto& [k, l_k] : body.local) {
-      Spatial F = momentum(body.inertia, l_k);
-      name(F, fmt::format("{}.F{}_", model_.bodies()[a].name(), k));
+    std::vector<Spatial> momenta;  // F for each direction of the local twists
+    for (std::size_t d = 0; d < body.directions.size(); ++d) {
+      momenta.push_back(momentum(body.inertia, body.directions[d]));
+      name(momenta.back(), fmt::format("{}.F{}_", model_.bodies()[a].name(), d));
+    }
+    for (const auto& [k, c_k, d] : body.local) {
+      const Spatial& F = momenta[d];
       for (std::size_t j = 0; j < nq; ++j) {
-        if (j <= k && !is_zero(body.partial[j])) mass_terms[j * nq + k].push_back(dot(F, body.partial[j]));
+        if (j <= k && !is_zero(body.partial[j])) mass_terms[j * nq + k].push_back(c_k * dot(F, body.partial[j]));
         if (j >= k && reference && !is_zero(reference->partial[j])) {
-          mass_terms[k * nq + j].push_back(dot(F, reference->partial[j]));
+          mass_terms[k * nq + j].push_back(c_k * dot(F, reference->partial[j]));
         }
       }
-      bias_terms[k].push_back(dot(l_k, body.wrench));
+      bias_terms[k].push_back(c_k * dot(body.directions[d], body.wrench));
     }
+  }
+
+  // The index of the one dependent parameter whose rate the local velocity
+  // holds, if it holds no other rate.
+  std::optional<std::size_t> sole_dependent_rate(const Motion& local) const {
+    std::vector<Expr> velocity(local.v.begin(), local.v.end());
+    velocity.insert(velocity.end(), local.w.begin(), local.w.end());
+    std::optional<std::size_t> found;
+    for (Expr symbol : symbolic::free_symbols(velocity)) {
+      if (symbol.symbol_kind() == symbolic::SymbolKind::Rate) return std::nullopt;
+      for (std::size_t m = 0; m < k_.dependents.size(); ++m) {
+        if (symbol != k_.dependents[m].symbols.rate) continue;
+        if (found) return std::nullopt;
+        found = m;
+      }
+    }
+    return found;
   }
 
   const Model& model_;

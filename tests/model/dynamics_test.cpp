@@ -7,7 +7,8 @@
 //
 // (⁰: at qdd = 0, Ω = Rᵀ·w, Ω̇ = Rᵀ·dw) on every registered model, and on a
 // floating tree with full inertia tensors, shared and dependent coordinates,
-// a body alone, and its base far from the origin.
+// a body driven by a dependent parameter alone (one twist direction for two
+// coordinates), a body alone, and its base far from the origin.
 #include <catch2/catch.hpp>
 
 #include "model/dynamics.hpp"
@@ -35,6 +36,8 @@ void floating_tree(model::Model& m, std::string_view) {
       .motion(Trotx(q[7]) * Tdisp(q[8], 0, 0.1));
   m.body("ball").mass(0.7).inertia(0.003, 0.003, 0.003).relative_to("base")  // coordinates shared with arm
       .motion(Trotz(q[6] + q[7]) * Tdisp(p, 0, 0.05));
+  m.body("slider").mass(0.3).inertia(0.002, 0.004, 0.005).relative_to("arm")  // driven by p alone
+      .motion(Tdisp(p, 0, 0.05) * Troty(2 * p));
   m.body("alone").mass(0.9).inertia(0.01, 0.02, 0.03).motion(Trotz(q[7]) * Tdisp(1, 0, 0) * Trotx(q[5]));
   m.gravity(0, 0, -9.81);
 }
