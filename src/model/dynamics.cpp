@@ -201,32 +201,7 @@ class EquationsOfMotion {
       out.offset = b.relative.x - leading_displacement(body.motion());
     }
     names_.name_all(out.offset, n + ".c");
-    auto twist = [&](const Vec3& dv_rel, const Vec3& dw_rel) {
-      Spatial l{R_B * dw_rel, {}};
-      l.linear = R_B * dv_rel - cross(l.angular, out.offset);
-      return l;
-    };
-    std::vector<std::pair<std::size_t, Spatial>> by_coordinate;
-    for (std::size_t j = 0; j < b.dv_dqd.size(); ++j) {
-      Spatial l = twist(b.relative.dv_dqd[j], b.relative.dw_dqd[j]);
-      if (!is_zero(l)) by_coordinate.emplace_back(j, l);
-    }
-    // A local motion driven by one dependent parameter alone has one twist
-    // direction, dp_m/dq_j times its partial in pd_m: its momentum is then
-    // computed once instead of once per coordinate.
-    const std::optional<std::size_t> m = by_coordinate.size() > 1 ? sole_dependent_rate(b.relative) : std::nullopt;
-    if (m) {
-      const DependentKinematics& p = k_.dependents[*m];
-      symbolic::Differentiator by_rate(p.symbols.rate);
-      out.directions.push_back(twist({by_rate(b.relative.v[0]), by_rate(b.relative.v[1]), by_rate(b.relative.v[2])},
-                                     {by_rate(b.relative.w[0]), by_rate(b.relative.w[1]), by_rate(b.relative.w[2])}));
-      for (const auto& [j, l] : by_coordinate) out.local.push_back({j, p.jacobian_symbols[j], 0});
-    } else {
-      for (const auto& [j, l] : by_coordinate) {
-        out.local.push_back({j, Expr(1), out.directions.size()});
-        out.directions.push_back(l);
-      }
-    }
+    add_local_twists(b, R_B, out);
     for (std::size_t d = 0; d < out.directions.size(); ++d) name(out.directions[d], fmt::format("{}.l{}_", n, d));
     out.partial.assign(b.dv_dqd.size(), Spatial{zero3(), zero3()});
     if (ref >= 0) out.partial = bodies_[ref].partial;
@@ -241,6 +216,37 @@ class EquationsOfMotion {
     const Vec3 w = b.w;
     const Vec3 force = body.mass() * (at_zero_qdd(b.a) - model_.gravity());
     out.wrench = {cross(out.offset, force) + J * at_zero_qdd(b.dw) + cross(w, J * w), force};
+  }
+
+  // The local twists l_j = (R_B·dw_rel,j, R_B·dv_rel,j - (R_B·dw_rel,j)×c), as
+  // coefficients times directions: one direction per coordinate, or a single
+  // one for a local motion driven by one dependent parameter p alone, whose
+  // l_j are dp/dq_j times its partial in pd (its momentum is then computed
+  // once instead of once per coordinate).
+  void add_local_twists(const BodyKinematics& b, const Mat3& R_B, Body& out) const {
+    auto twist = [&](const Vec3& dv_rel, const Vec3& dw_rel) {
+      Spatial l{R_B * dw_rel, {}};
+      l.linear = R_B * dv_rel - cross(l.angular, out.offset);
+      return l;
+    };
+    std::vector<std::pair<std::size_t, Spatial>> by_coordinate;
+    for (std::size_t j = 0; j < b.dv_dqd.size(); ++j) {
+      Spatial l = twist(b.relative.dv_dqd[j], b.relative.dw_dqd[j]);
+      if (!is_zero(l)) by_coordinate.emplace_back(j, l);
+    }
+    const std::optional<std::size_t> m = by_coordinate.size() > 1 ? sole_dependent_rate(b.relative) : std::nullopt;
+    if (m) {
+      const DependentKinematics& p = k_.dependents[*m];
+      symbolic::Differentiator by_rate(p.symbols.rate);
+      auto partial = [&](const Vec3& v) { return Vec3{by_rate(v[0]), by_rate(v[1]), by_rate(v[2])}; };
+      out.directions.push_back(twist(partial(b.relative.v), partial(b.relative.w)));
+      for (const auto& [j, l] : by_coordinate) out.local.push_back({j, p.jacobian_symbols[j], 0});
+      return;
+    }
+    for (const auto& [j, l] : by_coordinate) {
+      out.local.push_back({j, Expr(1), out.directions.size()});
+      out.directions.push_back(l);
+    }
   }
 
   // Called children first: names the subtree's inertia and wrench, and adds
