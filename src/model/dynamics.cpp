@@ -12,8 +12,6 @@
 namespace symdyn::model {
 namespace {
 
-Vec3 zero3() { return {Expr(0), Expr(0), Expr(0)}; }
-
 // A twist (angular velocity, velocity of the body point at O) or a wrench
 // (moment about O, force): their dot product is a power.
 struct Spatial {
@@ -112,11 +110,7 @@ class EquationsOfMotion {
         refs_(model.reference_indices()),
         at_zero_qdd_(zero_qdd(model)),
         bodies_(k.bodies.size()),
-        is_reference_(k.bodies.size(), false) {
-    for (int r : refs_) {
-      if (r >= 0) is_reference_[r] = true;
-    }
-  }
+        is_reference_(model.referenced()) {}
 
   Dynamics run() {
     define_at_zero_qdd();

@@ -36,10 +36,7 @@ class Deriver {
       for (const Coordinate& c : model_.coordinates()) by_qd_.emplace_back(c.qd);
       for (const DependentKinematics& d : k.dependents) by_pd_.emplace_back(d.symbols.rate);
     }
-    std::vector<bool> is_reference(refs.size(), false);
-    for (int r : refs) {
-      if (r >= 0) is_reference[r] = true;
-    }
+    const std::vector<bool> is_reference = model_.referenced();
     for (int i : model_.topological_order()) {
       BodyKinematics& b = k.bodies[i];
       b = refs[i] < 0 ? absolute(derive_local(model_.bodies()[i].motion()))

@@ -73,7 +73,7 @@ Body& Body::relative_to(std::string_view reference) {
 
 Model::Model(std::string name)
     : name_(std::move(name)),
-      gravity_{Expr(0), Expr(0), Expr(0)},
+      gravity_(zero3()),
       time_(declare("t", SymbolKind::Time)) {
   check_name(name_, "model");
 }
@@ -164,6 +164,14 @@ int Model::body_index(std::string_view name) const {
     if (bodies_[i].name() == name) return static_cast<int>(i);
   }
   return -1;
+}
+
+std::vector<bool> Model::referenced() const {
+  std::vector<bool> out(bodies_.size(), false);
+  for (int r : reference_indices()) {
+    if (r >= 0) out[r] = true;
+  }
+  return out;
 }
 
 std::vector<int> Model::reference_indices() const {

@@ -110,6 +110,8 @@ class Model {
   int body_index(std::string_view name) const;  // -1 if unknown
   // Index of each body's reference, or -1 for an absolute motion.
   std::vector<int> reference_indices() const;
+  // Whether some body's motion is relative to each body.
+  std::vector<bool> referenced() const;
   // Bodies in an order where every reference comes before the bodies relative to it.
   std::vector<int> topological_order() const;
 

@@ -56,7 +56,7 @@ Mat3 Transform::rotation() const {
 // x = Σ (rotation before step)·displacement
 Vec3 Transform::translation() const {
   Mat3 R = identity3();
-  Vec3 x{Expr(0), Expr(0), Expr(0)};
+  Vec3 x = zero3();
   for (const Step& s : steps_) {
     if (s.is_rotation) {
       R = R * rotation_matrix(s.axis, s.angle);

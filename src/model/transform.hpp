@@ -41,7 +41,7 @@ class Transform {
   template <class TimeDerivative>
   Vec3 angular_velocity(TimeDerivative&& d_dt) const {
     Mat3 R = identity3();
-    Vec3 w{Expr(0), Expr(0), Expr(0)};
+    Vec3 w = zero3();
     for (const Step& s : steps_) {
       if (!s.is_rotation) continue;
       w = w + d_dt(s.angle) * (R * s.axis);

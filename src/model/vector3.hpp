@@ -12,6 +12,8 @@ using symbolic::Expr;
 using Vec3 = std::array<Expr, 3>;
 using Mat3 = std::array<Expr, 9>;  // row-major
 
+inline Vec3 zero3() { return {Expr(0), Expr(0), Expr(0)}; }
+
 inline Mat3 identity3() { return {Expr(1), Expr(0), Expr(0), Expr(0), Expr(1), Expr(0), Expr(0), Expr(0), Expr(1)}; }
 
 inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }

@@ -211,10 +211,8 @@ class Scheduler {
     std::size_t operator()(const Key& key) const {
       const auto& [op, a, b, constant, input] = key;
       std::size_t h = static_cast<std::size_t>(op);
-      for (std::uint64_t v : {std::uint64_t{a}, std::uint64_t{b}, constant, std::uint64_t{input}}) {
-        h = (h ^ v) * 0x9e3779b97f4a7c15ULL;
-      }
-      return h ^ (h >> 29);
+      for (std::uint64_t v : {std::uint64_t{a}, std::uint64_t{b}, constant, std::uint64_t{input}}) h = ir::mix_hash(h, v);
+      return ir::finish_hash(h);
     }
   };
   const ir::Graph& g_;

@@ -25,6 +25,12 @@
 
 namespace symdyn::symbolic::ir {
 
+// Hashing of the lowering and scheduling tables' keys: fold each field in with
+// mix_hash, then finish_hash. (The tables are looked up, never iterated, so
+// the hash never reaches the program.)
+inline std::size_t mix_hash(std::size_t h, std::uint64_t v) { return (h ^ v) * 0x9e3779b97f4a7c15ULL; }
+inline std::size_t finish_hash(std::size_t h) { return h ^ (h >> 29); }
+
 enum class Op : std::uint8_t { Const, Input, Sum, Prod, Div, Neg, Sqrt, Pow, Call };
 
 // An operand, or a value up to sign: node `id`, negated when `neg`.

@@ -16,11 +16,9 @@ namespace symdyn::symbolic::ir {
 std::size_t Graph::KeyHash::operator()(const Key& key) const {
   const auto& [op, kind, terms, constant, input] = key;
   std::size_t h = (static_cast<std::size_t>(op) << 8) ^ static_cast<std::size_t>(kind);
-  auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 0x9e3779b97f4a7c15ULL; };
-  for (Term t : terms) mix((std::uint64_t{t.id} << 1) | std::uint64_t{t.neg});
-  mix(constant);
-  mix(input);
-  return h ^ (h >> 29);
+  for (Term t : terms) h = mix_hash(h, (std::uint64_t{t.id} << 1) | std::uint64_t{t.neg});
+  h = mix_hash(h, constant);
+  return finish_hash(mix_hash(h, input));
 }
 
 std::uint32_t Graph::intern(Node node) {
