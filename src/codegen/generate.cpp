@@ -366,7 +366,7 @@ class Emitter {
         fmt::arg("refs", fmt::join(references, ", ")), fmt::arg("declarations", declarations));
   }
 
-  const model::Model& model_;
+  const model::Model model_;
   std::string variant_;
   std::string basename_;
   const Options& options_;
@@ -380,7 +380,8 @@ class Emitter {
 
 GeneratedCode generate(const model::Model& model, std::string_view variant, std::string_view basename,
                        const Options& options) {
-  return Emitter(model, variant, basename, options).run();
+  model.validate();  // first, so that errors speak of the model as written
+  return Emitter(model.with_shared_motions_relative(), variant, basename, options).run();
 }
 
 }  // namespace symdyn::codegen

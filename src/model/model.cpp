@@ -188,6 +188,24 @@ std::vector<int> Model::reference_indices() const {
   return refs;
 }
 
+Model Model::with_shared_motions_relative() const {
+  Model out = *this;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Transform& motion = bodies_[i].motion();
+    const Body* base = nullptr;
+    for (const Body& other : bodies_) {
+      const std::size_t n = other.motion().steps().size();
+      const bool shares = n < motion.steps().size() && other.reference() == bodies_[i].reference() &&
+                          other.motion().has_rotation() && motion.starts_with(other.motion());
+      if (shares && (base == nullptr || n > base->motion().steps().size())) base = &other;
+    }
+    if (base == nullptr) continue;
+    out.bodies_[i].motion_ = motion.after(base->motion().steps().size());
+    out.bodies_[i].reference_ = base->name();
+  }
+  return out;
+}
+
 std::vector<int> Model::topological_order() const {
   const std::vector<int> refs = reference_indices();
   const int n = static_cast<int>(bodies_.size());

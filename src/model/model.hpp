@@ -118,6 +118,17 @@ class Model {
   // Checks the whole model; throws ModelError naming the first culprit.
   void validate() const;
 
+  // The same mechanics, with each body whose motion begins with the whole
+  // motion of another body of the same reference, a motion that rotates, made
+  // relative to it (the longest such), keeping the rest of its motion. A chain
+  // described from the ground then costs what the chain described link by link
+  // costs: the earlier link's quantities are computed once and named, instead
+  // of each later body's expressions expanding the product of rotations before
+  // it again. A mere translation is left shared: it costs no products, and
+  // naming it would hide its terms from the simplifier (the slider-crank's rod
+  // and slider: 89 operations instead of 93).
+  Model with_shared_motions_relative() const;
+
  private:
   void check_declared(Expr e, std::string_view where) const;
   bool is_declared(Expr symbol) const;

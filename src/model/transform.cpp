@@ -1,5 +1,6 @@
 #include "model/transform.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -27,6 +28,20 @@ Transform operator*(const Transform& a, const Transform& b) {
 Transform& Transform::operator*=(const Transform& b) {
   steps_.insert(steps_.end(), b.steps_.begin(), b.steps_.end());
   return *this;
+}
+
+bool Transform::has_rotation() const {
+  return std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.is_rotation; });
+}
+
+bool Transform::starts_with(const Transform& prefix) const {
+  return prefix.steps_.size() <= steps_.size() && std::equal(prefix.steps_.begin(), prefix.steps_.end(), steps_.begin());
+}
+
+Transform Transform::after(std::size_t n) const {
+  Transform t;
+  t.steps_.assign(steps_.begin() + static_cast<std::ptrdiff_t>(std::min(n, steps_.size())), steps_.end());
+  return t;
 }
 
 // Rodrigues: R = c·I + s·[k]x + (1 - c)·k·kᵀ; the elementary axes give the

@@ -24,6 +24,7 @@ class Transform {
     Vec3 displacement;  // translation
     Vec3 axis;          // unit axis of a rotation, constant
     Expr angle;         // rotation angle
+    friend bool operator==(const Step&, const Step&) = default;
   };
 
   Transform() = default;  // identity
@@ -32,6 +33,12 @@ class Transform {
   Transform& operator*=(const Transform& b);
 
   const std::vector<Step>& steps() const { return steps_; }
+
+  bool has_rotation() const;
+  // Whether the first steps are those of `prefix`, the same expressions.
+  bool starts_with(const Transform& prefix) const;
+  // The steps after the first n: this = (first n steps)·after(n).
+  Transform after(std::size_t n) const;
 
   Mat3 rotation() const;     // R
   Vec3 translation() const;  // x

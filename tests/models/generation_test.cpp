@@ -59,6 +59,17 @@ TEST_CASE("the relative kinematics of chain_N grow linearly in N", "[models]") {
   CHECK(n64 < 64 * 130);                   // measured 120 per body: R, x, v, w, a, dw composed in 3D
 }
 
+// Described from the ground, each link's motion begins with the previous
+// link's: the generator makes it relative to that link
+// (Model::with_shared_motions_relative), so the code is the relative chain's.
+TEST_CASE("a chain described from the ground emits the chain described link by link", "[models]") {
+  auto source = [](const char* variant) {
+    const std::string code = codegen::generate(model::find_definition("chain_8").make(variant), variant, "x").source;
+    return code.substr(code.find('\n'));  // past the comment naming the variant
+  };
+  CHECK(source("absolute") == source("relative"));
+}
+
 // The equations of motion gather each subtree's inertia and wrench about a
 // common point (model/dynamics.hpp): h then costs the same per body added,
 // and M one dot product of two 6-vectors (11 operations) per entry of its

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -104,10 +105,15 @@ struct EmittedSetup {
   bool interpreter = true;
 };
 
-// Checks one generated struct G against its model, derived afresh without simplification.
+// Checks one generated struct G against its model, derived afresh without
+// simplification, with the references the generator gives bodies that share
+// a motion (Model::with_shared_motions_relative): the emitted relative motions
+// are relative to G::reference_body.
 template <class G>
 void check_emitted(const EmittedSetup& setup) {
-  const model::Model m = model::find_definition(setup.name).make(setup.variant);
+  const model::Model m = model::find_definition(setup.name).make(setup.variant).with_shared_motions_relative();
+  const std::vector<int> references = m.reference_indices();
+  CHECK(std::equal(references.begin(), references.end(), G::reference_body));
   model::DeriveOptions derive;
   derive.symbolic_partials = true;
   const model::Kinematics k = model::derive_kinematics(m, derive);
