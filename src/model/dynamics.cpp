@@ -117,15 +117,18 @@ class EquationsOfMotion {
     const std::vector<int> order = model_.topological_order();
     for (int i : order) add_body(i);
     for (auto it = order.rbegin(); it != order.rend(); ++it) gather_subtree(*it);
+    for (std::size_t a = 0; a < bodies_.size(); ++a) add_momenta(a);
+    find_movers(order);
     const std::size_t nq = model_.coordinates().size();
-    std::vector<std::vector<Expr>> mass_terms(nq * nq), bias_terms(nq);
-    for (std::size_t a = 0; a < bodies_.size(); ++a) add_terms(a, mass_terms, bias_terms);
     d_.mass_matrix.assign(nq * nq, Expr(0));
     d_.bias.assign(nq, Expr(0));
-    for (std::size_t j = 0; j < nq; ++j) {
-      d_.bias[j] = symbolic::add(bias_terms[j]);
-      for (std::size_t l = j; l < nq; ++l) d_.mass_matrix[j * nq + l] = symbolic::add(mass_terms[j * nq + l]);
-      for (std::size_t l = 0; l < j; ++l) d_.mass_matrix[j * nq + l] = d_.mass_matrix[l * nq + j];
+    for (std::size_t k = 0; k < nq; ++k) {
+      std::vector<Expr> terms;
+      for (const Mover& m : movers_[k]) terms.push_back(m.coefficient * dot(direction(m), bodies_[m.body].wrench));
+      d_.bias[k] = symbolic::add(terms);
+      for (std::size_t j = 0; j <= k; ++j) {
+        d_.mass_matrix[j * nq + k] = d_.mass_matrix[k * nq + j] = mass_matrix_entry(j, k);
+      }
     }
     std::vector<symbolic::Definition> composites = names_.take_definitions();
     d_.definitions.insert(d_.definitions.end(), composites.begin(), composites.end());
@@ -139,12 +142,20 @@ class EquationsOfMotion {
     std::size_t direction;
   };
 
+  // A local twist of some body, as one coordinate drives it.
+  struct Mover {
+    std::size_t body;
+    Expr coefficient;
+    std::size_t direction;
+  };
+
   // What the sums need of each body, about its tree's O.
   struct Body {
     Vec3 offset = zero3();                 // c: O to the body's centre of mass
     std::vector<Spatial> directions;       // of the local twists
     std::vector<LocalTwist> local;         // l_j = coefficient·direction, for every nonzero l_j
     std::vector<Spatial> partial;          // (nq) S_j = S_B,j + l_j: the partial twists
+    std::vector<Spatial> momenta;          // F = I^C·direction, for each direction
     SpatialInertia inertia;                // of the body, then of its subtree
     Spatial wrench;                        // of the body, then of its subtree (at qdd = 0)
   };
@@ -258,28 +269,90 @@ class EquationsOfMotion {
     B.wrench = sum(B.wrench, b.wrench);
   }
 
-  // Body a's terms of M_jk (j <= k), F_ak·S_aj for k in a's own coordinates
-  // and F_aj·S_Bk for j in them (B, a's reference), and of h_j, l_aj·f^C_a.
-  void add_terms(std::size_t a, std::vector<std::vector<Expr>>& mass_terms, std::vector<std::vector<Expr>>& bias_terms) {
-    const std::size_t nq = model_.coordinates().size();
-    const Body& body = bodies_[a];
-    const Body* reference = refs_[a] >= 0 ? &bodies_[refs_[a]] : nullptr;
-    std::vector<Spatial> momenta;  // F for each direction of the local twists
+  // The momenta F = I^C·l of the body's local twist directions, about O.
+  void add_momenta(std::size_t a) {
+    Body& body = bodies_[a];
     for (std::size_t d = 0; d < body.directions.size(); ++d) {
-      momenta.push_back(momentum(body.inertia, body.directions[d]));
-      name(momenta.back(), fmt::format("{}.F{}_", model_.bodies()[a].name(), d));
-    }
-    for (const auto& [k, c_k, d] : body.local) {
-      const Spatial& F = momenta[d];
-      for (std::size_t j = 0; j < nq; ++j) {
-        if (j <= k && !is_zero(body.partial[j])) mass_terms[j * nq + k].push_back(c_k * dot(F, body.partial[j]));
-        if (j >= k && reference && !is_zero(reference->partial[j])) {
-          mass_terms[k * nq + j].push_back(c_k * dot(F, reference->partial[j]));
-        }
-      }
-      bias_terms[k].push_back(c_k * dot(body.directions[d], body.wrench));
+      body.momenta.push_back(momentum(body.inertia, body.directions[d]));
+      name(body.momenta.back(), fmt::format("{}.F{}_", model_.bodies()[a].name(), d));
     }
   }
+
+  // For every coordinate, the local twists it drives and the bodies it moves
+  // (those below them).
+  void find_movers(const std::vector<int>& order) {
+    const std::size_t nq = model_.coordinates().size();
+    movers_.assign(nq, {});
+    moved_.assign(nq, {});
+    std::vector<std::vector<bool>> moves(bodies_.size(), std::vector<bool>(nq, false));
+    for (int i : order) {
+      if (refs_[i] >= 0) moves[i] = moves[refs_[i]];
+      for (const LocalTwist& l : bodies_[i].local) {
+        movers_[l.j].push_back({static_cast<std::size_t>(i), l.coefficient, l.direction});
+        moves[i][l.j] = true;
+      }
+    }
+    for (int i : order) {
+      for (std::size_t k = 0; k < nq; ++k) {
+        if (moves[i][k]) moved_[k].push_back(static_cast<std::size_t>(i));
+      }
+    }
+  }
+
+  // M_jk = Σ_i S_ij·I_i·S_ik. When every body q_k moves has the same partial
+  // twist S_j (q_j moves them all alike: a coordinate above them in the tree),
+  // M_jk = S_j·Φ_k with Φ_k = Σ_i I_i·S_ik, the momentum q_k's rate gives the
+  // system: one dot product, whatever the number of bodies q_k drives (a
+  // dependent parameter makes them many). Otherwise, summing over the bodies
+  // a that q_k (then q_j) drives, their momenta F = I^C_a·l_a and the partial
+  // twists of a (then of a's reference B):
+  //   M_jk = Σ_a F_ak·S_aj + Σ_a F_aj·S_Bk.
+  Expr mass_matrix_entry(std::size_t j, std::size_t k) {
+    for (auto [x, y] : {std::pair(j, k), std::pair(k, j)}) {
+      if (const Spatial* S = common_partial(x, y)) return is_zero(*S) ? Expr(0) : dot(*S, system_momentum(y));
+    }
+    std::vector<Expr> terms;
+    for (const Mover& m : movers_[k]) {
+      const Spatial& S = bodies_[m.body].partial[j];
+      if (!is_zero(S)) terms.push_back(m.coefficient * dot(momentum_of(m), S));
+    }
+    for (const Mover& m : movers_[j]) {
+      const int B = refs_[m.body];
+      if (B >= 0 && !is_zero(bodies_[B].partial[k])) {
+        terms.push_back(m.coefficient * dot(momentum_of(m), bodies_[B].partial[k]));
+      }
+    }
+    return symbolic::add(terms);
+  }
+
+  // The partial twist for q_x of every body q_y moves, if they all share it.
+  const Spatial* common_partial(std::size_t x, std::size_t y) const {
+    const Spatial* common = nullptr;
+    for (std::size_t i : moved_[y]) {
+      const Spatial& S = bodies_[i].partial[x];
+      if (common == nullptr) {
+        common = &S;
+      } else if (S.angular != common->angular || S.linear != common->linear) {
+        return nullptr;
+      }
+    }
+    return common;
+  }
+
+  // Φ_k = Σ_i I_i·S_ik = Σ_a c_ak·F_a over the local twists q_k drives.
+  const Spatial& system_momentum(std::size_t k) {
+    auto [it, added] = system_momenta_.try_emplace(k, Spatial{zero3(), zero3()});
+    if (!added) return it->second;
+    for (const Mover& m : movers_[k]) {
+      const Spatial& F = momentum_of(m);
+      it->second = sum(it->second, {m.coefficient * F.angular, m.coefficient * F.linear});
+    }
+    name(it->second, fmt::format("Phi{}_", k));
+    return it->second;
+  }
+
+  const Spatial& direction(const Mover& m) const { return bodies_[m.body].directions[m.direction]; }
+  const Spatial& momentum_of(const Mover& m) const { return bodies_[m.body].momenta[m.direction]; }
 
   // The index of the one dependent parameter whose rate the local velocity
   // holds, if it holds no other rate.
@@ -305,6 +378,9 @@ class EquationsOfMotion {
   IntermediateNames names_;
   std::vector<Body> bodies_;
   std::vector<bool> is_reference_;
+  std::vector<std::vector<Mover>> movers_;         // (nq) the local twists of each coordinate
+  std::vector<std::vector<std::size_t>> moved_;    // (nq) the bodies each coordinate moves
+  std::unordered_map<std::size_t, Spatial> system_momenta_;  // Φ_k, once asked for
   Dynamics d_;
 };
 

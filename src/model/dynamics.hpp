@@ -22,6 +22,11 @@
 //   M_jk = Σ_a Σ_(c ∈ a and its references) F_ak·l_cj  (+ the transpose for c ≠ a),
 //   h_j  = Σ_a l_aj·f^C_a.
 //
+// Where q_j moves every body that q_k moves alike (q_j above them in the
+// tree), M_jk = S_j·Φ_k with Φ_k = Σ_a F_ak the momentum q_k's rate gives the
+// system: one dot product however many bodies q_k drives through dependent
+// parameters.
+//
 // A body's cost then grows with its depth, not with the square of its number
 // of coordinates. Every composite quantity is a named intermediate
 // (intermediates.hpp). Only the upper triangle of the symmetric M is derived.
