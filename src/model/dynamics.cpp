@@ -2,12 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <optional>
+#include <algorithm>
 #include <unordered_map>
 
 #include "model/intermediates.hpp"
 #include "symbolic/diff.hpp"
-#include "symbolic/traversal.hpp"
 
 namespace symdyn::model {
 namespace {
@@ -206,7 +205,7 @@ class EquationsOfMotion {
       out.offset = b.relative.x - leading_displacement(body.motion());
     }
     names_.name_all(out.offset, n + ".c");
-    add_local_twists(b, R_B, out);
+    add_local_twists(b, R_B, body.motion(), out);
     for (std::size_t d = 0; d < out.directions.size(); ++d) name(out.directions[d], fmt::format("{}.l{}_", n, d));
     out.partial.assign(b.dv_dqd.size(), Spatial{zero3(), zero3()});
     if (ref >= 0) out.partial = bodies_[ref].partial;
@@ -224,11 +223,12 @@ class EquationsOfMotion {
   }
 
   // The local twists l_j = (R_B·dw_rel,j, R_B·dv_rel,j - (R_B·dw_rel,j)×c), as
-  // coefficients times directions: one direction per coordinate, or a single
-  // one for a local motion driven by one dependent parameter p alone, whose
-  // l_j are dp/dq_j times its partial in pd (its momentum is then computed
-  // once instead of once per coordinate).
-  void add_local_twists(const BodyKinematics& b, const Mat3& R_B, Body& out) const {
+  // coefficients times directions, a body's momentum being computed once per
+  // direction: one direction per coordinate, or, when fewer, one per screw of
+  // the local motion, l_j = Σ_s (dσ_s/dq_j)·screw_s. A motion driven by
+  // dependent parameters (amru5's link6: Troty(beta - alpha)) has fewer screws
+  // than the coordinates it depends on.
+  void add_local_twists(const BodyKinematics& b, const Mat3& R_B, const Transform& motion, Body& out) const {
     auto twist = [&](const Vec3& dv_rel, const Vec3& dw_rel) {
       Spatial l{R_B * dw_rel, {}};
       l.linear = R_B * dv_rel - cross(l.angular, out.offset);
@@ -239,19 +239,65 @@ class EquationsOfMotion {
       Spatial l = twist(b.relative.dv_dqd[j], b.relative.dw_dqd[j]);
       if (!is_zero(l)) by_coordinate.emplace_back(j, l);
     }
-    const std::optional<std::size_t> m = by_coordinate.size() > 1 ? sole_dependent_rate(b.relative) : std::nullopt;
-    if (m) {
-      const DependentKinematics& p = k_.dependents[*m];
-      symbolic::Differentiator by_rate(p.symbols.rate);
-      auto partial = [&](const Vec3& v) { return Vec3{by_rate(v[0]), by_rate(v[1]), by_rate(v[2])}; };
-      out.directions.push_back(twist(partial(b.relative.v), partial(b.relative.w)));
-      for (const auto& [j, l] : by_coordinate) out.local.push_back({j, p.jacobian_symbols[j], 0});
+    std::vector<std::pair<Screw, std::vector<Expr>>> driven;  // with dσ/dq_j for each of by_coordinate
+    for (const Screw& screw : screws(motion, b.relative.x)) {
+      std::vector<Expr> rates;
+      for (const auto& [j, l] : by_coordinate) rates.push_back(coordinate_derivative(screw.scalar, j));
+      if (std::any_of(rates.begin(), rates.end(), [](Expr e) { return !e.is_zero(); })) driven.emplace_back(screw, rates);
+    }
+    if (driven.size() < by_coordinate.size()) {
+      for (const auto& [screw, rates] : driven) {
+        for (std::size_t n = 0; n < by_coordinate.size(); ++n) {
+          if (!rates[n].is_zero()) out.local.push_back({by_coordinate[n].first, rates[n], out.directions.size()});
+        }
+        out.directions.push_back(twist(screw.dv, screw.dw));
+      }
       return;
     }
     for (const auto& [j, l] : by_coordinate) {
       out.local.push_back({j, Expr(1), out.directions.size()});
       out.directions.push_back(l);
     }
+  }
+
+  // A screw of a local motion: the relative twist (reference axes, at the
+  // body's centre of mass) per unit rate of one varying scalar σ of a step,
+  // a rotation's angle or a component of a displacement.
+  struct Screw {
+    Vec3 dv, dw;
+    Expr scalar;
+  };
+
+  static std::vector<Screw> screws(const Transform& motion, const Vec3& x_rel) {
+    std::vector<Screw> out;
+    Mat3 R = identity3();
+    Vec3 origin = zero3();
+    for (const Transform::Step& s : motion.steps()) {
+      if (s.is_rotation) {
+        const Vec3 axis = R * s.axis;
+        if (!s.angle.is_number()) out.push_back({cross(axis, x_rel - origin), axis, s.angle});
+        R = R * Transform::rotation_matrix(s.axis, s.angle);
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) {
+        if (s.displacement[k].is_number()) continue;
+        Vec3 e = zero3();
+        e[k] = Expr(1);
+        out.push_back({R * e, zero3(), s.displacement[k]});
+      }
+      origin = origin + R * s.displacement;
+    }
+    return out;
+  }
+
+  // dσ/dq_j, through the dependent parameters σ holds.
+  Expr coordinate_derivative(Expr scalar, std::size_t j) const {
+    Expr total = symbolic::diff(scalar, model_.coordinates()[j].q);
+    for (const DependentKinematics& p : k_.dependents) {
+      const Expr by_p = symbolic::diff(scalar, p.symbols.symbol);
+      if (!by_p.is_zero()) total += by_p * p.jacobian_symbols[j];
+    }
+    return total;
   }
 
   // Called children first: names the subtree's inertia and wrench, and adds
@@ -353,23 +399,6 @@ class EquationsOfMotion {
 
   const Spatial& direction(const Mover& m) const { return bodies_[m.body].directions[m.direction]; }
   const Spatial& momentum_of(const Mover& m) const { return bodies_[m.body].momenta[m.direction]; }
-
-  // The index of the one dependent parameter whose rate the local velocity
-  // holds, if it holds no other rate.
-  std::optional<std::size_t> sole_dependent_rate(const Motion& local) const {
-    std::vector<Expr> velocity(local.v.begin(), local.v.end());
-    velocity.insert(velocity.end(), local.w.begin(), local.w.end());
-    std::optional<std::size_t> found;
-    for (Expr symbol : symbolic::free_symbols(velocity)) {
-      if (symbol.symbol_kind() == symbolic::SymbolKind::Rate) return std::nullopt;
-      for (std::size_t m = 0; m < k_.dependents.size(); ++m) {
-        if (symbol != k_.dependents[m].symbols.rate) continue;
-        if (found) return std::nullopt;
-        found = m;
-      }
-    }
-    return found;
-  }
 
   const Model& model_;
   const Kinematics& k_;

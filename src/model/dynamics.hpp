@@ -27,6 +27,11 @@
 // system: one dot product however many bodies q_k drives through dependent
 // parameters.
 //
+// A body's local twists are spanned by the screws of its local motion (one
+// per varying angle or displacement component): when it has fewer screws than
+// coordinates, as a motion driven by dependent parameters has, its momentum
+// is computed once per screw, l_j = Σ_s (dσ_s/dq_j)·screw_s.
+//
 // A body's cost then grows with its depth, not with the square of its number
 // of coordinates. Every composite quantity is a named intermediate
 // (intermediates.hpp). Only the upper triangle of the symmetric M is derived.
