@@ -14,7 +14,8 @@
 //     matrix, right-hand side and LDLT solve for qdd; assembled from the
 //     kinematics and partial velocities in cases 1-3 (EasyDyn's way), from
 //     the emitted mass_matrix and bias_forces in case 4.
-// Each is the median of --reps runs, in CPU time of the measuring thread
+// Each is the median of --reps runs (each at least 50 ms long, repeating the
+// evaluations), in CPU time of the measuring thread
 // (and the fastest run, as <name>_min). Errors: against the independent
 // reference of reference.hpp at --states random states (seeded: the same
 // states in every case), each as max |emitted - reference| / max(1, max |reference|)
@@ -101,16 +102,24 @@ struct Timing {
   double median = 0.0, min = 0.0;
 };
 
-// Seconds (thread CPU time) of `reps` runs of `evaluations` calls of f: the
-// median, and the fastest run (least disturbed by other jobs' use of caches).
+// Seconds (thread CPU time) per `evaluations` calls of f, over `reps` runs:
+// the median, and the fastest run (least disturbed by other jobs' use of
+// caches). A run repeats the `evaluations` calls until it lasts at least
+// 50 ms, so that the small models' runs (0.5 ms for 10 000 kinematics) are
+// not mostly timer and scheduler noise.
 template <class F>
 Timing time_runs(int reps, int evaluations, F&& f) {
+  const double warm_start = thread_seconds();
   for (int i = 0; i < std::max(1, evaluations / 10); ++i) f();  // warm caches and branch predictors
+  const double per_call = (thread_seconds() - warm_start) / std::max(1, evaluations / 10);
+  const int batches = std::max(1, static_cast<int>(std::ceil(0.05 / std::max(1e-12, per_call * evaluations))));
   std::vector<double> runs;
   for (int r = 0; r < reps; ++r) {
     const double start = thread_seconds();
-    for (int i = 0; i < evaluations; ++i) f();
-    runs.push_back(thread_seconds() - start);
+    for (int b = 0; b < batches; ++b) {
+      for (int i = 0; i < evaluations; ++i) f();
+    }
+    runs.push_back((thread_seconds() - start) / batches);
   }
   std::sort(runs.begin(), runs.end());
   return {runs[runs.size() / 2], runs.front()};
