@@ -7,6 +7,7 @@
 
 #include "model/intermediates.hpp"
 #include "symbolic/diff.hpp"
+#include "symbolic/traversal.hpp"
 
 namespace symdyn::model {
 namespace {
@@ -224,40 +225,84 @@ class EquationsOfMotion {
 
   // The local twists l_j = (R_B·dw_rel,j, R_B·dv_rel,j - (R_B·dw_rel,j)×c), as
   // coefficients times directions, a body's momentum being computed once per
-  // direction: one direction per coordinate, or, when fewer, one per screw of
-  // the local motion, l_j = Σ_s (dσ_s/dq_j)·screw_s. A motion driven by
-  // dependent parameters (amru5's link6: Troty(beta - alpha)) has fewer screws
-  // than the coordinates it depends on.
+  // direction. Of three ways to span them, the one with the fewest directions
+  // (the first on a tie): one per coordinate; one per rate the local velocity
+  // holds (a dependent parameter's pd_p has coefficients dp/dq_j: the slider
+  // driven by p alone); one per screw of the local motion (link6's
+  // Troty(beta - alpha), in any variant).
   void add_local_twists(const BodyKinematics& b, const Mat3& R_B, const Transform& motion, Body& out) const {
-    auto twist = [&](const Vec3& dv_rel, const Vec3& dw_rel) {
+    const std::size_t nq = b.dv_dqd.size();
+    Span by_coordinate;
+    for (std::size_t j = 0; j < nq; ++j) {
+      std::vector<Expr> unit(nq, Expr(0));
+      unit[j] = Expr(1);
+      by_coordinate.add(b.relative.dv_dqd[j], b.relative.dw_dqd[j], std::move(unit));
+    }
+    const Span spans[] = {by_coordinate, by_rates(b.relative), by_screws(motion, b.relative.x)};
+    const Span& fewest = *std::min_element(std::begin(spans), std::end(spans), [](const Span& x, const Span& y) {
+      return x.directions.size() < y.directions.size();
+    });
+    for (std::size_t d = 0; d < fewest.directions.size(); ++d) {
+      const auto& [dv_rel, dw_rel] = fewest.directions[d];
       Spatial l{R_B * dw_rel, {}};
       l.linear = R_B * dv_rel - cross(l.angular, out.offset);
-      return l;
-    };
-    std::vector<std::pair<std::size_t, Spatial>> by_coordinate;
-    for (std::size_t j = 0; j < b.dv_dqd.size(); ++j) {
-      Spatial l = twist(b.relative.dv_dqd[j], b.relative.dw_dqd[j]);
-      if (!is_zero(l)) by_coordinate.emplace_back(j, l);
-    }
-    std::vector<std::pair<Screw, std::vector<Expr>>> driven;  // with dσ/dq_j for each of by_coordinate
-    for (const Screw& screw : screws(motion, b.relative.x)) {
-      std::vector<Expr> rates;
-      for (const auto& [j, l] : by_coordinate) rates.push_back(coordinate_derivative(screw.scalar, j));
-      if (std::any_of(rates.begin(), rates.end(), [](Expr e) { return !e.is_zero(); })) driven.emplace_back(screw, rates);
-    }
-    if (driven.size() < by_coordinate.size()) {
-      for (const auto& [screw, rates] : driven) {
-        for (std::size_t n = 0; n < by_coordinate.size(); ++n) {
-          if (!rates[n].is_zero()) out.local.push_back({by_coordinate[n].first, rates[n], out.directions.size()});
-        }
-        out.directions.push_back(twist(screw.dv, screw.dw));
+      for (std::size_t j = 0; j < nq; ++j) {
+        if (!fewest.coefficients[d][j].is_zero()) out.local.push_back({j, fewest.coefficients[d][j], d});
       }
-      return;
-    }
-    for (const auto& [j, l] : by_coordinate) {
-      out.local.push_back({j, Expr(1), out.directions.size()});
       out.directions.push_back(l);
     }
+  }
+
+  // Relative twists (reference axes, at the body's centre of mass) and, for
+  // each, its coefficient in the local twist of every coordinate.
+  struct Span {
+    std::vector<std::pair<Vec3, Vec3>> directions;  // (dv, dw)
+    std::vector<std::vector<Expr>> coefficients;    // (directions x nq)
+
+    // Keeps a direction unless it or all its coefficients are zero.
+    void add(const Vec3& dv, const Vec3& dw, std::vector<Expr> coefficient) {
+      const auto zero = [](Expr e) { return e.is_zero(); };
+      if (std::all_of(dv.begin(), dv.end(), zero) && std::all_of(dw.begin(), dw.end(), zero)) return;
+      if (std::all_of(coefficient.begin(), coefficient.end(), zero)) return;
+      directions.emplace_back(dv, dw);
+      coefficients.push_back(std::move(coefficient));
+    }
+  };
+
+  // One direction per rate r the local velocity holds, ∂(v, w)/∂r, with
+  // coefficients dr/dqd_j: 1 for qd_j, dp/dq_j for a dependent rate pd_p.
+  Span by_rates(const Motion& local) const {
+    std::vector<Expr> velocity(local.v.begin(), local.v.end());
+    velocity.insert(velocity.end(), local.w.begin(), local.w.end());
+    const std::size_t nq = model_.coordinates().size();
+    Span span;
+    for (Expr rate : symbolic::free_symbols(velocity)) {
+      const symbolic::SymbolKind kind = rate.symbol_kind();
+      if (kind != symbolic::SymbolKind::Rate && kind != symbolic::SymbolKind::DependentRate) continue;
+      std::vector<Expr> coefficient(nq, Expr(0));
+      for (std::size_t j = 0; j < nq; ++j) {
+        if (rate == model_.coordinates()[j].qd) coefficient[j] = Expr(1);
+      }
+      for (const DependentKinematics& p : k_.dependents) {
+        if (rate == p.symbols.rate) coefficient = p.jacobian_symbols;
+      }
+      symbolic::Differentiator by_rate(rate);
+      auto partial = [&](const Vec3& v) { return Vec3{by_rate(v[0]), by_rate(v[1]), by_rate(v[2])}; };
+      span.add(partial(local.v), partial(local.w), std::move(coefficient));
+    }
+    return span;
+  }
+
+  // One direction per screw s of the local motion, with coefficients dσ_s/dq_j.
+  Span by_screws(const Transform& motion, const Vec3& x_rel) const {
+    const std::size_t nq = model_.coordinates().size();
+    Span span;
+    for (const Screw& screw : screws(motion, x_rel)) {
+      std::vector<Expr> coefficient;
+      for (std::size_t j = 0; j < nq; ++j) coefficient.push_back(coordinate_derivative(screw.scalar, j));
+      span.add(screw.dv, screw.dw, std::move(coefficient));
+    }
+    return span;
   }
 
   // A screw of a local motion: the relative twist (reference axes, at the

@@ -27,10 +27,12 @@
 // system: one dot product however many bodies q_k drives through dependent
 // parameters.
 //
-// A body's local twists are spanned by the screws of its local motion (one
-// per varying angle or displacement component): when it has fewer screws than
-// coordinates, as a motion driven by dependent parameters has, its momentum
-// is computed once per screw, l_j = Σ_s (dσ_s/dq_j)·screw_s.
+// A body's momentum is computed once per direction of its local twists:
+// one per coordinate, or, when fewer, one per rate its local velocity holds
+// (l_j = Σ_r (dr/dqd_j)·∂l/∂r, a dependent rate's dr/dqd_j being dp/dq_j) or
+// one per screw of its local motion, a varying angle or displacement
+// component σ_s (l_j = Σ_s (dσ_s/dq_j)·screw_s): a motion driven by dependent
+// parameters has fewer of these than coordinates.
 //
 // A body's cost then grows with its depth, not with the square of its number
 // of coordinates. Every composite quantity is a named intermediate

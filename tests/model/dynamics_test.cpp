@@ -8,7 +8,8 @@
 // (⁰: at qdd = 0, Ω = Rᵀ·w, Ω̇ = Rᵀ·dw) on every registered model, and on a
 // floating tree with full inertia tensors, shared and dependent coordinates,
 // a body driven by a dependent parameter alone (one twist direction for two
-// coordinates), a body alone, and its base far from the origin.
+// coordinates), a body turned by one angle of three coordinates and time (one
+// screw), a body alone, and its base far from the origin.
 #include <catch2/catch.hpp>
 
 #include "model/dynamics.hpp"
@@ -38,6 +39,8 @@ void floating_tree(model::Model& m, std::string_view) {
       .motion(Trotz(q[6] + q[7]) * Tdisp(p, 0, 0.05));
   m.body("slider").mass(0.3).inertia(0.002, 0.004, 0.005).relative_to("arm")  // driven by p alone
       .motion(Tdisp(p, 0, 0.05) * Troty(2 * p));
+  m.body("link").mass(0.5).inertia(tensor(0.004, 0.006, 0.007, 0.001, 0.0005, -0.001)).relative_to("arm")
+      .motion(Tdisp(0.1, 0.05, 0) * Troty(p - q[8] + 0.5 * m.time()) * Tdisp(0.2, 0, 0));  // one screw, 3 coordinates
   m.body("alone").mass(0.9).inertia(0.01, 0.02, 0.03).motion(Trotz(q[7]) * Tdisp(1, 0, 0) * Trotx(q[5]));
   m.gravity(0, 0, -9.81);
 }
