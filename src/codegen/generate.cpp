@@ -98,8 +98,11 @@ class Emitter {
     Derivation chosen = derive(options_.simplify);
     // Simplification works expression by expression; common subexpressions
     // are found later, across them. A form that is shorter alone may share
-    // less, so each entry point keeps the shorter of the two programs.
-    if (options_.simplify) keep_shorter_programs(chosen, derive(false));
+    // less, so each entry point keeps the shorter of the two programs. Where
+    // simplification changed no expression, the plain derivation is the same
+    // expressions (the derivation is deterministic and otherwise the same),
+    // hence the same programs: nothing to compare.
+    if (options_.simplify && chosen.simplified) keep_shorter_programs(chosen, derive(false));
     entries_ = std::move(chosen.entries);
     GeneratedCode code;
     code.struct_name = struct_name_;
@@ -121,17 +124,24 @@ class Emitter {
   struct Derivation {
     std::vector<EntryPoint> entries;
     std::vector<std::optional<symbolic::Program>> programs;
+    bool simplified = false;  // simplification changed some expression
   };
 
   Derivation derive(bool simplify) {
     model::DeriveOptions derive;
     symbolic::Simplifier simplifier;
-    if (simplify) derive.simplify = [&simplifier](Expr e) { return simplifier(e); };
+    Derivation d;
+    if (simplify) {
+      derive.simplify = [&simplifier, &d](Expr e) {
+        const Expr s = simplifier(e);
+        d.simplified = d.simplified || s != e;
+        return s;
+      };
+    }
     derive.symbolic_partials = options_.symbolic_partials || options_.equations_of_motion;
     const model::Kinematics k = model::derive_kinematics(model_, derive);
     definitions_.clear();
     define_dependents(k);
-    Derivation d;
     d.entries = build_entry_points(k);
     for (const EntryPoint& e : d.entries) d.programs.push_back(compile(e));
     return d;

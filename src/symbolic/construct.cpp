@@ -7,34 +7,43 @@
 #include <unordered_map>
 
 #include "symbolic/expr.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic {
 namespace {
 
 Expr number(const Number& n) { return intern_number(n); }
 
+// Operands kept on the stack while a sum or product is built; more go to the heap.
+constexpr std::size_t kInlineOperands = 8;
+
 // Collects (key, numeric weight) pairs, summing the weights of equal keys and
 // keeping the keys in first-seen order. Used for terms of a sum (key: monomial,
 // weight: coefficient) and factors of a product (key: base, weight: exponent).
 class Collector {
  public:
+  struct Entry {
+    Expr key;
+    Number weight;
+  };
+
   void add(Expr key, const Number& weight) {
     const std::size_t i = position(key);
     if (i == entries_.size()) {
       entries_.push_back({key, weight});
     } else {
-      entries_[i].second = entries_[i].second + weight;
+      entries_[i].weight = entries_[i].weight + weight;
     }
   }
   explicit Collector(std::size_t expected) { entries_.reserve(expected); }
 
   // Entries with a non-zero weight, in structural order of their keys (the
   // keys are distinct, so the order is total). Consumes the collector.
-  std::vector<std::pair<Expr, Number>> sorted() {
-    std::erase_if(entries_, [](const auto& e) { return e.second.is_zero(); });
-    std::sort(entries_.begin(), entries_.end(),
-              [](const auto& x, const auto& y) { return compare(x.first, y.first) < 0; });
-    return std::move(entries_);
+  std::span<const Entry> sorted() {
+    Entry* kept = std::remove_if(entries_.begin(), entries_.end(), [](const Entry& e) { return e.weight.is_zero(); });
+    entries_.truncate(static_cast<std::size_t>(kept - entries_.begin()));
+    std::sort(entries_.begin(), entries_.end(), [](const Entry& x, const Entry& y) { return compare(x.key, y.key) < 0; });
+    return entries_;
   }
 
  private:
@@ -45,17 +54,17 @@ class Collector {
     constexpr std::size_t kScanned = 16;
     if (entries_.size() < kScanned) {
       for (std::size_t i = 0; i < entries_.size(); ++i) {
-        if (entries_[i].first == key) return i;
+        if (entries_[i].key == key) return i;
       }
       return entries_.size();
     }
     if (index_.empty()) {
-      for (std::size_t i = 0; i < entries_.size(); ++i) index_.emplace(entries_[i].first.node(), i);
+      for (std::size_t i = 0; i < entries_.size(); ++i) index_.emplace(entries_[i].key.node(), i);
     }
     return index_.try_emplace(key.node(), entries_.size()).first->second;
   }
 
-  std::vector<std::pair<Expr, Number>> entries_;
+  detail::SmallVector<Entry, kInlineOperands> entries_;
   std::unordered_map<const Node*, std::size_t> index_;
 };
 
@@ -64,11 +73,11 @@ class Collector {
 Expr scale(const Number& coefficient, Expr monomial) {
   if (coefficient.is_one()) return monomial;
   if (coefficient.is_zero()) return number(Number(0));
-  std::vector<Expr> factors;
+  detail::SmallVector<Expr, kInlineOperands> factors;
   factors.reserve(1 + monomial.args().size());
   factors.push_back(number(coefficient));
   if (monomial.kind() == Kind::Mul) {
-    factors.insert(factors.end(), monomial.args().begin(), monomial.args().end());
+    for (Expr f : monomial.args()) factors.push_back(f);
   } else {
     factors.push_back(monomial);
   }
@@ -164,8 +173,8 @@ Expr add(std::span<const Expr> terms) {
       take(t);
     }
   }
-  std::vector<Expr> out;
-  auto collected = collector.sorted();
+  detail::SmallVector<Expr, kInlineOperands> out;
+  const auto collected = collector.sorted();
   out.reserve(1 + collected.size());
   if (!constant.is_zero()) out.push_back(number(constant));
   for (const auto& [m, c] : collected) out.push_back(scale(c, m));
@@ -193,7 +202,7 @@ Expr mul(std::span<const Expr> factors) {
     }
   }
   if (coefficient.is_zero()) return number(Number(0));
-  std::vector<Expr> rest;
+  detail::SmallVector<Expr, kInlineOperands> rest;
   for (const auto& [b, e] : collector.sorted()) rest.push_back(e.is_one() ? b : pow(b, Expr(e)));
   // pow may have folded a factor into a number (sqrt(2)·sqrt(2) = 2) or a product.
   if (std::any_of(rest.begin(), rest.end(), [](Expr f) { return f.is_number() || f.kind() == Kind::Mul; })) {

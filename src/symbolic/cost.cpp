@@ -54,7 +54,7 @@ int power_cost(const Number& exponent) {
 // clearing a fresh mark per node of the context dominated each call.
 class CostCounter {
  public:
-  CostCounter() : seen_(marks()), stamp_(++current_stamp()) {
+  CostCounter() : seen_(marks()), stamp_(++current_stamp()), stack_(scratch().stack), operands_(scratch().operands) {
     if (stamp_ == 0) {  // the stamps wrapped around: old marks could collide
       std::fill(seen_.begin(), seen_.end(), 0);
       stamp_ = ++current_stamp();
@@ -62,14 +62,14 @@ class CostCounter {
   }
 
   int total(std::span<const Expr> outputs) {
+    stack_.clear();
     for (Expr e : outputs) push(e);
-    std::vector<Expr> operands;
     while (!stack_.empty()) {
       const Expr e = stack_.back();
       stack_.pop_back();
-      operands.clear();
-      total_ += own_cost(e, &operands);
-      for (Expr a : operands) push(a);
+      operands_.clear();
+      total_ += own_cost(e, &operands_);
+      for (Expr a : operands_) push(a);
     }
     return total_;
   }
@@ -92,10 +92,21 @@ class CostCounter {
     thread_local std::uint32_t stamp = 0;
     return stamp;
   }
+  // The work lists too are kept between calls (a count calls nothing that
+  // counts), so that a small count allocates nothing.
+  struct Scratch {
+    std::vector<Expr> stack;
+    std::vector<Expr> operands;
+  };
+  static Scratch& scratch() {
+    thread_local Scratch lists;
+    return lists;
+  }
 
   std::vector<std::uint32_t>& seen_;
   std::uint32_t stamp_;
-  std::vector<Expr> stack_;
+  std::vector<Expr>& stack_;
+  std::vector<Expr>& operands_;
   int total_ = 0;
 };
 
