@@ -16,7 +16,6 @@
 #include <cstdint>
 #include <map>
 #include <span>
-#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -78,12 +77,12 @@ class Graph {
   std::vector<bool> live() const;
 
  private:
-  using Key = std::tuple<Op, Kind, std::vector<Term>, std::uint64_t, std::uint32_t>;
-  struct KeyHash {
-    std::size_t operator()(const Key& key) const;
-  };
-  // Looked up, never iterated: hashing cannot leak into the program.
-  std::unordered_map<Key, std::uint32_t, KeyHash> index_;
+  static std::size_t hash(const Node& node);
+  static bool same(const Node& a, const Node& b);
+  // Node ids by hash, compared with the nodes themselves (no copy of their
+  // operands). Looked up, never iterated: hashing cannot leak into the program.
+  // Only lowering and fold_reciprocals intern, before any pass edits a node.
+  std::unordered_multimap<std::size_t, std::uint32_t> index_;
 };
 
 // Throws UsageError for a bad input or definition list, or a symbol that is

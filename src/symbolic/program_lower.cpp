@@ -13,20 +13,29 @@
 
 namespace symdyn::symbolic::ir {
 
-std::size_t Graph::KeyHash::operator()(const Key& key) const {
-  const auto& [op, kind, terms, constant, input] = key;
-  std::size_t h = (static_cast<std::size_t>(op) << 8) ^ static_cast<std::size_t>(kind);
-  for (Term t : terms) h = mix_hash(h, (std::uint64_t{t.id} << 1) | std::uint64_t{t.neg});
-  h = mix_hash(h, constant);
-  return finish_hash(mix_hash(h, input));
+std::size_t Graph::hash(const Node& node) {
+  std::size_t h = (static_cast<std::size_t>(node.op) << 8) ^ static_cast<std::size_t>(node.kind);
+  for (Term t : node.terms) h = mix_hash(h, (std::uint64_t{t.id} << 1) | std::uint64_t{t.neg});
+  h = mix_hash(h, std::bit_cast<std::uint64_t>(node.constant));
+  return finish_hash(mix_hash(h, node.input));
+}
+
+bool Graph::same(const Node& a, const Node& b) {
+  return a.op == b.op && a.kind == b.kind && a.input == b.input &&
+         std::bit_cast<std::uint64_t>(a.constant) == std::bit_cast<std::uint64_t>(b.constant) && a.terms == b.terms;
 }
 
 std::uint32_t Graph::intern(Node node) {
   if (node.op == Op::Sum || node.op == Op::Prod) std::sort(node.terms.begin(), node.terms.end());
-  Key key{node.op, node.kind, node.terms, std::bit_cast<std::uint64_t>(node.constant), node.input};
-  auto [it, inserted] = index_.try_emplace(std::move(key), static_cast<std::uint32_t>(nodes.size()));
-  if (inserted) nodes.push_back(std::move(node));
-  return it->second;
+  const std::size_t h = hash(node);
+  const auto [first, last] = index_.equal_range(h);
+  for (auto it = first; it != last; ++it) {
+    if (same(nodes[it->second], node)) return it->second;
+  }
+  const auto id = static_cast<std::uint32_t>(nodes.size());
+  index_.emplace(h, id);
+  nodes.push_back(std::move(node));
+  return id;
 }
 
 std::uint32_t Graph::append(Node node) {
