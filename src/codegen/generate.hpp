@@ -24,8 +24,8 @@ namespace symdyn::codegen {
 // 22 s of 250 and 20 s of 125 (g++ 12 -O2, CPU time on a loaded machine,
 // constant runs not yet printed as loops); below 500, values crossing parts
 // (loads and stores of the scratch array) grow faster than the gain: 13 100
-// loads at 500, 15 700 at 250, 19 300 at 125. With constant runs as loops,
-// 500 and 250 gave 16.3 s and 17.4 s.
+// loads at 500, 15 700 at 250, 19 300 at 125. With runs of 8 constants as
+// loops, 500 and 250 gave 16.3 s and 17.4 s.
 inline constexpr std::size_t kDefaultPartInstructions = 500;
 
 struct Options {
