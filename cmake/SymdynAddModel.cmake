@@ -1,5 +1,5 @@
 # symdyn_add_model(<target> <model.cpp> [MODEL <name>] [VARIANT <v>]
-#                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM])
+#                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM] [PART_SIZE n])
 #
 # Builds the model's generator (the model file linked with symdyn's generator
 # main; one per model file, shared by every variant), runs it at build time
@@ -15,7 +15,7 @@
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
 function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM" "MODEL;VARIANT;PARTIALS" "" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM" "MODEL;VARIANT;PARTIALS;PART_SIZE" "" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
   get_filename_component(model_path ${model_source} ABSOLUTE)
   set(generator symdyn_generator_${model_name})
@@ -39,6 +39,9 @@ function(symdyn_add_model target model_source)
   endif()
   if(ARG_NO_EOM)
     list(APPEND flags --no-eom)
+  endif()
+  if(DEFINED ARG_PART_SIZE)
+    list(APPEND flags --part-size ${ARG_PART_SIZE})
   endif()
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/generated/${target})
   add_custom_command(

@@ -298,10 +298,43 @@ class Emitter {
     }
     for (const OutputArray& o : e.outputs) {
       for (std::size_t i = 0; i < o.values.size(); ++i) naming.outputs.push_back(fmt::format("{}[{}]", o.name, i));
+      naming.output_arrays.emplace_back(o.name, o.values.size());
     }
     f.program = std::move(program);
     f.operations = f.program->operation_count();
-    return fmt::format("\n{} {{\n{}}}\n", signature(e, true), symbolic::emit_cpp(*f.program, naming));
+    symbolic::CppParts parts = symbolic::emit_cpp_parts(*f.program, naming, options_.part_instructions);
+    if (parts.bodies.size() == 1) return fmt::format("\n{} {{\n{}}}\n", signature(e, true), parts.bodies.front());
+    return emit_parts(e, parts);
+  }
+
+  // A long entry point as internal functions run one after another over a
+  // scratch array on the entry point's stack (symbolic::emit_cpp_parts).
+  // noinline keeps the compiler from gluing them back into one function;
+  // __restrict tells it that storing to the scratch array changes no input,
+  // so inputs read after a store need not be read again.
+  std::string emit_parts(const EntryPoint& e, const symbolic::CppParts& parts) const {
+    std::vector<std::string> params;
+    std::vector<std::string> args;
+    for (const std::string& in : e.inputs) {
+      params.push_back(in == "t" ? "[[maybe_unused]] double t" : fmt::format("[[maybe_unused]] const double* {}", in));
+      args.push_back(in);
+    }
+    for (const OutputArray& o : e.outputs) {
+      params.push_back(fmt::format("[[maybe_unused]] double* {}", o.name));
+      args.push_back(o.name);
+    }
+    params.push_back("[[maybe_unused]] double* __restrict s");
+    args.push_back("s");
+    std::string helpers;
+    std::string calls;
+    for (std::size_t k = 0; k < parts.bodies.size(); ++k) {
+      const std::string name = fmt::format("{}_part{}", e.name, k);
+      helpers += fmt::format("\n// {}, part {} of {}.\n[[gnu::noinline]] void {}({}) {{\n{}}}\n", e.name, k + 1,
+                             parts.bodies.size(), name, fmt::join(params, ", "), parts.bodies[k]);
+      calls += fmt::format("  {}({});\n", name, fmt::join(args, ", "));
+    }
+    return fmt::format("\nnamespace {{\n{}\n}}  // namespace\n\n{} {{\n  double s[{}];\n{}}}\n", helpers,
+                       signature(e, true), std::max<std::size_t>(parts.scratch_size, 1), calls);
   }
 
   std::string emit_header(const std::vector<EmittedFunction>& stats) const {

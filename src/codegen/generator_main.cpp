@@ -3,6 +3,7 @@
 //
 //   double_pendulum_generator --out DIR [--variant V] [--no-simplify]
 //                             [--partials numeric|symbolic] [--no-eom] [--basename NAME]
+//                             [--part-size N]
 //   double_pendulum_generator --list
 //
 // Exit codes: 0 success, 1 invalid model or generation failure, 2 bad command line.
@@ -28,6 +29,7 @@ struct Arguments {
   std::string basename;
   std::string partials = "symbolic";
   std::string model;
+  std::size_t part_size = codegen::kDefaultPartInstructions;
   bool no_simplify = false;
   bool no_eom = false;
   bool list = false;
@@ -69,6 +71,7 @@ int generate(const Arguments& args) {
   options.simplify = !args.no_simplify;
   options.symbolic_partials = args.partials == "symbolic";
   options.equations_of_motion = !args.no_eom;
+  options.part_instructions = args.part_size;
   const std::string basename = args.basename.empty() ? fmt::format("{}_{}", definition.name, variant) : args.basename;
   const codegen::GeneratedCode code = codegen::generate(m, variant, basename, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -99,6 +102,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"numeric", "symbolic"}))
       ->capture_default_str();
   app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix and bias forces");
+  app.add_option("--part-size", args.part_size,
+                 "emit an entry point longer than N instructions as functions of at most N each (0: never)")
+      ->capture_default_str();
   app.add_flag("--list", args.list, "list the model and its variants, generate nothing");
   app.add_flag("--stats", args.stats, "print generation time, size and operation counts");
   try {

@@ -68,6 +68,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -211,16 +212,53 @@ struct CppNaming {
   std::string temporary_prefix = "t";  // temporaries are <prefix>0, <prefix>1, ... in order
   std::string scalar_type = "double";
   std::string indent = "  ";
+  std::string scratch = "s";  // emit_cpp_parts: the array shared between parts
+  // Optional, the output arrays in order, (name, size) each, covering every
+  // output: output i is then element i - (sizes before) of its array, and a
+  // run of at least kMinConstantRun consecutive elements set to the same
+  // constant prints as one loop: for (int i = 12; i < 48; ++i) dv[i] = 0.0;
+  // Empty: every output is assigned alone.
+  std::vector<std::pair<std::string, std::size_t>> output_arrays;
 };
+
+// Why 64: amru5's partial velocities are mostly zeros in runs of 3·k (a body
+// does not move with k consecutive coordinates), 13 500 constant outputs. g++
+// -O2 turns a zero loop into `rep stos`, whose start-up cost made runs of 8
+// and more (250 loops) 7 % more instructions and slower than plain stores;
+// from 64 on (80 loops, half the zeros) it is cheaper, and the compiler sees
+// 6 800 fewer stores.
+inline constexpr std::size_t kMinConstantRun = 64;
 
 // The program as C++ statements, one a line:
 //   <indent>const double t0 = q[0]*q[1];
 //   <indent>x[0] = t0 + 2.0;
 // Loads print inline (inputs by name, constants as round-trip literals, negative
 // ones in parentheses); every temporary is used; outputs are assigned last, in
-// order. Warning-free under -Wall -Wextra -Wpedantic. Throws UsageError if the
-// naming has the wrong number of inputs or outputs.
+// order (runs of one constant as loops, see CppNaming::output_arrays).
+// Warning-free under -Wall -Wextra -Wpedantic. Throws UsageError if the naming
+// has the wrong number of inputs or outputs, or output arrays of another total size.
 std::string emit_cpp(const Program& program, const CppNaming& naming);
+
+// A long program printed as consecutive parts, each to be the body of its own
+// function, all called in order with the same inputs, outputs and a scratch
+// array <naming.scratch> of `scratch_size` scalars: a compiler's superlinear
+// passes (register allocation, CSE, alias walks) then see short pieces.
+// The computing instructions are cut into the fewest parts of at most
+// `max_instructions` each, as even as possible; loads print inline and belong
+// to no part. A value computed in one part and read in a later one is stored
+// to its scratch entry right after it is defined and read from there
+// (`s[12]`) afterwards; entries are reused once their last reader has run.
+// Each part assigns, at its end and in order, the outputs whose values it
+// computed; the last part also those that are loads. So outputs are written
+// before later parts read inputs: output arrays must not overlap inputs.
+// One part (max_instructions at least the program's length, or 0 meaning
+// no limit) prints exactly what emit_cpp prints, with scratch_size 0.
+// Throws UsageError like emit_cpp.
+struct CppParts {
+  std::vector<std::string> bodies;  // statements of each part, in call order (at least one)
+  std::size_t scratch_size = 0;     // scalars of the scratch array
+};
+CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions);
 
 // ---------------------------------------------------------------------------
 // Implementation of the interpreter.

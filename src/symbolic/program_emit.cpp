@@ -1,57 +1,236 @@
-// Printing a program as C++ statements.
+// Printing a program as C++ statements, in one piece or in parts.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <set>
 #include <string>
 
 #include "symbolic/print.hpp"
 #include "symbolic/program.hpp"
 
 namespace symdyn::symbolic {
+namespace {
 
-std::string emit_cpp(const Program& program, const CppNaming& naming) {
-  if (naming.inputs.size() != program.input_count() || naming.outputs.size() != program.output_count()) {
-    throw UsageError(fmt::format("emit_cpp: naming has {} inputs and {} outputs; the program has {} and {}",
-                                 naming.inputs.size(), naming.outputs.size(), program.input_count(),
-                                 program.output_count()));
+constexpr int kNoPart = -1;  // loads: printed inline, in no part
+
+// Where each computing instruction and each output goes, and which values cross parts.
+struct PartPlan {
+  std::size_t parts = 1;
+  std::vector<int> part_of_slot;          // (slot_count) defining part, kNoPart for loads
+  std::vector<std::size_t> output_part;   // (output_count) the part that assigns it
+  std::vector<std::size_t> run_end;       // (output_count) > o where a loop assigns outputs o ... run_end - 1
+  std::vector<std::int64_t> scratch_of;   // (slot_count) scratch entry, -1 if the value stays in its part
+  std::size_t scratch_size = 0;
+};
+
+bool is_load(const Instruction& ins) { return ins.op == Opcode::Const || ins.op == Opcode::Input; }
+
+// Runs of at least kMinConstantRun consecutive outputs of one array that are
+// the same constant: run_end[o] for the first of each, 0 elsewhere.
+std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& naming) {
+  const auto outputs = program.output_slots();
+  std::vector<std::size_t> run_end(outputs.size(), 0);
+  std::vector<bool> constant(program.slot_count(), false);
+  for (const Instruction& i : program.instructions()) constant[i.results[0]] = i.op == Opcode::Const;
+  std::size_t first = 0;  // of the current array
+  for (const auto& [name, size] : naming.output_arrays) {
+    for (std::size_t o = first; o < first + size;) {
+      std::size_t e = o + 1;
+      while (constant[outputs[o]] && e < first + size && outputs[e] == outputs[o]) ++e;
+      if (constant[outputs[o]] && e - o >= kMinConstantRun) run_end[o] = e;
+      o = e;
+    }
+    first += size;
   }
-  // What each slot reads as, in an operand position and as a whole statement's right side.
-  std::vector<std::string> operand(program.slot_count());
-  std::vector<std::string> whole(program.slot_count());
-  std::string out;
-  int next_temporary = 0;
-  auto define = [&](std::uint32_t slot, std::string_view format, const std::vector<std::string>& args,
-                    const std::string& constant) {
-    const std::string name = naming.temporary_prefix + std::to_string(next_temporary++);
-    // indent "const" type name " = " value ";": appended, as fmt would print it.
-    out.append(naming.indent).append("const ").append(naming.scalar_type).append(" ").append(name).append(" = ");
-    fmt::format_to(std::back_inserter(out), fmt::runtime(format), args[0], args[1], constant, "");
-    out.append(";\n");
-    operand[slot] = whole[slot] = name;
-  };
-  for (const Instruction& ins : program.instructions()) {
+  return run_end;
+}
+
+// Cuts the program into the fewest parts of at most `max` statements (0: no
+// limit), as even as possible. Statements are counted because a compiler's
+// work grows with stores as much as with arithmetic: a computing instruction
+// weighs 1 plus the outputs it assigns; outputs that are loads (constants,
+// inputs) weigh 1 each, a loop over a constant run 1 in all, and are spread
+// over the parts after every instruction, in output order.
+// Every value read after its defining part gets a scratch entry, lowest free
+// first: an entry is free again from the part after its value's last reader.
+PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t max) {
+  PartPlan plan;
+  const auto ins = program.instructions();
+  const auto outputs = program.output_slots();
+  plan.run_end = constant_runs(program, naming);
+  std::vector<std::size_t> readers_as_output(program.slot_count(), 0);
+  for (std::uint32_t s : outputs) ++readers_as_output[s];
+  std::vector<bool> loaded(program.slot_count(), false);
+  std::size_t total = 0;
+  for (const Instruction& i : ins) {
+    if (is_load(i)) {
+      loaded[i.results[0]] = true;
+      continue;
+    }
+    total += 1 + readers_as_output[i.results[0]] + (info(i.op).results == 2 ? readers_as_output[i.results[1]] : 0);
+  }
+  for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) total += loaded[outputs[o]] ? 1 : 0;
+  plan.part_of_slot.assign(program.slot_count(), kNoPart);
+  if (max > 0 && total > max) plan.parts = (total + max - 1) / max;
+  const std::size_t per_part = std::max<std::size_t>(1, (total + plan.parts - 1) / plan.parts);
+  std::vector<int> last_reader(program.slot_count(), kNoPart);
+  std::size_t done = 0;  // weight placed so far
+  for (const Instruction& i : ins) {
+    if (is_load(i)) continue;
+    const int part = static_cast<int>(done / per_part);
+    const OpcodeInfo& op = info(i.op);
+    for (int r = 0; r < op.results; ++r) {
+      plan.part_of_slot[i.results[r]] = part;
+      done += readers_as_output[i.results[r]];
+    }
+    for (int a = 0; a < op.arity; ++a) last_reader[i.args[a]] = std::max(last_reader[i.args[a]], part);
+    ++done;
+  }
+  plan.output_part.resize(outputs.size());
+  for (std::size_t o = 0; o < outputs.size();) {
+    const int part = plan.part_of_slot[outputs[o]];
+    const std::size_t end = std::max(o + 1, plan.run_end[o]);
+    const std::size_t load_part = loaded[outputs[o]] ? std::min(done++ / per_part, plan.parts - 1) : 0;
+    for (; o < end; ++o) plan.output_part[o] = part != kNoPart ? static_cast<std::size_t>(part) : load_part;
+  }
+  // Values by defining part, and by the part from which their entry is free.
+  std::vector<std::vector<std::uint32_t>> defined(plan.parts), released(plan.parts + 1);
+  for (std::uint32_t s = 0; s < program.slot_count(); ++s) {
+    const int part = plan.part_of_slot[s];
+    if (part == kNoPart || last_reader[s] <= part) continue;
+    defined[static_cast<std::size_t>(part)].push_back(s);
+    released[static_cast<std::size_t>(last_reader[s]) + 1].push_back(s);
+  }
+  plan.scratch_of.assign(program.slot_count(), -1);
+  std::set<std::int64_t> free;
+  for (std::size_t p = 0; p < plan.parts; ++p) {
+    for (std::uint32_t s : released[p]) free.insert(plan.scratch_of[s]);
+    for (std::uint32_t s : defined[p]) {
+      if (free.empty()) free.insert(static_cast<std::int64_t>(plan.scratch_size++));
+      plan.scratch_of[s] = *free.begin();
+      free.erase(free.begin());
+    }
+  }
+  return plan;
+}
+
+class Printer {
+ public:
+  Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
+      : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
+        whole_(program.slot_count()) {}
+
+  std::vector<std::string> run() {
+    std::vector<std::string> bodies(plan_.parts);
+    auto ins = program_.instructions().begin();
+    const auto end = program_.instructions().end();
+    for (std::size_t p = 0; p < plan_.parts; ++p) {
+      out_.clear();
+      for (; ins != end && part_of(*ins) <= static_cast<int>(p); ++ins) print(*ins);
+      assign_outputs(p);
+      bodies[p] = std::move(out_);
+      // Later parts read this part's values from the scratch array.
+      for (std::uint32_t s = 0; s < program_.slot_count(); ++s) {
+        if (plan_.part_of_slot[s] == static_cast<int>(p) && plan_.scratch_of[s] >= 0) {
+          operand_[s] = whole_[s] = fmt::format("{}[{}]", naming_.scratch, plan_.scratch_of[s]);
+        }
+      }
+    }
+    return bodies;
+  }
+
+ private:
+  // Loads belong to the part of whatever comes next: they print nothing.
+  int part_of(const Instruction& ins) const {
+    return is_load(ins) ? kNoPart : plan_.part_of_slot[ins.results[0]];
+  }
+
+  void print(const Instruction& ins) {
     const std::uint32_t r = ins.results[0];
     const OpcodeInfo& op = info(ins.op);
     // Only loads and pow print their constant ({2}); formatting a double is not free.
     const bool prints_constant = op.format.find("{2}") != std::string_view::npos;
     const std::string literal = prints_constant ? cpp_literal(ins.constant) : std::string();
-    if (ins.op == Opcode::Const || ins.op == Opcode::Input) {  // loads print inline
-      const std::string& name = ins.op == Opcode::Input ? naming.inputs[ins.input] : literal;
-      whole[r] = fmt::format(fmt::runtime(op.format), "", "", literal, name);
+    if (is_load(ins)) {  // loads print inline
+      const std::string& name = ins.op == Opcode::Input ? naming_.inputs[ins.input] : literal;
+      whole_[r] = fmt::format(fmt::runtime(op.format), "", "", literal, name);
       const bool negative = ins.op == Opcode::Const && std::signbit(ins.constant);
-      operand[r] = negative ? fmt::format("({})", whole[r]) : whole[r];
-      continue;
+      operand_[r] = negative ? fmt::format("({})", whole_[r]) : whole_[r];
+      return;
     }
     std::vector<std::string> args(2);
-    for (int a = 0; a < op.arity; ++a) args[a] = operand[ins.args[a]];
+    for (int a = 0; a < op.arity; ++a) args[a] = operand_[ins.args[a]];
     define(r, op.format, args, literal);
     if (op.results == 2) define(ins.results[1], op.format2, args, literal);
   }
-  for (std::size_t i = 0; i < program.output_count(); ++i) {
-    out += fmt::format("{}{} = {};\n", naming.indent, naming.outputs[i], whole[program.output_slots()[i]]);
+
+  void define(std::uint32_t slot, std::string_view format, const std::vector<std::string>& args,
+              const std::string& constant) {
+    const std::string name = naming_.temporary_prefix + std::to_string(next_temporary_++);
+    // indent "const" type name " = " value ";": appended, as fmt would print it.
+    out_.append(naming_.indent).append("const ").append(naming_.scalar_type).append(" ").append(name).append(" = ");
+    fmt::format_to(std::back_inserter(out_), fmt::runtime(format), args[0], args[1], constant, "");
+    out_.append(";\n");
+    if (plan_.scratch_of[slot] >= 0) {  // read by a later part
+      out_.append(naming_.indent).append(naming_.scratch);
+      fmt::format_to(std::back_inserter(out_), "[{}] = {};\n", plan_.scratch_of[slot], name);
+    }
+    operand_[slot] = whole_[slot] = name;
   }
-  return out;
+
+  // The outputs of part p, in order; a constant run as one loop.
+  void assign_outputs(std::size_t p) {
+    std::size_t first = 0;  // of output i's array
+    auto array = naming_.output_arrays.begin();
+    for (std::size_t i = 0; i < program_.output_count(); ++i) {
+      for (; array != naming_.output_arrays.end() && i >= first + array->second; ++array) first += array->second;
+      if (plan_.output_part[i] != p) continue;
+      const std::string& value = whole_[program_.output_slots()[i]];
+      if (plan_.run_end[i] > i) {
+        fmt::format_to(std::back_inserter(out_), "{}for (int i = {}; i < {}; ++i) {}[i] = {};\n", naming_.indent,
+                       i - first, plan_.run_end[i] - first, array->first, value);
+        i = plan_.run_end[i] - 1;
+        continue;
+      }
+      fmt::format_to(std::back_inserter(out_), "{}{} = {};\n", naming_.indent, naming_.outputs[i], value);
+    }
+  }
+
+  const Program& program_;
+  const CppNaming& naming_;
+  const PartPlan& plan_;
+  // What each slot reads as, in an operand position and as a whole statement's right side.
+  std::vector<std::string> operand_;
+  std::vector<std::string> whole_;
+  std::string out_;
+  int next_temporary_ = 0;
+};
+
+}  // namespace
+
+CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions) {
+  if (naming.inputs.size() != program.input_count() || naming.outputs.size() != program.output_count()) {
+    throw UsageError(fmt::format("emit_cpp: naming has {} inputs and {} outputs; the program has {} and {}",
+                                 naming.inputs.size(), naming.outputs.size(), program.input_count(),
+                                 program.output_count()));
+  }
+  std::size_t covered = 0;
+  for (const auto& a : naming.output_arrays) covered += a.second;
+  if (!naming.output_arrays.empty() && covered != program.output_count()) {
+    throw UsageError(fmt::format("emit_cpp: naming's output arrays have {} elements; the program has {} outputs",
+                                 covered, program.output_count()));
+  }
+  const PartPlan plan = plan_parts(program, naming, max_instructions);
+  CppParts parts;
+  parts.bodies = Printer(program, naming, plan).run();
+  parts.scratch_size = plan.scratch_size;
+  return parts;
+}
+
+std::string emit_cpp(const Program& program, const CppNaming& naming) {
+  return std::move(emit_cpp_parts(program, naming, 0).bodies.front());
 }
 
 }  // namespace symdyn::symbolic

@@ -10,6 +10,7 @@
 #include "double_pendulum_relative.hpp"
 #include "model/kinematics.hpp"
 #include "slider_crank_dependent.hpp"
+#include "slider_crank_dependent_parts.hpp"
 #include "slider_crank_inline.hpp"
 #include "slider_crank_inline_case1.hpp"
 #include "support/emitted_check.hpp"
@@ -45,6 +46,14 @@ TEST_CASE("emitted slider-crank (dependent) matches", "[codegen]") {
 TEST_CASE("emitted case 1 (numeric partial velocities, no simplification) matches", "[codegen]") {
   check_emitted<symdyn_generated::double_pendulum_absolute_case1>({"double_pendulum", "absolute", case1()});
   check_emitted<symdyn_generated::slider_crank_inline_case1>({"slider_crank", "inline", case1()});
+}
+
+TEST_CASE("emitted in parts (16 instructions each, values crossing through a scratch array) matches", "[codegen]") {
+  codegen::Options parts;
+  parts.part_instructions = 16;
+  check_emitted<symdyn_generated::slider_crank_dependent_parts>({"slider_crank", "dependent", parts});
+  const model::Model m = model::find_definition("slider_crank").make("dependent");
+  CHECK_THAT(codegen::generate(m, "dependent", "x", parts).source, Contains("[[gnu::noinline]] void mass_matrix_part1("));
 }
 
 TEST_CASE("emitted dependent parameters are the slider-crank's alpha and x", "[codegen]") {

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <map>
+#include <regex>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -494,4 +497,113 @@ TEST_CASE("bad definitions name the culprit", "[program]") {
                     "compile_program: a definition names '3', which is not a symbol");
   // A cycle nobody needs is never visited: only what the outputs need is compiled.
   CHECK_NOTHROW(compile_program(in, std::vector{x}, std::vector<Definition>{{d, e}, {e, d}}));
+}
+
+namespace {
+
+// The parts of emit_cpp_parts put back together: each scratch read replaced by
+// the temporary last stored there, which must have been stored by an earlier
+// part (a part never reads what it overwrote); scratch stores dropped. Gives
+// the statements (outputs apart) and each output's right side.
+struct Joined {
+  std::string statements;
+  std::map<std::string, std::string> outputs;  // lvalue -> value
+};
+
+Joined join_parts(const CppParts& parts) {
+  Joined j;
+  std::map<std::string, std::pair<std::string, std::size_t>> stored;  // s[k] -> temporary, part
+  const std::regex store(R"(^  (s\[\d+\]) = (t\d+);$)"), read(R"(s\[\d+\])"), define(R"(^  const double )"),
+      output(R"(^  (\w+\[\d+\]|\w+) = (.*);$)");
+  for (std::size_t p = 0; p < parts.bodies.size(); ++p) {
+    std::istringstream lines(parts.bodies[p]);
+    for (std::string line; std::getline(lines, line);) {
+      std::smatch m;
+      if (std::regex_match(line, m, store)) {
+        stored[m[1]] = {m[2], p};
+        continue;
+      }
+      std::string resolved;
+      auto last = line.cbegin();
+      for (std::sregex_iterator it(line.begin(), line.end(), read), end; it != end; ++it) {
+        const auto& [name, part] = stored.at(it->str());
+        CHECK(part < p);
+        resolved.append(last, (*it)[0].first).append(name);
+        last = (*it)[0].second;
+      }
+      resolved.append(last, line.cend());
+      if (std::regex_search(resolved, define)) {
+        j.statements += resolved + "\n";
+      } else if (std::regex_match(resolved, m, output)) {
+        CHECK(j.outputs.emplace(m[1], m[2]).second);
+      }
+    }
+  }
+  return j;
+}
+
+Joined join_whole(const std::string& body) {
+  CppParts one;
+  one.bodies = {body};
+  return join_parts(one);
+}
+
+}  // namespace
+
+TEST_CASE("emit_cpp_parts: the parts are the whole program, values crossing parts through the scratch array",
+          "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
+  for (unsigned seed = 0; seed < 300; ++seed) {
+    symdyn::testing::RandomExpr gen(seed, xs);
+    std::vector<Expr> outputs;
+    for (int i = 0; i < 6; ++i) outputs.push_back(gen(5));
+    outputs.push_back(Expr(2));  // a constant output: assigned by some part
+    outputs.push_back(xs[1]);    // an input output
+    const Program p = compile_program(xs, outputs);
+    CppNaming naming;
+    naming.inputs = {"x[0]", "x[1]", "x[2]"};
+    for (std::size_t i = 0; i < outputs.size(); ++i) naming.outputs.push_back(fmt::format("y[{}]", i));
+    const std::string whole = emit_cpp(p, naming);
+    const Joined expected = join_whole(whole);
+    for (std::size_t max : {1, 2, 3, 7, 40}) {
+      INFO("seed " << seed << ", parts of " << max << "\n" << whole);
+      const CppParts parts = emit_cpp_parts(p, naming, max);
+      std::size_t computing = 0;
+      for (const Instruction& i : p.instructions()) computing += i.op != Opcode::Const && i.op != Opcode::Input;
+      // Fewest parts of at most max statements (instructions and outputs).
+      CHECK(parts.bodies.size() >= (computing + max - 1) / max);
+      CHECK(parts.bodies.size() <= (computing + outputs.size() + max - 1) / max);
+      const Joined joined = join_parts(parts);
+      CHECK(joined.statements == expected.statements);
+      CHECK(joined.outputs == expected.outputs);
+      if (parts.bodies.size() == 1) CHECK(parts.scratch_size == 0);
+    }
+    CHECK(emit_cpp_parts(p, naming, 0).bodies == std::vector{whole});
+  }
+}
+
+TEST_CASE("emit_cpp prints runs of one constant in an output array as a loop", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x");
+  std::vector<Expr> outputs(kMinConstantRun + 1, Expr(0));  // a: x, then a run of zeros
+  outputs.front() = sin(x);
+  for (std::size_t i = 0; i < kMinConstantRun - 1; ++i) outputs.push_back(Expr(0));  // b: too short a run
+  outputs.push_back(Expr(1));
+  const Program p = compile_program(std::vector{x}, outputs);
+  CppNaming naming;
+  naming.inputs = {"x"};
+  for (std::size_t i = 0; i <= kMinConstantRun; ++i) naming.outputs.push_back(fmt::format("a[{}]", i));
+  for (std::size_t i = 0; i < kMinConstantRun; ++i) naming.outputs.push_back(fmt::format("b[{}]", i));
+  naming.output_arrays = {{"a", kMinConstantRun + 1}, {"b", kMinConstantRun}};
+  std::string want = fmt::format("  const double t0 = std::sin(x);\n  a[0] = t0;\n"
+                                 "  for (int i = 1; i < {}; ++i) a[i] = 0.0;\n", kMinConstantRun + 1);
+  for (std::size_t i = 0; i + 1 < kMinConstantRun; ++i) want += fmt::format("  b[{}] = 0.0;\n", i);
+  want += fmt::format("  b[{}] = 1.0;\n", kMinConstantRun - 1);
+  CHECK(emit_cpp(p, naming) == want);
+  naming.output_arrays.pop_back();
+  CHECK_THROWS_WITH(emit_cpp(p, naming), fmt::format("emit_cpp: naming's output arrays have {} elements; the "
+                                                     "program has {} outputs", kMinConstantRun + 1, outputs.size()));
 }
