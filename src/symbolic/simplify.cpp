@@ -174,6 +174,7 @@ Expr Simplifier::best_form(Expr original, Expr rebuilt) {
   };
   consider(rebuilt);
   consider(contract_(rebuilt));
+  if (has_inverse_trig(rebuilt)) return best;
   if (rebuilt_cost > kMaxExpandCost || expanded_terms(rebuilt) > kMaxExpandedTerms) return best;
   contract_if_small(expand_(rebuilt));
   if (!has_trig(rebuilt)) return best;
@@ -230,6 +231,16 @@ bool Simplifier::has_trig(Expr e) {
   bool found = false;
   for (Expr a : e.args()) found = found || has_trig(a);
   trig_memo_.emplace(e.id(), found);
+  return found;
+}
+
+bool Simplifier::has_inverse_trig(Expr e) {
+  if (e.kind() == Kind::Asin || e.kind() == Kind::Acos || e.kind() == Kind::Atan2) return true;
+  if (e.args().empty()) return false;
+  if (auto it = inverse_memo_.find(e.id()); it != inverse_memo_.end()) return it->second;
+  bool found = false;
+  for (Expr a : e.args()) found = found || has_inverse_trig(a);
+  inverse_memo_.emplace(e.id(), found);
   return found;
 }
 

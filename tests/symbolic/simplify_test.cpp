@@ -413,6 +413,20 @@ TEST_CASE("double angles both ways", "[simplify][identity]") {
   CHECK(simplify(sin(2 * q) - 2 * sin(q) * cos(q)) == Expr(0));
 }
 
+// A node that still holds asin, acos or atan2 once its operands are simplified
+// is contracted but not expanded (simplify.hpp); its operands are simplified
+// as usual, so the algebraic rules still reach through.
+TEST_CASE("sums holding inverse trigonometric functions still take the algebraic rules", "[simplify][identity]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr q = symbol("q"), x = symbol("x");
+  const Expr rotated = cos(q) * cos(asin(x)) - sin(q) * sin(asin(x));
+  CHECK(simplify(rotated) == sqrt(1 - x * x) * cos(q) - x * sin(q));
+  // cos(asin x) = sqrt(1 - x²) first; the sum, free of asin, then expands to x².
+  const Expr pythagoras = (sin(q) + cos(asin(x))) * (sin(q) - cos(asin(x))) + pow(cos(q), 2);
+  CHECK(simplify(pythagoras) == x * x);
+}
+
 TEST_CASE("products to sums (tlin) when that is shorter", "[simplify][identity]") {
   Context ctx;
   Context::Scope scope(ctx);
