@@ -238,8 +238,12 @@ class EquationsOfMotion {
       unit[j] = Expr(1);
       by_coordinate.add(b.relative.dv_dqd[j], b.relative.dw_dqd[j], std::move(unit));
     }
-    const Span spans[] = {by_coordinate, by_rates(b.relative), by_screws(motion, b.relative.x)};
-    const Span& fewest = *std::min_element(std::begin(spans), std::end(spans), [](const Span& x, const Span& y) {
+    std::vector<Span> spans{by_coordinate};
+    if (by_coordinate.directions.size() > 1) {  // else nothing has fewer
+      spans.push_back(by_rates(b.relative));
+      spans.push_back(by_screws(motion, b.relative.x));
+    }
+    const Span& fewest = *std::min_element(spans.begin(), spans.end(), [](const Span& x, const Span& y) {
       return x.directions.size() < y.directions.size();
     });
     for (std::size_t d = 0; d < fewest.directions.size(); ++d) {
@@ -295,13 +299,8 @@ class EquationsOfMotion {
 
   // One direction per screw s of the local motion, with coefficients dσ_s/dq_j.
   Span by_screws(const Transform& motion, const Vec3& x_rel) const {
-    const std::size_t nq = model_.coordinates().size();
     Span span;
-    for (const Screw& screw : screws(motion, x_rel)) {
-      std::vector<Expr> coefficient;
-      for (std::size_t j = 0; j < nq; ++j) coefficient.push_back(coordinate_derivative(screw.scalar, j));
-      span.add(screw.dv, screw.dw, std::move(coefficient));
-    }
+    for (const Screw& screw : screws(motion, x_rel)) span.add(screw.dv, screw.dw, coordinate_derivatives(screw.scalar));
     return span;
   }
 
@@ -335,12 +334,14 @@ class EquationsOfMotion {
     return out;
   }
 
-  // dσ/dq_j, through the dependent parameters σ holds.
-  Expr coordinate_derivative(Expr scalar, std::size_t j) const {
-    Expr total = symbolic::diff(scalar, model_.coordinates()[j].q);
+  // dσ/dq_j for every j, through the dependent parameters σ holds.
+  std::vector<Expr> coordinate_derivatives(Expr scalar) const {
+    std::vector<Expr> total;
+    for (const Coordinate& c : model_.coordinates()) total.push_back(symbolic::diff(scalar, c.q));
     for (const DependentKinematics& p : k_.dependents) {
       const Expr by_p = symbolic::diff(scalar, p.symbols.symbol);
-      if (!by_p.is_zero()) total += by_p * p.jacobian_symbols[j];
+      if (by_p.is_zero()) continue;
+      for (std::size_t j = 0; j < total.size(); ++j) total[j] += by_p * p.jacobian_symbols[j];
     }
     return total;
   }

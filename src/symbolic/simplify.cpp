@@ -174,10 +174,10 @@ Expr Simplifier::best_form(Expr original, Expr rebuilt) {
   };
   consider(rebuilt);
   consider(contract_(rebuilt));
-  if (has_inverse_trig(rebuilt)) return best;
+  if (functions_held(rebuilt) & kInverseTrig) return best;
   if (rebuilt_cost > kMaxExpandCost || expanded_terms(rebuilt) > kMaxExpandedTerms) return best;
   contract_if_small(expand_(rebuilt));
-  if (!has_trig(rebuilt)) return best;
+  if (!(functions_held(rebuilt) & kTrig)) return best;
   contract_if_small(expand_(eliminate_sin_(rebuilt)));
   contract_if_small(expand_(eliminate_cos_(rebuilt)));
   if (rebuilt_cost > kMaxExpandCost / 2) return best;
@@ -224,24 +224,17 @@ std::size_t Simplifier::expanded_terms(Expr e) {
   return n;
 }
 
-bool Simplifier::has_trig(Expr e) {
-  if (e.kind() == Kind::Sin || e.kind() == Kind::Cos) return true;
-  if (e.args().empty()) return false;
-  if (auto it = trig_memo_.find(e.id()); it != trig_memo_.end()) return it->second;
-  bool found = false;
-  for (Expr a : e.args()) found = found || has_trig(a);
-  trig_memo_.emplace(e.id(), found);
-  return found;
-}
-
-bool Simplifier::has_inverse_trig(Expr e) {
-  if (e.kind() == Kind::Asin || e.kind() == Kind::Acos || e.kind() == Kind::Atan2) return true;
-  if (e.args().empty()) return false;
-  if (auto it = inverse_memo_.find(e.id()); it != inverse_memo_.end()) return it->second;
-  bool found = false;
-  for (Expr a : e.args()) found = found || has_inverse_trig(a);
-  inverse_memo_.emplace(e.id(), found);
-  return found;
+// Which of the function families the gates of best_form look for a node
+// holds, memoized: one walk answers both.
+std::uint8_t Simplifier::functions_held(Expr e) {
+  std::uint8_t held = 0;
+  if (e.kind() == Kind::Sin || e.kind() == Kind::Cos) held = kTrig;
+  if (e.kind() == Kind::Asin || e.kind() == Kind::Acos || e.kind() == Kind::Atan2) held = kInverseTrig;
+  if (e.args().empty()) return held;
+  if (auto it = functions_memo_.find(e.id()); it != functions_memo_.end()) return it->second;
+  for (Expr a : e.args()) held |= functions_held(a);
+  functions_memo_.emplace(e.id(), held);
+  return held;
 }
 
 Expr simplify(Expr e) { return Simplifier()(e); }

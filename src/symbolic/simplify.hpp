@@ -28,6 +28,7 @@
 // rewriting has a per-node budget (rewrite.hpp).
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -74,8 +75,9 @@ class Simplifier {
   Expr once(Expr e);
   Expr best_form(Expr original, Expr rebuilt);
   Expr linearize(Expr e);
-  bool has_trig(Expr e);
-  bool has_inverse_trig(Expr e);
+  static constexpr std::uint8_t kTrig = 1;         // sin, cos
+  static constexpr std::uint8_t kInverseTrig = 2;  // asin, acos, atan2
+  std::uint8_t functions_held(Expr e);
   std::size_t expanded_terms(Expr e);
 
   Expander expand_;
@@ -85,8 +87,7 @@ class Simplifier {
   Rewriter linearize_;
   Rewriter expand_trig_;
   std::unordered_map<std::uint32_t, Expr> memo_;
-  std::unordered_map<std::uint32_t, bool> trig_memo_;
-  std::unordered_map<std::uint32_t, bool> inverse_memo_;
+  std::unordered_map<std::uint32_t, std::uint8_t> functions_memo_;
   std::unordered_map<std::uint32_t, std::size_t> terms_memo_;
 };
 
