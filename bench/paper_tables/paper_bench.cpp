@@ -3,6 +3,7 @@
 // code and adapter.cpp):
 //
 //   symdyn_paper_bench --lib LIB.so --model NAME --variant V --case 1..4 [--reps 7] [--out FILE.json]
+//   symdyn_paper_bench ... --count T1|T2 [--count-evaluations N]
 //
 // T1: seconds for 10 000 evaluations of the kinematics of all bodies, as the
 //     paper: the emitted accelerations() (positions, velocities, accelerations
@@ -21,6 +22,10 @@
 // states in every case), each as max |emitted - reference| / max(1, max |reference|)
 // over the array. The qdd at those states are printed too, so that the report
 // compares the cases with each other.
+// --count T1|T2 runs that workload alone, warmed once, then N times inside
+// counted_workload(), for valgrind --tool=callgrind
+// --toggle-collect='*counted_workload*': instructions are repeatable where
+// timings on a shared machine are not (run.sh records them for cases 1 and 2).
 #include <dlfcn.h>
 
 #include <CLI/CLI.hpp>
@@ -29,6 +34,7 @@
 #include <ctime>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -51,6 +57,8 @@ struct Arguments {
   int states = 3;
   int kinematics_evaluations = 10000;
   int eom_evaluations = 1000;
+  std::string count;  // T1 or T2: run that workload for callgrind instead of timing
+  int count_evaluations = 10;
   double amplitude = 0.1;
   unsigned seed = 2013;
 };
@@ -194,19 +202,22 @@ json errors(const Arguments& args, runtime::Model& m, runtime::MultibodySystem& 
   return out;
 }
 
+// T1's kinematics: accelerations, and symbolic partial velocities in cases 3-4.
+void kinematics_workload(const Arguments& args, runtime::Model& m, const paper::StateSample& s,
+                         runtime::Kinematics& k) {
+  m.accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), k);
+  if (args.case_number >= 3) m.partial_velocities(s.t, s.q.data(), k);
+}
+
 json timings(const Arguments& args, runtime::Model& m, runtime::MultibodySystem& system,
              const paper::StateSample& s) {
   runtime::Kinematics k = m.make_kinematics();
-  const bool symbolic_partials = args.case_number >= 3;
   json out;
   auto record = [&](const char* name, Timing timing) {
     out[name] = timing.median;
     out[std::string(name) + "_min"] = timing.min;
   };
-  record("T1", time_runs(args.reps, args.kinematics_evaluations, [&] {
-    m.accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), k);
-    if (symbolic_partials) m.partial_velocities(s.t, s.q.data(), k);
-  }));
+  record("T1", time_runs(args.reps, args.kinematics_evaluations, [&] { kinematics_workload(args, m, s, k); }));
   record("T1_accelerations", time_runs(args.reps, args.kinematics_evaluations, [&] {
     m.accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), k);
   }));
@@ -221,6 +232,24 @@ json timings(const Arguments& args, runtime::Model& m, runtime::MultibodySystem&
   return out;
 }
 
+// The loop callgrind counts (--toggle-collect); not inlined, so that it has a name.
+[[gnu::noinline]] void counted_workload(int evaluations, const std::function<void()>& f) {
+  for (int i = 0; i < evaluations; ++i) f();
+}
+
+// One workload for callgrind: warmed by a first call (lazy symbol binding,
+// first-touch allocations), then counted.
+json count(const Arguments& args, runtime::Model& m, runtime::MultibodySystem& system, const paper::StateSample& s) {
+  runtime::Kinematics k = m.make_kinematics();
+  const runtime::State state = to_state(s);
+  runtime::Vector qdd(m.nq()), yd(0);
+  std::function<void()> f = [&] { kinematics_workload(args, m, s, k); };
+  if (args.count == "T2") f = [&] { system.accelerations(state, qdd, yd); };
+  f();
+  counted_workload(args.count_evaluations, f);
+  return {{"count", args.count}, {"evaluations", args.count_evaluations}};
+}
+
 int run(const Arguments& args) {
   const paper::PluginModel& plugin = load(args.lib);
   runtime::Model m = to_model(plugin);
@@ -233,6 +262,10 @@ int run(const Arguments& args) {
   runtime::MultibodySystem system(m, source);
   const auto states = random_states(args, m);
   json out;
+  if (!args.count.empty()) {
+    std::cout << count(args, m, system, states.front()).dump() << '\n';
+    return 0;
+  }
   out["model"] = args.model;
   out["variant"] = args.variant;
   out["case"] = args.case_number;
@@ -265,6 +298,10 @@ int main(int argc, char** argv) {
   app.add_option("--states", args.states, "random states for the errors")->capture_default_str();
   app.add_option("--kinematics-evaluations", args.kinematics_evaluations, "calls per T1 run")->capture_default_str();
   app.add_option("--eom-evaluations", args.eom_evaluations, "calls per T2 run")->capture_default_str();
+  app.add_option("--count", args.count, "run workload T1 or T2 for callgrind instead of timing")
+      ->check(CLI::IsMember({"T1", "T2"}));
+  app.add_option("--count-evaluations", args.count_evaluations, "calls of the counted workload")
+      ->capture_default_str();
   app.add_option("--amplitude", args.amplitude, "random q = q_initial + amplitude*U(-1,1)")->capture_default_str();
   app.add_option("--seed", args.seed, "seed of the random states")->capture_default_str();
   app.add_option("--out", args.out, "JSON output file (default: stdout)");

@@ -22,8 +22,11 @@
 # bias_forces): runs the generator once (its files, size and operation counts),
 # symdyn_paper_tgen (Tgen: median of --gen-runs generations in process, CPU
 # time), compiles the emitted source at -O2 (CPU and wall time), links it with adapter.cpp into a shared
-# object and runs symdyn_paper_bench on it (T1, T2, errors). report.py then
-# writes the tables. Runs everything one after another: timings never overlap.
+# object and runs symdyn_paper_bench on it (T1, T2, errors); in cases 1 and 2
+# it also counts the instructions of T1's and T2's workloads under
+# valgrind --tool=callgrind (repeatable, unlike timings on a shared machine:
+# the case 2 against case 1 comparison). report.py then writes the tables.
+# Runs everything one after another: timings never overlap.
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -51,6 +54,10 @@ while [[ $# -gt 0 ]]; do
     *) echo "run.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
+
+# shellcheck source=../../scripts/lib/setup.sh
+source "$root/scripts/lib/setup.sh"
+symdyn_require_packages "${symdyn_base_packages[@]}" valgrind gnuplot-nox
 
 cxx=${CXX:-g++}
 cxxflags=(-std=c++20 -O2 -fPIC -fvisibility=hidden)
@@ -102,6 +109,21 @@ timed() {
   /usr/bin/time -f "%e %U %S" -o "$file" "$@"
 }
 
+# count_instructions <dir> <lib> <model> <variant> <case>: instructions per
+# evaluation of T1's and T2's workloads (callgrind), into <dir>/instructions.json.
+count_instructions() {
+  local dir=$1 lib=$2 model=$3 variant=$4 c=$5 w n collected json="{"
+  for w in T1 T2; do
+    n=100; [[ $w == T2 ]] && n=10
+    collected=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null --toggle-collect='*counted_workload*' \
+      "$bench" --lib "$lib" --model "$model" --variant "$variant" --case "$c" --count "$w" \
+      --count-evaluations "$n" 2>&1 >/dev/null | sed -n 's/.*Collected : *\([0-9]*\).*/\1/p')
+    [[ -n $collected ]] || { echo "run.sh: callgrind counted nothing for $lib $w" >&2; exit 1; }
+    json+="\"$w\": $((collected / n)), "
+  done
+  echo "${json%, }}" > "$dir/instructions.json"
+}
+
 # measure <generator> <model> <variant> <case> [--model name]
 measure() {
   local gen=$1 model=$2 variant=$3 c=$4; shift 4
@@ -120,6 +142,7 @@ measure() {
   "$cxx" -shared -o "$dir/$base.so" "$dir/$base.o" "$dir/adapter.o"
   "$bench" --lib "$dir/$base.so" --model "$model" --variant "$variant" --case "$c" \
     --reps "$reps" --out "$dir/bench.json"
+  (( c <= 2 )) && count_instructions "$dir" "$dir/$base.so" "$model" "$variant" "$c"
   rm -f "$dir/$base.o" "$dir/adapter.o"
 }
 
