@@ -210,10 +210,14 @@ class EquationsOfMotion {
     for (std::size_t d = 0; d < out.directions.size(); ++d) name(out.directions[d], fmt::format("{}.l{}_", n, d));
     out.partial.assign(b.dv_dqd.size(), Spatial{zero3(), zero3()});
     if (ref >= 0) out.partial = bodies_[ref].partial;
+    std::vector<bool> moved(out.partial.size(), false);
     for (const LocalTwist& l : out.local) {
       const Spatial& direction = out.directions[l.direction];
       out.partial[l.j] = sum(out.partial[l.j], {l.coefficient * direction.angular, l.coefficient * direction.linear});
-      if (ref >= 0) name(out.partial[l.j], fmt::format("{}.S{}_", n, l.j));
+      moved[l.j] = true;
+    }
+    for (std::size_t j = 0; j < moved.size(); ++j) {
+      if (ref >= 0 && moved[j]) name(out.partial[j], fmt::format("{}.S{}_", n, j));
     }
     Mat3 J = to_world(b.R, body.inertia());
     names_.name_all(J, n + ".J");

@@ -9,6 +9,7 @@
 
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "symbolic/expr.hpp"
@@ -18,7 +19,8 @@ namespace symdyn::model {
 class IntermediateNames {
  public:
   // The value itself, or coefficient·symbol for the sum it holds; a sum met
-  // before keeps its first name.
+  // before keeps its first name. Throws std::logic_error if the name was
+  // given to another sum (a bug of the caller).
   symbolic::Expr operator()(symbolic::Expr value, const std::string& name);
 
   // Names every entry of an array of expressions "<prefix><index>".
@@ -34,6 +36,7 @@ class IntermediateNames {
  private:
   std::vector<symbolic::Definition> definitions_;
   std::unordered_map<symbolic::Expr, symbolic::Expr> names_;  // value -> its symbol
+  std::unordered_set<std::string> used_names_;
 };
 
 }  // namespace symdyn::model
