@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,20 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
   return out;
 }
 
+// The inputs of an emitted function's program at a state, in its order.
+inline std::vector<double> program_inputs(const codegen::EmittedFunction& f, const ModelState<double>& s,
+                                          std::span<const double> param) {
+  std::vector<double> in;
+  for (const std::string& array : f.inputs) {
+    if (array == "t") in.push_back(s.t);
+    if (array == "q") in.insert(in.end(), s.q.begin(), s.q.end());
+    if (array == "qd") in.insert(in.end(), s.qd.begin(), s.qd.end());
+    if (array == "qdd") in.insert(in.end(), s.qdd.begin(), s.qdd.end());
+    if (array == "param") in.insert(in.end(), param.begin(), param.end());
+  }
+  return in;
+}
+
 struct EmittedSetup {
   std::string name, variant;
   codegen::Options options;  // those G was generated with
@@ -161,14 +176,7 @@ void check_emitted(const EmittedSetup& setup) {
     for (const auto& f : functions) {
       if (!f.program) continue;
       INFO("entry point " << f.name);
-      std::vector<double> in;
-      for (const std::string& arr : f.inputs) {
-        if (arr == "t") in.push_back(s.t);
-        if (arr == "q") in.insert(in.end(), s.q.begin(), s.q.end());
-        if (arr == "qd") in.insert(in.end(), s.qd.begin(), s.qd.end());
-        if (arr == "qdd") in.insert(in.end(), s.qdd.begin(), s.qdd.end());
-        if (arr == "param") in.insert(in.end(), G::param_defaults, G::param_defaults + G::nparam);
-      }
+      const std::vector<double> in = program_inputs(f, s, {G::param_defaults, G::param_defaults + G::nparam});
       CHECK(gap(call_entry<G>(f.name, s), f.program->evaluate<double>(in)) < 1e-14);
     }
     if constexpr (G::has_equations_of_motion) {
