@@ -72,6 +72,15 @@ std::string string_array_literal(const std::vector<std::string>& values) {
 
 std::size_t at_least_one(std::size_t n) { return n > 0 ? n : 1; }
 
+// "name[i]", without a format string: an entry point names thousands of elements.
+std::string element(const std::string& name, std::size_t i) {
+  std::string out = name;
+  out += '[';
+  out += std::to_string(i);
+  out += ']';
+  return out;
+}
+
 class Emitter {
  public:
   Emitter(const model::Model& model, std::string_view variant, std::string_view basename, const Options& options)
@@ -294,10 +303,11 @@ class Emitter {
     symbolic::CppNaming naming;
     for (const std::string& in : e.inputs) {
       const std::size_t n = symbols_.at(in).size();
-      for (std::size_t i = 0; i < n; ++i) naming.inputs.push_back(in == "t" ? "t" : fmt::format("{}[{}]", in, i));
+      for (std::size_t i = 0; i < n; ++i) naming.inputs.push_back(in == "t" ? "t" : element(in, i));
     }
     for (const OutputArray& o : e.outputs) {
-      for (std::size_t i = 0; i < o.values.size(); ++i) naming.outputs.push_back(fmt::format("{}[{}]", o.name, i));
+      naming.outputs.reserve(naming.outputs.size() + o.values.size());
+      for (std::size_t i = 0; i < o.values.size(); ++i) naming.outputs.push_back(element(o.name, i));
       naming.output_arrays.emplace_back(o.name, o.values.size());
     }
     f.program = std::move(program);

@@ -16,7 +16,6 @@
 #include <cstdint>
 #include <map>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include "symbolic/expr.hpp"
@@ -79,10 +78,14 @@ class Graph {
  private:
   static std::size_t hash(const Node& node);
   static bool same(const Node& a, const Node& b);
+  void grow_index();
   // Node ids by hash, compared with the nodes themselves (no copy of their
-  // operands). Looked up, never iterated: hashing cannot leak into the program.
-  // Only lowering and fold_reciprocals intern, before any pass edits a node.
-  std::unordered_multimap<std::size_t, std::uint32_t> index_;
+  // operands): open addressing, each slot a node id + 1 (0: empty). Looked up,
+  // never iterated: hashing cannot leak into the program. Only lowering and
+  // fold_reciprocals intern, before any pass edits a node.
+  std::vector<std::uint32_t> slots_;
+  std::vector<std::size_t> hashes_;  // (by node id) the hash it was interned under; 0 if appended
+  std::size_t indexed_ = 0;
 };
 
 // Throws UsageError for a bad input or definition list, or a symbol that is

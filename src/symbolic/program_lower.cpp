@@ -5,11 +5,11 @@
 #include <bit>
 #include <cmath>
 #include <queue>
-#include <unordered_map>
 
 #include "symbolic/flat_map.hpp"
 #include "symbolic/program_ir.hpp"
 #include "symbolic/scalar_ops.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic::ir {
 
@@ -28,17 +28,35 @@ bool Graph::same(const Node& a, const Node& b) {
 std::uint32_t Graph::intern(Node node) {
   if (node.op == Op::Sum || node.op == Op::Prod) std::sort(node.terms.begin(), node.terms.end());
   const std::size_t h = hash(node);
-  const auto [first, last] = index_.equal_range(h);
-  for (auto it = first; it != last; ++it) {
-    if (same(nodes[it->second], node)) return it->second;
+  if (2 * (indexed_ + 1) > slots_.size()) grow_index();
+  const std::size_t mask = slots_.size() - 1;
+  std::size_t i = h & mask;
+  for (; slots_[i] != 0; i = (i + 1) & mask) {
+    const std::uint32_t id = slots_[i] - 1;
+    if (hashes_[id] == h && same(nodes[id], node)) return id;
   }
   const auto id = static_cast<std::uint32_t>(nodes.size());
-  index_.emplace(h, id);
+  slots_[i] = id + 1;
+  ++indexed_;
+  hashes_.push_back(h);
   nodes.push_back(std::move(node));
   return id;
 }
 
+void Graph::grow_index() {
+  const std::vector<std::uint32_t> old = std::move(slots_);
+  slots_.assign(std::max<std::size_t>(1024, 2 * old.size()), 0);
+  const std::size_t mask = slots_.size() - 1;
+  for (std::uint32_t slot : old) {
+    if (slot == 0) continue;
+    std::size_t i = hashes_[slot - 1] & mask;
+    while (slots_[i] != 0) i = (i + 1) & mask;
+    slots_[i] = slot;
+  }
+}
+
 std::uint32_t Graph::append(Node node) {
+  hashes_.push_back(0);
   nodes.push_back(std::move(node));
   return static_cast<std::uint32_t>(nodes.size() - 1);
 }
@@ -81,10 +99,30 @@ bool is_multiplied_power(const Number& e) {
 }
 
 // What the symbols of a program are: inputs (by symbol node id, their index)
-// or definitions (by symbol node id, their value).
-struct Symbols {
-  std::unordered_map<std::uint32_t, std::uint32_t> input_of;
-  std::unordered_map<std::uint32_t, Expr> definition_of;
+// or definitions (by symbol node id, their value). Open-addressing tables:
+// every entry point indexes the model's thousand definitions again.
+class Symbols {
+ public:
+  Symbols(std::span<const Definition> definitions, std::size_t inputs)
+      : definitions_(definitions), input_of_(inputs), definition_of_(definitions.size()) {}
+
+  // Whether the symbol is new.
+  bool add_input(std::uint32_t id, std::uint32_t index) { return input_of_.try_emplace(id, index).second; }
+  bool add_definition(std::uint32_t id, std::uint32_t index) { return definition_of_.try_emplace(id, index).second; }
+
+  const std::uint32_t* input(std::uint32_t id) const { return input_of_.find(id); }
+  bool is_input(std::uint32_t id) const { return input_of_.find(id) != nullptr; }
+  bool is_defined(std::uint32_t id) const { return definition_of_.find(id) != nullptr; }
+  // The value of a defined symbol, or nullptr.
+  const Expr* definition(std::uint32_t id) const {
+    const std::uint32_t* i = definition_of_.find(id);
+    return i == nullptr ? nullptr : &definitions_[*i].value;
+  }
+
+ private:
+  std::span<const Definition> definitions_;
+  detail::FlatMap64<std::uint32_t> input_of_;
+  detail::FlatMap64<std::uint32_t> definition_of_;  // index in definitions_
 };
 
 class Lowerer {
@@ -107,11 +145,11 @@ class Lowerer {
         return v < 0 ? Term{g_.constant(-v), true} : Term{g_.constant(v), false};
       }
       case Kind::Symbol: {
-        if (auto it = symbols_.definition_of.find(e.id()); it != symbols_.definition_of.end()) {
-          return lowered(it->second);  // the value of its definition, lowered before it
+        if (const Expr* value = symbols_.definition(e.id())) {
+          return lowered(*value);  // the value of its definition, lowered before it
         }
         Node node = Node::of(Op::Input);
-        node.input = symbols_.input_of.at(e.id());
+        node.input = *symbols_.input(e.id());
         return {g_.intern(std::move(node)), false};
       }
       case Kind::Add: return lower_sum(e);
@@ -129,6 +167,7 @@ class Lowerer {
   // A sum is stored with at least one positive term: -a - b is -(a + b).
   Term lower_sum(Expr e) {
     std::vector<Term> terms;
+    terms.reserve(e.args().size());
     for (Expr t : e.args()) terms.push_back(lowered(t));
     return make_sum(std::move(terms));
   }
@@ -145,8 +184,8 @@ class Lowerer {
   // c·x·y⁻¹·z⁻² = ±(|c|·x)/(y·z²): one division by the product of the denominators.
   Term lower_product(Expr e) {
     bool neg = false;
-    std::vector<std::uint32_t> numerator;
-    std::vector<std::uint32_t> denominator;
+    detail::SmallVector<std::uint32_t, 8> numerator;
+    detail::SmallVector<std::uint32_t, 8> denominator;
     for (Expr f : e.args()) {
       if (f.is_number()) {
         const double c = f.number().to_double();
@@ -165,9 +204,10 @@ class Lowerer {
     return {divide(top, product(denominator)), neg};
   }
 
-  std::uint32_t product(const std::vector<std::uint32_t>& factors) {
+  std::uint32_t product(std::span<const std::uint32_t> factors) {
     if (factors.size() == 1) return factors[0];
     Node node = Node::of(Op::Prod);
+    node.terms.reserve(factors.size());
     for (std::uint32_t f : factors) node.terms.push_back({f, false});
     return g_.intern(std::move(node));
   }
@@ -192,7 +232,8 @@ class Lowerer {
     const std::uint32_t root = g_.intern(Node::of(Op::Sqrt, {{x, false}}));
     const std::int64_t whole = (e.num() - 1) / 2;
     if (whole == 0) return {root, false};
-    return {product({integer_power(x, whole), root}), false};
+    const std::uint32_t factors[] = {integer_power(x, whole), root};
+    return {product(factors), false};
   }
 
   // Repeated squaring, as scalar::integer_power: x^(2m) = (x^m)^2, x^(2m+1) = x^(2m)·x.
@@ -200,9 +241,11 @@ class Lowerer {
     if (n == 1) return x;
     if (n % 2 == 0) {
       const std::uint32_t half = integer_power(x, n / 2);
-      return product({half, half});
+      const std::uint32_t factors[] = {half, half};
+      return product(factors);
     }
-    return product({integer_power(x, n - 1), x});
+    const std::uint32_t factors[] = {integer_power(x, n - 1), x};
+    return product(factors);
   }
 
   Graph& g_;
@@ -212,36 +255,40 @@ class Lowerer {
 
 // Throws UsageError for a non-symbol, a repeated input or a symbol both input and defined.
 Symbols index_symbols(std::span<const Expr> inputs, std::span<const Definition> definitions) {
-  Symbols symbols;
+  Symbols symbols(definitions, inputs.size());
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     if (!inputs[i].is_symbol()) {
       throw UsageError(fmt::format("compile_program: input {} ({}) is not a symbol", i, inputs[i].str()));
     }
-    auto [it, inserted] = symbols.input_of.try_emplace(inputs[i].id(), static_cast<std::uint32_t>(i));
-    if (!inserted) {
+    if (!symbols.add_input(inputs[i].id(), static_cast<std::uint32_t>(i))) {
       throw UsageError(fmt::format("compile_program: symbol '{}' is given twice as an input (positions {} and {})",
-                                   inputs[i].name(), it->second, i));
+                                   inputs[i].name(), *symbols.input(inputs[i].id()), i));
     }
   }
-  for (const Definition& d : definitions) {
+  for (std::size_t i = 0; i < definitions.size(); ++i) {
+    const Definition& d = definitions[i];
     if (!d.symbol.is_symbol()) {
       throw UsageError(fmt::format("compile_program: a definition names '{}', which is not a symbol", d.symbol.str()));
     }
-    if (symbols.input_of.contains(d.symbol.id())) {
+    if (symbols.is_input(d.symbol.id())) {
       throw UsageError(fmt::format("compile_program: symbol '{}' is both an input and defined", d.symbol.name()));
     }
-    if (!symbols.definition_of.try_emplace(d.symbol.id(), d.value).second) {
+    if (!symbols.add_definition(d.symbol.id(), static_cast<std::uint32_t>(i))) {
       throw UsageError(fmt::format("compile_program: symbol '{}' is defined twice", d.symbol.name()));
     }
   }
   return symbols;
 }
 
-// What node e needs computed before it: its arguments, or a defined symbol's value.
-std::vector<Expr> dependencies(Expr e, const Symbols& symbols) {
-  if (auto it = symbols.definition_of.find(e.id()); it != symbols.definition_of.end()) return {it->second};
-  const auto args = e.args();
-  return {args.begin(), args.end()};
+// Calls f on what node e needs computed before it: its arguments, or a
+// defined symbol's value.
+template <class F>
+void for_each_dependency(Expr e, const Symbols& symbols, F&& f) {
+  if (const Expr* value = symbols.definition(e.id())) {
+    f(*value);
+    return;
+  }
+  for (Expr a : e.args()) f(a);
 }
 
 // Nodes left waiting after Kahn's algorithm each wait for another: walking
@@ -252,13 +299,18 @@ std::vector<Expr> dependencies(Expr e, const Symbols& symbols) {
   std::size_t at = 0;
   while (waiting[at] == 0) ++at;
   auto step = [&](std::size_t i) {
-    for (Expr d : dependencies(nodes[i], symbols)) {
-      if (waiting[*index.find(d.id())] > 0) return *index.find(d.id());
-    }
-    return i;
+    std::size_t next = i;
+    bool found = false;
+    for_each_dependency(nodes[i], symbols, [&](Expr d) {
+      if (!found && waiting[*index.find(d.id())] > 0) {
+        next = *index.find(d.id());
+        found = true;
+      }
+    });
+    return next;
   };
   for (std::size_t k = 0; k < nodes.size(); ++k) at = step(at);
-  while (!symbols.definition_of.contains(nodes[at].id())) at = step(at);
+  while (!symbols.is_defined(nodes[at].id())) at = step(at);
   throw UsageError(fmt::format("compile_program: the definition of '{}' depends on itself", nodes[at].name()));
 }
 
@@ -268,12 +320,19 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
   detail::FlatMap64<std::size_t> index(nodes.size());  // node id -> position in nodes
   for (std::size_t i = 0; i < nodes.size(); ++i) index.try_emplace(nodes[i].id(), i);
   std::vector<std::size_t> waiting(nodes.size(), 0);  // dependencies not yet ordered
-  std::vector<std::vector<std::size_t>> users(nodes.size());
+  // The users of node i are users[first_user[i] .. first_user[i + 1]).
+  std::vector<std::size_t> first_user(nodes.size() + 1, 0);
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    for (Expr d : dependencies(nodes[i], symbols)) {
-      users[*index.find(d.id())].push_back(i);
+    for_each_dependency(nodes[i], symbols, [&](Expr d) {
+      ++first_user[*index.find(d.id()) + 1];
       ++waiting[i];
-    }
+    });
+  }
+  for (std::size_t i = 0; i < nodes.size(); ++i) first_user[i + 1] += first_user[i];
+  std::vector<std::size_t> users(first_user.back());
+  std::vector<std::size_t> filled(first_user.begin(), first_user.end() - 1);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for_each_dependency(nodes[i], symbols, [&](Expr d) { users[filled[*index.find(d.id())]++] = i; });
   }
   auto later = [&](std::size_t a, std::size_t b) { return nodes[a].id() > nodes[b].id(); };
   std::priority_queue<std::size_t, std::vector<std::size_t>, decltype(later)> ready(later);
@@ -286,8 +345,8 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
     const std::size_t i = ready.top();
     ready.pop();
     order.push_back(nodes[i]);
-    for (std::size_t u : users[i]) {
-      if (--waiting[u] == 0) ready.push(u);
+    for (std::size_t k = first_user[i]; k < first_user[i + 1]; ++k) {
+      if (--waiting[users[k]] == 0) ready.push(users[k]);
     }
   }
   if (order.size() < nodes.size()) throw_cycle(nodes, waiting, index, symbols);
@@ -299,18 +358,19 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
 std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbols) {
   std::vector<Expr> found;
   detail::FlatMap64<bool> seen;
+  std::vector<Expr> stack;
   for (std::size_t i = 0; i < outputs.size(); ++i) {
-    std::vector<Expr> stack{outputs[i]};
+    stack.push_back(outputs[i]);
     while (!stack.empty()) {
       const Expr e = stack.back();
       stack.pop_back();
       if (!seen.try_emplace(e.id(), true).second) continue;
-      if (e.is_symbol() && !symbols.input_of.contains(e.id()) && !symbols.definition_of.contains(e.id())) {
+      if (e.is_symbol() && !symbols.is_input(e.id()) && !symbols.is_defined(e.id())) {
         throw UsageError(fmt::format(
             "compile_program: output {} uses symbol '{}', which is neither an input nor defined", i, e.name()));
       }
       found.push_back(e);
-      for (Expr d : dependencies(e, symbols)) stack.push_back(d);
+      for_each_dependency(e, symbols, [&](Expr d) { stack.push_back(d); });
     }
   }
   return topological_order(std::move(found), symbols);
