@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <queue>
 
 #include "symbolic/flat_map.hpp"
@@ -320,33 +321,37 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
   detail::FlatMap64<std::size_t> index(nodes.size());  // node id -> position in nodes
   for (std::size_t i = 0; i < nodes.size(); ++i) index.try_emplace(nodes[i].id(), i);
   std::vector<std::size_t> waiting(nodes.size(), 0);  // dependencies not yet ordered
-  // The users of node i are users[first_user[i] .. first_user[i + 1]).
-  std::vector<std::size_t> first_user(nodes.size() + 1, 0);
+  // The positions of every node's dependencies, node after node.
+  std::vector<std::uint32_t> dependency;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     for_each_dependency(nodes[i], symbols, [&](Expr d) {
-      ++first_user[*index.find(d.id()) + 1];
+      dependency.push_back(static_cast<std::uint32_t>(*index.find(d.id())));
       ++waiting[i];
     });
   }
+  // The users of node i are users[first_user[i] .. first_user[i + 1]).
+  std::vector<std::size_t> first_user(nodes.size() + 1, 0);
+  for (std::uint32_t d : dependency) ++first_user[d + 1];
   for (std::size_t i = 0; i < nodes.size(); ++i) first_user[i + 1] += first_user[i];
-  std::vector<std::size_t> users(first_user.back());
+  std::vector<std::uint32_t> users(dependency.size());
   std::vector<std::size_t> filled(first_user.begin(), first_user.end() - 1);
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    for_each_dependency(nodes[i], symbols, [&](Expr d) { users[filled[*index.find(d.id())]++] = i; });
+  for (std::size_t i = 0, k = 0; i < nodes.size(); ++i) {
+    for (const std::size_t end = k + waiting[i]; k < end; ++k) users[filled[dependency[k]]++] = static_cast<std::uint32_t>(i);
   }
-  auto later = [&](std::size_t a, std::size_t b) { return nodes[a].id() > nodes[b].id(); };
-  std::priority_queue<std::size_t, std::vector<std::size_t>, decltype(later)> ready(later);
+  // Ready nodes as (node id, position): the smallest key is the smallest id.
+  auto key = [&](std::size_t i) { return (std::uint64_t{nodes[i].id()} << 32) | i; };
+  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<>> ready;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    if (waiting[i] == 0) ready.push(i);
+    if (waiting[i] == 0) ready.push(key(i));
   }
   std::vector<Expr> order;
   order.reserve(nodes.size());
   while (!ready.empty()) {
-    const std::size_t i = ready.top();
+    const auto i = static_cast<std::size_t>(ready.top() & 0xffffffffU);
     ready.pop();
     order.push_back(nodes[i]);
     for (std::size_t k = first_user[i]; k < first_user[i + 1]; ++k) {
-      if (--waiting[users[k]] == 0) ready.push(users[k]);
+      if (--waiting[users[k]] == 0) ready.push(key(users[k]));
     }
   }
   if (order.size() < nodes.size()) throw_cycle(nodes, waiting, index, symbols);
