@@ -86,7 +86,8 @@ class Scheduler {
  private:
   // The value of an IR node up to sign, its operands first (post-order).
   ir::Term resolve(std::uint32_t root) {
-    std::vector<std::pair<std::uint32_t, bool>> stack{{root, false}};
+    std::vector<std::pair<std::uint32_t, bool>>& stack = stack_;
+    stack.emplace_back(root, false);
     while (!stack.empty()) {
       auto& [id, expanded] = stack.back();
       if (resolved_[id]) {
@@ -95,8 +96,8 @@ class Scheduler {
         expanded = true;
         const std::uint32_t node = id;
         const auto& terms = g_.nodes[node].terms;
-        for (auto it = terms.rbegin(); it != terms.rend(); ++it) {
-          if (!resolved_[it->id]) stack.emplace_back(it->id, false);
+        for (std::size_t k = terms.size(); k-- > 0;) {  // the first operand on top
+          if (!resolved_[terms[k].id]) stack.emplace_back(terms[k].id, false);
         }
       } else {
         const std::uint32_t node = id;
@@ -234,6 +235,7 @@ class Scheduler {
 
   const ir::Graph& g_;
   std::vector<std::optional<ir::Term>> resolved_;  // by IR node id
+  std::vector<std::pair<std::uint32_t, bool>> stack_;  // resolve's: (node, operands pushed), empty between calls
   std::vector<Instruction> code_;
   // Open addressing over code_, each entry a slot + 1 (0: empty): every
   // instruction is value-numbered. Looked up, never iterated.

@@ -140,7 +140,7 @@ class Printer {
  public:
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
       : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
-        whole_(program.slot_count()) {}
+        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " ") {}
 
   std::vector<std::string> run() {
     std::vector<std::string> bodies(plan_.parts);
@@ -192,12 +192,12 @@ class Printer {
               const std::string& constant) {
     const std::string name = naming_.temporary_prefix + std::to_string(next_temporary_++);
     // indent "const" type name " = " value ";": appended, as fmt would print it.
-    out_.append(naming_.indent).append("const ").append(naming_.scalar_type).append(" ").append(name).append(" = ");
+    out_.append(declaration_).append(name).append(" = ");
     append_format(out_, format, {args[0], args[1], constant, ""});
     out_.append(";\n");
     if (plan_.scratch_of[slot] >= 0) {  // read by a later part
-      out_.append(naming_.indent).append(naming_.scratch);
-      fmt::format_to(std::back_inserter(out_), "[{}] = {};\n", plan_.scratch_of[slot], name);
+      out_.append(naming_.indent).append(naming_.scratch).append("[");
+      out_.append(std::to_string(plan_.scratch_of[slot])).append("] = ").append(name).append(";\n");
     }
     operand_[slot] = whole_[slot] = name;
   }
@@ -216,7 +216,7 @@ class Printer {
         i = plan_.run_end[i] - 1;
         continue;
       }
-      fmt::format_to(std::back_inserter(out_), "{}{} = {};\n", naming_.indent, naming_.outputs[i], value);
+      out_.append(naming_.indent).append(naming_.outputs[i]).append(" = ").append(value).append(";\n");
     }
   }
 
@@ -226,6 +226,7 @@ class Printer {
   // What each slot reads as, in an operand position and as a whole statement's right side.
   std::vector<std::string> operand_;
   std::vector<std::string> whole_;
+  const std::string declaration_;  // what every temporary's line starts with: "  const double "
   std::string out_;
   int next_temporary_ = 0;
 };

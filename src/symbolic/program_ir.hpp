@@ -20,6 +20,7 @@
 
 #include "symbolic/expr.hpp"
 #include "symbolic/program.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic::ir {
 
@@ -38,17 +39,21 @@ struct Term {
   friend auto operator<=>(const Term&, const Term&) = default;
 };
 
+// A node's operands, inline up to four: most nodes have one or two, and a
+// graph has thousands of nodes, each of which used to allocate its list.
+using Terms = detail::SmallVector<Term, 4>;
+
 // Values are magnitudes: a Prod or a Div never carries a sign of its own (the
 // sign travels in the Term that refers to it), only Sum terms and Neg do.
 struct Node {
   Op op = Op::Const;
   Kind kind = Kind::Symbol;  // Call: the function kind
-  std::vector<Term> terms;   // Sum: signed terms; Prod: factors; Div: {numerator, denominator};
+  Terms terms;               // Sum: signed terms; Prod: factors; Div: {numerator, denominator};
                              // Neg, Sqrt, Pow: {argument}; Call: arguments
   double constant = 0.0;     // Const: the value; Pow: the exponent
   std::uint32_t input = 0;   // Input: its index
 
-  static Node of(Op op, std::vector<Term> terms = {}) {
+  static Node of(Op op, Terms terms = {}) {
     Node node;
     node.op = op;
     node.terms = std::move(terms);

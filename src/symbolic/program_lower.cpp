@@ -128,7 +128,9 @@ class Symbols {
 
 class Lowerer {
  public:
-  Lowerer(Graph& graph, const Symbols& symbols) : g_(graph), symbols_(symbols) {}
+  // `expected`: about how many nodes will be lowered (the memo's initial size).
+  Lowerer(Graph& graph, const Symbols& symbols, std::size_t expected)
+      : g_(graph), symbols_(symbols), memo_(expected) {}
 
   // Lowers e, whose arguments are already lowered.
   void lower(Expr e) {
@@ -167,13 +169,13 @@ class Lowerer {
 
   // A sum is stored with at least one positive term: -a - b is -(a + b).
   Term lower_sum(Expr e) {
-    std::vector<Term> terms;
+    Terms terms;
     terms.reserve(e.args().size());
     for (Expr t : e.args()) terms.push_back(lowered(t));
     return make_sum(std::move(terms));
   }
 
-  Term make_sum(std::vector<Term> terms) {
+  Term make_sum(Terms terms) {
     if (terms.size() == 1) return terms[0];
     const bool all_negative = std::all_of(terms.begin(), terms.end(), [](Term t) { return t.neg; });
     if (all_negative) {
@@ -362,7 +364,7 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
 // node id (so the order does not depend on the order of the outputs).
 std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbols) {
   std::vector<Expr> found;
-  detail::FlatMap64<bool> seen;
+  detail::FlatMap64<bool> seen(1024);
   std::vector<Expr> stack;
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     stack.push_back(outputs[i]);
@@ -385,8 +387,10 @@ std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbol
 Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::span<const Definition> definitions) {
   const Symbols symbols = index_symbols(inputs, definitions);
   Graph graph;
-  Lowerer lowerer(graph, symbols);
-  for (Expr e : reachable(outputs, symbols)) lowerer.lower(e);
+  const std::vector<Expr> order = reachable(outputs, symbols);
+  graph.nodes.reserve(order.size() + order.size() / 4);
+  Lowerer lowerer(graph, symbols, order.size());
+  for (Expr e : order) lowerer.lower(e);
   for (Expr e : outputs) graph.outputs.push_back(lowerer.lowered(e));
   return graph;
 }
@@ -414,7 +418,7 @@ void fold_reciprocals(Graph& graph) {
     const std::uint32_t reciprocal =
         graph.intern(Node::of(Op::Div, {{one, false}, {denominator, false}}));
     for (std::uint32_t d : others) {
-      std::vector<Term> terms{graph.nodes[d].terms[0], {reciprocal, false}};
+      Terms terms{graph.nodes[d].terms[0], {reciprocal, false}};
       std::sort(terms.begin(), terms.end());
       graph.nodes[d] = Node::of(Op::Prod, std::move(terms));
     }

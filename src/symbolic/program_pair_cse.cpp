@@ -157,7 +157,7 @@ class PairTable {
 
   template <class F>
   void for_each_pair(std::uint32_t node, F&& f) const {
-    const std::vector<Term>& terms = g_.nodes[node].terms;
+    const Terms& terms = g_.nodes[node].terms;
     const Op op = g_.nodes[node].op;
     for (std::size_t i = 0; i < terms.size(); ++i) {
       for (std::size_t j = i + 1; j < terms.size(); ++j) f(key_of(op, terms[i], terms[j]));
@@ -195,7 +195,7 @@ class PairTable {
 
   // Positions i != j of the pair's operands in node (with matching signs).
   bool find(std::uint32_t node, std::uint64_t key, std::size_t* i, std::size_t* j) const {
-    const std::vector<Term>& terms = g_.nodes[node].terms;
+    const Terms& terms = g_.nodes[node].terms;
     const std::uint32_t lo = lo_of(key);
     const std::uint32_t hi = hi_of(key);
     for (std::size_t a = 0; a < terms.size(); ++a) {
@@ -212,7 +212,7 @@ class PairTable {
   }
 
   void remove_term(std::uint32_t node, std::size_t position) {
-    std::vector<Term>& terms = g_.nodes[node].terms;
+    Terms& terms = g_.nodes[node].terms;
     for (std::size_t q = 0; q < terms.size(); ++q) {
       if (q != position) count(key_of(g_.nodes[node].op, terms[position], terms[q]), node, -1);
     }
@@ -220,7 +220,7 @@ class PairTable {
   }
 
   void add_term(std::uint32_t node, Term t) {
-    std::vector<Term>& terms = g_.nodes[node].terms;
+    Terms& terms = g_.nodes[node].terms;
     for (Term other : terms) count(key_of(g_.nodes[node].op, t, other), node, +1);
     terms.push_back(t);
   }
