@@ -34,6 +34,7 @@
 
 #include "symbolic/flat_map.hpp"
 #include "symbolic/program_ir.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic::ir {
 namespace {
@@ -82,7 +83,7 @@ class PairTable {
         const std::uint32_t id = enumerated_[next++];
         if (initial_[id].holders < 2) continue;
         if (record_of_[id] == kNone) record_of_[id] = new_record(id);
-        std::vector<Holder>& holders = pairs_[record_of_[id]].holders;
+        Holders& holders = pairs_[record_of_[id]].holders;
         if (holders.empty() || holders.back().node != node) {
           holders.push_back({node, 1});
         } else {
@@ -103,7 +104,7 @@ class PairTable {
     if (best == kNone) return false;
     const std::uint64_t key = pairs_[best].key;
     const std::uint32_t pair = g_.append(Node::of(op_of(key), {{lo_of(key), false}, {hi_of(key), differ_of(key)}}));
-    std::vector<std::uint32_t> holder_list;  // increasing node order
+    detail::SmallVector<std::uint32_t, 16> holder_list;  // increasing node order
     for (const Holder& h : pairs_[best].holders) holder_list.push_back(h.node);
     for (std::uint32_t node : holder_list) {
       std::size_t i = 0;
@@ -130,12 +131,15 @@ class PairTable {
     std::uint32_t node;
     int times;  // > 0
   };
+  // Inline up to four: most tracked pairs have a few holders, and there are
+  // thousands of pairs.
+  using Holders = detail::SmallVector<Holder, 4>;
 
   // A tracked pair.
   struct Pair {
     std::uint64_t key;
     bool risen = false;           // in risen_
-    std::vector<Holder> holders;  // by increasing node
+    Holders holders;  // by increasing node
   };
 
   // The initial count of a pair: its distinct holders, and the last one counted.

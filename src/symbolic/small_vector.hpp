@@ -72,6 +72,15 @@ class SmallVector {
   void clear() { size_ = 0; }
   // Keeps the first n elements (n <= size()).
   void truncate(std::size_t n) { size_ = n; }
+  // Inserts `value` before `position`, shifting the later ones up.
+  void insert(T* position, const T& value) {
+    const auto at = static_cast<std::size_t>(position - data_);
+    const T copy = value;  // `value` may live in this vector
+    if (size_ == capacity_) grow(2 * capacity_);
+    std::memmove(static_cast<void*>(data_ + at + 1), static_cast<const void*>(data_ + at), (size_ - at) * sizeof(T));
+    data_[at] = copy;
+    ++size_;
+  }
   // Removes the element at `position`, shifting the later ones down.
   void erase(T* position) {
     std::memmove(static_cast<void*>(position), static_cast<const void*>(position + 1),
