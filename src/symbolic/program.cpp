@@ -8,10 +8,9 @@
 #include <bit>
 #include <map>
 #include <optional>
-#include <tuple>
-#include <unordered_map>
 
 #include "symbolic/program_ir.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic {
 namespace {
@@ -87,7 +86,8 @@ class Scheduler {
  private:
   // The value of an IR node up to sign, its operands first (post-order).
   ir::Term resolve(std::uint32_t root) {
-    std::vector<std::pair<std::uint32_t, bool>> stack{{root, false}};
+    std::vector<std::pair<std::uint32_t, bool>>& stack = stack_;
+    stack.emplace_back(root, false);
     while (!stack.empty()) {
       auto& [id, expanded] = stack.back();
       if (resolved_[id]) {
@@ -96,8 +96,8 @@ class Scheduler {
         expanded = true;
         const std::uint32_t node = id;
         const auto& terms = g_.nodes[node].terms;
-        for (auto it = terms.rbegin(); it != terms.rend(); ++it) {
-          if (!resolved_[it->id]) stack.emplace_back(it->id, false);
+        for (std::size_t k = terms.size(); k-- > 0;) {  // the first operand on top
+          if (!resolved_[terms[k].id]) stack.emplace_back(terms[k].id, false);
         }
       } else {
         const std::uint32_t node = id;
@@ -147,8 +147,8 @@ class Scheduler {
 
   // p1 + p2 + ... - n1 - n2 ...; with no positive term, -(n1 + n2 + ...).
   ir::Term build_sum(const ir::Node& node) {
-    std::vector<std::uint32_t> positive;
-    std::vector<std::uint32_t> negative;
+    detail::SmallVector<std::uint32_t, 16> positive;
+    detail::SmallVector<std::uint32_t, 16> negative;
     for (ir::Term t : node.terms) {
       const ir::Term v = operand(t);
       (v.neg ? negative : positive).push_back(v.id);
@@ -161,7 +161,7 @@ class Scheduler {
 
   ir::Term build_product(const ir::Node& node) {
     bool neg = false;
-    std::vector<std::uint32_t> factors;
+    detail::SmallVector<std::uint32_t, 16> factors;
     for (ir::Term t : node.terms) {
       const ir::Term v = operand(t);
       neg = neg != v.neg;
@@ -170,7 +170,7 @@ class Scheduler {
     return {chain(Opcode::Mul, factors), neg};
   }
 
-  std::uint32_t chain(Opcode op, const std::vector<std::uint32_t>& values) {
+  std::uint32_t chain(Opcode op, std::span<const std::uint32_t> values) {
     std::uint32_t acc = values[0];
     for (std::size_t i = 1; i < values.size(); ++i) acc = emit(op, {acc, values[i]});
     return acc;
@@ -196,29 +196,50 @@ class Scheduler {
       auto rank = [&](std::uint32_t s) { return std::pair{code_[s].op != Opcode::Const, s}; };
       if (rank(ins.args[1]) < rank(ins.args[0])) std::swap(ins.args[0], ins.args[1]);
     }
-    const auto slot = static_cast<std::uint32_t>(code_.size());
-    Key key{ins.op, ins.args[0], ins.args[1], std::bit_cast<std::uint64_t>(ins.constant), ins.input};
-    auto [it, inserted] = index_.try_emplace(key, slot);
-    if (inserted) {
-      ins.results[0] = slot;
-      code_.push_back(ins);
+    if (2 * (code_.size() + 1) > index_.size()) grow_index();
+    const std::size_t mask = index_.size() - 1;
+    std::size_t i = hash(ins) & mask;
+    for (; index_[i] != 0; i = (i + 1) & mask) {
+      if (same(code_[index_[i] - 1], ins)) return index_[i] - 1;
     }
-    return it->second;
+    const auto slot = static_cast<std::uint32_t>(code_.size());
+    index_[i] = slot + 1;
+    ins.results[0] = slot;
+    code_.push_back(ins);
+    return slot;
   }
 
-  using Key = std::tuple<Opcode, std::uint32_t, std::uint32_t, std::uint64_t, std::uint32_t>;
-  struct KeyHash {
-    std::size_t operator()(const Key& key) const {
-      const auto& [op, a, b, constant, input] = key;
-      std::size_t h = static_cast<std::size_t>(op);
-      for (std::uint64_t v : {std::uint64_t{a}, std::uint64_t{b}, constant, std::uint64_t{input}}) h = ir::mix_hash(h, v);
-      return ir::finish_hash(h);
+  // An instruction's value-numbering key: opcode, operands and payload.
+  static std::size_t hash(const Instruction& ins) {
+    std::size_t h = static_cast<std::size_t>(ins.op);
+    for (std::uint64_t v : {std::uint64_t{ins.args[0]}, std::uint64_t{ins.args[1]},
+                            std::bit_cast<std::uint64_t>(ins.constant), std::uint64_t{ins.input}}) {
+      h = ir::mix_hash(h, v);
     }
-  };
+    return ir::finish_hash(h);
+  }
+  static bool same(const Instruction& a, const Instruction& b) {
+    return a.op == b.op && a.args == b.args && a.input == b.input &&
+           std::bit_cast<std::uint64_t>(a.constant) == std::bit_cast<std::uint64_t>(b.constant);
+  }
+
+  void grow_index() {
+    index_.assign(std::max<std::size_t>(1024, 2 * index_.size()), 0);
+    const std::size_t mask = index_.size() - 1;
+    for (std::uint32_t slot = 0; slot < code_.size(); ++slot) {
+      std::size_t i = hash(code_[slot]) & mask;
+      while (index_[i] != 0) i = (i + 1) & mask;
+      index_[i] = slot + 1;
+    }
+  }
+
   const ir::Graph& g_;
   std::vector<std::optional<ir::Term>> resolved_;  // by IR node id
+  std::vector<std::pair<std::uint32_t, bool>> stack_;  // resolve's: (node, operands pushed), empty between calls
   std::vector<Instruction> code_;
-  std::unordered_map<Key, std::uint32_t, KeyHash> index_;  // looked up, never iterated
+  // Open addressing over code_, each entry a slot + 1 (0: empty): every
+  // instruction is value-numbered. Looked up, never iterated.
+  std::vector<std::uint32_t> index_;
 };
 
 // Drops what no output needs, fuses sin and cos of one argument into sincos

@@ -2,10 +2,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <set>
 #include <string>
+#include <string_view>
 
 #include "symbolic/print.hpp"
 #include "symbolic/program.hpp"
@@ -26,6 +28,24 @@ struct PartPlan {
 };
 
 bool is_load(const Instruction& ins) { return ins.op == Opcode::Const || ins.op == Opcode::Input; }
+
+// Appends an opcode's C++ format (program.hpp: "{0}*{1}", "std::pow({0}, {2})")
+// with {i} replaced by fields[i], as fmt would print it. Why not fmt: parsing
+// the format again for every instruction was most of the printing time.
+void append_format(std::string& out, std::string_view format, const std::array<std::string_view, 4>& fields) {
+  for (std::size_t i = 0; i < format.size(); ++i) {
+    const char c = format[i];
+    if ((c == '{' || c == '}') && i + 1 < format.size() && format[i + 1] == c) {  // "{{" or "}}"
+      out += c;
+      ++i;
+    } else if (c == '{' && i + 2 < format.size() && format[i + 2] == '}' && format[i + 1] >= '0' && format[i + 1] <= '3') {
+      out.append(fields[static_cast<std::size_t>(format[i + 1] - '0')]);
+      i += 2;
+    } else {
+      out += c;
+    }
+  }
+}
 
 // Runs of at least kMinConstantRun consecutive outputs of one array that are
 // the same constant: run_end[o] for the first of each, 0 elsewhere.
@@ -120,7 +140,7 @@ class Printer {
  public:
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
       : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
-        whole_(program.slot_count()) {}
+        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " ") {}
 
   std::vector<std::string> run() {
     std::vector<std::string> bodies(plan_.parts);
@@ -155,27 +175,29 @@ class Printer {
     const std::string literal = prints_constant ? cpp_literal(ins.constant) : std::string();
     if (is_load(ins)) {  // loads print inline
       const std::string& name = ins.op == Opcode::Input ? naming_.inputs[ins.input] : literal;
-      whole_[r] = fmt::format(fmt::runtime(op.format), "", "", literal, name);
+      whole_[r].clear();
+      append_format(whole_[r], op.format, {"", "", literal, name});
       const bool negative = ins.op == Opcode::Const && std::signbit(ins.constant);
-      operand_[r] = negative ? fmt::format("({})", whole_[r]) : whole_[r];
+      operand_[r] = negative ? "(" + whole_[r] + ")" : whole_[r];
       return;
     }
-    std::vector<std::string> args(2);
-    for (int a = 0; a < op.arity; ++a) args[a] = operand_[ins.args[a]];
+    // Views of the operands' texts: defining the results changes no operand's.
+    std::array<std::string_view, 2> args{};
+    for (int a = 0; a < op.arity; ++a) args[static_cast<std::size_t>(a)] = operand_[ins.args[a]];
     define(r, op.format, args, literal);
     if (op.results == 2) define(ins.results[1], op.format2, args, literal);
   }
 
-  void define(std::uint32_t slot, std::string_view format, const std::vector<std::string>& args,
+  void define(std::uint32_t slot, std::string_view format, const std::array<std::string_view, 2>& args,
               const std::string& constant) {
     const std::string name = naming_.temporary_prefix + std::to_string(next_temporary_++);
     // indent "const" type name " = " value ";": appended, as fmt would print it.
-    out_.append(naming_.indent).append("const ").append(naming_.scalar_type).append(" ").append(name).append(" = ");
-    fmt::format_to(std::back_inserter(out_), fmt::runtime(format), args[0], args[1], constant, "");
+    out_.append(declaration_).append(name).append(" = ");
+    append_format(out_, format, {args[0], args[1], constant, ""});
     out_.append(";\n");
     if (plan_.scratch_of[slot] >= 0) {  // read by a later part
-      out_.append(naming_.indent).append(naming_.scratch);
-      fmt::format_to(std::back_inserter(out_), "[{}] = {};\n", plan_.scratch_of[slot], name);
+      out_.append(naming_.indent).append(naming_.scratch).append("[");
+      out_.append(std::to_string(plan_.scratch_of[slot])).append("] = ").append(name).append(";\n");
     }
     operand_[slot] = whole_[slot] = name;
   }
@@ -194,7 +216,7 @@ class Printer {
         i = plan_.run_end[i] - 1;
         continue;
       }
-      fmt::format_to(std::back_inserter(out_), "{}{} = {};\n", naming_.indent, naming_.outputs[i], value);
+      out_.append(naming_.indent).append(naming_.outputs[i]).append(" = ").append(value).append(";\n");
     }
   }
 
@@ -204,6 +226,7 @@ class Printer {
   // What each slot reads as, in an operand position and as a whole statement's right side.
   std::vector<std::string> operand_;
   std::vector<std::string> whole_;
+  const std::string declaration_;  // what every temporary's line starts with: "  const double "
   std::string out_;
   int next_temporary_ = 0;
 };

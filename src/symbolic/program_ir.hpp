@@ -16,11 +16,11 @@
 #include <cstdint>
 #include <map>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include "symbolic/expr.hpp"
 #include "symbolic/program.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic::ir {
 
@@ -39,17 +39,21 @@ struct Term {
   friend auto operator<=>(const Term&, const Term&) = default;
 };
 
+// A node's operands, inline up to four: most nodes have one or two, and a
+// graph has thousands of nodes, each of which used to allocate its list.
+using Terms = detail::SmallVector<Term, 4>;
+
 // Values are magnitudes: a Prod or a Div never carries a sign of its own (the
 // sign travels in the Term that refers to it), only Sum terms and Neg do.
 struct Node {
   Op op = Op::Const;
   Kind kind = Kind::Symbol;  // Call: the function kind
-  std::vector<Term> terms;   // Sum: signed terms; Prod: factors; Div: {numerator, denominator};
+  Terms terms;               // Sum: signed terms; Prod: factors; Div: {numerator, denominator};
                              // Neg, Sqrt, Pow: {argument}; Call: arguments
   double constant = 0.0;     // Const: the value; Pow: the exponent
   std::uint32_t input = 0;   // Input: its index
 
-  static Node of(Op op, std::vector<Term> terms = {}) {
+  static Node of(Op op, Terms terms = {}) {
     Node node;
     node.op = op;
     node.terms = std::move(terms);
@@ -79,10 +83,14 @@ class Graph {
  private:
   static std::size_t hash(const Node& node);
   static bool same(const Node& a, const Node& b);
+  void grow_index();
   // Node ids by hash, compared with the nodes themselves (no copy of their
-  // operands). Looked up, never iterated: hashing cannot leak into the program.
-  // Only lowering and fold_reciprocals intern, before any pass edits a node.
-  std::unordered_multimap<std::size_t, std::uint32_t> index_;
+  // operands): open addressing, each slot a node id + 1 (0: empty). Looked up,
+  // never iterated: hashing cannot leak into the program. Only lowering and
+  // fold_reciprocals intern, before any pass edits a node.
+  std::vector<std::uint32_t> slots_;
+  std::vector<std::size_t> hashes_;  // (by node id) the hash it was interned under; 0 if appended
+  std::size_t indexed_ = 0;
 };
 
 // Throws UsageError for a bad input or definition list, or a symbol that is

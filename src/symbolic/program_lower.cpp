@@ -4,12 +4,13 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <queue>
-#include <unordered_map>
 
 #include "symbolic/flat_map.hpp"
 #include "symbolic/program_ir.hpp"
 #include "symbolic/scalar_ops.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic::ir {
 
@@ -28,17 +29,35 @@ bool Graph::same(const Node& a, const Node& b) {
 std::uint32_t Graph::intern(Node node) {
   if (node.op == Op::Sum || node.op == Op::Prod) std::sort(node.terms.begin(), node.terms.end());
   const std::size_t h = hash(node);
-  const auto [first, last] = index_.equal_range(h);
-  for (auto it = first; it != last; ++it) {
-    if (same(nodes[it->second], node)) return it->second;
+  if (2 * (indexed_ + 1) > slots_.size()) grow_index();
+  const std::size_t mask = slots_.size() - 1;
+  std::size_t i = h & mask;
+  for (; slots_[i] != 0; i = (i + 1) & mask) {
+    const std::uint32_t id = slots_[i] - 1;
+    if (hashes_[id] == h && same(nodes[id], node)) return id;
   }
   const auto id = static_cast<std::uint32_t>(nodes.size());
-  index_.emplace(h, id);
+  slots_[i] = id + 1;
+  ++indexed_;
+  hashes_.push_back(h);
   nodes.push_back(std::move(node));
   return id;
 }
 
+void Graph::grow_index() {
+  const std::vector<std::uint32_t> old = std::move(slots_);
+  slots_.assign(std::max<std::size_t>(1024, 2 * old.size()), 0);
+  const std::size_t mask = slots_.size() - 1;
+  for (std::uint32_t slot : old) {
+    if (slot == 0) continue;
+    std::size_t i = hashes_[slot - 1] & mask;
+    while (slots_[i] != 0) i = (i + 1) & mask;
+    slots_[i] = slot;
+  }
+}
+
 std::uint32_t Graph::append(Node node) {
+  hashes_.push_back(0);
   nodes.push_back(std::move(node));
   return static_cast<std::uint32_t>(nodes.size() - 1);
 }
@@ -81,15 +100,37 @@ bool is_multiplied_power(const Number& e) {
 }
 
 // What the symbols of a program are: inputs (by symbol node id, their index)
-// or definitions (by symbol node id, their value).
-struct Symbols {
-  std::unordered_map<std::uint32_t, std::uint32_t> input_of;
-  std::unordered_map<std::uint32_t, Expr> definition_of;
+// or definitions (by symbol node id, their value). Open-addressing tables:
+// every entry point indexes the model's thousand definitions again.
+class Symbols {
+ public:
+  Symbols(std::span<const Definition> definitions, std::size_t inputs)
+      : definitions_(definitions), input_of_(inputs), definition_of_(definitions.size()) {}
+
+  // Whether the symbol is new.
+  bool add_input(std::uint32_t id, std::uint32_t index) { return input_of_.try_emplace(id, index).second; }
+  bool add_definition(std::uint32_t id, std::uint32_t index) { return definition_of_.try_emplace(id, index).second; }
+
+  const std::uint32_t* input(std::uint32_t id) const { return input_of_.find(id); }
+  bool is_input(std::uint32_t id) const { return input_of_.find(id) != nullptr; }
+  bool is_defined(std::uint32_t id) const { return definition_of_.find(id) != nullptr; }
+  // The value of a defined symbol, or nullptr.
+  const Expr* definition(std::uint32_t id) const {
+    const std::uint32_t* i = definition_of_.find(id);
+    return i == nullptr ? nullptr : &definitions_[*i].value;
+  }
+
+ private:
+  std::span<const Definition> definitions_;
+  detail::FlatMap64<std::uint32_t> input_of_;
+  detail::FlatMap64<std::uint32_t> definition_of_;  // index in definitions_
 };
 
 class Lowerer {
  public:
-  Lowerer(Graph& graph, const Symbols& symbols) : g_(graph), symbols_(symbols) {}
+  // `expected`: about how many nodes will be lowered (the memo's initial size).
+  Lowerer(Graph& graph, const Symbols& symbols, std::size_t expected)
+      : g_(graph), symbols_(symbols), memo_(expected) {}
 
   // Lowers e, whose arguments are already lowered.
   void lower(Expr e) {
@@ -107,11 +148,11 @@ class Lowerer {
         return v < 0 ? Term{g_.constant(-v), true} : Term{g_.constant(v), false};
       }
       case Kind::Symbol: {
-        if (auto it = symbols_.definition_of.find(e.id()); it != symbols_.definition_of.end()) {
-          return lowered(it->second);  // the value of its definition, lowered before it
+        if (const Expr* value = symbols_.definition(e.id())) {
+          return lowered(*value);  // the value of its definition, lowered before it
         }
         Node node = Node::of(Op::Input);
-        node.input = symbols_.input_of.at(e.id());
+        node.input = *symbols_.input(e.id());
         return {g_.intern(std::move(node)), false};
       }
       case Kind::Add: return lower_sum(e);
@@ -128,12 +169,13 @@ class Lowerer {
 
   // A sum is stored with at least one positive term: -a - b is -(a + b).
   Term lower_sum(Expr e) {
-    std::vector<Term> terms;
+    Terms terms;
+    terms.reserve(e.args().size());
     for (Expr t : e.args()) terms.push_back(lowered(t));
     return make_sum(std::move(terms));
   }
 
-  Term make_sum(std::vector<Term> terms) {
+  Term make_sum(Terms terms) {
     if (terms.size() == 1) return terms[0];
     const bool all_negative = std::all_of(terms.begin(), terms.end(), [](Term t) { return t.neg; });
     if (all_negative) {
@@ -145,8 +187,8 @@ class Lowerer {
   // c·x·y⁻¹·z⁻² = ±(|c|·x)/(y·z²): one division by the product of the denominators.
   Term lower_product(Expr e) {
     bool neg = false;
-    std::vector<std::uint32_t> numerator;
-    std::vector<std::uint32_t> denominator;
+    detail::SmallVector<std::uint32_t, 8> numerator;
+    detail::SmallVector<std::uint32_t, 8> denominator;
     for (Expr f : e.args()) {
       if (f.is_number()) {
         const double c = f.number().to_double();
@@ -165,9 +207,10 @@ class Lowerer {
     return {divide(top, product(denominator)), neg};
   }
 
-  std::uint32_t product(const std::vector<std::uint32_t>& factors) {
+  std::uint32_t product(std::span<const std::uint32_t> factors) {
     if (factors.size() == 1) return factors[0];
     Node node = Node::of(Op::Prod);
+    node.terms.reserve(factors.size());
     for (std::uint32_t f : factors) node.terms.push_back({f, false});
     return g_.intern(std::move(node));
   }
@@ -192,7 +235,8 @@ class Lowerer {
     const std::uint32_t root = g_.intern(Node::of(Op::Sqrt, {{x, false}}));
     const std::int64_t whole = (e.num() - 1) / 2;
     if (whole == 0) return {root, false};
-    return {product({integer_power(x, whole), root}), false};
+    const std::uint32_t factors[] = {integer_power(x, whole), root};
+    return {product(factors), false};
   }
 
   // Repeated squaring, as scalar::integer_power: x^(2m) = (x^m)^2, x^(2m+1) = x^(2m)·x.
@@ -200,9 +244,11 @@ class Lowerer {
     if (n == 1) return x;
     if (n % 2 == 0) {
       const std::uint32_t half = integer_power(x, n / 2);
-      return product({half, half});
+      const std::uint32_t factors[] = {half, half};
+      return product(factors);
     }
-    return product({integer_power(x, n - 1), x});
+    const std::uint32_t factors[] = {integer_power(x, n - 1), x};
+    return product(factors);
   }
 
   Graph& g_;
@@ -212,36 +258,40 @@ class Lowerer {
 
 // Throws UsageError for a non-symbol, a repeated input or a symbol both input and defined.
 Symbols index_symbols(std::span<const Expr> inputs, std::span<const Definition> definitions) {
-  Symbols symbols;
+  Symbols symbols(definitions, inputs.size());
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     if (!inputs[i].is_symbol()) {
       throw UsageError(fmt::format("compile_program: input {} ({}) is not a symbol", i, inputs[i].str()));
     }
-    auto [it, inserted] = symbols.input_of.try_emplace(inputs[i].id(), static_cast<std::uint32_t>(i));
-    if (!inserted) {
+    if (!symbols.add_input(inputs[i].id(), static_cast<std::uint32_t>(i))) {
       throw UsageError(fmt::format("compile_program: symbol '{}' is given twice as an input (positions {} and {})",
-                                   inputs[i].name(), it->second, i));
+                                   inputs[i].name(), *symbols.input(inputs[i].id()), i));
     }
   }
-  for (const Definition& d : definitions) {
+  for (std::size_t i = 0; i < definitions.size(); ++i) {
+    const Definition& d = definitions[i];
     if (!d.symbol.is_symbol()) {
       throw UsageError(fmt::format("compile_program: a definition names '{}', which is not a symbol", d.symbol.str()));
     }
-    if (symbols.input_of.contains(d.symbol.id())) {
+    if (symbols.is_input(d.symbol.id())) {
       throw UsageError(fmt::format("compile_program: symbol '{}' is both an input and defined", d.symbol.name()));
     }
-    if (!symbols.definition_of.try_emplace(d.symbol.id(), d.value).second) {
+    if (!symbols.add_definition(d.symbol.id(), static_cast<std::uint32_t>(i))) {
       throw UsageError(fmt::format("compile_program: symbol '{}' is defined twice", d.symbol.name()));
     }
   }
   return symbols;
 }
 
-// What node e needs computed before it: its arguments, or a defined symbol's value.
-std::vector<Expr> dependencies(Expr e, const Symbols& symbols) {
-  if (auto it = symbols.definition_of.find(e.id()); it != symbols.definition_of.end()) return {it->second};
-  const auto args = e.args();
-  return {args.begin(), args.end()};
+// Calls f on what node e needs computed before it: its arguments, or a
+// defined symbol's value.
+template <class F>
+void for_each_dependency(Expr e, const Symbols& symbols, F&& f) {
+  if (const Expr* value = symbols.definition(e.id())) {
+    f(*value);
+    return;
+  }
+  for (Expr a : e.args()) f(a);
 }
 
 // Nodes left waiting after Kahn's algorithm each wait for another: walking
@@ -252,13 +302,18 @@ std::vector<Expr> dependencies(Expr e, const Symbols& symbols) {
   std::size_t at = 0;
   while (waiting[at] == 0) ++at;
   auto step = [&](std::size_t i) {
-    for (Expr d : dependencies(nodes[i], symbols)) {
-      if (waiting[*index.find(d.id())] > 0) return *index.find(d.id());
-    }
-    return i;
+    std::size_t next = i;
+    bool found = false;
+    for_each_dependency(nodes[i], symbols, [&](Expr d) {
+      if (!found && waiting[*index.find(d.id())] > 0) {
+        next = *index.find(d.id());
+        found = true;
+      }
+    });
+    return next;
   };
   for (std::size_t k = 0; k < nodes.size(); ++k) at = step(at);
-  while (!symbols.definition_of.contains(nodes[at].id())) at = step(at);
+  while (!symbols.is_defined(nodes[at].id())) at = step(at);
   throw UsageError(fmt::format("compile_program: the definition of '{}' depends on itself", nodes[at].name()));
 }
 
@@ -268,26 +323,37 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
   detail::FlatMap64<std::size_t> index(nodes.size());  // node id -> position in nodes
   for (std::size_t i = 0; i < nodes.size(); ++i) index.try_emplace(nodes[i].id(), i);
   std::vector<std::size_t> waiting(nodes.size(), 0);  // dependencies not yet ordered
-  std::vector<std::vector<std::size_t>> users(nodes.size());
+  // The positions of every node's dependencies, node after node.
+  std::vector<std::uint32_t> dependency;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    for (Expr d : dependencies(nodes[i], symbols)) {
-      users[*index.find(d.id())].push_back(i);
+    for_each_dependency(nodes[i], symbols, [&](Expr d) {
+      dependency.push_back(static_cast<std::uint32_t>(*index.find(d.id())));
       ++waiting[i];
-    }
+    });
   }
-  auto later = [&](std::size_t a, std::size_t b) { return nodes[a].id() > nodes[b].id(); };
-  std::priority_queue<std::size_t, std::vector<std::size_t>, decltype(later)> ready(later);
+  // The users of node i are users[first_user[i] .. first_user[i + 1]).
+  std::vector<std::size_t> first_user(nodes.size() + 1, 0);
+  for (std::uint32_t d : dependency) ++first_user[d + 1];
+  for (std::size_t i = 0; i < nodes.size(); ++i) first_user[i + 1] += first_user[i];
+  std::vector<std::uint32_t> users(dependency.size());
+  std::vector<std::size_t> filled(first_user.begin(), first_user.end() - 1);
+  for (std::size_t i = 0, k = 0; i < nodes.size(); ++i) {
+    for (const std::size_t end = k + waiting[i]; k < end; ++k) users[filled[dependency[k]]++] = static_cast<std::uint32_t>(i);
+  }
+  // Ready nodes as (node id, position): the smallest key is the smallest id.
+  auto key = [&](std::size_t i) { return (std::uint64_t{nodes[i].id()} << 32) | i; };
+  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<>> ready;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    if (waiting[i] == 0) ready.push(i);
+    if (waiting[i] == 0) ready.push(key(i));
   }
   std::vector<Expr> order;
   order.reserve(nodes.size());
   while (!ready.empty()) {
-    const std::size_t i = ready.top();
+    const auto i = static_cast<std::size_t>(ready.top() & 0xffffffffU);
     ready.pop();
     order.push_back(nodes[i]);
-    for (std::size_t u : users[i]) {
-      if (--waiting[u] == 0) ready.push(u);
+    for (std::size_t k = first_user[i]; k < first_user[i + 1]; ++k) {
+      if (--waiting[users[k]] == 0) ready.push(key(users[k]));
     }
   }
   if (order.size() < nodes.size()) throw_cycle(nodes, waiting, index, symbols);
@@ -298,19 +364,20 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
 // node id (so the order does not depend on the order of the outputs).
 std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbols) {
   std::vector<Expr> found;
-  detail::FlatMap64<bool> seen;
+  detail::FlatMap64<bool> seen(1024);
+  std::vector<Expr> stack;
   for (std::size_t i = 0; i < outputs.size(); ++i) {
-    std::vector<Expr> stack{outputs[i]};
+    stack.push_back(outputs[i]);
     while (!stack.empty()) {
       const Expr e = stack.back();
       stack.pop_back();
       if (!seen.try_emplace(e.id(), true).second) continue;
-      if (e.is_symbol() && !symbols.input_of.contains(e.id()) && !symbols.definition_of.contains(e.id())) {
+      if (e.is_symbol() && !symbols.is_input(e.id()) && !symbols.is_defined(e.id())) {
         throw UsageError(fmt::format(
             "compile_program: output {} uses symbol '{}', which is neither an input nor defined", i, e.name()));
       }
       found.push_back(e);
-      for (Expr d : dependencies(e, symbols)) stack.push_back(d);
+      for_each_dependency(e, symbols, [&](Expr d) { stack.push_back(d); });
     }
   }
   return topological_order(std::move(found), symbols);
@@ -320,8 +387,10 @@ std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbol
 Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::span<const Definition> definitions) {
   const Symbols symbols = index_symbols(inputs, definitions);
   Graph graph;
-  Lowerer lowerer(graph, symbols);
-  for (Expr e : reachable(outputs, symbols)) lowerer.lower(e);
+  const std::vector<Expr> order = reachable(outputs, symbols);
+  graph.nodes.reserve(order.size() + order.size() / 4);
+  Lowerer lowerer(graph, symbols, order.size());
+  for (Expr e : order) lowerer.lower(e);
   for (Expr e : outputs) graph.outputs.push_back(lowerer.lowered(e));
   return graph;
 }
@@ -349,7 +418,7 @@ void fold_reciprocals(Graph& graph) {
     const std::uint32_t reciprocal =
         graph.intern(Node::of(Op::Div, {{one, false}, {denominator, false}}));
     for (std::uint32_t d : others) {
-      std::vector<Term> terms{graph.nodes[d].terms[0], {reciprocal, false}};
+      Terms terms{graph.nodes[d].terms[0], {reciprocal, false}};
       std::sort(terms.begin(), terms.end());
       graph.nodes[d] = Node::of(Op::Prod, std::move(terms));
     }

@@ -34,6 +34,7 @@
 
 #include "symbolic/flat_map.hpp"
 #include "symbolic/program_ir.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic::ir {
 namespace {
@@ -82,7 +83,7 @@ class PairTable {
         const std::uint32_t id = enumerated_[next++];
         if (initial_[id].holders < 2) continue;
         if (record_of_[id] == kNone) record_of_[id] = new_record(id);
-        std::vector<Holder>& holders = pairs_[record_of_[id]].holders;
+        Holders& holders = pairs_[record_of_[id]].holders;
         if (holders.empty() || holders.back().node != node) {
           holders.push_back({node, 1});
         } else {
@@ -103,7 +104,7 @@ class PairTable {
     if (best == kNone) return false;
     const std::uint64_t key = pairs_[best].key;
     const std::uint32_t pair = g_.append(Node::of(op_of(key), {{lo_of(key), false}, {hi_of(key), differ_of(key)}}));
-    std::vector<std::uint32_t> holder_list;  // increasing node order
+    detail::SmallVector<std::uint32_t, 16> holder_list;  // increasing node order
     for (const Holder& h : pairs_[best].holders) holder_list.push_back(h.node);
     for (std::uint32_t node : holder_list) {
       std::size_t i = 0;
@@ -130,12 +131,15 @@ class PairTable {
     std::uint32_t node;
     int times;  // > 0
   };
+  // Inline up to four: most tracked pairs have a few holders, and there are
+  // thousands of pairs.
+  using Holders = detail::SmallVector<Holder, 4>;
 
   // A tracked pair.
   struct Pair {
     std::uint64_t key;
     bool risen = false;           // in risen_
-    std::vector<Holder> holders;  // by increasing node
+    Holders holders;  // by increasing node
   };
 
   // The initial count of a pair: its distinct holders, and the last one counted.
@@ -157,7 +161,7 @@ class PairTable {
 
   template <class F>
   void for_each_pair(std::uint32_t node, F&& f) const {
-    const std::vector<Term>& terms = g_.nodes[node].terms;
+    const Terms& terms = g_.nodes[node].terms;
     const Op op = g_.nodes[node].op;
     for (std::size_t i = 0; i < terms.size(); ++i) {
       for (std::size_t j = i + 1; j < terms.size(); ++j) f(key_of(op, terms[i], terms[j]));
@@ -195,7 +199,7 @@ class PairTable {
 
   // Positions i != j of the pair's operands in node (with matching signs).
   bool find(std::uint32_t node, std::uint64_t key, std::size_t* i, std::size_t* j) const {
-    const std::vector<Term>& terms = g_.nodes[node].terms;
+    const Terms& terms = g_.nodes[node].terms;
     const std::uint32_t lo = lo_of(key);
     const std::uint32_t hi = hi_of(key);
     for (std::size_t a = 0; a < terms.size(); ++a) {
@@ -212,7 +216,7 @@ class PairTable {
   }
 
   void remove_term(std::uint32_t node, std::size_t position) {
-    std::vector<Term>& terms = g_.nodes[node].terms;
+    Terms& terms = g_.nodes[node].terms;
     for (std::size_t q = 0; q < terms.size(); ++q) {
       if (q != position) count(key_of(g_.nodes[node].op, terms[position], terms[q]), node, -1);
     }
@@ -220,7 +224,7 @@ class PairTable {
   }
 
   void add_term(std::uint32_t node, Term t) {
-    std::vector<Term>& terms = g_.nodes[node].terms;
+    Terms& terms = g_.nodes[node].terms;
     for (Term other : terms) count(key_of(g_.nodes[node].op, t, other), node, +1);
     terms.push_back(t);
   }

@@ -13,11 +13,15 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <deque>
 #include <iostream>
 #include <type_traits>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "symbolic/cost.hpp"
 #include "symbolic/flat_map.hpp"
+#include "symbolic/small_vector.hpp"
 
 namespace symdyn::symbolic {
 namespace {
@@ -80,15 +84,29 @@ Product split_product(Expr e, bool pattern) {
 // matches the same terms against many rules and steps.
 class MatchCache {
  public:
-  const Product& target(Expr e) { return get(targets_, e, false); }
-  const Product& pattern(Expr e) { return get(patterns_, e, true); }
+  const Product& target(Expr e) { return targets_.get(e, false); }
+  const Product& pattern(Expr e) { return patterns_.get(e, true); }
 
  private:
-  static const Product& get(std::unordered_map<std::uint32_t, Product>& map, Expr e, bool pattern) {
-    auto it = map.find(e.id());
-    if (it == map.end()) it = map.emplace(e.id(), split_product(e, pattern)).first;
-    return it->second;
-  }
+  // Products by node id: a dense index into a deque (references stay valid
+  // as it grows). Matching looks products up hundreds of thousands of times.
+  class Table {
+   public:
+    const Product& get(Expr e, bool pattern) {
+      const std::uint32_t slot = slot_.get(e);
+      return slot != 0 ? products_[slot - 1] : add(e, pattern);
+    }
+
+   private:
+    [[gnu::noinline]] const Product& add(Expr e, bool pattern) {
+      products_.push_back(split_product(e, pattern));
+      slot_.at(e) = static_cast<std::uint32_t>(products_.size());
+      return products_.back();
+    }
+
+    detail::NodeTable<std::uint32_t> slot_;  // index in products_ + 1, 0 if absent
+    std::deque<Product> products_;
+  };
 
  public:
   // For a sum: the positions of its terms that have `base` as a factor base.
@@ -111,8 +129,8 @@ class MatchCache {
   }
 
  private:
-  std::unordered_map<std::uint32_t, Product> targets_;
-  std::unordered_map<std::uint32_t, Product> patterns_;
+  Table targets_;
+  Table patterns_;
   std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::vector<std::size_t>>> by_base_;
 };
 
@@ -130,7 +148,15 @@ bool can_take(const Number& remaining, const Number& wanted) {
   return r >= w;
 }
 
-Expr substitute(Expr e, const Match& m, std::unordered_map<std::uint32_t, Expr>* memo);
+// What substitute has built, by pattern node id: a pattern has a few dozen
+// nodes at most, so a list searched in order beats hashing.
+struct Substituted {
+  std::uint32_t id;
+  Expr value;
+};
+using SubstituteMemo = detail::SmallVector<Substituted, 32>;
+
+Expr substitute(Expr e, const Match& m, SubstituteMemo* memo);
 
 // A non-owning reference to a continuation `bool()`. Each continuation is a
 // lambda on the caller's stack that outlives the call it is passed to; a
@@ -196,7 +222,7 @@ class Matcher {
   struct ProductState {
     const Product* pattern;
     const Product* target;
-    std::vector<Number> remaining;
+    detail::SmallVector<Number, 8> remaining;
   };
 
   bool match_product(Expr p, Expr t, const Cont& k) {
@@ -245,8 +271,9 @@ class Matcher {
     if (auto bound = m_->find(s.pattern->cofactor); bound && !needs_building(s, coefficient)) {
       return same_product(cache_->target(*bound), coefficient, s) && k();
     }
-    std::vector<Expr> rest{Expr(coefficient)};
-    std::vector<Expr> bases;
+    detail::SmallVector<Expr, 8> rest;
+    rest.push_back(Expr(coefficient));
+    detail::SmallVector<Expr, 8> bases;
     for (std::size_t j = 0; j < s.target->factors.size(); ++j) {
       if (s.remaining[j].is_zero()) continue;
       rest.push_back(pow(s.target->factors[j].base, Expr(s.remaining[j])));
@@ -272,9 +299,7 @@ class Matcher {
     if (!plain) return mul(rest);
     const Expr monomial = intern_node(Kind::Mul, factors);
     if (coefficient.is_one()) return monomial;
-    std::vector<Expr> scaled{rest[0]};
-    scaled.insert(scaled.end(), factors.begin(), factors.end());
-    return intern_node(Kind::Mul, scaled);
+    return intern_node(Kind::Mul, rest);  // the coefficient, then the factors
   }
 
   // The leftover coefficient · factors is the canonical product of its parts,
@@ -308,20 +333,20 @@ class Matcher {
   // ---- sums ----
 
   struct SumState {
-    std::vector<Expr> pattern;  // structural terms first, bare wildcards last
+    detail::SmallVector<Expr, 8> pattern;  // structural terms first, bare wildcards last
     Expr rest;
     bool has_rest = false;
     bool top = false;
     std::span<const Expr> target;
     Expr sum;
-    std::vector<bool> used;
+    detail::SmallVector<bool, 64> used;
   };
 
   bool match_sum(Expr p, Expr t, bool top, const Cont& k) {
     if (t.kind() != Kind::Add) return false;
     SumState s;
     s.top = top;
-    std::vector<Expr> wild_terms;
+    detail::SmallVector<Expr, 8> wild_terms;
     for (Expr term : p.args()) {
       if (is_wildcard(term) && wild_class(term) == WildClass::Rest) {
         s.rest = term;
@@ -332,11 +357,11 @@ class Matcher {
         s.pattern.push_back(term);
       }
     }
-    s.pattern.insert(s.pattern.end(), wild_terms.begin(), wild_terms.end());
+    for (Expr w : wild_terms) s.pattern.push_back(w);
     s.target = t.args();
     s.sum = t;
     if (s.target.size() < s.pattern.size()) return false;
-    s.used.assign(s.target.size(), false);
+    for (std::size_t j = 0; j < s.target.size(); ++j) s.used.push_back(false);
     return assign_term(s, 0, k);
   }
 
@@ -373,7 +398,7 @@ class Matcher {
     for (const Factor& f : cache_->pattern(p).factors) {
       if (is_wildcard(f.base)) continue;
       if (all_bound(f.base)) {
-        std::unordered_map<std::uint32_t, Expr> memo;
+        SubstituteMemo memo;
         return substitute(f.base, *m_, &memo);
       }
     }
@@ -456,9 +481,11 @@ class SumCost {
   int add_ref(Expr e, std::vector<std::uint32_t>* log) {
     if (log) log->push_back(e.id());
     if (refs(e)++ > 0) return 0;
-    std::vector<Expr> operands;
-    int cost = own_cost(e, &operands);
-    for (Expr a : operands) cost += add_ref(a, log);
+    const std::size_t first = operands_.size();
+    int cost = own_cost(e, &operands_);
+    const std::size_t last = operands_.size();
+    for (std::size_t i = first; i < last; ++i) cost += add_ref(operands_[i], log);
+    operands_.resize(first);
     return cost;
   }
 
@@ -466,9 +493,11 @@ class SumCost {
   int drop_ref(Expr e) {
     dropped_.push_back(e.id());
     if (--refs(e) > 0) return 0;
-    std::vector<Expr> operands;
-    int cost = own_cost(e, &operands);
-    for (Expr a : operands) cost += drop_ref(a);
+    const std::size_t first = operands_.size();
+    int cost = own_cost(e, &operands_);
+    const std::size_t last = operands_.size();
+    for (std::size_t i = first; i < last; ++i) cost += drop_ref(operands_[i]);
+    operands_.resize(first);
     return cost;
   }
 
@@ -481,6 +510,9 @@ class SumCost {
 
   int terms_;
   detail::FlatMap64<int> refs_;  // by node id
+  // The operands of the nodes being visited, a stack shared by the recursion:
+  // each call appends those of its node and truncates back on return.
+  std::vector<Expr> operands_;
   std::vector<std::uint32_t> log_;
   std::vector<std::uint32_t> dropped_;
 };
@@ -504,15 +536,16 @@ void collect_wildcards(Expr e, std::vector<Expr>* out) {
   for (Expr a : e.args()) collect_wildcards(a, out);
 }
 
-Expr substitute(Expr e, const Match& m, std::unordered_map<std::uint32_t, Expr>* memo) {
+Expr substitute(Expr e, const Match& m, SubstituteMemo* memo) {
   if (is_wildcard(e)) return m[e];
   if (e.args().empty()) return e;
-  if (auto it = memo->find(e.id()); it != memo->end()) return it->second;
-  std::vector<Expr> args;
-  args.reserve(e.args().size());
+  for (const Substituted& done : *memo) {
+    if (done.id == e.id()) return done.value;
+  }
+  detail::SmallVector<Expr, 8> args;
   for (Expr a : e.args()) args.push_back(substitute(a, m, memo));
   const Expr out = make(e.kind(), args);
-  memo->emplace(e.id(), out);
+  memo->push_back({e.id(), out});
   return out;
 }
 
@@ -623,7 +656,7 @@ std::vector<Match> find_matches(Expr pattern, Expr target, std::size_t limit) {
 }
 
 Expr instantiate(Expr replacement, const Match& match) {
-  std::unordered_map<std::uint32_t, Expr> memo;
+  SubstituteMemo memo;
   const Expr core = substitute(replacement, match, &memo);
   if (match.remainder.empty()) return core;
   std::vector<Expr> terms = match.remainder;
@@ -641,19 +674,20 @@ Expr Rewriter::operator()(Expr e) { return rewrite(e); }
 
 Expr Rewriter::rewrite(Expr e) {
   if (e.args().empty()) return e;
-  if (auto it = memo_.find(e.id()); it != memo_.end()) return it->second;
+  if (const Node* done = memo_.find(e)) return Expr(done);
   // A node met again while it is being rewritten (a rule rebuilt it inside
   // its own replacement) is left as it is: that keeps the recursion finite.
-  if (!in_progress_.insert(e.id()).second) return e;
+  if (in_progress_.get(e) != 0) return e;
+  in_progress_.at(e) = 1;
   const Expr out = apply_at(rewrite_children(e));
-  in_progress_.erase(e.id());
-  memo_.emplace(e.id(), out);
+  in_progress_.at(e) = 0;
+  memo_.set(e, out);
   return out;
 }
 
 Expr Rewriter::rewrite_children(Expr e) {
   if (e.args().empty()) return e;
-  std::vector<Expr> args;
+  detail::SmallVector<Expr, 8> args;
   args.reserve(e.args().size());
   bool changed = false;
   for (Expr a : e.args()) {

@@ -50,12 +50,11 @@
 #include <optional>
 #include <string>
 #include <string_view>
-#include <unordered_map>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
 #include "symbolic/expr.hpp"
+#include "symbolic/node_table.hpp"
 
 namespace symdyn::symbolic {
 
@@ -144,8 +143,8 @@ class Rewriter {
   std::vector<Rule> rules_;
   Strategy strategy_;
   Budget budget_;
-  std::unordered_map<std::uint32_t, Expr> memo_;
-  std::unordered_set<std::uint32_t> in_progress_;
+  detail::ExprMemo memo_;
+  detail::NodeTable<std::uint8_t> in_progress_;  // 1 while being rewritten
   std::unique_ptr<MatchCache> cache_;
 };
 

@@ -53,7 +53,7 @@ std::vector<Rule> concat(std::vector<Rule> a, std::vector<Rule> b) {
 
 Expr Expander::operator()(Expr e) {
   if (e.args().empty()) return e;
-  if (auto it = memo_.find(e.id()); it != memo_.end()) return it->second;
+  if (const Node* done = memo_.find(e)) return Expr(done);
   std::vector<Expr> args;
   args.reserve(e.args().size());
   for (Expr a : e.args()) args.push_back((*this)(a));
@@ -63,7 +63,7 @@ Expr Expander::operator()(Expr e) {
     case Kind::Pow: out = expand_power(args[0], args[1].number()); break;
     default: out = make(e.kind(), args); break;
   }
-  memo_.emplace(e.id(), out);
+  memo_.set(e, out);
   return out;
 }
 
@@ -138,7 +138,7 @@ std::vector<Expr> Simplifier::operator()(std::span<const Expr> outputs) {
 // One bottom-up pass: operands first, then the cheapest candidate at the node.
 Expr Simplifier::once(Expr e) {
   if (e.args().empty()) return e;
-  if (auto it = memo_.find(e.id()); it != memo_.end()) return it->second;
+  if (const Node* done = memo_.find(e)) return Expr(done);
   std::vector<Expr> args;
   args.reserve(e.args().size());
   bool changed = false;
@@ -149,7 +149,7 @@ Expr Simplifier::once(Expr e) {
   const Expr rebuilt = changed ? make(e.kind(), args) : e;
   const bool algebraic = e.kind() == Kind::Add || e.kind() == Kind::Mul || e.kind() == Kind::Pow;
   const Expr out = algebraic ? best_form(e, rebuilt) : cheapest(e, {rebuilt, contract_(rebuilt)});
-  memo_.emplace(e.id(), out);
+  memo_.set(e, out);
   return out;
 }
 

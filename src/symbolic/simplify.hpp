@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "symbolic/expr.hpp"
+#include "symbolic/node_table.hpp"
 #include "symbolic/rewrite.hpp"
 
 namespace symdyn::symbolic {
@@ -51,7 +52,7 @@ class Expander {
   Expr expand_product(std::span<const Expr> factors);
   Expr expand_power(Expr base, const Number& exponent);
   std::size_t max_terms_;
-  std::unordered_map<std::uint32_t, Expr> memo_;
+  detail::ExprMemo memo_;
 };
 
 Expr expand(Expr e);
@@ -86,7 +87,7 @@ class Simplifier {
   Rewriter eliminate_cos_;
   Rewriter linearize_;
   Rewriter expand_trig_;
-  std::unordered_map<std::uint32_t, Expr> memo_;
+  detail::ExprMemo memo_;
   std::unordered_map<std::uint32_t, std::uint8_t> functions_memo_;
   std::unordered_map<std::uint32_t, std::size_t> terms_memo_;
 };

@@ -9,9 +9,11 @@
 // elements the storage moves to the heap, as a std::vector's would.
 //
 // Only for trivially copyable elements (Expr, Number, plain structs of them):
-// growing is a memcpy and nothing needs destroying.
+// growing, copying and moving are memcpy and nothing needs destroying.
+#include <algorithm>
 #include <cstddef>
 #include <cstring>
+#include <initializer_list>
 #include <memory>
 #include <span>
 #include <type_traits>
@@ -24,11 +26,28 @@ class SmallVector {
 
  public:
   SmallVector() = default;
-  ~SmallVector() {
-    if (data_ != inline_data()) std::allocator<T>().deallocate(data_, capacity_);
+  SmallVector(std::initializer_list<T> values) { assign(values.begin(), values.size()); }
+  ~SmallVector() { release(); }
+  SmallVector(const SmallVector& other) { assign(other.data_, other.size_); }
+  SmallVector& operator=(const SmallVector& other) {
+    if (this != &other) {
+      size_ = 0;
+      assign(other.data_, other.size_);
+    }
+    return *this;
   }
-  SmallVector(const SmallVector&) = delete;
-  SmallVector& operator=(const SmallVector&) = delete;
+  // Moving takes the heap storage, or copies the inline elements; the source is left empty.
+  SmallVector(SmallVector&& other) noexcept { take(other); }
+  SmallVector& operator=(SmallVector&& other) noexcept {
+    if (this != &other) {
+      release();
+      data_ = inline_data();
+      size_ = 0;
+      capacity_ = N;
+      take(other);
+    }
+    return *this;
+  }
 
   std::size_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
@@ -53,9 +72,51 @@ class SmallVector {
   void clear() { size_ = 0; }
   // Keeps the first n elements (n <= size()).
   void truncate(std::size_t n) { size_ = n; }
+  // Inserts `value` before `position`, shifting the later ones up.
+  void insert(T* position, const T& value) {
+    const auto at = static_cast<std::size_t>(position - data_);
+    const T copy = value;  // `value` may live in this vector
+    if (size_ == capacity_) grow(2 * capacity_);
+    std::memmove(static_cast<void*>(data_ + at + 1), static_cast<const void*>(data_ + at), (size_ - at) * sizeof(T));
+    data_[at] = copy;
+    ++size_;
+  }
+  // Removes the element at `position`, shifting the later ones down.
+  void erase(T* position) {
+    std::memmove(static_cast<void*>(position), static_cast<const void*>(position + 1),
+                 static_cast<std::size_t>(end() - position - 1) * sizeof(T));
+    --size_;
+  }
+
+  friend bool operator==(const SmallVector& a, const SmallVector& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end());
+  }
 
  private:
   T* inline_data() { return reinterpret_cast<T*>(inline_); }
+
+  void assign(const T* values, std::size_t n) {
+    reserve(n);
+    if (n > 0) std::memcpy(static_cast<void*>(data_), static_cast<const void*>(values), n * sizeof(T));
+    size_ = n;
+  }
+
+  void take(SmallVector& other) {
+    if (other.data_ == other.inline_data()) {
+      assign(other.data_, other.size_);
+    } else {
+      data_ = other.data_;
+      size_ = other.size_;
+      capacity_ = other.capacity_;
+      other.data_ = other.inline_data();
+      other.capacity_ = N;
+    }
+    other.size_ = 0;
+  }
+
+  void release() {
+    if (data_ != inline_data()) std::allocator<T>().deallocate(data_, capacity_);
+  }
 
   // Elements are trivially copyable: storage from std::allocator holds them
   // as soon as their bytes are copied in.
