@@ -331,17 +331,19 @@ class Emitter {
   // A long entry point as internal functions run one after another over a
   // scratch array on the entry point's stack (symbolic::emit_cpp_parts).
   // noinline keeps the compiler from gluing them back into one function;
-  // __restrict tells it that storing to the scratch array changes no input,
-  // so inputs read after a store need not be read again.
+  // __restrict on every array (outputs never overlap inputs, nor each other)
+  // tells it that a store changes no input, output or scratch entry it has
+  // read, so nothing is read again and its alias queries end at once.
   std::string emit_parts(const EntryPoint& e, const symbolic::CppParts& parts) const {
     std::vector<std::string> params;
     std::vector<std::string> args;
     for (const std::string& in : e.inputs) {
-      params.push_back(in == "t" ? "[[maybe_unused]] double t" : fmt::format("[[maybe_unused]] const double* {}", in));
+      params.push_back(in == "t" ? "[[maybe_unused]] double t"
+                                 : fmt::format("[[maybe_unused]] const double* __restrict {}", in));
       args.push_back(in);
     }
     for (const OutputArray& o : e.outputs) {
-      params.push_back(fmt::format("[[maybe_unused]] double* {}", o.name));
+      params.push_back(fmt::format("[[maybe_unused]] double* __restrict {}", o.name));
       args.push_back(o.name);
     }
     params.push_back("[[maybe_unused]] double* __restrict s");

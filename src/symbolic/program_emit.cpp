@@ -47,19 +47,30 @@ void append_format(std::string& out, std::string_view format, const std::array<s
   }
 }
 
-// Runs of at least kMinConstantRun consecutive outputs of one array that are
-// the same constant: run_end[o] for the first of each, 0 elsewhere.
+// Runs of consecutive outputs of one array that are one constant, printed as
+// loops: run_end[o] for the first output of each loop, 0 elsewhere. A run of
+// at least kMinConstantRun is one loop; a shorter run of at least
+// kMinZeroRun zeros is cut into loops of kZeroChunk (the last one shorter, or
+// separate assignments if shorter than kMinZeroRun).
 std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& naming) {
   const auto outputs = program.output_slots();
   std::vector<std::size_t> run_end(outputs.size(), 0);
   std::vector<bool> constant(program.slot_count(), false);
-  for (const Instruction& i : program.instructions()) constant[i.results[0]] = i.op == Opcode::Const;
+  std::vector<bool> zero(program.slot_count(), false);  // +0.0: all bits clear
+  for (const Instruction& i : program.instructions()) {
+    constant[i.results[0]] = i.op == Opcode::Const;
+    zero[i.results[0]] = i.op == Opcode::Const && i.constant == 0.0 && !std::signbit(i.constant);
+  }
   std::size_t first = 0;  // of the current array
   for (const auto& [name, size] : naming.output_arrays) {
     for (std::size_t o = first; o < first + size;) {
       std::size_t e = o + 1;
       while (constant[outputs[o]] && e < first + size && outputs[e] == outputs[o]) ++e;
-      if (constant[outputs[o]] && e - o >= kMinConstantRun) run_end[o] = e;
+      if (constant[outputs[o]] && e - o >= kMinConstantRun) {
+        run_end[o] = e;
+      } else if (zero[outputs[o]] && e - o >= kMinZeroRun) {
+        for (std::size_t c = o; c + kMinZeroRun <= e; c += kZeroChunk) run_end[c] = std::min(e, c + kZeroChunk);
+      }
       o = e;
     }
     first += size;
@@ -71,8 +82,8 @@ std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& 
 // limit), as even as possible. Statements are counted because a compiler's
 // work grows with stores as much as with arithmetic: a computing instruction
 // weighs 1 plus the outputs it assigns; outputs that are loads (constants,
-// inputs) weigh 1 each, a loop over a constant run 1 in all, and are spread
-// over the parts after every instruction, in output order.
+// inputs) weigh 1 each, a loop over a long constant run 1 in all, and are
+// spread over the parts after every instruction, in output order.
 // Every value read after its defining part gets a scratch entry, lowest free
 // first: an entry is free again from the part after its value's last reader.
 PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t max) {
@@ -91,7 +102,15 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t
     }
     total += 1 + readers_as_output[i.results[0]] + (info(i.op).results == 2 ? readers_as_output[i.results[1]] : 0);
   }
-  for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) total += loaded[outputs[o]] ? 1 : 0;
+  // A long constant run's loop weighs 1 (`rep stos`); a short zero run's
+  // loops weigh what they store, as the separate assignments did (g++ expands
+  // them into stores), so that the parts are cut where they were.
+  auto weight = [&](std::size_t o) -> std::size_t {
+    if (!loaded[outputs[o]]) return 0;
+    const std::size_t run = plan.run_end[o] > o ? plan.run_end[o] - o : 1;
+    return run >= kMinConstantRun ? 1 : run;
+  };
+  for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) total += weight(o);
   plan.part_of_slot.assign(program.slot_count(), kNoPart);
   if (max > 0 && total > max) plan.parts = (total + max - 1) / max;
   const std::size_t per_part = std::max<std::size_t>(1, (total + plan.parts - 1) / plan.parts);
@@ -112,7 +131,8 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t
   for (std::size_t o = 0; o < outputs.size();) {
     const int part = plan.part_of_slot[outputs[o]];
     const std::size_t end = std::max(o + 1, plan.run_end[o]);
-    const std::size_t load_part = loaded[outputs[o]] ? std::min(done++ / per_part, plan.parts - 1) : 0;
+    const std::size_t load_part = loaded[outputs[o]] ? std::min(done / per_part, plan.parts - 1) : 0;
+    done += weight(o);
     for (; o < end; ++o) plan.output_part[o] = part != kNoPart ? static_cast<std::size_t>(part) : load_part;
   }
   // Values by defining part, and by the part from which their entry is free.

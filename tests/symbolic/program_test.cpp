@@ -590,7 +590,7 @@ TEST_CASE("emit_cpp prints runs of one constant in an output array as a loop", "
   const Expr x = symbol("x");
   std::vector<Expr> outputs(kMinConstantRun + 1, Expr(0));  // a: x, then a run of zeros
   outputs.front() = sin(x);
-  for (std::size_t i = 0; i < kMinConstantRun - 1; ++i) outputs.push_back(Expr(0));  // b: too short a run
+  for (std::size_t i = 0; i < kMinConstantRun - 1; ++i) outputs.push_back(Expr(0));  // b: a short run of zeros
   outputs.push_back(Expr(1));
   const Program p = compile_program(std::vector{x}, outputs);
   CppNaming naming;
@@ -600,10 +600,76 @@ TEST_CASE("emit_cpp prints runs of one constant in an output array as a loop", "
   naming.output_arrays = {{"a", kMinConstantRun + 1}, {"b", kMinConstantRun}};
   std::string want = fmt::format("  const double t0 = std::sin(x);\n  a[0] = t0;\n"
                                  "  for (int i = 1; i < {}; ++i) a[i] = 0.0;\n", kMinConstantRun + 1);
-  for (std::size_t i = 0; i + 1 < kMinConstantRun; ++i) want += fmt::format("  b[{}] = 0.0;\n", i);
+  // b: loops of kZeroChunk zeros; a tail shorter than kMinZeroRun assigned alone.
+  const std::size_t zeros = kMinConstantRun - 1;
+  std::size_t i = 0;
+  for (; i + kMinZeroRun <= zeros; i += kZeroChunk) {
+    want += fmt::format("  for (int i = {}; i < {}; ++i) b[i] = 0.0;\n", i, std::min(zeros, i + kZeroChunk));
+  }
+  for (; i < zeros; ++i) want += fmt::format("  b[{}] = 0.0;\n", i);
   want += fmt::format("  b[{}] = 1.0;\n", kMinConstantRun - 1);
   CHECK(emit_cpp(p, naming) == want);
   naming.output_arrays.pop_back();
   CHECK_THROWS_WITH(emit_cpp(p, naming), fmt::format("emit_cpp: naming's output arrays have {} elements; the "
                                                      "program has {} outputs", kMinConstantRun + 1, outputs.size()));
+}
+
+TEST_CASE("emit_cpp_parts: short zero runs as loops, the parts cut where separate assignments put them", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
+  // The computing statements of each part, and every assignment of an output
+  // (loops expanded), in order: a chunk of zeros may go to the next part.
+  struct Split {
+    std::vector<std::string> statements;
+    std::string outputs;
+  };
+  auto split = [](const CppParts& parts) {
+    const std::regex loop(R"(^  for \(int i = (\d+); i < (\d+); \+\+i\) (\w+)\[i\] = 0\.0;$)"),
+        output(R"(^  y\[\d+\] = .*;$)");
+    Split out;
+    for (const std::string& body : parts.bodies) {
+      std::string& statements = out.statements.emplace_back();
+      std::istringstream lines(body);
+      for (std::string line; std::getline(lines, line);) {
+        std::smatch m;
+        if (std::regex_match(line, m, loop)) {
+          for (int k = std::stoi(m[1]); k < std::stoi(m[2]); ++k) out.outputs += fmt::format("  {}[{}] = 0.0;\n", m[3].str(), k);
+        } else {
+          (std::regex_match(line, output) ? out.outputs : statements) += line + "\n";
+        }
+      }
+    }
+    return out;
+  };
+  auto sorted = [](std::string text) {
+    std::istringstream lines(text);
+    std::vector<std::string> all;
+    for (std::string line; std::getline(lines, line);) all.push_back(line);
+    std::sort(all.begin(), all.end());
+    return all;
+  };
+  for (unsigned seed = 0; seed < 50; ++seed) {
+    symdyn::testing::RandomExpr gen(seed, xs);
+    // y: a few values, each followed by a run of 1 to 25 zeros.
+    std::vector<Expr> outputs;
+    for (unsigned k = 0; k < 6; ++k) {
+      outputs.push_back(gen(4));
+      outputs.insert(outputs.end(), (seed * 7 + k * 11) % 25 + 1, Expr(0));
+    }
+    const Program p = compile_program(xs, outputs);
+    CppNaming plain;
+    plain.inputs = {"x[0]", "x[1]", "x[2]"};
+    for (std::size_t i = 0; i < outputs.size(); ++i) plain.outputs.push_back(fmt::format("y[{}]", i));
+    CppNaming arrays = plain;
+    arrays.output_arrays = {{"y", outputs.size()}};
+    CHECK_THAT(emit_cpp(p, arrays), Catch::Contains("; ++i) y[i] = 0.0;"));
+    for (std::size_t max : {3, 10, 40}) {
+      INFO("seed " << seed << ", parts of " << max);
+      const Split loops = split(emit_cpp_parts(p, arrays, max));
+      const Split separate = split(emit_cpp_parts(p, plain, max));
+      CHECK(loops.statements == separate.statements);
+      CHECK(sorted(loops.outputs) == sorted(separate.outputs));
+    }
+  }
 }
