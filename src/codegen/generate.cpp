@@ -104,21 +104,14 @@ class Emitter {
   }
 
   GeneratedCode run() {
-    // The plain derivation first: node numbering, which orders the
-    // instructions, follows the order expressions are built in, so this gives
-    // the very programs of a generation without simplification. Simplification
-    // works expression by expression, common subexpressions are found later,
-    // across them: a form shorter alone may share less, so an entry point takes
-    // the simplified program only where it is shorter (simplification must pay
-    // for itself: at equal counts, a differently ordered program ran 0.6 % more
-    // instructions in robot3d relative's equations of motion). Where
-    // simplification changed no expression, its programs would be the plain
-    // ones: derive() does not compile them.
-    Derivation chosen = derive(false);
-    if (options_.simplify) {
-      Derivation simplified = derive(true);
-      if (simplified.simplified) keep_shorter_programs(chosen, std::move(simplified));
-    }
+    Derivation chosen = derive(options_.simplify);
+    // Simplification works expression by expression; common subexpressions
+    // are found later, across them. A form that is shorter alone may share
+    // less, so each entry point keeps the shorter of the two programs. Where
+    // simplification changed no expression, the plain derivation is the same
+    // expressions (the derivation is deterministic and otherwise the same),
+    // hence the same programs: nothing to compare.
+    if (options_.simplify && chosen.simplified) keep_shorter_programs(chosen, derive(false));
     entries_ = std::move(chosen.entries);
     GeneratedCode code;
     code.struct_name = struct_name_;
@@ -160,9 +153,7 @@ class Emitter {
     definitions_.clear();
     define_dependents(k);
     d.entries = build_entry_points(k);
-    if (!simplify || d.simplified) {
-      for (const EntryPoint& e : d.entries) d.programs.push_back(compile(e));
-    }
+    for (const EntryPoint& e : d.entries) d.programs.push_back(compile(e));
     return d;
   }
 

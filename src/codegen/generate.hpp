@@ -31,7 +31,6 @@ inline constexpr std::size_t kDefaultPartInstructions = 500;
 struct Options {
   bool simplify = true;             // trigonometric simplification of the relative kinematics; each
                                     // entry point keeps the shorter of the simplified and plain programs
-                                    // (the plain one on a tie)
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
   bool equations_of_motion = true;  // emit mass_matrix and bias_forces (needs symbolic partials)
   std::string name_space = "symdyn_generated";
