@@ -8,6 +8,8 @@
 // references the generator chose (Model::with_shared_motions_relative).
 #include <rapidcheck/catch.h>
 
+#include <array>
+
 #include "codegen/generate.hpp"
 #include "support/emitted_check.hpp"
 #include "support/equations_checks.hpp"
@@ -51,28 +53,27 @@ class References {
     if (array == "M") return M_;
     if (array == "h") return h_;
     if (entry == "positions") return array == "R" ? R_4x4_ : x_4x4_;
-    const bool relative = entry.rfind("relative_", 0) == 0;
-    const bool partials = entry.find("partial_velocities") != std::string::npos;
     std::vector<double> out;
     auto push = [&](const auto& expressions) {
       for (model::Expr e : expressions) out.push_back(eval_(e));
     };
-    for (const auto& p : k_.dependents) {
-      if (array == "p" || array == "pd" || array == "pdd") {
-        out.push_back(eval_(array == "p" ? p.value : array == "pd" ? p.rate : p.acceleration));
-      }
+    if (array == "p" || array == "pd" || array == "pdd") {
+      for (const auto& p : k_.dependents) push(std::array{array == "p" ? p.value : array == "pd" ? p.rate : p.acceleration});
+      return out;
     }
+    const bool relative = entry.rfind("relative_", 0) == 0;
+    const bool partials = entry.find("partial_velocities") != std::string::npos;
     for (std::size_t i = 0; i < k_.bodies.size(); ++i) {
       const model::Motion& motion = relative ? k_.bodies[i].relative : k_.bodies[i];
       if (partials) {
         for (const model::Vec3& v : array == "dv" ? motion.dv_dqd : motion.dw_dqd) push(v);
       } else if (array == "mass") {
-        out.push_back(eval_(m_.bodies()[i].mass()));
+        push(std::array{m_.bodies()[i].mass()});
       } else if (array == "inertia") {
         push(m_.bodies()[i].inertia());
       } else if (array == "R") {
         push(motion.R);
-      } else if (array != "p" && array != "pd" && array != "pdd") {
+      } else {
         push(array == "x" ? motion.x : array == "v" ? motion.v : array == "w" ? motion.w : array == "a" ? motion.a
                                                                                                       : motion.dw);
       }

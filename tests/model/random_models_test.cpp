@@ -13,7 +13,6 @@
 
 using namespace symdyn;
 using namespace symdyn::testing;
-using model::Expr;
 
 TEST_CASE("random models match the independent references", "[kinematics][dynamics][random]") {
   rc::prop("kinematics and equations of motion", [] {
