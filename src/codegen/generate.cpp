@@ -152,7 +152,7 @@ class Emitter {
     const model::Kinematics k = model::derive_kinematics(model_, derive);
     definitions_.clear();
     define_dependents(k);
-    d.entries = build_entry_points(k);
+    d.entries = build_entry_points(k, derive.simplify);
     for (const EntryPoint& e : d.entries) d.programs.push_back(compile(e));
     return d;
   }
@@ -183,7 +183,7 @@ class Emitter {
     definitions_.insert(definitions_.end(), k.intermediates.begin(), k.intermediates.end());
   }
 
-  std::vector<EntryPoint> build_entry_points(const model::Kinematics& k) {
+  std::vector<EntryPoint> build_entry_points(const model::Kinematics& k, const model::SimplifyFunction& simplify) {
     std::vector<EntryPoint> entries;
     using BK = model::BodyKinematics;
     const std::size_t nb = k.bodies.size();
@@ -242,7 +242,7 @@ class Emitter {
     entries.push_back({"dependent_parameters", "Dependent parameters and their first and second time derivatives.",
                         {"t", "q", "qd", "qdd", "param"}, {{"p", dep_shape, p}, {"pd", dep_shape, pd}, {"pdd", dep_shape, pdd}}, {}});
     if (options_.equations_of_motion) {
-      const model::Dynamics dyn = model::derive_dynamics(model_, k);
+      const model::Dynamics dyn = model::derive_dynamics(model_, k, simplify);
       definitions_.insert(definitions_.end(), dyn.definitions.begin(), dyn.definitions.end());
       entries.push_back({"mass_matrix", "Mass matrix M(q, t).", {"t", "q", "param"},
                           {{"M", fmt::format("({} x {})", nq, nq), dyn.mass_matrix}}, {}});

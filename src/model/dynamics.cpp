@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <unordered_map>
 
 #include "model/intermediates.hpp"
@@ -12,126 +13,152 @@
 namespace symdyn::model {
 namespace {
 
-// A twist (angular velocity, velocity of the body point at O) or a wrench
-// (moment about O, force): their dot product is a power.
+// The Vec3 and Mat3 operators, which those of Spatial below would hide.
+using model::operator+;
+using model::operator*;
+
+// A twist (angular velocity, velocity of G) or a wrench (moment about G,
+// force): their dot product is a power.
 struct Spatial {
-  Vec3 angular, linear;
+  Vec3 angular = zero3(), linear = zero3();
 };
 
 Expr dot(const Spatial& a, const Spatial& b) { return model::dot(a.angular, b.angular) + model::dot(a.linear, b.linear); }
 
-Spatial sum(const Spatial& a, const Spatial& b) { return {a.angular + b.angular, a.linear + b.linear}; }
+Spatial operator+(const Spatial& a, const Spatial& b) { return {a.angular + b.angular, a.linear + b.linear}; }
 
-bool is_zero(const Spatial& s) {
-  for (int i = 0; i < 3; ++i) {
-    if (!s.angular[i].is_zero() || !s.linear[i].is_zero()) return false;
-  }
-  return true;
-}
+Spatial operator*(Expr c, const Spatial& s) { return {c * s.angular, c * s.linear}; }
 
-// The inertia about O of a body or a subtree: mass m, first moment m·c and
-// rotational inertia K about O (c from O to the centre of mass).
+Mat3 diagonal_zero() { return {Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0)}; }
+
+// The inertia of a body or a subtree about a point: mass m, first moment h
+// (m times the centre of mass from the point) and rotational inertia K.
 struct SpatialInertia {
   Expr mass{0};
   Vec3 moment = zero3();
-  Mat3 rotational{Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0)};
+  Mat3 rotational = diagonal_zero();
 };
 
-SpatialInertia sum(const SpatialInertia& a, const SpatialInertia& b) {
+SpatialInertia operator+(const SpatialInertia& a, const SpatialInertia& b) {
   SpatialInertia sum{a.mass + b.mass, a.moment + b.moment, {}};
   for (int i = 0; i < 9; ++i) sum.rotational[i] = a.rotational[i] + b.rotational[i];
   return sum;
 }
 
-// The momentum a twist s gives: (K·ω + m·c×v, m·v + ω×m·c).
+// The momentum a twist s gives: (K·ω + h×v, m·v + ω×h).
 Spatial momentum(const SpatialInertia& I, const Spatial& s) {
   return {I.rotational * s.angular + cross(I.moment, s.linear), I.mass * s.linear + cross(s.angular, I.moment)};
 }
 
-// A body of mass m and inertia J (world axes, at G) whose G is at c from O:
-// K = J + m·(|c|²·1 - c·cᵀ).
-SpatialInertia about(Expr m, const Vec3& c, const Mat3& J) {
-  SpatialInertia I{m, m * c, J};
+// R·K·Rᵀ for a symmetric K: the upper triangle, mirrored.
+Mat3 rotate_symmetric(const Mat3& R, const Mat3& K) {
+  const Mat3 RK = R * K;
+  Mat3 out;
   for (int i = 0; i < 3; ++i) {
-    const Expr& c1 = c[(i + 1) % 3];
-    const Expr& c2 = c[(i + 2) % 3];
-    I.rotational[3 * i + i] += m * (c1 * c1 + c2 * c2);
-    for (int j = 0; j < 3; ++j) {
-      if (j != i) I.rotational[3 * i + j] -= m * c[i] * c[j];
+    for (int j = i; j < 3; ++j) {
+      out[3 * i + j] = out[3 * j + i] = sum3(RK[3 * i] * R[3 * j], RK[3 * i + 1] * R[3 * j + 1], RK[3 * i + 2] * R[3 * j + 2]);
     }
   }
-  return I;
+  return out;
 }
 
-// A principal moment that occurs twice (or more) in a diagonal inertia, else 0.
-Expr repeated_moment(const Mat3& I) {
-  if (!(I[1].is_zero() && I[2].is_zero() && I[5].is_zero())) return Expr(0);
-  if (I[0] == I[4] || I[0] == I[8]) return I[0];
-  return I[4] == I[8] ? I[4] : Expr(0);
-}
-
-// R·I·Rᵀ, an inertia tensor in body axes turned to world axes, as
-// λ·1 + R·(I - λ·1)·Rᵀ since R is a rotation: with λ a repeated principal
-// moment, none of R's columns remain for a ball and one for a rod.
-Mat3 to_world(const Mat3& R, const Mat3& I) {
-  const Expr lambda = repeated_moment(I);
-  Mat3 shifted = I;
-  for (int i = 0; i < 3; ++i) shifted[4 * i] -= lambda;
-  const Mat3 RI = R * shifted;
-  Mat3 J;
+// A child's inertia (its axes, about its G) in its reference's axes about the
+// reference's G, the child's G being at d: turned by R, then moved,
+//   h' = h + m·d,   K' = K + m·(|d|²·1 - d·dᵀ) + 2·(d·h)·1 - d·hᵀ - h·dᵀ.
+SpatialInertia to_reference(const SpatialInertia& I, const Mat3& R, const Vec3& d) {
+  const Vec3 h = R * I.moment;
+  SpatialInertia out{I.mass, h + I.mass * d, rotate_symmetric(R, I.rotational)};
+  const Expr& m = I.mass;
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      J[3 * i + j] = RI[3 * i] * R[3 * j] + RI[3 * i + 1] * R[3 * j + 1] + RI[3 * i + 2] * R[3 * j + 2];
-      if (i == j) J[3 * i + j] += lambda;
+    const int u = (i + 1) % 3, w = (i + 2) % 3;
+    out.rotational[4 * i] += m * (d[u] * d[u] + d[w] * d[w]) + Expr(2) * (d[u] * h[u] + d[w] * h[w]);
+    for (int j = i + 1; j < 3; ++j) {
+      const Expr shift = -(m * d[i] * d[j]) - d[i] * h[j] - h[i] * d[j];
+      out.rotational[3 * i + j] += shift;
+      out.rotational[3 * j + i] += shift;
     }
   }
-  return J;
+  return out;
 }
 
-// A tree's reference point O, as seen from the world origin: where the root's
-// motion has taken it before its first rotation. A fixed pivot for an arm, the
-// body's own centre for a floating one: a point about which the partial
-// twists are short, and near the tree wherever it wanders. (A body alone is
-// its own tree, about its centre of mass.)
-Vec3 leading_displacement(const Transform& motion) {
-  Vec3 O = zero3();
-  for (const Transform::Step& s : motion.steps()) {
-    if (s.is_rotation) break;
-    O = O + s.displacement;
+// A child's wrench (its axes, about its G) in its reference's axes about the
+// reference's G: (R·n + d×R·f, R·f).
+Spatial to_reference(const Spatial& wrench, const Mat3& R, const Vec3& d) {
+  const Vec3 f = R * wrench.linear;
+  return {R * wrench.angular + cross(d, f), f};
+}
+
+// A motion T = S_1·...·S_n in the axes of its last frame (the body's), built
+// from the last step back so that nothing is turned there and back: R (the
+// body's axes to the reference's), r (the body's G from the reference's, body
+// axes) and the screws, the unit twists at G of every varying angle or
+// displacement component σ, with σ.
+struct Screw {
+  Spatial twist;
+  Expr scalar;
+};
+
+struct MotionInBodyAxes {
+  Mat3 R = identity3();
+  Vec3 r = zero3();
+  std::vector<Screw> screws;
+};
+
+MotionInBodyAxes in_body_axes(const Transform& motion) {
+  MotionInBodyAxes out;
+  const std::vector<Transform::Step>& steps = motion.steps();
+  for (auto s = steps.rbegin(); s != steps.rend(); ++s) {  // out.R: the steps after s
+    if (s->is_rotation) {
+      if (!s->angle.is_number()) {
+        const Vec3 axis = transpose_times(out.R, s->axis);
+        out.screws.push_back({{axis, cross(axis, out.r)}, s->angle});
+      }
+      out.R = Transform::rotation_matrix(s->axis, s->angle) * out.R;
+      continue;
+    }
+    for (int k = 2; k >= 0; --k) {
+      if (s->displacement[k].is_number()) continue;
+      Vec3 e = zero3();
+      e[k] = Expr(1);
+      out.screws.push_back({{zero3(), transpose_times(out.R, e)}, s->displacement[k]});
+    }
+    out.r = out.r + transpose_times(out.R, s->displacement);
   }
-  return O;
+  std::reverse(out.screws.begin(), out.screws.end());
+  return out;
 }
 
 class EquationsOfMotion {
  public:
-  EquationsOfMotion(const Model& model, const Kinematics& k)
+  EquationsOfMotion(const Model& model, const Kinematics& k, const SimplifyFunction& simplify)
       : model_(model),
         k_(k),
+        simplify_(simplify),
+        nq_(model.coordinates().size()),
         refs_(model.reference_indices()),
+        order_(model.topological_order()),
+        d_dt_(rates(model)),
         at_zero_qdd_(zero_qdd(model)),
-        bodies_(k.bodies.size()),
-        is_reference_(model.referenced()) {}
+        bodies_(k.bodies.size()) {}
 
   Dynamics run() {
     define_at_zero_qdd();
-    const std::vector<int> order = model_.topological_order();
-    for (int i : order) add_body(i);
-    for (auto it = order.rbegin(); it != order.rend(); ++it) gather_subtree(*it);
+    for (int i : order_) add_body(i);
+    for (auto i = order_.rbegin(); i != order_.rend(); ++i) gather_subtree(*i);
     for (std::size_t a = 0; a < bodies_.size(); ++a) add_momenta(a);
-    find_movers(order);
-    const std::size_t nq = model_.coordinates().size();
-    d_.mass_matrix.assign(nq * nq, Expr(0));
-    d_.bias.assign(nq, Expr(0));
-    for (std::size_t k = 0; k < nq; ++k) {
+    find_movers();
+    for (Body& b : bodies_) b.gathered.resize(nq_), b.from_children.resize(nq_);
+    for (std::size_t k = 0; k < nq_; ++k) gather_momenta(k);
+    d_.mass_matrix.assign(nq_ * nq_, Expr(0));
+    d_.bias.assign(nq_, Expr(0));
+    for (std::size_t k = 0; k < nq_; ++k) {
       std::vector<Expr> terms;
       for (const Mover& m : movers_[k]) terms.push_back(m.coefficient * dot(direction(m), bodies_[m.body].wrench));
       d_.bias[k] = symbolic::add(terms);
-      for (std::size_t j = 0; j <= k; ++j) {
-        d_.mass_matrix[j * nq + k] = d_.mass_matrix[k * nq + j] = mass_matrix_entry(j, k);
-      }
+      for (std::size_t j = 0; j <= k; ++j) d_.mass_matrix[j * nq_ + k] = d_.mass_matrix[k * nq_ + j] = mass_matrix_entry(j, k);
     }
-    std::vector<symbolic::Definition> composites = names_.take_definitions();
-    d_.definitions.insert(d_.definitions.end(), composites.begin(), composites.end());
+    std::vector<symbolic::Definition> gathered = names_.take_definitions();
+    d_.definitions.insert(d_.definitions.end(), gathered.begin(), gathered.end());
     return std::move(d_);
   }
 
@@ -149,16 +176,25 @@ class EquationsOfMotion {
     std::size_t direction;
   };
 
-  // What the sums need of each body, about its tree's O.
+  // What the sums need of each body, in its axes about its G.
   struct Body {
-    Vec3 offset = zero3();                 // c: O to the body's centre of mass
-    std::vector<Spatial> directions;       // of the local twists
-    std::vector<LocalTwist> local;         // l_j = coefficient·direction, for every nonzero l_j
-    std::vector<Spatial> partial;          // (nq) S_j = S_B,j + l_j: the partial twists
-    std::vector<Spatial> momenta;          // F = I^C·direction, for each direction
-    SpatialInertia inertia;                // of the body, then of its subtree
-    Spatial wrench;                        // of the body, then of its subtree (at qdd = 0)
+    Mat3 R;                                 // its axes to its reference's
+    Vec3 x;                                 // its G from its reference's, reference axes
+    Spatial twist, acceleration;            // (ω, v) and (dω/dt, a) at qdd = 0, less gravity
+    std::vector<Spatial> directions;        // of the local twists
+    std::vector<LocalTwist> local;          // l_j = coefficient·direction, for every nonzero l_j
+    std::vector<Spatial> momenta;           // F = I^C·direction, for each direction
+    SpatialInertia inertia;                 // of the body, then of its subtree
+    Spatial wrench;                         // of the body, then of its subtree (at qdd = 0)
+    std::vector<std::optional<Spatial>> gathered, from_children;  // (nq) G_k and G'_k, where nonzero
   };
+
+  static symbolic::RateMap rates(const Model& model) {
+    symbolic::RateMap rates;
+    for (const Coordinate& c : model.coordinates()) rates.emplace(c.q, c.qd), rates.emplace(c.qd, c.qdd);
+    for (const Dependent& d : model.dependents()) rates.emplace(d.symbol, d.rate), rates.emplace(d.rate, d.acceleration);
+    return rates;
+  }
 
   static symbolic::Substitution zero_qdd(const Model& model) {
     std::unordered_map<Expr, Expr> zero;
@@ -166,25 +202,26 @@ class EquationsOfMotion {
     return symbolic::Substitution(std::move(zero));
   }
 
-  // qdd -> 0; each pdd_k -> pdd⁰_k and each intermediate that depends on an
-  // acceleration -> its own value at qdd = 0, defined in order on the ones
-  // before. A value that is a number or a symbol replaces the symbol as it is,
-  // so that zeros cancel the terms they multiply.
+  // qdd -> 0 and each pdd_k -> pdd⁰_k, its value at qdd = 0, defined in order
+  // on the ones before. A value that is a number or a symbol replaces the
+  // symbol as it is, so that zeros cancel the terms they multiply.
   void define_at_zero_qdd() {
-    auto define = [&](Expr symbol, Expr value, symbolic::SymbolKind kind) {
-      const Expr at_rest_value = at_zero_qdd_(value);
-      if (at_rest_value == value) return;
-      if (at_rest_value.is_number() || at_rest_value.is_symbol()) return at_zero_qdd_.add(symbol, at_rest_value);
-      const Expr at_rest = symbolic::symbol(fmt::format("{}__0", symbol.name()), kind);
+    for (const DependentKinematics& p : k_.dependents) {
+      const Expr symbol = p.symbols.acceleration;
+      const Expr at_rest_value = at_zero_qdd_(p.acceleration);
+      if (at_rest_value.is_number() || at_rest_value.is_symbol()) {
+        at_zero_qdd_.add(symbol, at_rest_value);
+        continue;
+      }
+      const Expr at_rest = symbolic::symbol(fmt::format("{}__0", symbol.name()), symbolic::SymbolKind::DependentAcceleration);
       d_.definitions.push_back({at_rest, at_rest_value});
       at_zero_qdd_.add(symbol, at_rest);
-    };
-    for (const DependentKinematics& p : k_.dependents) {
-      define(p.symbols.acceleration, p.acceleration, symbolic::SymbolKind::DependentAcceleration);
     }
-    for (const symbolic::Definition& i : k_.intermediates) define(i.symbol, i.value, symbolic::SymbolKind::Intermediate);
   }
 
+  Expr simplified(Expr e) const { return simplify_ ? simplify_(e) : e; }
+  Expr d_dt(Expr e) { return simplified(d_dt_(e)); }
+  Vec3 d_dt(const Vec3& v) { return {d_dt(v[0]), d_dt(v[1]), d_dt(v[2])}; }
   Vec3 at_zero_qdd(const Vec3& v) { return {at_zero_qdd_(v[0]), at_zero_qdd_(v[1]), at_zero_qdd_(v[2])}; }
 
   void name(Spatial& s, const std::string& prefix) {
@@ -192,150 +229,128 @@ class EquationsOfMotion {
     names_.name_all(s.linear, prefix + "v");
   }
 
-  // The body's offset from O, local partial twists, inertia and wrench.
+  // The body's pose relative to its reference, local twist directions, twist,
+  // acceleration at qdd = 0, inertia and wrench, all in its axes (top-down).
   void add_body(int i) {
-    const BodyKinematics& b = k_.bodies[i];
     const model::Body& body = model_.bodies()[i];
     const std::string& n = body.name();
     Body& out = bodies_[i];
-    const int ref = refs_[i];
-    const Mat3 R_B = ref >= 0 ? k_.bodies[ref].R : identity3();
-    if (ref >= 0) {
-      out.offset = bodies_[ref].offset + R_B * b.relative.x;
-    } else if (is_reference_[i]) {
-      out.offset = b.relative.x - leading_displacement(body.motion());
-    }
-    names_.name_all(out.offset, n + ".c");
-    add_local_twists(b, R_B, body.motion(), out);
+    const MotionInBodyAxes local = in_body_axes(body.motion());
+    out.R = k_.bodies[i].relative.R;
+    out.x = k_.bodies[i].relative.x;
+    names_.name_all(out.x, n + ".xr");  // not ".x": the kinematics' name of the absolute one
+    add_local_twists(local.screws, out);
     for (std::size_t d = 0; d < out.directions.size(); ++d) name(out.directions[d], fmt::format("{}.l{}_", n, d));
-    out.partial.assign(b.dv_dqd.size(), Spatial{zero3(), zero3()});
-    if (ref >= 0) out.partial = bodies_[ref].partial;
-    std::vector<bool> moved(out.partial.size(), false);
-    for (const LocalTwist& l : out.local) {
-      const Spatial& direction = out.directions[l.direction];
-      out.partial[l.j] = sum(out.partial[l.j], {l.coefficient * direction.angular, l.coefficient * direction.linear});
-      moved[l.j] = true;
-    }
-    for (std::size_t j = 0; j < moved.size(); ++j) {
-      if (ref >= 0 && moved[j]) name(out.partial[j], fmt::format("{}.S{}_", n, j));
-    }
-    Mat3 J = to_world(b.R, body.inertia());
-    names_.name_all(J, n + ".J");
-    out.inertia = about(body.mass(), out.offset, J);
-    const Vec3 w = b.w;
-    const Vec3 force = body.mass() * (at_zero_qdd(b.a) - model_.gravity());
-    out.wrench = {cross(out.offset, force) + J * at_zero_qdd(b.dw) + cross(w, J * w), force};
+
+    // The local twist Σ σ'·screw and its rate, at qdd = 0.
+    Spatial l;
+    for (const Screw& s : local.screws) l = l + d_dt(s.scalar) * s.twist;
+    const Vec3 dw_l = at_zero_qdd(d_dt(l.angular));
+    const Vec3 a_l = at_zero_qdd(cross(l.angular, l.linear) + d_dt(l.linear));
+
+    // The reference's twist and acceleration (the ground's: 0 and -g), turned
+    // to the body's axes.
+    Spatial twist_B, acceleration_B{zero3(), zero3() - model_.gravity()};
+    if (refs_[i] >= 0) twist_B = bodies_[refs_[i]].twist, acceleration_B = bodies_[refs_[i]].acceleration;
+    Vec3 w_B = transpose_times(out.R, twist_B.angular);
+    Vec3 dw_B = transpose_times(out.R, acceleration_B.angular);
+    names_.name_all(w_B, n + ".wB");
+    names_.name_all(dw_B, n + ".dwB");
+    Vec3 r = local.r;
+    names_.name_all(r, n + ".r");
+    out.twist = {w_B + l.angular, transpose_times(out.R, twist_B.linear) + cross(w_B, r) + l.linear};
+    out.acceleration = {dw_B + cross(w_B, l.angular) + dw_l,
+                        transpose_times(out.R, acceleration_B.linear) + cross(dw_B, r) + cross(w_B, cross(w_B, r)) +
+                            Expr(2) * cross(w_B, l.linear) + a_l};
+    name(out.twist, n + ".t");
+    name(out.acceleration, n + ".a");
+
+    const Mat3& J = body.inertia();
+    const Vec3& w = out.twist.angular;
+    out.inertia = {body.mass(), zero3(), J};
+    out.wrench = {J * out.acceleration.angular + cross(w, J * w), body.mass() * out.acceleration.linear};
   }
 
-  // The local twists l_j = (R_B·dw_rel,j, R_B·dv_rel,j - (R_B·dw_rel,j)×c), as
-  // coefficients times directions, a body's momentum being computed once per
-  // direction. Of three ways to span them, the one with the fewest directions
-  // (the first on a tie): one per coordinate; one per rate the local velocity
-  // holds (a dependent parameter's pd_p has coefficients dp/dq_j: the slider
-  // driven by p alone); one per screw of the local motion (link6's
-  // Troty(beta - alpha), in any variant).
-  void add_local_twists(const BodyKinematics& b, const Mat3& R_B, const Transform& motion, Body& out) const {
-    const std::size_t nq = b.dv_dqd.size();
+  // The local twists as coefficients times directions, a body's momentum being
+  // computed once per direction. Of three ways to span them, the one with the
+  // fewest directions (the first on a tie): one per coordinate; one per rate
+  // the motion holds (a dependent parameter's pd_p has coefficients dp/dq_j:
+  // the slider driven by p alone); one per screw (link6's Troty(beta - alpha),
+  // in any variant).
+  void add_local_twists(const std::vector<Screw>& screws, Body& out) const {
+    std::vector<std::vector<Expr>> dscalar_dq;  // (screws x nq)
+    for (const Screw& s : screws) dscalar_dq.push_back(coordinate_derivatives(s.scalar));
     Span by_coordinate;
-    for (std::size_t j = 0; j < nq; ++j) {
-      std::vector<Expr> unit(nq, Expr(0));
+    for (std::size_t j = 0; j < nq_; ++j) {
+      std::vector<Expr> weights;
+      for (const auto& d : dscalar_dq) weights.push_back(d[j]);
+      std::vector<Expr> unit(nq_, Expr(0));
       unit[j] = Expr(1);
-      by_coordinate.add(b.relative.dv_dqd[j], b.relative.dw_dqd[j], std::move(unit));
+      by_coordinate.add(combination(screws, weights), std::move(unit));
     }
     std::vector<Span> spans{by_coordinate};
     if (by_coordinate.directions.size() > 1) {  // else nothing has fewer
-      spans.push_back(by_rates(b.relative));
-      spans.push_back(by_screws(motion, b.relative.x));
+      spans.push_back(by_rates(screws));
+      Span by_screws;
+      for (std::size_t s = 0; s < screws.size(); ++s) by_screws.add(screws[s].twist, dscalar_dq[s]);
+      spans.push_back(by_screws);
     }
     const Span& fewest = *std::min_element(spans.begin(), spans.end(), [](const Span& x, const Span& y) {
       return x.directions.size() < y.directions.size();
     });
     for (std::size_t d = 0; d < fewest.directions.size(); ++d) {
-      const auto& [dv_rel, dw_rel] = fewest.directions[d];
-      Spatial l{R_B * dw_rel, {}};
-      l.linear = R_B * dv_rel - cross(l.angular, out.offset);
-      for (std::size_t j = 0; j < nq; ++j) {
+      for (std::size_t j = 0; j < nq_; ++j) {
         if (!fewest.coefficients[d][j].is_zero()) out.local.push_back({j, fewest.coefficients[d][j], d});
       }
-      out.directions.push_back(l);
+      out.directions.push_back(fewest.directions[d]);
     }
   }
 
-  // Relative twists (reference axes, at the body's centre of mass) and, for
-  // each, its coefficient in the local twist of every coordinate.
+  static Spatial combination(const std::vector<Screw>& screws, const std::vector<Expr>& weights) {
+    Spatial sum;
+    for (std::size_t s = 0; s < screws.size(); ++s) sum = sum + weights[s] * screws[s].twist;
+    return sum;
+  }
+
+  // Local twist directions and, for each, its coefficient in the local twist
+  // of every coordinate.
   struct Span {
-    std::vector<std::pair<Vec3, Vec3>> directions;  // (dv, dw)
-    std::vector<std::vector<Expr>> coefficients;    // (directions x nq)
+    std::vector<Spatial> directions;
+    std::vector<std::vector<Expr>> coefficients;  // (directions x nq)
 
     // Keeps a direction unless it or all its coefficients are zero.
-    void add(const Vec3& dv, const Vec3& dw, std::vector<Expr> coefficient) {
+    void add(const Spatial& direction, std::vector<Expr> coefficient) {
       const auto zero = [](Expr e) { return e.is_zero(); };
-      if (std::all_of(dv.begin(), dv.end(), zero) && std::all_of(dw.begin(), dw.end(), zero)) return;
+      const Vec3& w = direction.angular;
+      const Vec3& v = direction.linear;
+      if (std::all_of(w.begin(), w.end(), zero) && std::all_of(v.begin(), v.end(), zero)) return;
       if (std::all_of(coefficient.begin(), coefficient.end(), zero)) return;
-      directions.emplace_back(dv, dw);
+      directions.push_back(direction);
       coefficients.push_back(std::move(coefficient));
     }
   };
 
-  // One direction per rate r the local velocity holds, ∂(v, w)/∂r, with
-  // coefficients dr/dqd_j: 1 for qd_j, dp/dq_j for a dependent rate pd_p.
-  Span by_rates(const Motion& local) const {
-    std::vector<Expr> velocity(local.v.begin(), local.v.end());
-    velocity.insert(velocity.end(), local.w.begin(), local.w.end());
-    const std::size_t nq = model_.coordinates().size();
+  // One direction per coordinate or dependent parameter r the screws' scalars
+  // hold, Σ_s ∂σ_s/∂r·screw_s, with coefficients dr/dq_j (1 for q_j, the
+  // Jacobian for p).
+  Span by_rates(const std::vector<Screw>& screws) const {
+    std::vector<Expr> scalars;
+    for (const Screw& s : screws) scalars.push_back(s.scalar);
     Span span;
-    for (Expr rate : symbolic::free_symbols(velocity)) {
-      const symbolic::SymbolKind kind = rate.symbol_kind();
-      if (kind != symbolic::SymbolKind::Rate && kind != symbolic::SymbolKind::DependentRate) continue;
-      std::vector<Expr> coefficient(nq, Expr(0));
-      for (std::size_t j = 0; j < nq; ++j) {
-        if (rate == model_.coordinates()[j].qd) coefficient[j] = Expr(1);
+    for (Expr r : symbolic::free_symbols(scalars)) {
+      std::vector<Expr> coefficient(nq_, Expr(0));
+      for (std::size_t j = 0; j < nq_; ++j) {
+        if (r == model_.coordinates()[j].q) coefficient[j] = Expr(1);
       }
       for (const DependentKinematics& p : k_.dependents) {
-        if (rate == p.symbols.rate) coefficient = p.jacobian_symbols;
+        if (r == p.symbols.symbol) coefficient = p.jacobian_symbols;
       }
-      symbolic::Differentiator by_rate(rate);
-      auto partial = [&](const Vec3& v) { return Vec3{by_rate(v[0]), by_rate(v[1]), by_rate(v[2])}; };
-      span.add(partial(local.v), partial(local.w), std::move(coefficient));
+      std::vector<Expr> weights;
+      symbolic::Differentiator by_r(r);
+      for (Expr s : scalars) weights.push_back(simplified(by_r(s)));
+      span.add(combination(screws, weights), std::move(coefficient));
     }
     return span;
-  }
-
-  // One direction per screw s of the local motion, with coefficients dσ_s/dq_j.
-  Span by_screws(const Transform& motion, const Vec3& x_rel) const {
-    Span span;
-    for (const Screw& screw : screws(motion, x_rel)) span.add(screw.dv, screw.dw, coordinate_derivatives(screw.scalar));
-    return span;
-  }
-
-  // A screw of a local motion: the relative twist (reference axes, at the
-  // body's centre of mass) per unit rate of one varying scalar σ of a step,
-  // a rotation's angle or a component of a displacement.
-  struct Screw {
-    Vec3 dv, dw;
-    Expr scalar;
-  };
-
-  static std::vector<Screw> screws(const Transform& motion, const Vec3& x_rel) {
-    std::vector<Screw> out;
-    Mat3 R = identity3();
-    Vec3 origin = zero3();
-    for (const Transform::Step& s : motion.steps()) {
-      if (s.is_rotation) {
-        const Vec3 axis = R * s.axis;
-        if (!s.angle.is_number()) out.push_back({cross(axis, x_rel - origin), axis, s.angle});
-        R = R * Transform::rotation_matrix(s.axis, s.angle);
-        continue;
-      }
-      for (int k = 0; k < 3; ++k) {
-        if (s.displacement[k].is_number()) continue;
-        Vec3 e = zero3();
-        e[k] = Expr(1);
-        out.push_back({R * e, zero3(), s.displacement[k]});
-      }
-      origin = origin + R * s.displacement;
-    }
-    return out;
   }
 
   // dσ/dq_j for every j, through the dependent parameters σ holds.
@@ -347,6 +362,7 @@ class EquationsOfMotion {
       if (by_p.is_zero()) continue;
       for (std::size_t j = 0; j < total.size(); ++j) total[j] += by_p * p.jacobian_symbols[j];
     }
+    for (Expr& t : total) t = simplified(t);
     return total;
   }
 
@@ -356,16 +372,16 @@ class EquationsOfMotion {
     Body& b = bodies_[i];
     const std::string& n = model_.bodies()[i].name();
     b.inertia.mass = names_(b.inertia.mass, n + ".mass");
-    names_.name_all(b.inertia.moment, n + ".mc");
+    names_.name_all(b.inertia.moment, n + ".h");
     names_.name_all(b.inertia.rotational, n + ".K");
     name(b.wrench, n + ".f");
     if (refs_[i] < 0) return;
     Body& B = bodies_[refs_[i]];
-    B.inertia = sum(B.inertia, b.inertia);
-    B.wrench = sum(B.wrench, b.wrench);
+    B.inertia = B.inertia + to_reference(b.inertia, b.R, b.x);
+    B.wrench = B.wrench + to_reference(b.wrench, b.R, b.x);
   }
 
-  // The momenta F = I^C·l of the body's local twist directions, about O.
+  // The momenta F = I^C·l of the body's local twist directions.
   void add_momenta(std::size_t a) {
     Body& body = bodies_[a];
     for (std::size_t d = 0; d < body.directions.size(); ++d) {
@@ -374,103 +390,66 @@ class EquationsOfMotion {
     }
   }
 
-  // For every coordinate, the local twists it drives and the bodies it moves
-  // (those below them).
-  void find_movers(const std::vector<int>& order) {
-    const std::size_t nq = model_.coordinates().size();
-    movers_.assign(nq, {});
-    moved_.assign(nq, {});
-    std::vector<std::vector<bool>> moves(bodies_.size(), std::vector<bool>(nq, false));
-    for (int i : order) {
-      if (refs_[i] >= 0) moves[i] = moves[refs_[i]];
-      for (const LocalTwist& l : bodies_[i].local) {
-        movers_[l.j].push_back({static_cast<std::size_t>(i), l.coefficient, l.direction});
-        moves[i][l.j] = true;
-      }
-    }
-    for (int i : order) {
-      for (std::size_t k = 0; k < nq; ++k) {
-        if (moves[i][k]) moved_[k].push_back(static_cast<std::size_t>(i));
-      }
+  // For every coordinate, the local twists it drives.
+  void find_movers() {
+    movers_.assign(nq_, {});
+    for (int i : order_) {
+      for (const LocalTwist& l : bodies_[i].local) movers_[l.j].push_back({static_cast<std::size_t>(i), l.coefficient, l.direction});
     }
   }
 
-  // M_jk = Σ_i S_ij·I_i·S_ik. When every body q_k moves has the same partial
-  // twist S_j (q_j moves them all alike: a coordinate above them in the tree),
-  // M_jk = S_j·Φ_k with Φ_k = Σ_i I_i·S_ik, the momentum q_k's rate gives the
-  // system: one dot product, whatever the number of bodies q_k drives (a
-  // dependent parameter makes them many). Otherwise, summing over the bodies
-  // a that q_k (then q_j) drives, their momenta F = I^C_a·l_a and the partial
-  // twists of a (then of a's reference B):
-  //   M_jk = Σ_a F_ak·S_aj + Σ_a F_aj·S_Bk.
-  Expr mass_matrix_entry(std::size_t j, std::size_t k) {
-    for (auto [x, y] : {std::pair(j, k), std::pair(k, j)}) {
-      if (const Spatial* S = common_partial(x, y)) return is_zero(*S) ? Expr(0) : dot(*S, system_momentum(y));
-    }
-    std::vector<Expr> terms;
-    for (const Mover& m : movers_[k]) {
-      const Spatial& S = bodies_[m.body].partial[j];
-      if (!is_zero(S)) terms.push_back(m.coefficient * dot(momentum_of(m), S));
-    }
-    for (const Mover& m : movers_[j]) {
-      const int B = refs_[m.body];
-      if (B >= 0 && !is_zero(bodies_[B].partial[k])) {
-        terms.push_back(m.coefficient * dot(momentum_of(m), bodies_[B].partial[k]));
+  // G_k(a), the momentum q_k's rate gives a's subtree, and G'_k(a), its
+  // children's part, for every body (children first).
+  void gather_momenta(std::size_t k) {
+    for (auto i = order_.rbegin(); i != order_.rend(); ++i) {
+      const std::string& n = model_.bodies()[*i].name();
+      Body& b = bodies_[*i];
+      if (auto& part = b.from_children[k]; part) name(*part, fmt::format("{}.Gc{}_", n, k));
+      std::optional<Spatial> total = b.from_children[k];
+      for (const LocalTwist& l : b.local) {
+        if (l.j == k) total = total.value_or(Spatial{}) + l.coefficient * b.momenta[l.direction];
       }
+      if (!total) continue;
+      name(*total, fmt::format("{}.G{}_", n, k));
+      b.gathered[k] = total;
+      if (refs_[*i] < 0) continue;
+      auto& parent = bodies_[refs_[*i]].from_children[k];
+      parent = parent.value_or(Spatial{}) + to_reference(*total, b.R, b.x);
+    }
+  }
+
+  // M_jk = Σ_a Σ_d c_dj·l_d·G_k(a) + Σ_a Σ_d c_dk·l_d·G'_j(a).
+  Expr mass_matrix_entry(std::size_t j, std::size_t k) const {
+    std::vector<Expr> terms;
+    for (const Mover& m : movers_[j]) {
+      if (const auto& G = bodies_[m.body].gathered[k]) terms.push_back(m.coefficient * dot(direction(m), *G));
+    }
+    for (const Mover& m : movers_[k]) {
+      if (const auto& G = bodies_[m.body].from_children[j]) terms.push_back(m.coefficient * dot(direction(m), *G));
     }
     return symbolic::add(terms);
   }
 
-  // The partial twist for q_x of every body q_y moves, if they all share it.
-  const Spatial* common_partial(std::size_t x, std::size_t y) const {
-    const Spatial* common = nullptr;
-    for (std::size_t i : moved_[y]) {
-      const Spatial& S = bodies_[i].partial[x];
-      if (common == nullptr) {
-        common = &S;
-      } else if (S.angular != common->angular || S.linear != common->linear) {
-        return nullptr;
-      }
-    }
-    return common;
-  }
-
-  // Φ_k = Σ_i I_i·S_ik = Σ_a c_ak·F_a over the local twists q_k drives.
-  const Spatial& system_momentum(std::size_t k) {
-    auto [it, added] = system_momenta_.try_emplace(k, Spatial{zero3(), zero3()});
-    if (!added) return it->second;
-    for (const Mover& m : movers_[k]) {
-      const Spatial& F = momentum_of(m);
-      it->second = sum(it->second, {m.coefficient * F.angular, m.coefficient * F.linear});
-    }
-    name(it->second, fmt::format("Phi{}_", k));
-    return it->second;
-  }
-
   const Spatial& direction(const Mover& m) const { return bodies_[m.body].directions[m.direction]; }
-  const Spatial& momentum_of(const Mover& m) const { return bodies_[m.body].momenta[m.direction]; }
 
   const Model& model_;
   const Kinematics& k_;
+  const SimplifyFunction& simplify_;
+  const std::size_t nq_;
   const std::vector<int> refs_;
+  const std::vector<int> order_;
+  symbolic::TimeDerivative d_dt_;
   symbolic::Substitution at_zero_qdd_;
   IntermediateNames names_;
   std::vector<Body> bodies_;
-  std::vector<bool> is_reference_;
-  std::vector<std::vector<Mover>> movers_;         // (nq) the local twists of each coordinate
-  std::vector<std::vector<std::size_t>> moved_;    // (nq) the bodies each coordinate moves
-  std::unordered_map<std::size_t, Spatial> system_momenta_;  // Φ_k, once asked for
+  std::vector<std::vector<Mover>> movers_;  // (nq) the local twists of each coordinate
   Dynamics d_;
 };
 
 }  // namespace
 
-Dynamics derive_dynamics(const Model& model, const Kinematics& k) {
-  const std::size_t nq = model.coordinates().size();
-  if (!k.bodies.empty() && k.bodies.front().dv_dqd.size() != nq) {
-    throw ModelError(fmt::format("model '{}': the equations of motion need symbolic partial velocities", model.name()));
-  }
-  return EquationsOfMotion(model, k).run();
+Dynamics derive_dynamics(const Model& model, const Kinematics& k, const SimplifyFunction& simplify) {
+  return EquationsOfMotion(model, k, simplify).run();
 }
 
 }  // namespace symdyn::model

@@ -5,39 +5,39 @@
 //
 //   M_jk = Σ_i S_ijᵀ·I_i·S_ik,   h_j = Σ_i S_ijᵀ·f_i
 //
-// with S_ij body i's partial twist for qd_j (its partial angular velocity
-// dw_ij and the partial velocity of the body point at O), I_i its spatial
-// inertia and f_i the wrench of its momentum rate at qdd = 0, less gravity,
-// all about a reference point O: the centre of mass of the root of i's tree
-// of relative motions (so that the moments stay small wherever the system
-// wanders). About a common point a body's partial twist is its reference's
-// plus its own local part,
+// with S_ij body i's partial twist for qd_j, I_i its spatial inertia and f_i
+// the wrench of its momentum rate at qdd = 0, less gravity. Every body's
+// quantities are taken in its own axes about its centre of mass G, as in
+// Featherstone's recursive algorithms: there its inertia is the constant one
+// given, and the twists its own motion adds are short (a hinge's axis, a
+// slider's direction): a leg that moves in a plane stays sparse however its
+// hip turns. A body's twist and its acceleration at qdd = 0 come from its
+// reference's (gravity enters as the ground's acceleration -g):
 //
-//   S_ij = S_Bj + l_ij,   l_ij = (R_B·dw_rel,j, R_B·dv_rel,j - (R_B·dw_rel,j)×c_i),
+//   ω = Rᵀ·ω_B + ω_l,   v = Rᵀ·v_B + (Rᵀ·ω_B)×r + v_l,   ...
 //
-// (c_i: O to i's centre of mass), so the sums over bodies gather into
-// composite inertias and wrenches of subtrees, as in the composite-rigid-body
-// algorithm: with I^C_a and f^C_a the sums over a's subtree and F_ak = I^C_a·l_ak,
+// (R, r: the body's orientation and position relative to its reference B,
+// r in the body's axes; ω_l, v_l its local twist, summed over the screws of
+// its motion: the unit twist of each varying angle or displacement component
+// σ, times dσ/dt). Wrenches and inertias gather up the tree of references,
+// child to parent, as in the composite-rigid-body algorithm:
 //
-//   M_jk = Σ_a Σ_(c ∈ a and its references) F_ak·l_cj  (+ the transpose for c ≠ a),
-//   h_j  = Σ_a l_aj·f^C_a.
+//   f^C_B = f_B + Σ_children X·f^C_c,   I^C_B = I_B + Σ_children X·I^C_c·Xᵀ.
 //
-// Where q_j moves every body that q_k moves alike (q_j above them in the
-// tree), M_jk = S_j·Φ_k with Φ_k = Σ_a F_ak the momentum q_k's rate gives the
-// system: one dot product however many bodies q_k drives through dependent
-// parameters.
+// A body's local twist for qd_j is Σ_d c_dj·l_d over a few directions l_d of
+// its own: one per coordinate, or, when fewer, one per rate its motion holds
+// (a dependent rate's coefficient being dp/dq_j) or one per screw (with
+// coefficients dσ/dq_j): a motion driven by dependent parameters has fewer of
+// these than coordinates. With F_d = I^C_a·l_d the momentum of a's subtree
+// moving along l_d, and G_k(a) the momentum q_k's rate gives a's subtree
+// (Σ_d c_dk·F_d plus the children's G_k carried up: G'_k(a), their part),
 //
-// A body's momentum is computed once per direction of its local twists:
-// one per coordinate, or, when fewer, one per rate its local velocity holds
-// (l_j = Σ_r (dr/dqd_j)·∂l/∂r, a dependent rate's dr/dqd_j being dp/dq_j) or
-// one per screw of its local motion, a varying angle or displacement
-// component σ_s (l_j = Σ_s (dσ_s/dq_j)·screw_s): a motion driven by dependent
-// parameters has fewer of these than coordinates.
+//   h_j  = Σ_a Σ_d c_dj·l_d·f^C_a,
+//   M_jk = Σ_a Σ_d c_dj·l_d·G_k(a) + Σ_a Σ_d c_dk·l_d·G'_j(a),
 //
-// A body's cost then grows with its depth, not with the square of its number
-// of coordinates. Every composite quantity is a named intermediate
-// (intermediates.hpp). Only the upper triangle of the symmetric M is derived.
-// Needs symbolic partial velocities.
+// the pairs of bodies where q_j drives the upper one, then q_k. Every gathered
+// quantity is a named intermediate (intermediates.hpp). Only the upper
+// triangle of the symmetric M is derived.
 
 #include <vector>
 
@@ -49,11 +49,13 @@ struct Dynamics {
   std::vector<Expr> mass_matrix;  // (nq x nq) row-major; the lower triangle mirrors the upper
   std::vector<Expr> bias;         // (nq) h
   // The symbols the expressions above use besides the kinematics': the values
-  // at qdd = 0 of the dependent accelerations and intermediates that differ
-  // there ("<name>__0"), and the composite quantities; each after those it uses.
+  // at qdd = 0 of the dependent accelerations ("<name>__0"), and the gathered
+  // quantities; each after those it uses.
   std::vector<symbolic::Definition> definitions;
 };
 
-Dynamics derive_dynamics(const Model& model, const Kinematics& kinematics);
+// Uses the kinematics' relative motions and dependent parameters; `simplify`
+// (if any) simplifies the rates of the motions' angles and displacements.
+Dynamics derive_dynamics(const Model& model, const Kinematics& kinematics, const SimplifyFunction& simplify = {});
 
 }  // namespace symdyn::model

@@ -71,9 +71,3 @@ TEST_CASE("equations of motion by composite inertias equal the direct sums over 
 TEST_CASE("the equations of motion stay accurate with the floating base far from the origin", "[dynamics]") {
   check_equations("floating_tree", "default", 1e4);
 }
-
-TEST_CASE("the equations of motion need symbolic partial velocities", "[dynamics]") {
-  const model::Model m = model::find_definition("floating_tree").make();
-  CHECK_THROWS_WITH(model::derive_dynamics(m, derive_for_test(m, false, false)),
-                    Catch::Contains("need symbolic partial velocities"));
-}
