@@ -220,8 +220,7 @@ class EquationsOfMotion {
   }
 
   Expr simplified(Expr e) const { return simplify_ ? simplify_(e) : e; }
-  Expr d_dt(Expr e) { return simplified(d_dt_(e)); }
-  Vec3 d_dt(const Vec3& v) { return {d_dt(v[0]), d_dt(v[1]), d_dt(v[2])}; }
+  Vec3 d_dt(const Vec3& v) { return {d_dt_(v[0]), d_dt_(v[1]), d_dt_(v[2])}; }
   Vec3 at_zero_qdd(const Vec3& v) { return {at_zero_qdd_(v[0]), at_zero_qdd_(v[1]), at_zero_qdd_(v[2])}; }
 
   void name(Spatial& s, const std::string& prefix) {
@@ -242,11 +241,17 @@ class EquationsOfMotion {
     add_local_twists(local.screws, out);
     for (std::size_t d = 0; d < out.directions.size(); ++d) name(out.directions[d], fmt::format("{}.l{}_", n, d));
 
-    // The local twist Σ σ'·screw and its rate, at qdd = 0.
-    Spatial l;
-    for (const Screw& s : local.screws) l = l + d_dt(s.scalar) * s.twist;
-    const Vec3 dw_l = at_zero_qdd(d_dt(l.angular));
-    const Vec3 a_l = at_zero_qdd(cross(l.angular, l.linear) + d_dt(l.linear));
+    // The local twist l = Σ σ'·screw and its rate Σ σ''·screw + σ'·screw',
+    // at qdd = 0 (the scalars simplified: an inline dependent parameter's
+    // second derivative is long).
+    Spatial l, dl;
+    for (const Screw& s : local.screws) {
+      const Expr rate = simplified(d_dt_(s.scalar));
+      l = l + rate * s.twist;
+      dl = dl + simplified(at_zero_qdd_(d_dt_(rate))) * s.twist + rate * Spatial{d_dt(s.twist.angular), d_dt(s.twist.linear)};
+    }
+    const Vec3 dw_l = at_zero_qdd(dl.angular);
+    const Vec3 a_l = at_zero_qdd(cross(l.angular, l.linear) + dl.linear);
 
     // The reference's twist and acceleration (the ground's: 0 and -g), turned
     // to the body's axes.
