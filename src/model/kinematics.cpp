@@ -125,6 +125,11 @@ class Deriver {
   // A local partial is total: dv_rel/dqd_j = ∂v_rel/∂qd_j + Σ_k ∂v_rel/∂pd_k · dp_k/dq_j.
   void add_partials(const std::vector<DependentKinematics>& dependents, const BodyKinematics* B, BodyKinematics& b) {
     Motion& l = b.relative;
+    const Vec3 r = B != nullptr ? B->R * l.x : zero3();
+    // Most of a body's partials are zero (the coordinates that do not move it):
+    // products by them are skipped, not built.
+    const auto is_zero = [](const Vec3& v) { return v[0].is_zero() && v[1].is_zero() && v[2].is_zero(); };
+    const auto turned = [&](const Vec3& v) { return is_zero(v) ? v : B->R * v; };
     for (std::size_t j = 0; j < by_qd_.size(); ++j) {
       auto partial = [&](Expr e) {
         Expr total = by_qd_[j](e);
@@ -139,9 +144,9 @@ class Deriver {
         b.dv_dqd.push_back(dv_rel);
         b.dw_dqd.push_back(dw_rel);
       } else {
-        const Vec3 r = B->R * l.x;
-        b.dv_dqd.push_back(B->dv_dqd[j] + cross(B->dw_dqd[j], r) + B->R * dv_rel);
-        b.dw_dqd.push_back(B->dw_dqd[j] + B->R * dw_rel);
+        const Vec3 carried = is_zero(B->dw_dqd[j]) ? zero3() : cross(B->dw_dqd[j], r);
+        b.dv_dqd.push_back(B->dv_dqd[j] + carried + turned(dv_rel));
+        b.dw_dqd.push_back(B->dw_dqd[j] + turned(dw_rel));
       }
     }
   }
