@@ -88,41 +88,42 @@ Spatial to_reference(const Spatial& wrench, const Mat3& R, const Vec3& d) {
   return {R * wrench.angular + cross(d, f), f};
 }
 
-// A motion T = S_1·...·S_n in the axes of its last frame (the body's), built
-// from the last step back so that nothing is turned there and back: R (the
-// body's axes to the reference's), r (the body's G from the reference's, body
-// axes) and the screws, the unit twists at G of every varying angle or
-// displacement component σ, with σ.
+// A motion T = S_1·...·S_n seen from its last frame (the body's): r, the
+// body's G from the reference's in the body's axes, and the screws, the unit
+// twists at G of every varying angle or displacement component σ, with σ.
+// Built from the last step back, R being the rotation of the steps after the
+// current one, so that nothing is turned there and back: a hinge's axis and
+// a slider's direction come out as constant as they are.
 struct Screw {
   Spatial twist;
   Expr scalar;
 };
 
 struct MotionInBodyAxes {
-  Mat3 R = identity3();
   Vec3 r = zero3();
   std::vector<Screw> screws;
 };
 
 MotionInBodyAxes in_body_axes(const Transform& motion) {
   MotionInBodyAxes out;
+  Mat3 R = identity3();
   const std::vector<Transform::Step>& steps = motion.steps();
-  for (auto s = steps.rbegin(); s != steps.rend(); ++s) {  // out.R: the steps after s
+  for (auto s = steps.rbegin(); s != steps.rend(); ++s) {
     if (s->is_rotation) {
       if (!s->angle.is_number()) {
-        const Vec3 axis = transpose_times(out.R, s->axis);
+        const Vec3 axis = transpose_times(R, s->axis);
         out.screws.push_back({{axis, cross(axis, out.r)}, s->angle});
       }
-      out.R = Transform::rotation_matrix(s->axis, s->angle) * out.R;
+      R = Transform::rotation_matrix(s->axis, s->angle) * R;
       continue;
     }
     for (int k = 2; k >= 0; --k) {
       if (s->displacement[k].is_number()) continue;
       Vec3 e = zero3();
       e[k] = Expr(1);
-      out.screws.push_back({{zero3(), transpose_times(out.R, e)}, s->displacement[k]});
+      out.screws.push_back({{zero3(), transpose_times(R, e)}, s->displacement[k]});
     }
-    out.r = out.r + transpose_times(out.R, s->displacement);
+    out.r = out.r + transpose_times(R, s->displacement);
   }
   std::reverse(out.screws.begin(), out.screws.end());
   return out;
