@@ -25,6 +25,9 @@ struct PartPlan {
   std::vector<std::size_t> run_end;       // (output_count) > o where a loop assigns outputs o ... run_end - 1
   std::vector<std::int64_t> scratch_of;   // (slot_count) scratch entry, -1 if the value stays in its part
   std::size_t scratch_size = 0;
+  // Several parts: a computed output is assigned right after its value is
+  // defined (see emit_cpp_parts), not at the end of its part.
+  bool outputs_at_definition = false;
 };
 
 bool is_load(const Instruction& ins) { return ins.op == Opcode::Const || ins.op == Opcode::Input; }
@@ -143,6 +146,7 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t
     defined[static_cast<std::size_t>(part)].push_back(s);
     released[static_cast<std::size_t>(last_reader[s]) + 1].push_back(s);
   }
+  plan.outputs_at_definition = plan.parts > 1;
   plan.scratch_of.assign(program.slot_count(), -1);
   std::set<std::int64_t> free;
   for (std::size_t p = 0; p < plan.parts; ++p) {
@@ -160,7 +164,17 @@ class Printer {
  public:
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
       : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
-        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " ") {}
+        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " ") {
+    if (!plan.outputs_at_definition) return;
+    // The outputs of each computed slot, in output order (CSR: first_output_, by_slot_).
+    const auto outputs = program.output_slots();
+    first_output_.assign(program.slot_count() + 1, 0);
+    for (std::uint32_t s : outputs) ++first_output_[s + 1];
+    for (std::size_t s = 0; s < program.slot_count(); ++s) first_output_[s + 1] += first_output_[s];
+    by_slot_.resize(outputs.size());
+    std::vector<std::size_t> next(first_output_.begin(), first_output_.end() - 1);
+    for (std::size_t o = 0; o < outputs.size(); ++o) by_slot_[next[outputs[o]]++] = o;
+  }
 
   std::vector<std::string> run() {
     std::vector<std::string> bodies(plan_.parts);
@@ -220,16 +234,22 @@ class Printer {
       out_.append(std::to_string(plan_.scratch_of[slot])).append("] = ").append(name).append(";\n");
     }
     operand_[slot] = whole_[slot] = name;
+    if (!plan_.outputs_at_definition) return;
+    for (std::size_t k = first_output_[slot]; k < first_output_[slot + 1]; ++k) {
+      out_.append(naming_.indent).append(naming_.outputs[by_slot_[k]]).append(" = ").append(name).append(";\n");
+    }
   }
 
-  // The outputs of part p, in order; a constant run as one loop.
+  // The outputs of part p not yet assigned at their definition, in order; a constant run as one loop.
   void assign_outputs(std::size_t p) {
     std::size_t first = 0;  // of output i's array
     auto array = naming_.output_arrays.begin();
     for (std::size_t i = 0; i < program_.output_count(); ++i) {
       for (; array != naming_.output_arrays.end() && i >= first + array->second; ++array) first += array->second;
       if (plan_.output_part[i] != p) continue;
-      const std::string& value = whole_[program_.output_slots()[i]];
+      const std::uint32_t slot = program_.output_slots()[i];
+      if (plan_.outputs_at_definition && plan_.part_of_slot[slot] != kNoPart) continue;  // assigned at definition
+      const std::string& value = whole_[slot];
       if (plan_.run_end[i] > i) {
         fmt::format_to(std::back_inserter(out_), "{}for (int i = {}; i < {}; ++i) {}[i] = {};\n", naming_.indent,
                        i - first, plan_.run_end[i] - first, array->first, value);
@@ -249,6 +269,9 @@ class Printer {
   const std::string declaration_;  // what every temporary's line starts with: "  const double "
   std::string out_;
   int next_temporary_ = 0;
+  // outputs_at_definition: the outputs of slot s are by_slot_[first_output_[s] ... first_output_[s + 1] - 1].
+  std::vector<std::size_t> first_output_;
+  std::vector<std::size_t> by_slot_;
 };
 
 }  // namespace
