@@ -266,14 +266,17 @@ std::string emit_cpp(const Program& program, const CppNaming& naming);
 // accesses against 940, 19 % more instructions, 7 % more compile work). So
 // outputs are written before later statements and parts read inputs: output
 // arrays must not overlap inputs (the parts' parameters are __restrict).
-// One part (max_instructions at least the program's length, or 0 meaning
+// A program of at most `split_above` statements stays whole (a short entry
+// point gains nothing from the calls). One part (max_instructions or
+// split_above at least the program's length, or max_instructions 0 meaning
 // no limit) prints exactly what emit_cpp prints, with scratch_size 0.
 // Throws UsageError like emit_cpp.
 struct CppParts {
   std::vector<std::string> bodies;  // statements of each part, in call order (at least one)
   std::size_t scratch_size = 0;     // scalars of the scratch array
 };
-CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions);
+CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions,
+                        std::size_t split_above = 0);
 
 // ---------------------------------------------------------------------------
 // Implementation of the interpreter.

@@ -81,15 +81,15 @@ std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& 
   return run_end;
 }
 
-// Cuts the program into the fewest parts of at most `max` statements (0: no
-// limit), as even as possible. Statements are counted because a compiler's
-// work grows with stores as much as with arithmetic: a computing instruction
+// Cuts the program, if longer than `max` and `split_above` statements, into
+// the fewest parts of at most `max` statements (0: no limit), as even as
+// possible. Statements are counted because a compiler's work grows with stores as much as with arithmetic: a computing instruction
 // weighs 1 plus the outputs it assigns; outputs that are loads (constants,
 // inputs) weigh 1 each, a loop over a long constant run 1 in all, and are
 // spread over the parts after every instruction, in output order.
 // Every value read after its defining part gets a scratch entry, lowest free
 // first: an entry is free again from the part after its value's last reader.
-PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t max) {
+PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t max, std::size_t split_above) {
   PartPlan plan;
   const auto ins = program.instructions();
   const auto outputs = program.output_slots();
@@ -115,7 +115,7 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t
   };
   for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) total += weight(o);
   plan.part_of_slot.assign(program.slot_count(), kNoPart);
-  if (max > 0 && total > max) plan.parts = (total + max - 1) / max;
+  if (max > 0 && total > std::max(max, split_above)) plan.parts = (total + max - 1) / max;
   const std::size_t per_part = std::max<std::size_t>(1, (total + plan.parts - 1) / plan.parts);
   std::vector<int> last_reader(program.slot_count(), kNoPart);
   std::size_t done = 0;  // weight placed so far
@@ -276,7 +276,8 @@ class Printer {
 
 }  // namespace
 
-CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions) {
+CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions,
+                        std::size_t split_above) {
   if (naming.inputs.size() != program.input_count() || naming.outputs.size() != program.output_count()) {
     throw UsageError(fmt::format("emit_cpp: naming has {} inputs and {} outputs; the program has {} and {}",
                                  naming.inputs.size(), naming.outputs.size(), program.input_count(),
@@ -288,7 +289,7 @@ CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::si
     throw UsageError(fmt::format("emit_cpp: naming's output arrays have {} elements; the program has {} outputs",
                                  covered, program.output_count()));
   }
-  const PartPlan plan = plan_parts(program, naming, max_instructions);
+  const PartPlan plan = plan_parts(program, naming, max_instructions, split_above);
   CppParts parts;
   parts.bodies = Printer(program, naming, plan).run();
   parts.scratch_size = plan.scratch_size;

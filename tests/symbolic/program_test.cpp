@@ -581,6 +581,11 @@ TEST_CASE("emit_cpp_parts: the parts are the whole program, values crossing part
       if (parts.bodies.size() == 1) CHECK(parts.scratch_size == 0);
     }
     CHECK(emit_cpp_parts(p, naming, 0).bodies == std::vector{whole});
+    // split_above: a program up to that many statements stays whole; a longer one is cut as without it.
+    std::size_t statements = outputs.size();
+    for (const Instruction& i : p.instructions()) statements += i.op != Opcode::Const && i.op != Opcode::Input;
+    CHECK(emit_cpp_parts(p, naming, 3, statements).bodies == std::vector{whole});
+    CHECK(emit_cpp_parts(p, naming, 3, statements / 2).bodies == emit_cpp_parts(p, naming, 3).bodies);
   }
 }
 
