@@ -41,7 +41,7 @@ function(symdyn_add_model target model_source)
     list(APPEND flags --no-eom)
   endif()
   if(DEFINED ARG_PART_SIZE)
-    list(APPEND flags --part-size ${ARG_PART_SIZE})
+    list(APPEND flags --part-size ${ARG_PART_SIZE} --split-above 0)
   endif()
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/generated/${target})
   add_custom_command(

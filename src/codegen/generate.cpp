@@ -313,7 +313,7 @@ class Emitter {
     }
     f.program = std::move(program);
     f.operations = f.program->operation_count();
-    symbolic::CppParts parts = symbolic::emit_cpp_parts(*f.program, naming, options_.part_instructions);
+    symbolic::CppParts parts = symbolic::emit_cpp_parts(*f.program, naming, options_.part_instructions, options_.split_above);
     if (parts.bodies.size() == 1) return function_text(e, parts.bodies.front());
     return emit_parts(e, parts);
   }

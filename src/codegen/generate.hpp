@@ -18,15 +18,24 @@ namespace symdyn::codegen {
 
 // g++ -O2 spends time superlinear in a function's length (register
 // allocation, CSE, alias walks over the stores before each load): amru5's
-// 10 000-instruction mass matrix took most of a 51 s compilation. Why 500:
-// amru5 dependent with everything emitted (40 000 instructions) compiled in
-// 56 s in one function per entry point, 30 s in parts of 1000, 25 s of 500,
-// 22 s of 250 and 20 s of 125 (g++ 12 -O2, CPU time on a loaded machine,
-// constant runs not yet printed as loops); below 500, values crossing parts
-// (loads and stores of the scratch array) grow faster than the gain: 13 100
-// loads at 500, 15 700 at 250, 19 300 at 125. With runs of 8 constants as
-// loops, 500 and 250 gave 16.3 s and 17.4 s.
-inline constexpr std::size_t kDefaultPartInstructions = 500;
+// 10 000-instruction mass matrix took most of a 51 s compilation. Why 125:
+// since outputs are assigned at their definition (emit_cpp_parts), shorter
+// parts compile faster down to about that size although more values cross
+// parts through the scratch array. cc1plus instructions (callgrind, so
+// repeatable) to compile amru5 dependent's velocities (2 972 instructions)
+// alone: parts of 2000: 10.0 G, 1000: 9.3 G, 500: 7.9 G, 250: 6.9 G, 125:
+// 5.9 G, 60: 5.6 G, of which 0.7 G parse <cmath>. Below 125 the gain is small
+// and each call and scratch entry costs at run time; at 125 amru5 dependent
+// case 4's T1 and T2 workloads run 0.8 % and 0.7 % fewer instructions than
+// at 500. (Earlier, with outputs assigned at each part's end, sizes from 125
+// to 2000 compiled in about the same time and 500 was kept.)
+inline constexpr std::size_t kDefaultPartInstructions = 125;
+
+// Only an entry point longer than this is split: parts of 125 made
+// double_pendulum relative's T1 workload (one entry point of ~130
+// statements) 6 % more instructions for the calls, and short functions
+// compile fast whole.
+inline constexpr std::size_t kSplitAbove = 500;
 
 struct Options {
   bool simplify = true;             // trigonometric simplification of the relative kinematics; each
@@ -34,10 +43,12 @@ struct Options {
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
   bool equations_of_motion = true;  // emit mass_matrix and bias_forces (needs symbolic partials)
   std::string name_space = "symdyn_generated";
-  // An entry point longer than this many computing instructions is emitted as
-  // internal functions of at most this many each (symbolic::emit_cpp_parts);
-  // 0: never split. Why this value: see kDefaultPartInstructions.
+  // An entry point longer than part_instructions and split_above statements
+  // is emitted as internal functions of at most part_instructions each
+  // (symbolic::emit_cpp_parts); 0: never split. Why these values: see
+  // kDefaultPartInstructions and kSplitAbove.
   std::size_t part_instructions = kDefaultPartInstructions;
+  std::size_t split_above = kSplitAbove;
 };
 
 // One emitted function: its input arrays (among t, q, qd, qdd, param, in

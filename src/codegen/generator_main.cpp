@@ -3,7 +3,7 @@
 //
 //   double_pendulum_generator --out DIR [--variant V] [--no-simplify]
 //                             [--partials numeric|symbolic] [--no-eom] [--basename NAME]
-//                             [--part-size N]
+//                             [--part-size N] [--split-above N]
 //   double_pendulum_generator --list
 //
 // Exit codes: 0 success, 1 invalid model or generation failure, 2 bad command line.
@@ -30,6 +30,7 @@ struct Arguments {
   std::string partials = "symbolic";
   std::string model;
   std::size_t part_size = codegen::kDefaultPartInstructions;
+  std::size_t split_above = codegen::kSplitAbove;
   bool no_simplify = false;
   bool no_eom = false;
   bool list = false;
@@ -72,6 +73,7 @@ int generate(const Arguments& args) {
   options.symbolic_partials = args.partials == "symbolic";
   options.equations_of_motion = !args.no_eom;
   options.part_instructions = args.part_size;
+  options.split_above = args.split_above;
   const std::string basename = args.basename.empty() ? fmt::format("{}_{}", definition.name, variant) : args.basename;
   const codegen::GeneratedCode code = codegen::generate(m, variant, basename, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -103,7 +105,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix and bias forces");
   app.add_option("--part-size", args.part_size,
-                 "emit an entry point longer than N instructions as functions of at most N each (0: never)")
+                 "emit a long entry point as functions of at most N instructions each (0: never)")
+      ->capture_default_str();
+  app.add_option("--split-above", args.split_above,
+                 "split only entry points longer than N instructions (and than --part-size)")
       ->capture_default_str();
   app.add_flag("--list", args.list, "list the model and its variants, generate nothing");
   app.add_flag("--stats", args.stats, "print generation time, size and operation counts");

@@ -25,6 +25,9 @@ struct PartPlan {
   std::vector<std::size_t> run_end;       // (output_count) > o where a loop assigns outputs o ... run_end - 1
   std::vector<std::int64_t> scratch_of;   // (slot_count) scratch entry, -1 if the value stays in its part
   std::size_t scratch_size = 0;
+  // Several parts: a computed output is assigned right after its value is
+  // defined (see emit_cpp_parts), not at the end of its part.
+  bool outputs_at_definition = false;
 };
 
 bool is_load(const Instruction& ins) { return ins.op == Opcode::Const || ins.op == Opcode::Input; }
@@ -78,15 +81,15 @@ std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& 
   return run_end;
 }
 
-// Cuts the program into the fewest parts of at most `max` statements (0: no
-// limit), as even as possible. Statements are counted because a compiler's
-// work grows with stores as much as with arithmetic: a computing instruction
+// Cuts the program, if longer than `max` and `split_above` statements, into
+// the fewest parts of at most `max` statements (0: no limit), as even as
+// possible. Statements are counted because a compiler's work grows with stores as much as with arithmetic: a computing instruction
 // weighs 1 plus the outputs it assigns; outputs that are loads (constants,
 // inputs) weigh 1 each, a loop over a long constant run 1 in all, and are
 // spread over the parts after every instruction, in output order.
 // Every value read after its defining part gets a scratch entry, lowest free
 // first: an entry is free again from the part after its value's last reader.
-PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t max) {
+PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t max, std::size_t split_above) {
   PartPlan plan;
   const auto ins = program.instructions();
   const auto outputs = program.output_slots();
@@ -112,7 +115,7 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t
   };
   for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) total += weight(o);
   plan.part_of_slot.assign(program.slot_count(), kNoPart);
-  if (max > 0 && total > max) plan.parts = (total + max - 1) / max;
+  if (max > 0 && total > std::max(max, split_above)) plan.parts = (total + max - 1) / max;
   const std::size_t per_part = std::max<std::size_t>(1, (total + plan.parts - 1) / plan.parts);
   std::vector<int> last_reader(program.slot_count(), kNoPart);
   std::size_t done = 0;  // weight placed so far
@@ -143,6 +146,7 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t
     defined[static_cast<std::size_t>(part)].push_back(s);
     released[static_cast<std::size_t>(last_reader[s]) + 1].push_back(s);
   }
+  plan.outputs_at_definition = plan.parts > 1;
   plan.scratch_of.assign(program.slot_count(), -1);
   std::set<std::int64_t> free;
   for (std::size_t p = 0; p < plan.parts; ++p) {
@@ -160,7 +164,17 @@ class Printer {
  public:
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
       : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
-        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " ") {}
+        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " ") {
+    if (!plan.outputs_at_definition) return;
+    // The outputs of each computed slot, in output order (CSR: first_output_, by_slot_).
+    const auto outputs = program.output_slots();
+    first_output_.assign(program.slot_count() + 1, 0);
+    for (std::uint32_t s : outputs) ++first_output_[s + 1];
+    for (std::size_t s = 0; s < program.slot_count(); ++s) first_output_[s + 1] += first_output_[s];
+    by_slot_.resize(outputs.size());
+    std::vector<std::size_t> next(first_output_.begin(), first_output_.end() - 1);
+    for (std::size_t o = 0; o < outputs.size(); ++o) by_slot_[next[outputs[o]]++] = o;
+  }
 
   std::vector<std::string> run() {
     std::vector<std::string> bodies(plan_.parts);
@@ -220,16 +234,22 @@ class Printer {
       out_.append(std::to_string(plan_.scratch_of[slot])).append("] = ").append(name).append(";\n");
     }
     operand_[slot] = whole_[slot] = name;
+    if (!plan_.outputs_at_definition) return;
+    for (std::size_t k = first_output_[slot]; k < first_output_[slot + 1]; ++k) {
+      out_.append(naming_.indent).append(naming_.outputs[by_slot_[k]]).append(" = ").append(name).append(";\n");
+    }
   }
 
-  // The outputs of part p, in order; a constant run as one loop.
+  // The outputs of part p not yet assigned at their definition, in order; a constant run as one loop.
   void assign_outputs(std::size_t p) {
     std::size_t first = 0;  // of output i's array
     auto array = naming_.output_arrays.begin();
     for (std::size_t i = 0; i < program_.output_count(); ++i) {
       for (; array != naming_.output_arrays.end() && i >= first + array->second; ++array) first += array->second;
       if (plan_.output_part[i] != p) continue;
-      const std::string& value = whole_[program_.output_slots()[i]];
+      const std::uint32_t slot = program_.output_slots()[i];
+      if (plan_.outputs_at_definition && plan_.part_of_slot[slot] != kNoPart) continue;  // assigned at definition
+      const std::string& value = whole_[slot];
       if (plan_.run_end[i] > i) {
         fmt::format_to(std::back_inserter(out_), "{}for (int i = {}; i < {}; ++i) {}[i] = {};\n", naming_.indent,
                        i - first, plan_.run_end[i] - first, array->first, value);
@@ -249,11 +269,15 @@ class Printer {
   const std::string declaration_;  // what every temporary's line starts with: "  const double "
   std::string out_;
   int next_temporary_ = 0;
+  // outputs_at_definition: the outputs of slot s are by_slot_[first_output_[s] ... first_output_[s + 1] - 1].
+  std::vector<std::size_t> first_output_;
+  std::vector<std::size_t> by_slot_;
 };
 
 }  // namespace
 
-CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions) {
+CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions,
+                        std::size_t split_above) {
   if (naming.inputs.size() != program.input_count() || naming.outputs.size() != program.output_count()) {
     throw UsageError(fmt::format("emit_cpp: naming has {} inputs and {} outputs; the program has {} and {}",
                                  naming.inputs.size(), naming.outputs.size(), program.input_count(),
@@ -265,7 +289,7 @@ CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::si
     throw UsageError(fmt::format("emit_cpp: naming's output arrays have {} elements; the program has {} outputs",
                                  covered, program.output_count()));
   }
-  const PartPlan plan = plan_parts(program, naming, max_instructions);
+  const PartPlan plan = plan_parts(program, naming, max_instructions, split_above);
   CppParts parts;
   parts.bodies = Printer(program, naming, plan).run();
   parts.scratch_size = plan.scratch_size;

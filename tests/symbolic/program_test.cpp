@@ -581,6 +581,64 @@ TEST_CASE("emit_cpp_parts: the parts are the whole program, values crossing part
       if (parts.bodies.size() == 1) CHECK(parts.scratch_size == 0);
     }
     CHECK(emit_cpp_parts(p, naming, 0).bodies == std::vector{whole});
+    // split_above: a program up to that many statements stays whole; a longer one is cut as without it.
+    std::size_t statements = outputs.size();
+    for (const Instruction& i : p.instructions()) statements += i.op != Opcode::Const && i.op != Opcode::Input;
+    CHECK(emit_cpp_parts(p, naming, 3, statements).bodies == std::vector{whole});
+    CHECK(emit_cpp_parts(p, naming, 3, statements / 2).bodies == emit_cpp_parts(p, naming, 3).bodies);
+  }
+}
+
+TEST_CASE("emit_cpp_parts: in several parts, a computed output is assigned right after its definition",
+          "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
+  const std::regex define(R"(^  const double (t\d+) = .*;$)"), store(R"(^  s\[\d+\] = (t\d+);$)"),
+      output(R"(^  y\[\d+\] = (.*);$)"), temporary(R"(t\d+)");
+  for (unsigned seed = 0; seed < 200; ++seed) {
+    symdyn::testing::RandomExpr gen(seed, xs);
+    std::vector<Expr> outputs;
+    for (int i = 0; i < 6; ++i) outputs.push_back(gen(5));
+    outputs.push_back(outputs[seed % 6]);  // a value assigned twice
+    outputs.push_back(Expr(2));
+    outputs.push_back(xs[1]);
+    const Program p = compile_program(xs, outputs);
+    CppNaming naming;
+    naming.inputs = {"x[0]", "x[1]", "x[2]"};
+    for (std::size_t i = 0; i < outputs.size(); ++i) naming.outputs.push_back(fmt::format("y[{}]", i));
+    for (std::size_t max : {2, 5, 11}) {
+      const CppParts parts = emit_cpp_parts(p, naming, max);
+      if (parts.bodies.size() < 2) continue;
+      INFO("seed " << seed << ", parts of " << max);
+      std::size_t assigned = 0;
+      for (const std::string& body : parts.bodies) {
+        INFO(body);
+        std::istringstream lines(body);
+        std::string last;  // the temporary defined by the last definition line, if no other statement followed
+        bool loads = false;  // the part's outputs that are loads, at its end
+        for (std::string line; std::getline(lines, line);) {
+          std::smatch m;
+          if (std::regex_match(line, m, define)) {
+            CHECK_FALSE(loads);
+            last = m[1];
+          } else if (std::regex_match(line, m, store)) {
+            CHECK(m[1] == last);  // a scratch store follows its definition too
+          } else if (std::regex_match(line, m, output)) {
+            ++assigned;
+            if (std::regex_match(m[1].str(), temporary)) {
+              CHECK(m[1] == last);
+            } else {
+              loads = true;  // a constant or an input (or a scratch entry: never, values are assigned in their part)
+              CHECK_FALSE(std::regex_search(m[1].str(), std::regex(R"(s\[)")));
+            }
+          } else {
+            FAIL("unexpected line: " << line);
+          }
+        }
+      }
+      CHECK(assigned == outputs.size());
+    }
   }
 }
 
