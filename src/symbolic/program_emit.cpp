@@ -164,7 +164,19 @@ class Printer {
  public:
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
       : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
-        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " ") {
+        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " "),
+        outputs_of_part_(plan.parts), slots_of_part_(plan.parts) {
+    // Each part's outputs and slots, in order: looking them up among all of
+    // them for every part would cost parts x outputs (chain_64: 200 parts).
+    for (std::size_t i = 0; i < program.output_count(); ++i) outputs_of_part_[plan.output_part[i]].push_back(i);
+    for (std::uint32_t s = 0; s < program.slot_count(); ++s) {
+      if (plan.part_of_slot[s] != kNoPart) slots_of_part_[static_cast<std::size_t>(plan.part_of_slot[s])].push_back(s);
+    }
+    std::size_t first = 0;
+    for (const auto& [name, size] : naming.output_arrays) {
+      for (std::size_t i = first; i < first + size; ++i) array_of_output_.push_back({&name, first});
+      first += size;
+    }
     if (!plan.outputs_at_definition) return;
     // The outputs of each computed slot, in output order (CSR: first_output_, by_slot_).
     const auto outputs = program.output_slots();
@@ -186,10 +198,8 @@ class Printer {
       assign_outputs(p);
       bodies[p] = std::move(out_);
       // Later parts read this part's values from the scratch array.
-      for (std::uint32_t s = 0; s < program_.slot_count(); ++s) {
-        if (plan_.part_of_slot[s] == static_cast<int>(p) && plan_.scratch_of[s] >= 0) {
-          operand_[s] = whole_[s] = fmt::format("{}[{}]", naming_.scratch, plan_.scratch_of[s]);
-        }
+      for (std::uint32_t s : slots_of_part_[p]) {
+        if (plan_.scratch_of[s] >= 0) operand_[s] = whole_[s] = fmt::format("{}[{}]", naming_.scratch, plan_.scratch_of[s]);
       }
     }
     return bodies;
@@ -242,18 +252,17 @@ class Printer {
 
   // The outputs of part p not yet assigned at their definition, in order; a constant run as one loop.
   void assign_outputs(std::size_t p) {
-    std::size_t first = 0;  // of output i's array
-    auto array = naming_.output_arrays.begin();
-    for (std::size_t i = 0; i < program_.output_count(); ++i) {
-      for (; array != naming_.output_arrays.end() && i >= first + array->second; ++array) first += array->second;
-      if (plan_.output_part[i] != p) continue;
+    std::size_t run_end = 0;  // outputs before it are assigned by a loop
+    for (std::size_t i : outputs_of_part_[p]) {
+      if (i < run_end) continue;
       const std::uint32_t slot = program_.output_slots()[i];
       if (plan_.outputs_at_definition && plan_.part_of_slot[slot] != kNoPart) continue;  // assigned at definition
       const std::string& value = whole_[slot];
       if (plan_.run_end[i] > i) {
+        const auto [array, first] = array_of_output_[i];
         fmt::format_to(std::back_inserter(out_), "{}for (int i = {}; i < {}; ++i) {}[i] = {};\n", naming_.indent,
-                       i - first, plan_.run_end[i] - first, array->first, value);
-        i = plan_.run_end[i] - 1;
+                       i - first, plan_.run_end[i] - first, *array, value);
+        run_end = plan_.run_end[i];
         continue;
       }
       out_.append(naming_.indent).append(naming_.outputs[i]).append(" = ").append(value).append(";\n");
@@ -269,6 +278,9 @@ class Printer {
   const std::string declaration_;  // what every temporary's line starts with: "  const double "
   std::string out_;
   int next_temporary_ = 0;
+  std::vector<std::vector<std::size_t>> outputs_of_part_;   // (parts) output indices, in order
+  std::vector<std::vector<std::uint32_t>> slots_of_part_;   // (parts) slots each part computes
+  std::vector<std::pair<const std::string*, std::size_t>> array_of_output_;  // name and first index of its array
   // outputs_at_definition: the outputs of slot s are by_slot_[first_output_[s] ... first_output_[s + 1] - 1].
   std::vector<std::size_t> first_output_;
   std::vector<std::size_t> by_slot_;
