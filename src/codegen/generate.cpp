@@ -148,7 +148,7 @@ class Emitter {
         return s;
       };
     }
-    derive.symbolic_partials = options_.symbolic_partials || options_.equations_of_motion;
+    derive.symbolic_partials = options_.symbolic_partials;
     const model::Kinematics k = model::derive_kinematics(model_, derive);
     definitions_.clear();
     define_dependents(k);

@@ -41,7 +41,7 @@ struct Options {
   bool simplify = true;             // trigonometric simplification of the relative kinematics; each
                                     // entry point keeps the shorter of the simplified and plain programs
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
-  bool equations_of_motion = true;  // emit mass_matrix and bias_forces (needs symbolic partials)
+  bool equations_of_motion = true;  // emit mass_matrix and bias_forces
   std::string name_space = "symdyn_generated";
   // An entry point longer than part_instructions and split_above statements
   // is emitted as internal functions of at most part_instructions each

@@ -29,14 +29,14 @@ Spatial operator+(const Spatial& a, const Spatial& b) { return {a.angular + b.an
 
 Spatial operator*(Expr c, const Spatial& s) { return {c * s.angular, c * s.linear}; }
 
-Mat3 diagonal_zero() { return {Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0)}; }
+Mat3 zero_matrix() { return {Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0)}; }
 
 // The inertia of a body or a subtree about a point: mass m, first moment h
 // (m times the centre of mass from the point) and rotational inertia K.
 struct SpatialInertia {
   Expr mass{0};
   Vec3 moment = zero3();
-  Mat3 rotational = diagonal_zero();
+  Mat3 rotational = zero_matrix();
 };
 
 SpatialInertia operator+(const SpatialInertia& a, const SpatialInertia& b) {
@@ -326,11 +326,8 @@ class EquationsOfMotion {
 
     // Keeps a direction unless it or all its coefficients are zero.
     void add(const Spatial& direction, std::vector<Expr> coefficient) {
-      const auto zero = [](Expr e) { return e.is_zero(); };
-      const Vec3& w = direction.angular;
-      const Vec3& v = direction.linear;
-      if (std::all_of(w.begin(), w.end(), zero) && std::all_of(v.begin(), v.end(), zero)) return;
-      if (std::all_of(coefficient.begin(), coefficient.end(), zero)) return;
+      if (is_zero(direction.angular) && is_zero(direction.linear)) return;
+      if (std::all_of(coefficient.begin(), coefficient.end(), [](Expr e) { return e.is_zero(); })) return;
       directions.push_back(direction);
       coefficients.push_back(std::move(coefficient));
     }

@@ -128,7 +128,6 @@ class Deriver {
     const Vec3 r = B != nullptr ? B->R * l.x : zero3();
     // Most of a body's partials are zero (the coordinates that do not move it):
     // products by them are skipped, not built.
-    const auto is_zero = [](const Vec3& v) { return v[0].is_zero() && v[1].is_zero() && v[2].is_zero(); };
     const auto turned = [&](const Vec3& v) { return is_zero(v) ? v : B->R * v; };
     for (std::size_t j = 0; j < by_qd_.size(); ++j) {
       auto partial = [&](Expr e) {

@@ -14,6 +14,8 @@ using Mat3 = std::array<Expr, 9>;  // row-major
 
 inline Vec3 zero3() { return {Expr(0), Expr(0), Expr(0)}; }
 
+inline bool is_zero(const Vec3& v) { return v[0].is_zero() && v[1].is_zero() && v[2].is_zero(); }
+
 inline Mat3 identity3() { return {Expr(1), Expr(0), Expr(0), Expr(0), Expr(1), Expr(0), Expr(0), Expr(0), Expr(1)}; }
 
 inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
