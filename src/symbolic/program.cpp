@@ -357,11 +357,57 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
   program.instructions_ = finalize(scheduler.code(), slots, &slot_count);
   program.slot_count_ = slot_count;
   program.outputs_ = slots;
-  Allocation allocation = allocate(program.instructions_, program.outputs_, slot_count);
-  program.exec_ = std::move(allocation.code);
-  program.exec_outputs_ = std::move(allocation.outputs);
-  program.workspace_size_ = allocation.size;
+  program.allocate_workspace();
   return program;
+}
+
+void Program::allocate_workspace() {
+  Allocation allocation = allocate(instructions_, outputs_, static_cast<std::uint32_t>(slot_count_));
+  exec_ = std::move(allocation.code);
+  exec_outputs_ = std::move(allocation.outputs);
+  workspace_size_ = allocation.size;
+}
+
+Program Program::subprogram(std::span<const std::size_t> outputs, std::span<const std::size_t> inputs) const {
+  constexpr std::uint32_t kNone = ~0U;
+  std::vector<std::uint32_t> input_index(input_count_, kNone);
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    if (inputs[i] >= input_count_) throw UsageError(fmt::format("subprogram: no input {}", inputs[i]));
+    input_index[inputs[i]] = static_cast<std::uint32_t>(i);
+  }
+  std::vector<bool> needed(slot_count_, false);
+  for (std::size_t o : outputs) {
+    if (o >= outputs_.size()) throw UsageError(fmt::format("subprogram: no output {}", o));
+    needed[outputs_[o]] = true;
+  }
+  for (std::size_t k = instructions_.size(); k-- > 0;) {
+    const Instruction& ins = instructions_[k];
+    const int results = info(ins.op).results;
+    if (!needed[ins.results[0]] && !(results == 2 && needed[ins.results[1]])) continue;
+    for (int a = 0; a < info(ins.op).arity; ++a) needed[ins.args[a]] = true;
+  }
+  Program sub;
+  sub.input_count_ = inputs.size();
+  std::vector<std::uint32_t> renamed(slot_count_, kNone);
+  std::uint32_t next = 0;
+  for (const Instruction& ins : instructions_) {
+    const int results = info(ins.op).results;
+    if (!needed[ins.results[0]] && !(results == 2 && needed[ins.results[1]])) continue;
+    Instruction copy = ins;
+    for (int a = 0; a < info(ins.op).arity; ++a) copy.args[a] = renamed[ins.args[a]];
+    for (int r = 0; r < results; ++r) copy.results[r] = renamed[ins.results[r]] = next++;
+    if (ins.op == Opcode::Input) {
+      if (input_index[ins.input] == kNone) {
+        throw UsageError(fmt::format("subprogram: the outputs need input {}, which is not given", ins.input));
+      }
+      copy.input = input_index[ins.input];
+    }
+    sub.instructions_.push_back(copy);
+  }
+  for (std::size_t o : outputs) sub.outputs_.push_back(renamed[outputs_[o]]);
+  sub.slot_count_ = next;
+  sub.allocate_workspace();
+  return sub;
 }
 
 void Program::check_sizes(std::size_t inputs, std::size_t outputs, std::size_t workspace) const {

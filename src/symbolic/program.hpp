@@ -177,10 +177,18 @@ class Program {
   template <class S>
   std::vector<S> evaluate(std::span<const S> inputs) const;
 
+  // The program of some of the outputs, in the order given, over some of the
+  // inputs (indices of this program's, in the order given): the instructions
+  // they need, in this program's order, and nothing else. What a function
+  // computing those outputs alone runs (emit_cpp_shared). Throws UsageError
+  // for an index out of range, or if the outputs need an input not given.
+  Program subprogram(std::span<const std::size_t> outputs, std::span<const std::size_t> inputs) const;
+
  private:
   friend Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
                                  std::span<const Definition> definitions);
   void check_sizes(std::size_t inputs, std::size_t outputs, std::size_t workspace) const;
+  void allocate_workspace();
 
   std::size_t input_count_ = 0;
   std::size_t slot_count_ = 0;
@@ -212,7 +220,10 @@ struct CppNaming {
   std::string temporary_prefix = "t";  // temporaries are <prefix>0, <prefix>1, ... in order
   std::string scalar_type = "double";
   std::string indent = "  ";
-  std::string scratch = "s";  // emit_cpp_parts: the array shared between parts
+  std::string scratch = "s";  // emit_cpp_shared: the array shared between parts
+  // Optional, the input arrays in order, (name, size) each, covering every
+  // input: emit_cpp_shared then says which arrays each part reads.
+  std::vector<std::pair<std::string, std::size_t>> input_arrays;
   // Optional, the output arrays in order, (name, size) each, covering every
   // output: output i is then element i - (sizes before) of its array, and a
   // run of at least kMinConstantRun consecutive elements set to the same
@@ -249,34 +260,63 @@ inline constexpr std::size_t kZeroChunk = 10;
 // has the wrong number of inputs or outputs, or output arrays of another total size.
 std::string emit_cpp(const Program& program, const CppNaming& naming);
 
-// A long program printed as consecutive parts, each to be the body of its own
-// function, all called in order with the same inputs, outputs and a scratch
-// array <naming.scratch> of `scratch_size` scalars: a compiler's superlinear
-// passes (register allocation, CSE, alias walks) then see short pieces.
-// The computing instructions are cut into the fewest parts of at most
-// `max_instructions` each, as even as possible; loads print inline and belong
-// to no part. A value computed in one part and read in a later one is stored
-// to its scratch entry right after it is defined and read from there
-// (`s[12]`) afterwards; entries are reused once their last reader has run.
-// Each part assigns the outputs whose values it computes right after their
-// definition (after the scratch store, in output order), and at its end, in
-// order, the outputs that are loads (constants, inputs) placed in it. Why:
-// a value assigned at the end of its part stays live through it, and g++
-// spilled and reloaded it (amru5's accelerations, parts of 500: 1 550 stack
-// accesses against 940, 19 % more instructions, 7 % more compile work). So
-// outputs are written before later statements and parts read inputs: output
-// arrays must not overlap inputs (the parts' parameters are __restrict).
-// A program of at most `split_above` statements stays whole (a short entry
-// point gains nothing from the calls). One part (max_instructions or
-// split_above at least the program's length, or max_instructions 0 meaning
-// no limit) prints exactly what emit_cpp prints, with scratch_size 0.
-// Throws UsageError like emit_cpp.
-struct CppParts {
-  std::vector<std::string> bodies;  // statements of each part, in call order (at least one)
-  std::size_t scratch_size = 0;     // scalars of the scratch array
+// Functions computing some outputs of one program each (entry points of
+// generated code that share work: positions, velocities and accelerations
+// compute the same rotations), printed as parts: statements shared between
+// functions are compiled once, and a compiler's superlinear passes (register
+// allocation, CSE, alias walks) see short pieces.
+//
+//   CppShared code = emit_cpp_shared(program, naming, {{0, 1}, {0, 1, 2, 3}}, 125);
+//   // code.parts[i].body: statements of the i-th part, to be a function's body;
+//   // code.functions[f].parts: the parts function f calls, in order, all with
+//   // a scratch array <naming.scratch> of code.functions[f].scratch_size scalars.
+//
+// `functions` lists each function's outputs (indices). Function f runs every
+// computing instruction its outputs need, and no other: a group gathers the
+// instructions needed by exactly the same set of functions, in program order,
+// and each group is cut into the fewest parts of at most `max_instructions`
+// statements (0: no limit), as even as possible. Groups run in order of how
+// many functions need them, most first: what a group reads is needed by at
+// least its functions, hence computed by a group before it. Loads print
+// inline and belong to no part. A value computed in one part and read in a
+// later one is stored to its scratch entry right after it is defined and read
+// from there (`s[12]`) afterwards; entries are reused once their last reader
+// has run, which is safe in every function since each runs parts in the
+// same order.
+//
+// Outputs: when there are several parts, an output wanted by exactly the
+// functions that need its value is assigned right after the value's
+// definition (after the scratch store, in output order); any other output
+// (a load, or a value other functions need too) is assigned at the end of
+// the group of its own functions, in output order. Why: a value assigned at
+// the end of its part stays live through it, and g++ spilled and reloaded it
+// (amru5's accelerations, parts of 500: 1 550 stack accesses against 940, 19 %
+// more instructions, 7 % more compile work). So outputs are written before
+// later statements and parts read inputs: output arrays must not overlap
+// inputs (generated parts take __restrict parameters). A part assigns only
+// outputs every function that runs it wants.
+//
+// One function of every output in one part (max_instructions 0, or at least
+// the program's statements) prints exactly what emit_cpp prints, with scratch
+// size 0. Throws UsageError like emit_cpp, for more than 64 functions, an
+// output index out of range or an output no function wants.
+struct CppPart {
+  std::string body;                        // its statements
+  std::vector<std::size_t> functions;      // the functions that run it
+  std::vector<std::size_t> input_arrays;   // the naming's input arrays it reads (indices)
+  std::vector<std::size_t> output_arrays;  // the naming's output arrays it writes (indices)
+  bool scratch = false;                    // it reads or writes the scratch array
 };
-CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions,
-                        std::size_t split_above = 0);
+struct CppFunctionParts {
+  std::vector<std::size_t> parts;  // the parts it calls, in order
+  std::size_t scratch_size = 0;    // scalars of scratch its parts use
+};
+struct CppShared {
+  std::vector<CppPart> parts;
+  std::vector<CppFunctionParts> functions;
+};
+CppShared emit_cpp_shared(const Program& program, const CppNaming& naming,
+                          std::span<const std::vector<std::size_t>> functions, std::size_t max_instructions);
 
 // ---------------------------------------------------------------------------
 // Implementation of the interpreter.

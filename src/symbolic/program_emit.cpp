@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <iterator>
+#include <map>
 #include <set>
 #include <string>
 #include <string_view>
@@ -16,18 +18,25 @@ namespace symdyn::symbolic {
 namespace {
 
 constexpr int kNoPart = -1;  // loads: printed inline, in no part
+using Mask = std::uint64_t;  // a set of functions, bit f for function f
+constexpr std::size_t kMaxFunctions = 64;
+
+// A part: computing instructions (indices, in program order), then the
+// outputs it assigns at its end (the first output of each loop run).
+struct Part {
+  std::vector<std::size_t> instructions;
+  std::vector<std::size_t> late_outputs;
+  Mask functions = 0;
+};
 
 // Where each computing instruction and each output goes, and which values cross parts.
 struct PartPlan {
-  std::size_t parts = 1;
-  std::vector<int> part_of_slot;          // (slot_count) defining part, kNoPart for loads
-  std::vector<std::size_t> output_part;   // (output_count) the part that assigns it
-  std::vector<std::size_t> run_end;       // (output_count) > o where a loop assigns outputs o ... run_end - 1
-  std::vector<std::int64_t> scratch_of;   // (slot_count) scratch entry, -1 if the value stays in its part
-  std::size_t scratch_size = 0;
-  // Several parts: a computed output is assigned right after its value is
-  // defined (see emit_cpp_parts), not at the end of its part.
-  bool outputs_at_definition = false;
+  std::vector<Part> parts;               // in the order they run
+  std::vector<int> part_of_slot;         // (slot_count) defining part, kNoPart for loads
+  std::vector<bool> at_definition;       // (output_count) assigned right after its value's definition
+  std::vector<std::size_t> run_end;      // (output_count) > o where a loop assigns outputs o ... run_end - 1
+  std::vector<std::int64_t> scratch_of;  // (slot_count) scratch entry, -1 if the value stays in its part
+  std::vector<std::size_t> scratch_top;  // (parts) 1 + the highest entry its values use, 0 if none
 };
 
 bool is_load(const Instruction& ins) { return ins.op == Opcode::Const || ins.op == Opcode::Input; }
@@ -55,7 +64,8 @@ void append_format(std::string& out, std::string_view format, const std::array<s
 // at least kMinConstantRun is one loop; a shorter run of at least
 // kMinZeroRun zeros is cut into loops of kZeroChunk (the last one shorter, or
 // separate assignments if shorter than kMinZeroRun).
-std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& naming) {
+std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& naming,
+                                       const std::vector<Mask>& wanted_by) {
   const auto outputs = program.output_slots();
   std::vector<std::size_t> run_end(outputs.size(), 0);
   std::vector<bool> constant(program.slot_count(), false);
@@ -68,7 +78,7 @@ std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& 
   for (const auto& [name, size] : naming.output_arrays) {
     for (std::size_t o = first; o < first + size;) {
       std::size_t e = o + 1;
-      while (constant[outputs[o]] && e < first + size && outputs[e] == outputs[o]) ++e;
+      while (constant[outputs[o]] && e < first + size && outputs[e] == outputs[o] && wanted_by[e] == wanted_by[o]) ++e;
       if (constant[outputs[o]] && e - o >= kMinConstantRun) {
         run_end[o] = e;
       } else if (zero[outputs[o]] && e - o >= kMinZeroRun) {
@@ -81,80 +91,154 @@ std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& 
   return run_end;
 }
 
-// Cuts the program, if longer than `max` and `split_above` statements, into
-// the fewest parts of at most `max` statements (0: no limit), as even as
-// possible. Statements are counted because a compiler's work grows with stores as much as with arithmetic: a computing instruction
-// weighs 1 plus the outputs it assigns; outputs that are loads (constants,
-// inputs) weigh 1 each, a loop over a long constant run 1 in all, and are
-// spread over the parts after every instruction, in output order.
-// Every value read after its defining part gets a scratch entry, lowest free
-// first: an entry is free again from the part after its value's last reader.
-PartPlan plan_parts(const Program& program, const CppNaming& naming, std::size_t max, std::size_t split_above) {
+// Which functions want each output: bit f when function f lists it.
+std::vector<Mask> functions_of_outputs(const Program& program, std::span<const std::vector<std::size_t>> functions) {
+  if (functions.size() > kMaxFunctions) {
+    throw UsageError(fmt::format("emit_cpp_shared: {} functions, at most {}", functions.size(), kMaxFunctions));
+  }
+  std::vector<Mask> wanted_by(program.output_count(), 0);
+  for (std::size_t f = 0; f < functions.size(); ++f) {
+    for (std::size_t o : functions[f]) {
+      if (o >= wanted_by.size()) throw UsageError(fmt::format("emit_cpp_shared: function {} lists output {}; the program has {}", f, o, wanted_by.size()));
+      wanted_by[o] |= Mask{1} << f;
+    }
+  }
+  for (std::size_t o = 0; o < wanted_by.size(); ++o) {
+    if (wanted_by[o] == 0) throw UsageError(fmt::format("emit_cpp_shared: no function wants output {}", o));
+  }
+  return wanted_by;
+}
+
+// Which functions need each instruction: those whose outputs depend on one of its results.
+std::vector<Mask> functions_of_instructions(const Program& program, const std::vector<Mask>& wanted_by) {
+  const auto ins = program.instructions();
+  std::vector<Mask> of_slot(program.slot_count(), 0);
+  for (std::size_t o = 0; o < wanted_by.size(); ++o) of_slot[program.output_slots()[o]] |= wanted_by[o];
+  std::vector<Mask> of_instruction(ins.size(), 0);
+  for (std::size_t k = ins.size(); k-- > 0;) {
+    const OpcodeInfo& op = info(ins[k].op);
+    Mask m = of_slot[ins[k].results[0]];
+    if (op.results == 2) m |= of_slot[ins[k].results[1]];
+    of_instruction[k] = m;
+    for (int a = 0; a < op.arity; ++a) of_slot[ins[k].args[a]] |= m;
+  }
+  return of_instruction;
+}
+
+// Groups the computing instructions by the functions that need them, cuts
+// each group into parts of at most `max` statements (0: no limit), and gives
+// every value read after its defining part a scratch entry, lowest free first
+// (free again from the part after its value's last reader). Statements are
+// counted because a compiler's work grows with stores as much as with
+// arithmetic: a computing instruction weighs 1 plus the outputs it assigns;
+// other outputs weigh 1 each, a loop over a long constant run 1 in all, and
+// go after the group's instructions, in output order.
+PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<const std::vector<std::size_t>> functions,
+                    std::size_t max) {
   PartPlan plan;
   const auto ins = program.instructions();
   const auto outputs = program.output_slots();
-  plan.run_end = constant_runs(program, naming);
-  std::vector<std::size_t> readers_as_output(program.slot_count(), 0);
-  for (std::uint32_t s : outputs) ++readers_as_output[s];
-  std::vector<bool> loaded(program.slot_count(), false);
-  std::size_t total = 0;
-  for (const Instruction& i : ins) {
-    if (is_load(i)) {
-      loaded[i.results[0]] = true;
-      continue;
-    }
-    total += 1 + readers_as_output[i.results[0]] + (info(i.op).results == 2 ? readers_as_output[i.results[1]] : 0);
+  const std::vector<Mask> wanted_by = functions_of_outputs(program, functions);
+  const std::vector<Mask> needed_by = functions_of_instructions(program, wanted_by);
+  plan.run_end = constant_runs(program, naming, wanted_by);
+  std::vector<std::size_t> defined_by(program.slot_count(), ins.size());  // instruction index, ins.size() for loads
+  for (std::size_t k = 0; k < ins.size(); ++k) {
+    if (is_load(ins[k])) continue;
+    for (int r = 0; r < info(ins[k].op).results; ++r) defined_by[ins[k].results[r]] = k;
   }
-  // A long constant run's loop weighs 1 (`rep stos`); a short zero run's
-  // loops weigh what they store, as the separate assignments did (g++ expands
-  // them into stores), so that the parts are cut where they were.
-  auto weight = [&](std::size_t o) -> std::size_t {
-    if (!loaded[outputs[o]]) return 0;
-    const std::size_t run = plan.run_end[o] > o ? plan.run_end[o] - o : 1;
-    return run >= kMinConstantRun ? 1 : run;
+  // Outputs assigned at their value's definition, by slot (in output order), and the others.
+  plan.at_definition.assign(outputs.size(), false);
+  std::vector<std::size_t> assigned_with(ins.size(), 0);
+  for (std::size_t o = 0; o < outputs.size(); ++o) {
+    const std::size_t k = defined_by[outputs[o]];
+    if (k < ins.size() && needed_by[k] == wanted_by[o]) {
+      plan.at_definition[o] = true;
+      ++assigned_with[k];
+    }
+  }
+  // The groups: instructions, then the outputs assigned at the end, each with its weight.
+  struct Group {
+    Mask functions = 0;
+    std::size_t first = 0;  // where it first appears: instruction index, or ins.size() + output index
+    std::vector<std::pair<std::size_t, std::size_t>> instructions, outputs;  // (index, weight)
+    std::size_t weight = 0;
   };
-  for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) total += weight(o);
-  plan.part_of_slot.assign(program.slot_count(), kNoPart);
-  if (max > 0 && total > std::max(max, split_above)) plan.parts = (total + max - 1) / max;
-  const std::size_t per_part = std::max<std::size_t>(1, (total + plan.parts - 1) / plan.parts);
-  std::vector<int> last_reader(program.slot_count(), kNoPart);
-  std::size_t done = 0;  // weight placed so far
-  for (const Instruction& i : ins) {
-    if (is_load(i)) continue;
-    const int part = static_cast<int>(done / per_part);
-    const OpcodeInfo& op = info(i.op);
-    for (int r = 0; r < op.results; ++r) {
-      plan.part_of_slot[i.results[r]] = part;
-      done += readers_as_output[i.results[r]];
-    }
-    for (int a = 0; a < op.arity; ++a) last_reader[i.args[a]] = std::max(last_reader[i.args[a]], part);
-    ++done;
+  std::vector<Group> groups;
+  std::map<Mask, std::size_t> group_of;
+  auto group = [&](Mask m, std::size_t first) -> Group& {
+    auto [it, inserted] = group_of.try_emplace(m, groups.size());
+    if (inserted) groups.push_back({m, first, {}, {}, 0});
+    return groups[it->second];
+  };
+  for (std::size_t k = 0; k < ins.size(); ++k) {
+    if (is_load(ins[k])) continue;
+    Group& g = group(needed_by[k], k);
+    g.instructions.emplace_back(k, 1 + assigned_with[k]);
+    g.weight += 1 + assigned_with[k];
   }
-  plan.output_part.resize(outputs.size());
-  for (std::size_t o = 0; o < outputs.size();) {
-    const int part = plan.part_of_slot[outputs[o]];
-    const std::size_t end = std::max(o + 1, plan.run_end[o]);
-    const std::size_t load_part = loaded[outputs[o]] ? std::min(done / per_part, plan.parts - 1) : 0;
-    done += weight(o);
-    for (; o < end; ++o) plan.output_part[o] = part != kNoPart ? static_cast<std::size_t>(part) : load_part;
+  for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) {
+    if (plan.at_definition[o]) continue;
+    const std::size_t run = plan.run_end[o] > o ? plan.run_end[o] - o : 1;
+    const std::size_t weight = run >= kMinConstantRun ? 1 : run;  // a zero chunk weighs what it stores
+    Group& g = group(wanted_by[o], ins.size() + o);
+    g.outputs.emplace_back(o, weight);
+    g.weight += weight;
+  }
+  std::sort(groups.begin(), groups.end(), [](const Group& a, const Group& b) {
+    const int na = std::popcount(a.functions), nb = std::popcount(b.functions);
+    return na != nb ? na > nb : a.first < b.first;
+  });
+  plan.part_of_slot.assign(program.slot_count(), kNoPart);
+  for (const Group& g : groups) {
+    const std::size_t count = max > 0 && g.weight > max ? (g.weight + max - 1) / max : 1;
+    const std::size_t per_part = std::max<std::size_t>(1, (g.weight + count - 1) / count);
+    const std::size_t first = plan.parts.size();
+    for (std::size_t p = 0; p < count; ++p) plan.parts.push_back({{}, {}, g.functions});
+    std::size_t done = 0;  // weight placed so far
+    for (const auto& [k, weight] : g.instructions) {
+      const std::size_t p = first + done / per_part;
+      plan.parts[p].instructions.push_back(k);
+      for (int r = 0; r < info(ins[k].op).results; ++r) plan.part_of_slot[ins[k].results[r]] = static_cast<int>(p);
+      done += weight;
+    }
+    for (const auto& [o, weight] : g.outputs) {
+      plan.parts[first + std::min(done / per_part, count - 1)].late_outputs.push_back(o);
+      done += weight;
+    }
+  }
+  // One part: every output at its end, in order, as emit_cpp prints them.
+  if (plan.parts.size() == 1) {
+    plan.at_definition.assign(outputs.size(), false);
+    plan.parts[0].late_outputs.clear();
+    for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) plan.parts[0].late_outputs.push_back(o);
+  }
+  // The last part to read each value: its instructions' and its outputs' readers.
+  std::vector<int> last_reader(program.slot_count(), kNoPart);
+  for (std::size_t p = 0; p < plan.parts.size(); ++p) {
+    for (std::size_t k : plan.parts[p].instructions) {
+      for (int a = 0; a < info(ins[k].op).arity; ++a) last_reader[ins[k].args[a]] = static_cast<int>(p);
+    }
+    for (std::size_t o : plan.parts[p].late_outputs) last_reader[outputs[o]] = static_cast<int>(p);
   }
   // Values by defining part, and by the part from which their entry is free.
-  std::vector<std::vector<std::uint32_t>> defined(plan.parts), released(plan.parts + 1);
+  std::vector<std::vector<std::uint32_t>> defined(plan.parts.size()), released(plan.parts.size() + 1);
   for (std::uint32_t s = 0; s < program.slot_count(); ++s) {
     const int part = plan.part_of_slot[s];
     if (part == kNoPart || last_reader[s] <= part) continue;
     defined[static_cast<std::size_t>(part)].push_back(s);
     released[static_cast<std::size_t>(last_reader[s]) + 1].push_back(s);
   }
-  plan.outputs_at_definition = plan.parts > 1;
   plan.scratch_of.assign(program.slot_count(), -1);
+  plan.scratch_top.assign(plan.parts.size(), 0);
   std::set<std::int64_t> free;
-  for (std::size_t p = 0; p < plan.parts; ++p) {
+  std::int64_t entries = 0;
+  for (std::size_t p = 0; p < plan.parts.size(); ++p) {
     for (std::uint32_t s : released[p]) free.insert(plan.scratch_of[s]);
     for (std::uint32_t s : defined[p]) {
-      if (free.empty()) free.insert(static_cast<std::int64_t>(plan.scratch_size++));
+      if (free.empty()) free.insert(entries++);
       plan.scratch_of[s] = *free.begin();
       free.erase(free.begin());
+      plan.scratch_top[p] = std::max(plan.scratch_top[p], static_cast<std::size_t>(plan.scratch_of[s]) + 1);
     }
   }
   return plan;
@@ -165,70 +249,90 @@ class Printer {
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
       : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
         whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " "),
-        outputs_of_part_(plan.parts), slots_of_part_(plan.parts) {
-    // Each part's outputs and slots, in order: looking them up among all of
-    // them for every part would cost parts x outputs (chain_64: 200 parts).
-    for (std::size_t i = 0; i < program.output_count(); ++i) outputs_of_part_[plan.output_part[i]].push_back(i);
-    for (std::uint32_t s = 0; s < program.slot_count(); ++s) {
-      if (plan.part_of_slot[s] != kNoPart) slots_of_part_[static_cast<std::size_t>(plan.part_of_slot[s])].push_back(s);
+        array_of_input_(arrays_of(naming.input_arrays, program.input_count())),
+        array_of_output_(arrays_of(naming.output_arrays, program.output_count())) {
+    input_of_slot_.assign(program.slot_count(), kNotInput);
+    for (const Instruction& ins : program.instructions()) {
+      if (is_load(ins)) load(ins);
+      if (ins.op == Opcode::Input) input_of_slot_[ins.results[0]] = ins.input;
     }
     std::size_t first = 0;
-    for (const auto& [name, size] : naming.output_arrays) {
-      for (std::size_t i = first; i < first + size; ++i) array_of_output_.push_back({&name, first});
-      first += size;
+    for (const auto& array : naming.output_arrays) {
+      array_first_.push_back(first);
+      first += array.second;
     }
-    if (!plan.outputs_at_definition) return;
-    // The outputs of each computed slot, in output order (CSR: first_output_, by_slot_).
+    // The outputs of each computed slot assigned at its definition, in output order (CSR: first_output_, by_slot_).
     const auto outputs = program.output_slots();
     first_output_.assign(program.slot_count() + 1, 0);
-    for (std::uint32_t s : outputs) ++first_output_[s + 1];
+    for (std::size_t o = 0; o < outputs.size(); ++o) first_output_[outputs[o] + 1] += plan.at_definition[o];
     for (std::size_t s = 0; s < program.slot_count(); ++s) first_output_[s + 1] += first_output_[s];
-    by_slot_.resize(outputs.size());
+    by_slot_.resize(first_output_.back());
     std::vector<std::size_t> next(first_output_.begin(), first_output_.end() - 1);
-    for (std::size_t o = 0; o < outputs.size(); ++o) by_slot_[next[outputs[o]]++] = o;
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+      if (plan.at_definition[o]) by_slot_[next[outputs[o]]++] = o;
+    }
   }
 
-  std::vector<std::string> run() {
-    std::vector<std::string> bodies(plan_.parts);
-    auto ins = program_.instructions().begin();
-    const auto end = program_.instructions().end();
-    for (std::size_t p = 0; p < plan_.parts; ++p) {
-      out_.clear();
-      for (; ins != end && part_of(*ins) <= static_cast<int>(p); ++ins) print(*ins);
-      assign_outputs(p);
-      bodies[p] = std::move(out_);
-      // Later parts read this part's values from the scratch array.
-      for (std::uint32_t s : slots_of_part_[p]) {
-        if (plan_.scratch_of[s] >= 0) operand_[s] = whole_[s] = fmt::format("{}[{}]", naming_.scratch, plan_.scratch_of[s]);
+  std::vector<CppPart> run() {
+    std::vector<CppPart> parts;
+    for (std::size_t p = 0; p < plan_.parts.size(); ++p) {
+      part_ = CppPart{};
+      const Part& plan = plan_.parts[p];
+      for (std::size_t f = 0; f < kMaxFunctions; ++f) {
+        if ((plan.functions >> f & 1) != 0) part_.functions.push_back(f);
       }
+      for (std::size_t k : plan.instructions) print(program_.instructions()[k]);
+      for (std::size_t o : plan.late_outputs) assign(o);
+      // Later parts read this part's values from the scratch array.
+      for (std::size_t k : plan.instructions) {
+        const Instruction& ins = program_.instructions()[k];
+        for (int r = 0; r < info(ins.op).results; ++r) {
+          const std::uint32_t s = ins.results[r];
+          if (plan_.scratch_of[s] >= 0) operand_[s] = whole_[s] = fmt::format("{}[{}]", naming_.scratch, plan_.scratch_of[s]);
+        }
+      }
+      sort_unique(part_.input_arrays);
+      sort_unique(part_.output_arrays);
+      parts.push_back(std::move(part_));
     }
-    return bodies;
+    return parts;
   }
 
  private:
-  // Loads belong to the part of whatever comes next: they print nothing.
-  int part_of(const Instruction& ins) const {
-    return is_load(ins) ? kNoPart : plan_.part_of_slot[ins.results[0]];
+  // arrays_of({(name, size)...}, n): the array of each of n elements, or none if no arrays are named.
+  static std::vector<std::size_t> arrays_of(const std::vector<std::pair<std::string, std::size_t>>& arrays, std::size_t n) {
+    std::vector<std::size_t> of;
+    for (std::size_t a = 0; a < arrays.size(); ++a) of.insert(of.end(), arrays[a].second, a);
+    if (!arrays.empty() && of.size() != n) of.clear();  // checked by the caller
+    return of;
+  }
+  static void sort_unique(std::vector<std::size_t>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  }
+
+  // Loads print inline: their texts once, for every part.
+  void load(const Instruction& ins) {
+    const std::uint32_t r = ins.results[0];
+    const OpcodeInfo& op = info(ins.op);
+    const std::string literal = ins.op == Opcode::Const ? cpp_literal(ins.constant) : std::string();
+    const std::string& name = ins.op == Opcode::Input ? naming_.inputs[ins.input] : literal;
+    append_format(whole_[r], op.format, {"", "", literal, name});
+    const bool negative = ins.op == Opcode::Const && std::signbit(ins.constant);
+    operand_[r] = negative ? "(" + whole_[r] + ")" : whole_[r];
   }
 
   void print(const Instruction& ins) {
-    const std::uint32_t r = ins.results[0];
     const OpcodeInfo& op = info(ins.op);
-    // Only loads and pow print their constant ({2}); formatting a double is not free.
-    const bool prints_constant = op.format.find("{2}") != std::string_view::npos;
-    const std::string literal = prints_constant ? cpp_literal(ins.constant) : std::string();
-    if (is_load(ins)) {  // loads print inline
-      const std::string& name = ins.op == Opcode::Input ? naming_.inputs[ins.input] : literal;
-      whole_[r].clear();
-      append_format(whole_[r], op.format, {"", "", literal, name});
-      const bool negative = ins.op == Opcode::Const && std::signbit(ins.constant);
-      operand_[r] = negative ? "(" + whole_[r] + ")" : whole_[r];
-      return;
-    }
+    // Only pow prints its constant ({2}) among computing instructions; formatting a double is not free.
+    const std::string literal = ins.op == Opcode::Pow ? cpp_literal(ins.constant) : std::string();
     // Views of the operands' texts: defining the results changes no operand's.
     std::array<std::string_view, 2> args{};
-    for (int a = 0; a < op.arity; ++a) args[static_cast<std::size_t>(a)] = operand_[ins.args[a]];
-    define(r, op.format, args, literal);
+    for (int a = 0; a < op.arity; ++a) {
+      args[static_cast<std::size_t>(a)] = operand_[ins.args[a]];
+      note_read(ins.args[a]);
+    }
+    define(ins.results[0], op.format, args, literal);
     if (op.results == 2) define(ins.results[1], op.format2, args, literal);
   }
 
@@ -236,38 +340,50 @@ class Printer {
               const std::string& constant) {
     const std::string name = naming_.temporary_prefix + std::to_string(next_temporary_++);
     // indent "const" type name " = " value ";": appended, as fmt would print it.
-    out_.append(declaration_).append(name).append(" = ");
-    append_format(out_, format, {args[0], args[1], constant, ""});
-    out_.append(";\n");
+    out().append(declaration_).append(name).append(" = ");
+    append_format(out(), format, {args[0], args[1], constant, ""});
+    out().append(";\n");
     if (plan_.scratch_of[slot] >= 0) {  // read by a later part
-      out_.append(naming_.indent).append(naming_.scratch).append("[");
-      out_.append(std::to_string(plan_.scratch_of[slot])).append("] = ").append(name).append(";\n");
+      out().append(naming_.indent).append(naming_.scratch).append("[");
+      out().append(std::to_string(plan_.scratch_of[slot])).append("] = ").append(name).append(";\n");
+      part_.scratch = true;
     }
     operand_[slot] = whole_[slot] = name;
-    if (!plan_.outputs_at_definition) return;
     for (std::size_t k = first_output_[slot]; k < first_output_[slot + 1]; ++k) {
-      out_.append(naming_.indent).append(naming_.outputs[by_slot_[k]]).append(" = ").append(name).append(";\n");
+      out().append(naming_.indent).append(naming_.outputs[by_slot_[k]]).append(" = ").append(name).append(";\n");
+      note_write(by_slot_[k]);
     }
   }
 
-  // The outputs of part p not yet assigned at their definition, in order; a constant run as one loop.
-  void assign_outputs(std::size_t p) {
-    std::size_t run_end = 0;  // outputs before it are assigned by a loop
-    for (std::size_t i : outputs_of_part_[p]) {
-      if (i < run_end) continue;
-      const std::uint32_t slot = program_.output_slots()[i];
-      if (plan_.outputs_at_definition && plan_.part_of_slot[slot] != kNoPart) continue;  // assigned at definition
-      const std::string& value = whole_[slot];
-      if (plan_.run_end[i] > i) {
-        const auto [array, first] = array_of_output_[i];
-        fmt::format_to(std::back_inserter(out_), "{}for (int i = {}; i < {}; ++i) {}[i] = {};\n", naming_.indent,
-                       i - first, plan_.run_end[i] - first, *array, value);
-        run_end = plan_.run_end[i];
-        continue;
-      }
-      out_.append(naming_.indent).append(naming_.outputs[i]).append(" = ").append(value).append(";\n");
+  // Output o, or the loop over the run it starts.
+  void assign(std::size_t o) {
+    const std::uint32_t slot = program_.output_slots()[o];
+    note_read(slot);
+    const std::string& value = whole_[slot];
+    note_write(o);
+    if (plan_.run_end[o] > o) {
+      const std::size_t array = array_of_output_[o];
+      const std::size_t first = array_first_[array];
+      fmt::format_to(std::back_inserter(out()), "{}for (int i = {}; i < {}; ++i) {}[i] = {};\n", naming_.indent,
+                     o - first, plan_.run_end[o] - first, naming_.output_arrays[array].first, value);
+      return;
+    }
+    out().append(naming_.indent).append(naming_.outputs[o]).append(" = ").append(value).append(";\n");
+  }
+
+  void note_read(std::uint32_t slot) {
+    const int part = plan_.part_of_slot[slot];
+    if (part != kNoPart) {
+      part_.scratch = part_.scratch || plan_.scratch_of[slot] >= 0;
+    } else if (input_of_slot_[slot] != kNotInput && !array_of_input_.empty()) {
+      part_.input_arrays.push_back(array_of_input_[input_of_slot_[slot]]);
     }
   }
+  void note_write(std::size_t o) {
+    if (!array_of_output_.empty()) part_.output_arrays.push_back(array_of_output_[o]);
+  }
+
+  std::string& out() { return part_.body; }
 
   const Program& program_;
   const CppNaming& naming_;
@@ -276,40 +392,64 @@ class Printer {
   std::vector<std::string> operand_;
   std::vector<std::string> whole_;
   const std::string declaration_;  // what every temporary's line starts with: "  const double "
-  std::string out_;
+  CppPart part_;                   // the part being printed
   int next_temporary_ = 0;
-  std::vector<std::vector<std::size_t>> outputs_of_part_;   // (parts) output indices, in order
-  std::vector<std::vector<std::uint32_t>> slots_of_part_;   // (parts) slots each part computes
-  std::vector<std::pair<const std::string*, std::size_t>> array_of_output_;  // name and first index of its array
-  // outputs_at_definition: the outputs of slot s are by_slot_[first_output_[s] ... first_output_[s + 1] - 1].
+  std::vector<std::size_t> array_of_input_;   // (input_count) its input array; empty if none named
+  std::vector<std::size_t> array_of_output_;  // (output_count) its output array; empty if none named
+  std::vector<std::size_t> array_first_;      // (output arrays) index of its first output
+  static constexpr std::uint32_t kNotInput = ~0U;
+  std::vector<std::uint32_t> input_of_slot_;  // (slot_count) the input a load reads, kNotInput otherwise
+  // The outputs of slot s assigned at its definition are by_slot_[first_output_[s] ... first_output_[s + 1] - 1].
   std::vector<std::size_t> first_output_;
   std::vector<std::size_t> by_slot_;
 };
 
-}  // namespace
-
-CppParts emit_cpp_parts(const Program& program, const CppNaming& naming, std::size_t max_instructions,
-                        std::size_t split_above) {
+void check_naming(const Program& program, const CppNaming& naming) {
   if (naming.inputs.size() != program.input_count() || naming.outputs.size() != program.output_count()) {
     throw UsageError(fmt::format("emit_cpp: naming has {} inputs and {} outputs; the program has {} and {}",
                                  naming.inputs.size(), naming.outputs.size(), program.input_count(),
                                  program.output_count()));
   }
-  std::size_t covered = 0;
-  for (const auto& a : naming.output_arrays) covered += a.second;
-  if (!naming.output_arrays.empty() && covered != program.output_count()) {
+  auto covered = [](const auto& arrays) {
+    std::size_t n = 0;
+    for (const auto& a : arrays) n += a.second;
+    return n;
+  };
+  if (!naming.output_arrays.empty() && covered(naming.output_arrays) != program.output_count()) {
     throw UsageError(fmt::format("emit_cpp: naming's output arrays have {} elements; the program has {} outputs",
-                                 covered, program.output_count()));
+                                 covered(naming.output_arrays), program.output_count()));
   }
-  const PartPlan plan = plan_parts(program, naming, max_instructions, split_above);
-  CppParts parts;
-  parts.bodies = Printer(program, naming, plan).run();
-  parts.scratch_size = plan.scratch_size;
-  return parts;
+  if (!naming.input_arrays.empty() && covered(naming.input_arrays) != program.input_count()) {
+    throw UsageError(fmt::format("emit_cpp: naming's input arrays have {} elements; the program has {} inputs",
+                                 covered(naming.input_arrays), program.input_count()));
+  }
+}
+
+}  // namespace
+
+CppShared emit_cpp_shared(const Program& program, const CppNaming& naming,
+                          std::span<const std::vector<std::size_t>> functions, std::size_t max_instructions) {
+  check_naming(program, naming);
+  const PartPlan plan = plan_parts(program, naming, functions, max_instructions);
+  CppShared code;
+  code.parts = Printer(program, naming, plan).run();
+  code.functions.resize(functions.size());
+  for (std::size_t p = 0; p < code.parts.size(); ++p) {
+    for (std::size_t f : code.parts[p].functions) {
+      code.functions[f].parts.push_back(p);
+      code.functions[f].scratch_size = std::max(code.functions[f].scratch_size, plan.scratch_top[p]);
+    }
+  }
+  return code;
 }
 
 std::string emit_cpp(const Program& program, const CppNaming& naming) {
-  return std::move(emit_cpp_parts(program, naming, 0).bodies.front());
+  check_naming(program, naming);
+  if (program.output_count() == 0) return {};
+  std::vector<std::size_t> all(program.output_count());
+  for (std::size_t o = 0; o < all.size(); ++o) all[o] = o;
+  const std::vector<std::vector<std::size_t>> one{std::move(all)};
+  return std::move(emit_cpp_shared(program, naming, one, 0).parts.front().body);
 }
 
 }  // namespace symdyn::symbolic

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <functional>
 #include <limits>
 #include <map>
 #include <regex>
@@ -501,7 +502,22 @@ TEST_CASE("bad definitions name the culprit", "[program]") {
 
 namespace {
 
-// The parts of emit_cpp_parts put back together: each scratch read replaced by
+// One function of every output, in parts of at most `max` statements.
+struct CppParts {
+  std::vector<std::string> bodies;
+  std::size_t scratch_size = 0;
+};
+CppParts emit_cpp_parts(const Program& p, const CppNaming& naming, std::size_t max) {
+  std::vector<std::size_t> all(p.output_count());
+  for (std::size_t o = 0; o < all.size(); ++o) all[o] = o;
+  const CppShared shared = emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{all}, max);
+  CppParts parts;
+  for (const CppPart& part : shared.parts) parts.bodies.push_back(part.body);
+  parts.scratch_size = shared.functions.front().scratch_size;
+  return parts;
+}
+
+// The parts put back together: each scratch read replaced by
 // the temporary last stored there, which must have been stored by an earlier
 // part (a part never reads what it overwrote); scratch stores dropped. Gives
 // the statements (outputs apart) and each output's right side.
@@ -550,7 +566,7 @@ Joined join_whole(const std::string& body) {
 
 }  // namespace
 
-TEST_CASE("emit_cpp_parts: the parts are the whole program, values crossing parts through the scratch array",
+TEST_CASE("emit_cpp_shared, one function: the parts are the whole program, values crossing parts through the scratch array",
           "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
@@ -581,15 +597,148 @@ TEST_CASE("emit_cpp_parts: the parts are the whole program, values crossing part
       if (parts.bodies.size() == 1) CHECK(parts.scratch_size == 0);
     }
     CHECK(emit_cpp_parts(p, naming, 0).bodies == std::vector{whole});
-    // split_above: a program up to that many statements stays whole; a longer one is cut as without it.
+    // A limit at least the program's statements: one part, as emit_cpp prints it.
     std::size_t statements = outputs.size();
     for (const Instruction& i : p.instructions()) statements += i.op != Opcode::Const && i.op != Opcode::Input;
-    CHECK(emit_cpp_parts(p, naming, 3, statements).bodies == std::vector{whole});
-    CHECK(emit_cpp_parts(p, naming, 3, statements / 2).bodies == emit_cpp_parts(p, naming, 3).bodies);
+    CHECK(emit_cpp_parts(p, naming, statements).bodies == std::vector{whole});
   }
 }
 
-TEST_CASE("emit_cpp_parts: in several parts, a computed output is assigned right after its definition",
+namespace {
+
+std::size_t count_definitions(const std::string& statements) {
+  std::size_t n = 0;
+  for (std::size_t at = statements.find("const double "); at != std::string::npos; at = statements.find("const double ", at + 1)) ++n;
+  return n;
+}
+
+// Values computed by the program's instructions (a sincos defines two).
+std::size_t computed_values(const Program& p) {
+  std::size_t n = 0;
+  for (const Instruction& i : p.instructions()) {
+    if (i.op != Opcode::Const && i.op != Opcode::Input) n += static_cast<std::size_t>(info(i.op).results);
+  }
+  return n;
+}
+
+// Each output's value as one expression: the joined statements' temporaries
+// replaced by what they are defined as, recursively (the numbering of
+// temporaries apart, what the printed code computes).
+std::map<std::string, std::string> expanded_outputs(const Joined& joined) {
+  const std::regex define(R"(^  const double (t\d+) = (.*);$)"), temporary(R"(t\d+)");
+  std::map<std::string, std::string> definitions, expanded, outputs;
+  std::istringstream lines(joined.statements);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    REQUIRE(std::regex_match(line, m, define));
+    definitions[m[1]] = m[2];
+  }
+  std::function<std::string(const std::string&)> expand = [&](const std::string& text) {
+    std::string out;
+    auto last = text.cbegin();
+    for (std::sregex_iterator it(text.begin(), text.end(), temporary), end; it != end; ++it) {
+      const std::string name = it->str();
+      if (!expanded.contains(name)) {
+        std::string e(1, '(');
+        e += expand(definitions.at(name));
+        e += ')';
+        expanded[name] = std::move(e);
+      }
+      out.append(last, (*it)[0].first).append(expanded[name]);
+      last = (*it)[0].second;
+    }
+    return out.append(last, text.cend());
+  };
+  for (const auto& [lvalue, value] : joined.outputs) outputs[lvalue] = expand(value);
+  return outputs;
+}
+
+}  // namespace
+
+TEST_CASE("emit_cpp_shared: each function's parts compute its outputs, and no other, sharing statements",
+          "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
+  for (unsigned seed = 0; seed < 200; ++seed) {
+    symdyn::testing::RandomExpr gen(seed, xs);
+    // Outputs built on each other (the functions share work), a constant and an input.
+    std::vector<Expr> outputs;
+    for (int i = 0; i < 8; ++i) outputs.push_back(i < 2 ? gen(4) : gen(3) * outputs[static_cast<std::size_t>(i) / 2] + gen(2));
+    outputs.push_back(Expr(2));
+    outputs.push_back(xs[1]);
+    const Program p = compile_program(xs, outputs);
+    CppNaming naming;
+    naming.inputs = {"x[0]", "x[1]", "x[2]"};
+    naming.input_arrays = {{"x", 3}};
+    for (std::size_t i = 0; i < outputs.size(); ++i) naming.outputs.push_back(fmt::format("y[{}]", i));
+    naming.output_arrays = {{"y", outputs.size()}};
+    // Functions of overlapping outputs; together they want every output.
+    std::vector<std::vector<std::size_t>> functions{{0, 1}, {0, 1, 2, 3}, {4, 6, 8}, {5, 7, 9}, {3, 8}};
+    for (std::size_t max : {2, 5, 11, 0}) {
+      INFO("seed " << seed << ", parts of " << max);
+      const CppShared shared = emit_cpp_shared(p, naming, functions, max);
+      REQUIRE(shared.functions.size() == functions.size());
+      std::size_t definitions = 0;  // in all parts: each computed value is defined once, in one part
+      for (const CppPart& part : shared.parts) {
+        definitions += count_definitions(part.body);
+        const bool reads_x = part.body.find("x[") != std::string::npos;
+        CHECK(part.input_arrays == (reads_x ? std::vector<std::size_t>{0} : std::vector<std::size_t>{}));
+        const bool writes_y = part.body.find("y[") != std::string::npos;
+        CHECK(part.output_arrays == (writes_y ? std::vector<std::size_t>{0} : std::vector<std::size_t>{}));
+        CHECK(part.scratch == (part.body.find("s[") != std::string::npos));
+      }
+      CHECK(definitions == computed_values(p));
+      for (std::size_t f = 0; f < functions.size(); ++f) {
+        INFO("function " << f);
+        CppParts mine;
+        for (std::size_t part : shared.functions[f].parts) {
+          CHECK(std::find(shared.parts[part].functions.begin(), shared.parts[part].functions.end(), f) !=
+                shared.parts[part].functions.end());
+          mine.bodies.push_back(shared.parts[part].body);
+        }
+        CHECK(std::is_sorted(shared.functions[f].parts.begin(), shared.functions[f].parts.end()));
+        const Joined joined = join_parts(mine);
+        // Exactly the instructions its outputs need...
+        const Program alone = p.subprogram(functions[f], std::vector<std::size_t>{0, 1, 2});
+        CHECK(count_definitions(joined.statements) == computed_values(alone));
+        // ... and its outputs, each assigned once (join_parts), to what the program computes.
+        CppNaming own;
+        own.inputs = naming.inputs;
+        for (std::size_t o : functions[f]) own.outputs.push_back(naming.outputs[o]);
+        CHECK(expanded_outputs(joined) == expanded_outputs(join_whole(emit_cpp(alone, own))));
+      }
+    }
+  }
+  const Program p = compile_program(xs, std::vector{xs[0] * xs[1], Expr(1)});
+  CppNaming naming;
+  naming.inputs = {"x[0]", "x[1]", "x[2]"};
+  naming.outputs = {"y[0]", "y[1]"};
+  CHECK_THROWS_WITH(emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{{0}}, 4),
+                    "emit_cpp_shared: no function wants output 1");
+  CHECK_THROWS_WITH(emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{{0, 1, 2}}, 4),
+                    "emit_cpp_shared: function 0 lists output 2; the program has 2");
+  CHECK_THROWS_WITH(emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>(65, {0, 1}), 4),
+                    "emit_cpp_shared: 65 functions, at most 64");
+}
+
+TEST_CASE("Program::subprogram: some outputs over some inputs, the instructions they need", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), y = symbol("y"), z = symbol("z");
+  const Program p = compile_program(std::vector{x, y, z}, std::vector{sin(x) * y, cos(x) + z, y * z});
+  const Program sub = p.subprogram(std::vector<std::size_t>{1}, std::vector<std::size_t>{2, 0});  // over (z, x)
+  CHECK(sub.input_count() == 2);
+  CHECK(sub.output_count() == 1);
+  CHECK(sub.operation_count().total() == 2);  // sincos (kept whole) and one add
+  const std::vector<double> out = sub.evaluate<double>(std::vector{0.5, 0.3});
+  CHECK(out[0] == Approx(std::cos(0.3) + 0.5));
+  CHECK_THROWS_WITH(p.subprogram(std::vector<std::size_t>{2}, std::vector<std::size_t>{1}),
+                    "subprogram: the outputs need input 2, which is not given");
+  CHECK_THROWS_WITH(p.subprogram(std::vector<std::size_t>{3}, std::vector<std::size_t>{}), "subprogram: no output 3");
+}
+
+TEST_CASE("emit_cpp_shared, one function: in several parts, a computed output is assigned right after its definition",
           "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
@@ -672,7 +821,7 @@ TEST_CASE("emit_cpp prints runs of one constant in an output array as a loop", "
                                                      "program has {} outputs", kMinConstantRun + 1, outputs.size()));
 }
 
-TEST_CASE("emit_cpp_parts: short zero runs as loops, the parts cut where separate assignments put them", "[program]") {
+TEST_CASE("emit_cpp_shared, one function: short zero runs as loops, the parts cut where separate assignments put them", "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
