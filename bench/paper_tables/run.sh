@@ -2,16 +2,17 @@
 # The paper's tables (Tgen, Size, T1, T2) for every model, variant and case,
 # with operation counts, compile time and errors, and the chain_N scaling study.
 #
-#   bench/paper_tables/run.sh [--models a,b] [--quick] [--reps N] [--gen-runs N]
+#   bench/paper_tables/run.sh [--models a,b] [--quick] [--reps N] [--gen-runs N] [--compile-runs N]
 #                             [--build DIR] [--work DIR] [--results DIR] [--no-build]
 #
 #   --models a,b   only these models (double_pendulum, robot3d, slider_crank, trike,
 #                  amru5, hexapod_tree, chain = every chain_N, or chain_8 ...)
-#   --quick        3 repetitions, 3 generator runs, chain_N up to N = 16
+#   --quick        3 repetitions, 3 generator runs, 1 compilation, chain_N up to N = 16
 # chain_32 and chain_64 are measured for generation only (sizes, operations,
 # one Tgen): their emitted code is not compiled or timed.
 #   --reps N       timed repetitions of T1 and T2 (median; default 7)
 #   --gen-runs N   generations for Tgen (median; default 5)
+#   --compile-runs N  compilations of each emitted source (median CPU time; default 3)
 #   --build DIR    CMake build directory (default build/release, the release preset)
 #   --work DIR     scratch directory for emitted code and raw results (default build/paper_tables)
 #   --results DIR  where paper_tables.md/.json and chain_scaling.png go (default bench/results)
@@ -21,7 +22,7 @@
 # 2: --partials numeric --no-eom, 3: --no-eom, 4: default with mass_matrix and
 # bias_forces): runs the generator once (its files, size and operation counts),
 # symdyn_paper_tgen (Tgen: median of --gen-runs generations in process, CPU
-# time), compiles the emitted source at -O2 (CPU and wall time), links it with adapter.cpp into a shared
+# time), compiles the emitted source at -O2 --compile-runs times (CPU and wall time), links it with adapter.cpp into a shared
 # object and runs symdyn_paper_bench on it (T1, T2, errors); in cases 1 and 2
 # it also counts the instructions of T1's and T2's workloads under
 # valgrind --tool=callgrind (repeatable, unlike timings on a shared machine:
@@ -38,14 +39,16 @@ models=""
 quick=0
 reps=7
 gen_runs=5
+compile_runs=3
 do_build=1
 
 while [[ $# -gt 0 ]]; do
   case $1 in
     --models) models=$2; shift 2 ;;
-    --quick) quick=1; reps=3; gen_runs=3; shift ;;
+    --quick) quick=1; reps=3; gen_runs=3; compile_runs=1; shift ;;
     --reps) reps=$2; shift 2 ;;
     --gen-runs) gen_runs=$2; shift 2 ;;
+    --compile-runs) compile_runs=$2; shift 2 ;;
     --build) build=$(realpath -m "$2"); shift 2 ;;
     --work) work=$(realpath -m "$2"); shift 2 ;;
     --results) results=$(realpath -m "$2"); shift 2 ;;
@@ -136,7 +139,13 @@ measure() {
     > "$dir/stats.txt"
   "$tgen" --model "$model" --variant "$variant" --case "$c" --runs "$gen_runs" > "$dir/tgen.json"
   local base=${model}_${variant}
-  timed "$dir/compile_time.txt" "$cxx" "${cxxflags[@]}" -c "$dir/$base.cpp" -o "$dir/$base.o"
+  local run
+  : > "$dir/compile_time.txt"
+  for ((run = 0; run < compile_runs; ++run)); do  # one "wall user system" line each
+    timed "$dir/compile_time.run" "$cxx" "${cxxflags[@]}" -c "$dir/$base.cpp" -o "$dir/$base.o"
+    cat "$dir/compile_time.run" >> "$dir/compile_time.txt"
+  done
+  rm -f "$dir/compile_time.run"
   "$cxx" "${cxxflags[@]}" -I"$here" -I"$dir" -include "$base.hpp" \
     -DSYMDYN_PAPER_STRUCT="symdyn_generated::$base" -c "$here/adapter.cpp" -o "$dir/adapter.o"
   "$cxx" -shared -o "$dir/$base.so" "$dir/$base.o" "$dir/adapter.o"

@@ -1,11 +1,15 @@
 #pragma once
 // From a model to the emitted C++ of docs/emitted_interface.md.
 //
-// Each entry point is one straight-line program over its own inputs, so it
-// computes only what it needs: positions() never touches a velocity, and a
-// dependent parameter nobody uses is never computed (dead code eliminated per
-// entry point). The output is deterministic: the same model and options give
-// the same bytes.
+// Each entry point computes only what it needs: positions() never touches a
+// velocity, and a dependent parameter nobody uses is never computed (dead
+// code eliminated per entry point). A short model prints each entry point as
+// one straight-line function; a long one shares work between them: one
+// program of all their outputs, cut into internal functions (parts), each
+// run by exactly the entry points that need its statements (positions(),
+// velocities() and accelerations() run the same parts for the rotations), so
+// that the compiler sees every statement once. The output is deterministic:
+// the same model and options give the same bytes.
 
 #include <optional>
 #include <string>
@@ -19,7 +23,7 @@ namespace symdyn::codegen {
 // g++ -O2 spends time superlinear in a function's length (register
 // allocation, CSE, alias walks over the stores before each load): amru5's
 // 10 000-instruction mass matrix took most of a 51 s compilation. Why 125:
-// since outputs are assigned at their definition (emit_cpp_parts), shorter
+// since outputs are assigned at their definition (emit_cpp_shared), shorter
 // parts compile faster down to about that size although more values cross
 // parts through the scratch array. cc1plus instructions (callgrind, so
 // repeatable) to compile amru5 dependent's velocities (2 972 instructions)
@@ -31,29 +35,31 @@ namespace symdyn::codegen {
 // to 2000 compiled in about the same time and 500 was kept.)
 inline constexpr std::size_t kDefaultPartInstructions = 125;
 
-// Only an entry point longer than this is split: parts of 125 made
+// Only a model whose entry points are longer than this together (their
+// shared program's statements) is printed as shared parts: parts of 125 made
 // double_pendulum relative's T1 workload (one entry point of ~130
 // statements) 6 % more instructions for the calls, and short functions
 // compile fast whole.
 inline constexpr std::size_t kSplitAbove = 500;
 
 struct Options {
-  bool simplify = true;             // trigonometric simplification of the relative kinematics; each
-                                    // entry point keeps the shorter of the simplified and plain programs
+  bool simplify = true;             // trigonometric simplification of the relative kinematics; the code
+                                    // keeps the shorter of the simplified and plain programs (see run())
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
   bool equations_of_motion = true;  // emit mass_matrix and bias_forces
   std::string name_space = "symdyn_generated";
-  // An entry point longer than part_instructions and split_above statements
-  // is emitted as internal functions of at most part_instructions each
-  // (symbolic::emit_cpp_parts); 0: never split. Why these values: see
-  // kDefaultPartInstructions and kSplitAbove.
+  // Entry points longer than split_above statements together are emitted as
+  // internal functions of at most part_instructions statements each, shared
+  // between them (symbolic::emit_cpp_shared); 0: each entry point whole. Why
+  // these values: see kDefaultPartInstructions and kSplitAbove.
   std::size_t part_instructions = kDefaultPartInstructions;
   std::size_t split_above = kSplitAbove;
 };
 
 // One emitted function: its input arrays (among t, q, qd, qdd, param, in
-// order), its output arrays, and the program it prints, so that tests can run
-// the interpreter on exactly what was emitted.
+// order), its output arrays, and the program it runs (the instructions of
+// the parts it calls, when shared), so that tests can run the interpreter on
+// exactly what was emitted.
 struct EmittedFunction {
   std::string name;
   std::vector<std::string> inputs;

@@ -105,10 +105,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix and bias forces");
   app.add_option("--part-size", args.part_size,
-                 "emit a long entry point as functions of at most N instructions each (0: never)")
+                 "emit the entry points as shared functions of at most N statements each (0: each entry point whole)")
       ->capture_default_str();
   app.add_option("--split-above", args.split_above,
-                 "split only entry points longer than N instructions (and than --part-size)")
+                 "share functions only if all entry points together are longer than N statements")
       ->capture_default_str();
   app.add_flag("--list", args.list, "list the model and its variants, generate nothing");
   app.add_flag("--stats", args.stats, "print generation time, size and operation counts");
