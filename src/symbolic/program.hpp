@@ -225,37 +225,31 @@ struct CppNaming {
   // input: emit_cpp_shared then says which arrays each part reads.
   std::vector<std::pair<std::string, std::size_t>> input_arrays;
   // Optional, the output arrays in order, (name, size) each, covering every
-  // output: output i is then element i - (sizes before) of its array, and a
-  // run of at least kMinConstantRun consecutive elements set to the same
-  // constant prints as one loop: for (int i = 12; i < 48; ++i) dv[i] = 0.0;
-  // a shorter run of zeros as loops of kZeroChunk (see kMinZeroRun).
+  // output: output i is then element i - (sizes before) of its array, and an
+  // array of many zeros is zeroed by one loop (see kZeroedArrayShare).
   // Empty: every output is assigned alone.
   std::vector<std::pair<std::string, std::size_t>> output_arrays;
 };
 
-// Why 64: amru5's partial velocities are mostly zeros in runs of 3·k (a body
-// does not move with k consecutive coordinates), 13 500 constant outputs. g++
-// -O2 turns a zero loop into `rep stos`, whose start-up cost made runs of 8
-// and more (250 loops) 7 % more instructions and slower than plain stores;
-// from 64 on (80 loops, half the zeros) it is cheaper, and the compiler sees
-// 6 800 fewer stores.
-inline constexpr std::size_t kMinConstantRun = 64;
-
-// Shorter runs of zeros (+0.0) of at least kMinZeroRun print as loops of
-// kZeroChunk elements each (the last one shorter): g++ -O2 compiles a zero loop
-// of up to 10 doubles (80 bytes) into the very 16-byte stores it makes of
-// separate zero assignments, never `rep stos`, but sees one statement instead
-// of up to ten. Why: amru5's partial velocities had 5 500 zero stores in runs
-// of 3 to 60, half of their compile time (5.7 s -> 2.4 s as loops).
-inline constexpr std::size_t kMinZeroRun = 4;
-inline constexpr std::size_t kZeroChunk = 10;
+// An output array of which at least 1/kZeroedArrayShare of the elements are
+// +0.0 (and that one set of functions wants, emit_cpp_shared) is zeroed whole
+// by one loop, for (int i = 0; i < 3528; ++i) dv[i] = 0.0;, before its other
+// elements are assigned; its zeros are not assigned again. Why: amru5's
+// partial velocities are mostly zeros (a body does not move with most
+// coordinates), 20 000 of them in case 4: as separate stores and short loops
+// they were 10 to 15 % of the compile time. g++ -O2 turns a long loop into
+// `rep stos` (a few cycles per 64 bytes after a start-up of some 30) and a
+// short one into the stores it would make anyway, so a loop over twice as
+// many elements as there are zeros costs no more than storing them apart.
+inline constexpr std::size_t kZeroedArrayShare = 2;
 
 // The program as C++ statements, one a line:
 //   <indent>const double t0 = q[0]*q[1];
 //   <indent>x[0] = t0 + 2.0;
 // Loads print inline (inputs by name, constants as round-trip literals, negative
-// ones in parentheses); every temporary is used; outputs are assigned last, in
-// order (runs of one constant as loops, see CppNaming::output_arrays).
+// ones in parentheses); every temporary is used; arrays of many zeros are
+// zeroed first (see CppNaming::output_arrays), outputs are assigned last, in
+// order.
 // Warning-free under -Wall -Wextra -Wpedantic. Throws UsageError if the naming
 // has the wrong number of inputs or outputs, or output arrays of another total size.
 std::string emit_cpp(const Program& program, const CppNaming& naming);
@@ -294,7 +288,9 @@ std::string emit_cpp(const Program& program, const CppNaming& naming);
 // more instructions, 7 % more compile work). So outputs are written before
 // later statements and parts read inputs: output arrays must not overlap
 // inputs (generated parts take __restrict parameters). A part assigns only
-// outputs every function that runs it wants.
+// outputs every function that runs it wants. An array of many zeros (see
+// kZeroedArrayShare) is zeroed at the start of the first part of its
+// functions' group, before any of its elements is assigned.
 //
 // One function of every output in one part (max_instructions 0, or at least
 // the program's statements) prints exactly what emit_cpp prints, with scratch

@@ -21,9 +21,10 @@ constexpr int kNoPart = -1;  // loads: printed inline, in no part
 using Mask = std::uint64_t;  // a set of functions, bit f for function f
 constexpr std::size_t kMaxFunctions = 64;
 
-// A part: computing instructions (indices, in program order), then the
-// outputs it assigns at its end (the first output of each loop run).
+// A part: output arrays it zeroes first, computing instructions (indices,
+// in program order), then the outputs it assigns at its end.
 struct Part {
+  std::vector<std::size_t> zeroed;  // output arrays
   std::vector<std::size_t> instructions;
   std::vector<std::size_t> late_outputs;
   Mask functions = 0;
@@ -34,7 +35,7 @@ struct PartPlan {
   std::vector<Part> parts;               // in the order they run
   std::vector<int> part_of_slot;         // (slot_count) defining part, kNoPart for loads
   std::vector<bool> at_definition;       // (output_count) assigned right after its value's definition
-  std::vector<std::size_t> run_end;      // (output_count) > o where a loop assigns outputs o ... run_end - 1
+  std::vector<bool> unassigned;          // (output_count) a zero its zeroed array already holds
   std::vector<std::int64_t> scratch_of;  // (slot_count) scratch entry, -1 if the value stays in its part
   std::vector<std::size_t> scratch_top;  // (parts) 1 + the highest entry its values use, 0 if none
 };
@@ -59,36 +60,31 @@ void append_format(std::string& out, std::string_view format, const std::array<s
   }
 }
 
-// Runs of consecutive outputs of one array that are one constant, printed as
-// loops: run_end[o] for the first output of each loop, 0 elsewhere. A run of
-// at least kMinConstantRun is one loop; a shorter run of at least
-// kMinZeroRun zeros is cut into loops of kZeroChunk (the last one shorter, or
-// separate assignments if shorter than kMinZeroRun).
-std::vector<std::size_t> constant_runs(const Program& program, const CppNaming& naming,
-                                       const std::vector<Mask>& wanted_by) {
+// The output arrays zeroed whole by one loop before their other elements are
+// assigned (see kZeroedArrayShare), by array, and the outputs they hold
+// already (+0.0), by output. Only an array wanted by one set of functions is.
+std::pair<std::vector<bool>, std::vector<bool>> zeroed_arrays(const Program& program, const CppNaming& naming,
+                                                               const std::vector<Mask>& wanted_by) {
   const auto outputs = program.output_slots();
-  std::vector<std::size_t> run_end(outputs.size(), 0);
-  std::vector<bool> constant(program.slot_count(), false);
   std::vector<bool> zero(program.slot_count(), false);  // +0.0: all bits clear
   for (const Instruction& i : program.instructions()) {
-    constant[i.results[0]] = i.op == Opcode::Const;
     zero[i.results[0]] = i.op == Opcode::Const && i.constant == 0.0 && !std::signbit(i.constant);
   }
+  std::vector<bool> zeroed(naming.output_arrays.size(), false), unassigned(outputs.size(), false);
   std::size_t first = 0;  // of the current array
-  for (const auto& [name, size] : naming.output_arrays) {
-    for (std::size_t o = first; o < first + size;) {
-      std::size_t e = o + 1;
-      while (constant[outputs[o]] && e < first + size && outputs[e] == outputs[o] && wanted_by[e] == wanted_by[o]) ++e;
-      if (constant[outputs[o]] && e - o >= kMinConstantRun) {
-        run_end[o] = e;
-      } else if (zero[outputs[o]] && e - o >= kMinZeroRun) {
-        for (std::size_t c = o; c + kMinZeroRun <= e; c += kZeroChunk) run_end[c] = std::min(e, c + kZeroChunk);
-      }
-      o = e;
+  for (std::size_t a = 0; a < naming.output_arrays.size(); ++a) {
+    const std::size_t end = first + naming.output_arrays[a].second;
+    std::size_t zeros = 0;
+    bool one_set = true;
+    for (std::size_t o = first; o < end; ++o) {
+      zeros += zero[outputs[o]];
+      one_set = one_set && wanted_by[o] == wanted_by[first];
     }
-    first += size;
+    zeroed[a] = one_set && zeros > 0 && zeros * kZeroedArrayShare >= end - first;
+    for (std::size_t o = first; zeroed[a] && o < end; ++o) unassigned[o] = zero[outputs[o]];
+    first = end;
   }
-  return run_end;
+  return {zeroed, unassigned};
 }
 
 // Which functions want each output: bit f when function f lists it.
@@ -131,8 +127,8 @@ std::vector<Mask> functions_of_instructions(const Program& program, const std::v
 // (free again from the part after its value's last reader). Statements are
 // counted because a compiler's work grows with stores as much as with
 // arithmetic: a computing instruction weighs 1 plus the outputs it assigns;
-// other outputs weigh 1 each, a loop over a long constant run 1 in all, and
-// go after the group's instructions, in output order.
+// other outputs weigh 1 each and go after the group's instructions, in
+// output order; the loop zeroing an array weighs 1 and goes first.
 PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<const std::vector<std::size_t>> functions,
                     std::size_t max) {
   PartPlan plan;
@@ -140,7 +136,8 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
   const auto outputs = program.output_slots();
   const std::vector<Mask> wanted_by = functions_of_outputs(program, functions);
   const std::vector<Mask> needed_by = functions_of_instructions(program, wanted_by);
-  plan.run_end = constant_runs(program, naming, wanted_by);
+  auto [zeroed, unassigned] = zeroed_arrays(program, naming, wanted_by);
+  plan.unassigned = std::move(unassigned);
   std::vector<std::size_t> defined_by(program.slot_count(), ins.size());  // instruction index, ins.size() for loads
   for (std::size_t k = 0; k < ins.size(); ++k) {
     if (is_load(ins[k])) continue;
@@ -156,33 +153,40 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
       ++assigned_with[k];
     }
   }
-  // The groups: instructions, then the outputs assigned at the end, each with its weight.
+  // The groups: arrays zeroed first, instructions (each weighing 1 + the
+  // outputs assigned with it), then the outputs assigned at the end.
   struct Group {
     Mask functions = 0;
     std::size_t first = 0;  // where it first appears: instruction index, or ins.size() + output index
-    std::vector<std::pair<std::size_t, std::size_t>> instructions, outputs;  // (index, weight)
+    std::vector<std::size_t> zeroed;
+    std::vector<std::pair<std::size_t, std::size_t>> instructions;  // (index, weight)
+    std::vector<std::size_t> outputs;
     std::size_t weight = 0;
   };
   std::vector<Group> groups;
   std::map<Mask, std::size_t> group_of;
   auto group = [&](Mask m, std::size_t first) -> Group& {
     auto [it, inserted] = group_of.try_emplace(m, groups.size());
-    if (inserted) groups.push_back({m, first, {}, {}, 0});
+    if (inserted) groups.push_back({m, first, {}, {}, {}, 0});
     return groups[it->second];
   };
+  for (std::size_t a = 0, first = 0; a < zeroed.size(); first += naming.output_arrays[a++].second) {
+    if (!zeroed[a]) continue;
+    Group& g = group(wanted_by[first], ins.size() + first);
+    g.zeroed.push_back(a);
+    ++g.weight;
+  }
   for (std::size_t k = 0; k < ins.size(); ++k) {
     if (is_load(ins[k])) continue;
     Group& g = group(needed_by[k], k);
     g.instructions.emplace_back(k, 1 + assigned_with[k]);
     g.weight += 1 + assigned_with[k];
   }
-  for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) {
-    if (plan.at_definition[o]) continue;
-    const std::size_t run = plan.run_end[o] > o ? plan.run_end[o] - o : 1;
-    const std::size_t weight = run >= kMinConstantRun ? 1 : run;  // a zero chunk weighs what it stores
+  for (std::size_t o = 0; o < outputs.size(); ++o) {
+    if (plan.at_definition[o] || plan.unassigned[o]) continue;
     Group& g = group(wanted_by[o], ins.size() + o);
-    g.outputs.emplace_back(o, weight);
-    g.weight += weight;
+    g.outputs.push_back(o);
+    ++g.weight;
   }
   std::sort(groups.begin(), groups.end(), [](const Group& a, const Group& b) {
     const int na = std::popcount(a.functions), nb = std::popcount(b.functions);
@@ -193,24 +197,24 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
     const std::size_t count = max > 0 && g.weight > max ? (g.weight + max - 1) / max : 1;
     const std::size_t per_part = std::max<std::size_t>(1, (g.weight + count - 1) / count);
     const std::size_t first = plan.parts.size();
-    for (std::size_t p = 0; p < count; ++p) plan.parts.push_back({{}, {}, g.functions});
-    std::size_t done = 0;  // weight placed so far
+    for (std::size_t p = 0; p < count; ++p) plan.parts.push_back({{}, {}, {}, g.functions});
+    plan.parts[first].zeroed = g.zeroed;
+    std::size_t done = g.zeroed.size();  // weight placed so far
     for (const auto& [k, weight] : g.instructions) {
       const std::size_t p = first + done / per_part;
       plan.parts[p].instructions.push_back(k);
       for (int r = 0; r < info(ins[k].op).results; ++r) plan.part_of_slot[ins[k].results[r]] = static_cast<int>(p);
       done += weight;
     }
-    for (const auto& [o, weight] : g.outputs) {
-      plan.parts[first + std::min(done / per_part, count - 1)].late_outputs.push_back(o);
-      done += weight;
-    }
+    for (std::size_t o : g.outputs) plan.parts[first + std::min(done++ / per_part, count - 1)].late_outputs.push_back(o);
   }
   // One part: every output at its end, in order, as emit_cpp prints them.
   if (plan.parts.size() == 1) {
     plan.at_definition.assign(outputs.size(), false);
     plan.parts[0].late_outputs.clear();
-    for (std::size_t o = 0; o < outputs.size(); o = std::max(o + 1, plan.run_end[o])) plan.parts[0].late_outputs.push_back(o);
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+      if (!plan.unassigned[o]) plan.parts[0].late_outputs.push_back(o);
+    }
   }
   // The last part to read each value: its instructions' and its outputs' readers.
   std::vector<int> last_reader(program.slot_count(), kNoPart);
@@ -249,17 +253,12 @@ class Printer {
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
       : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
         whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " "),
-        array_of_input_(arrays_of(naming.input_arrays, program.input_count())),
-        array_of_output_(arrays_of(naming.output_arrays, program.output_count())) {
+        array_of_input_(arrays_of(naming.input_arrays)),
+        array_of_output_(arrays_of(naming.output_arrays)) {
     input_of_slot_.assign(program.slot_count(), kNotInput);
     for (const Instruction& ins : program.instructions()) {
       if (is_load(ins)) load(ins);
       if (ins.op == Opcode::Input) input_of_slot_[ins.results[0]] = ins.input;
-    }
-    std::size_t first = 0;
-    for (const auto& array : naming.output_arrays) {
-      array_first_.push_back(first);
-      first += array.second;
     }
     // The outputs of each computed slot assigned at its definition, in output order (CSR: first_output_, by_slot_).
     const auto outputs = program.output_slots();
@@ -277,14 +276,15 @@ class Printer {
     std::vector<CppPart> parts;
     for (std::size_t p = 0; p < plan_.parts.size(); ++p) {
       part_ = CppPart{};
-      const Part& plan = plan_.parts[p];
+      const Part& layout = plan_.parts[p];
       for (std::size_t f = 0; f < kMaxFunctions; ++f) {
-        if ((plan.functions >> f & 1) != 0) part_.functions.push_back(f);
+        if ((layout.functions >> f & 1) != 0) part_.functions.push_back(f);
       }
-      for (std::size_t k : plan.instructions) print(program_.instructions()[k]);
-      for (std::size_t o : plan.late_outputs) assign(o);
+      for (std::size_t a : layout.zeroed) zero(a);
+      for (std::size_t k : layout.instructions) print(program_.instructions()[k]);
+      for (std::size_t o : layout.late_outputs) assign(o);
       // Later parts read this part's values from the scratch array.
-      for (std::size_t k : plan.instructions) {
+      for (std::size_t k : layout.instructions) {
         const Instruction& ins = program_.instructions()[k];
         for (int r = 0; r < info(ins.op).results; ++r) {
           const std::uint32_t s = ins.results[r];
@@ -299,11 +299,10 @@ class Printer {
   }
 
  private:
-  // arrays_of({(name, size)...}, n): the array of each of n elements, or none if no arrays are named.
-  static std::vector<std::size_t> arrays_of(const std::vector<std::pair<std::string, std::size_t>>& arrays, std::size_t n) {
+  // arrays_of({(name, size)...}): the array of each element, or none if no arrays are named.
+  static std::vector<std::size_t> arrays_of(const std::vector<std::pair<std::string, std::size_t>>& arrays) {
     std::vector<std::size_t> of;
     for (std::size_t a = 0; a < arrays.size(); ++a) of.insert(of.end(), arrays[a].second, a);
-    if (!arrays.empty() && of.size() != n) of.clear();  // checked by the caller
     return of;
   }
   static void sort_unique(std::vector<std::size_t>& v) {
@@ -355,20 +354,17 @@ class Printer {
     }
   }
 
-  // Output o, or the loop over the run it starts.
   void assign(std::size_t o) {
     const std::uint32_t slot = program_.output_slots()[o];
     note_read(slot);
-    const std::string& value = whole_[slot];
     note_write(o);
-    if (plan_.run_end[o] > o) {
-      const std::size_t array = array_of_output_[o];
-      const std::size_t first = array_first_[array];
-      fmt::format_to(std::back_inserter(out()), "{}for (int i = {}; i < {}; ++i) {}[i] = {};\n", naming_.indent,
-                     o - first, plan_.run_end[o] - first, naming_.output_arrays[array].first, value);
-      return;
-    }
-    out().append(naming_.indent).append(naming_.outputs[o]).append(" = ").append(value).append(";\n");
+    out().append(naming_.indent).append(naming_.outputs[o]).append(" = ").append(whole_[slot]).append(";\n");
+  }
+
+  void zero(std::size_t array) {
+    const auto& [name, size] = naming_.output_arrays[array];
+    fmt::format_to(std::back_inserter(out()), "{}for (int i = 0; i < {}; ++i) {}[i] = 0.0;\n", naming_.indent, size, name);
+    part_.output_arrays.push_back(array);
   }
 
   void note_read(std::uint32_t slot) {
@@ -396,7 +392,6 @@ class Printer {
   int next_temporary_ = 0;
   std::vector<std::size_t> array_of_input_;   // (input_count) its input array; empty if none named
   std::vector<std::size_t> array_of_output_;  // (output_count) its output array; empty if none named
-  std::vector<std::size_t> array_first_;      // (output arrays) index of its first output
   static constexpr std::uint32_t kNotInput = ~0U;
   std::vector<std::uint32_t> input_of_slot_;  // (slot_count) the input a load reads, kNotInput otherwise
   // The outputs of slot s assigned at its definition are by_slot_[first_output_[s] ... first_output_[s + 1] - 1].

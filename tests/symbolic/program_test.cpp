@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -791,92 +792,83 @@ TEST_CASE("emit_cpp_shared, one function: in several parts, a computed output is
   }
 }
 
-TEST_CASE("emit_cpp prints runs of one constant in an output array as a loop", "[program]") {
+TEST_CASE("emit_cpp zeroes an output array of many zeros by one loop, then assigns its other elements", "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x");
-  std::vector<Expr> outputs(kMinConstantRun + 1, Expr(0));  // a: x, then a run of zeros
-  outputs.front() = sin(x);
-  for (std::size_t i = 0; i < kMinConstantRun - 1; ++i) outputs.push_back(Expr(0));  // b: a short run of zeros
-  outputs.push_back(Expr(1));
+  // a: half zeros (zeroed); b: fewer (each assigned); c: all zeros.
+  const std::vector<Expr> outputs{sin(x), Expr(0), Expr(0), x, Expr(1), x, Expr(0), Expr(0), Expr(0)};
   const Program p = compile_program(std::vector{x}, outputs);
   CppNaming naming;
   naming.inputs = {"x"};
-  for (std::size_t i = 0; i <= kMinConstantRun; ++i) naming.outputs.push_back(fmt::format("a[{}]", i));
-  for (std::size_t i = 0; i < kMinConstantRun; ++i) naming.outputs.push_back(fmt::format("b[{}]", i));
-  naming.output_arrays = {{"a", kMinConstantRun + 1}, {"b", kMinConstantRun}};
-  std::string want = fmt::format("  const double t0 = std::sin(x);\n  a[0] = t0;\n"
-                                 "  for (int i = 1; i < {}; ++i) a[i] = 0.0;\n", kMinConstantRun + 1);
-  // b: loops of kZeroChunk zeros; a tail shorter than kMinZeroRun assigned alone.
-  const std::size_t zeros = kMinConstantRun - 1;
-  std::size_t i = 0;
-  for (; i + kMinZeroRun <= zeros; i += kZeroChunk) {
-    want += fmt::format("  for (int i = {}; i < {}; ++i) b[i] = 0.0;\n", i, std::min(zeros, i + kZeroChunk));
-  }
-  for (; i < zeros; ++i) want += fmt::format("  b[{}] = 0.0;\n", i);
-  want += fmt::format("  b[{}] = 1.0;\n", kMinConstantRun - 1);
-  CHECK(emit_cpp(p, naming) == want);
-  naming.output_arrays.pop_back();
-  CHECK_THROWS_WITH(emit_cpp(p, naming), fmt::format("emit_cpp: naming's output arrays have {} elements; the "
-                                                     "program has {} outputs", kMinConstantRun + 1, outputs.size()));
+  for (std::size_t i = 0; i < 4; ++i) naming.outputs.push_back(fmt::format("a[{}]", i));
+  for (std::size_t i = 0; i < 3; ++i) naming.outputs.push_back(fmt::format("b[{}]", i));
+  for (std::size_t i = 0; i < 2; ++i) naming.outputs.push_back(fmt::format("c[{}]", i));
+  naming.output_arrays = {{"a", 4}, {"b", 3}, {"c", 2}};
+  static_assert(kZeroedArrayShare == 2);
+  CHECK(emit_cpp(p, naming) ==
+        "  for (int i = 0; i < 4; ++i) a[i] = 0.0;\n"
+        "  for (int i = 0; i < 2; ++i) c[i] = 0.0;\n"
+        "  const double t0 = std::sin(x);\n"
+        "  a[0] = t0;\n  a[3] = x;\n  b[0] = 1.0;\n  b[1] = x;\n  b[2] = 0.0;\n");
+  // Without arrays, every output alone.
+  naming.output_arrays.clear();
+  CHECK_THAT(emit_cpp(p, naming), Catch::Contains("  a[1] = 0.0;\n") && Catch::Contains("  c[1] = 0.0;\n"));
+  naming.output_arrays = {{"a", 4}, {"b", 3}};
+  CHECK_THROWS_WITH(emit_cpp(p, naming), "emit_cpp: naming's output arrays have 7 elements; the program has 9 outputs");
 }
 
-TEST_CASE("emit_cpp_shared, one function: short zero runs as loops, the parts cut where separate assignments put them", "[program]") {
+TEST_CASE("emit_cpp_shared: an array of many zeros is zeroed before any of its elements is assigned", "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
-  // The computing statements of each part, and every assignment of an output
-  // (loops expanded), in order: a chunk of zeros may go to the next part.
-  struct Split {
-    std::vector<std::string> statements;
-    std::string outputs;
-  };
-  auto split = [](const CppParts& parts) {
-    const std::regex loop(R"(^  for \(int i = (\d+); i < (\d+); \+\+i\) (\w+)\[i\] = 0\.0;$)"),
-        output(R"(^  y\[\d+\] = .*;$)");
-    Split out;
-    for (const std::string& body : parts.bodies) {
-      std::string& statements = out.statements.emplace_back();
-      std::istringstream lines(body);
-      for (std::string line; std::getline(lines, line);) {
-        std::smatch m;
-        if (std::regex_match(line, m, loop)) {
-          for (int k = std::stoi(m[1]); k < std::stoi(m[2]); ++k) out.outputs += fmt::format("  {}[{}] = 0.0;\n", m[3].str(), k);
-        } else {
-          (std::regex_match(line, output) ? out.outputs : statements) += line + "\n";
-        }
-      }
-    }
-    return out;
-  };
-  auto sorted = [](std::string text) {
-    std::istringstream lines(text);
-    std::vector<std::string> all;
-    for (std::string line; std::getline(lines, line);) all.push_back(line);
-    std::sort(all.begin(), all.end());
-    return all;
-  };
-  for (unsigned seed = 0; seed < 50; ++seed) {
+  const std::regex zero_loop(R"(^  for \(int i = 0; i < (\d+); \+\+i\) y\[i\] = 0\.0;$)"), output(R"(^  y\[(\d+)\] = (.*);$)");
+  for (unsigned seed = 0; seed < 100; ++seed) {
     symdyn::testing::RandomExpr gen(seed, xs);
-    // y: a few values, each followed by a run of 1 to 25 zeros.
+    // y: a few values among zeros (most of it), z: values only.
     std::vector<Expr> outputs;
-    for (unsigned k = 0; k < 6; ++k) {
+    for (unsigned k = 0; k < 5; ++k) {
       outputs.push_back(gen(4));
-      outputs.insert(outputs.end(), (seed * 7 + k * 11) % 25 + 1, Expr(0));
+      outputs.insert(outputs.end(), (seed * 7 + k * 11) % 4 + 1, Expr(0));
     }
+    const std::size_t ny = outputs.size();
+    for (unsigned k = 0; k < 5; ++k) outputs.push_back(gen(4) * outputs[k]);
     const Program p = compile_program(xs, outputs);
-    CppNaming plain;
-    plain.inputs = {"x[0]", "x[1]", "x[2]"};
-    for (std::size_t i = 0; i < outputs.size(); ++i) plain.outputs.push_back(fmt::format("y[{}]", i));
-    CppNaming arrays = plain;
-    arrays.output_arrays = {{"y", outputs.size()}};
-    CHECK_THAT(emit_cpp(p, arrays), Catch::Contains("; ++i) y[i] = 0.0;"));
+    CppNaming naming;
+    naming.inputs = {"x[0]", "x[1]", "x[2]"};
+    for (std::size_t i = 0; i < ny; ++i) naming.outputs.push_back(fmt::format("y[{}]", i));
+    for (std::size_t i = ny; i < outputs.size(); ++i) naming.outputs.push_back(fmt::format("z[{}]", i - ny));
+    naming.output_arrays = {{"y", ny}, {"z", outputs.size() - ny}};
+    std::vector<std::size_t> all(outputs.size());
+    for (std::size_t o = 0; o < all.size(); ++o) all[o] = o;
     for (std::size_t max : {3, 10, 40}) {
       INFO("seed " << seed << ", parts of " << max);
-      const Split loops = split(emit_cpp_parts(p, arrays, max));
-      const Split separate = split(emit_cpp_parts(p, plain, max));
-      CHECK(loops.statements == separate.statements);
-      CHECK(sorted(loops.outputs) == sorted(separate.outputs));
+      const CppShared shared = emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{all}, max);
+      // Played in order: y zeroed once, first; then each nonzero element assigned once, the zeros never.
+      bool zeroed = false;
+      std::set<std::size_t> assigned;
+      for (const CppPart& part : shared.parts) {
+        std::istringstream lines(part.body);
+        for (std::string line; std::getline(lines, line);) {
+          std::smatch m;
+          if (std::regex_match(line, m, zero_loop)) {
+            CHECK_FALSE(zeroed);
+            CHECK(assigned.empty());
+            CHECK(std::stoul(m[1]) == ny);
+            zeroed = true;
+          } else if (std::regex_match(line, m, output)) {
+            CHECK(zeroed);
+            CHECK(assigned.insert(std::stoul(m[1])).second);
+            CHECK(m[2] != "0.0");
+          }
+        }
+      }
+      CHECK(zeroed);
+      std::set<std::size_t> nonzero;
+      for (std::size_t o = 0; o < ny; ++o) {
+        if (!(outputs[o] == Expr(0))) nonzero.insert(o);
+      }
+      CHECK(assigned == nonzero);
     }
   }
 }
