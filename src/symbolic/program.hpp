@@ -225,31 +225,35 @@ struct CppNaming {
   // input: emit_cpp_shared then says which arrays each part reads.
   std::vector<std::pair<std::string, std::size_t>> input_arrays;
   // Optional, the output arrays in order, (name, size) each, covering every
-  // output: output i is then element i - (sizes before) of its array, and an
-  // array of many zeros is zeroed by one loop (see kZeroedArrayShare).
+  // output: output i is then element i - (sizes before) of its array, and a
+  // long array of many zeros is zeroed by one loop (see kZeroedArrayShare).
   // Empty: every output is assigned alone.
   std::vector<std::pair<std::string, std::size_t>> output_arrays;
 };
 
-// An output array of which at least 1/kZeroedArrayShare of the elements are
-// +0.0 (and that one set of functions wants, emit_cpp_shared) is zeroed whole
-// by one loop, for (int i = 0; i < 3528; ++i) dv[i] = 0.0;, before its other
-// elements are assigned; its zeros are not assigned again. Why: amru5's
-// partial velocities are mostly zeros (a body does not move with most
-// coordinates), 20 000 of them in case 4: as separate stores and short loops
-// they were 10 to 15 % of the compile time. g++ -O2 turns a long loop into
-// `rep stos` (a few cycles per 64 bytes after a start-up of some 30) and a
-// short one into the stores it would make anyway, so a loop over twice as
-// many elements as there are zeros costs no more than storing them apart.
+// An output array of at least kMinZeroedArray elements, of which at least
+// 1/kZeroedArrayShare are +0.0 (and that one set of functions wants,
+// emit_cpp_shared), is zeroed whole by one loop,
+// for (int i = 0; i < 3528; ++i) dv[i] = 0.0;, before its other elements are
+// assigned; its zeros are not assigned again. Why: amru5's partial velocities
+// are mostly zeros (a body does not move with most coordinates), 20 000 of
+// them in case 4: as separate stores and short loops they were 10 to 15 % of
+// the compile time. g++ -O2 turns the loop into memset (`rep stos`, a few
+// cycles per 64 bytes after a start-up of some 30: callgrind counts each byte
+// stored as an instruction), so on a long array a loop over twice as many
+// elements as there are zeros costs less than storing them apart; on a
+// short one (the slider-crank's 27 rotation entries) the stores of the
+// nonzero elements twice made its accelerations 6 % more instructions.
+inline constexpr std::size_t kMinZeroedArray = 64;
 inline constexpr std::size_t kZeroedArrayShare = 2;
 
 // The program as C++ statements, one a line:
 //   <indent>const double t0 = q[0]*q[1];
 //   <indent>x[0] = t0 + 2.0;
 // Loads print inline (inputs by name, constants as round-trip literals, negative
-// ones in parentheses); every temporary is used; arrays of many zeros are
-// zeroed first (see CppNaming::output_arrays), outputs are assigned last, in
-// order.
+// ones in parentheses); every temporary is used; long arrays of many zeros
+// are zeroed first (see CppNaming::output_arrays), outputs are assigned last,
+// in order.
 // Warning-free under -Wall -Wextra -Wpedantic. Throws UsageError if the naming
 // has the wrong number of inputs or outputs, or output arrays of another total size.
 std::string emit_cpp(const Program& program, const CppNaming& naming);
@@ -288,7 +292,7 @@ std::string emit_cpp(const Program& program, const CppNaming& naming);
 // more instructions, 7 % more compile work). So outputs are written before
 // later statements and parts read inputs: output arrays must not overlap
 // inputs (generated parts take __restrict parameters). A part assigns only
-// outputs every function that runs it wants. An array of many zeros (see
+// outputs every function that runs it wants. A long array of many zeros (see
 // kZeroedArrayShare) is zeroed at the start of the first part of its
 // functions' group, before any of its elements is assigned.
 //

@@ -80,7 +80,7 @@ std::pair<std::vector<bool>, std::vector<bool>> zeroed_arrays(const Program& pro
       zeros += zero[outputs[o]];
       one_set = one_set && wanted_by[o] == wanted_by[first];
     }
-    zeroed[a] = one_set && zeros > 0 && zeros * kZeroedArrayShare >= end - first;
+    zeroed[a] = one_set && end - first >= kMinZeroedArray && zeros * kZeroedArrayShare >= end - first;
     for (std::size_t o = first; zeroed[a] && o < end; ++o) unassigned[o] = zero[outputs[o]];
     first = end;
   }

@@ -792,30 +792,34 @@ TEST_CASE("emit_cpp_shared, one function: in several parts, a computed output is
   }
 }
 
-TEST_CASE("emit_cpp zeroes an output array of many zeros by one loop, then assigns its other elements", "[program]") {
+TEST_CASE("emit_cpp zeroes a long output array of many zeros by one loop, then assigns its other elements", "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x");
-  // a: half zeros (zeroed); b: fewer (each assigned); c: all zeros.
-  const std::vector<Expr> outputs{sin(x), Expr(0), Expr(0), x, Expr(1), x, Expr(0), Expr(0), Expr(0)};
+  static_assert(kZeroedArrayShare == 2);
+  const std::size_t n = kMinZeroedArray;
+  // a: half zeros (zeroed); b: zeros, but short (each assigned); c: fewer than half zeros (each assigned).
+  std::vector<Expr> outputs;
+  for (std::size_t i = 0; i < n; ++i) outputs.push_back(i % 2 == 0 ? Expr(0) : sin(x) * Expr(static_cast<int>(i)));
+  for (std::size_t i = 0; i + 1 < n; ++i) outputs.push_back(Expr(0));
+  for (std::size_t i = 0; i < n; ++i) outputs.push_back(i < n / 2 - 1 ? Expr(0) : x);
   const Program p = compile_program(std::vector{x}, outputs);
   CppNaming naming;
   naming.inputs = {"x"};
-  for (std::size_t i = 0; i < 4; ++i) naming.outputs.push_back(fmt::format("a[{}]", i));
-  for (std::size_t i = 0; i < 3; ++i) naming.outputs.push_back(fmt::format("b[{}]", i));
-  for (std::size_t i = 0; i < 2; ++i) naming.outputs.push_back(fmt::format("c[{}]", i));
-  naming.output_arrays = {{"a", 4}, {"b", 3}, {"c", 2}};
-  static_assert(kZeroedArrayShare == 2);
-  CHECK(emit_cpp(p, naming) ==
-        "  for (int i = 0; i < 4; ++i) a[i] = 0.0;\n"
-        "  for (int i = 0; i < 2; ++i) c[i] = 0.0;\n"
-        "  const double t0 = std::sin(x);\n"
-        "  a[0] = t0;\n  a[3] = x;\n  b[0] = 1.0;\n  b[1] = x;\n  b[2] = 0.0;\n");
-  // Without arrays, every output alone.
-  naming.output_arrays.clear();
-  CHECK_THAT(emit_cpp(p, naming), Catch::Contains("  a[1] = 0.0;\n") && Catch::Contains("  c[1] = 0.0;\n"));
-  naming.output_arrays = {{"a", 4}, {"b", 3}};
-  CHECK_THROWS_WITH(emit_cpp(p, naming), "emit_cpp: naming's output arrays have 7 elements; the program has 9 outputs");
+  naming.output_arrays = {{"a", n}, {"b", n - 1}, {"c", n}};
+  for (const auto& [name, size] : naming.output_arrays) {
+    for (std::size_t i = 0; i < size; ++i) naming.outputs.push_back(fmt::format("{}[{}]", name, i));
+  }
+  const std::string code = emit_cpp(p, naming);
+  // a zeroed first, once; its odd elements assigned after, its zeros never.
+  CHECK(code.rfind(fmt::format("  for (int i = 0; i < {}; ++i) a[i] = 0.0;\n", n), 0) == 0);
+  CHECK(code.find("for (", 3) == std::string::npos);  // one loop only
+  CHECK_THAT(code, Catch::Contains("  a[1] = ") && !Catch::Contains("  a[0] = ") && !Catch::Contains("  a[2] = "));
+  CHECK_THAT(code, Catch::Contains("  b[0] = 0.0;\n") && Catch::Contains(fmt::format("  b[{}] = 0.0;\n", n - 2)));
+  CHECK_THAT(code, Catch::Contains("  c[0] = 0.0;\n") && Catch::Contains(fmt::format("  c[{}] = x;\n", n - 1)));
+  naming.output_arrays.pop_back();
+  CHECK_THROWS_WITH(emit_cpp(p, naming), fmt::format("emit_cpp: naming's output arrays have {} elements; the "
+                                                     "program has {} outputs", 2 * n - 1, outputs.size()));
 }
 
 TEST_CASE("emit_cpp_shared: an array of many zeros is zeroed before any of its elements is assigned", "[program]") {
@@ -829,7 +833,7 @@ TEST_CASE("emit_cpp_shared: an array of many zeros is zeroed before any of its e
     std::vector<Expr> outputs;
     for (unsigned k = 0; k < 5; ++k) {
       outputs.push_back(gen(4));
-      outputs.insert(outputs.end(), (seed * 7 + k * 11) % 4 + 1, Expr(0));
+      outputs.insert(outputs.end(), (seed * 7 + k * 11) % 20 + kMinZeroedArray / 4, Expr(0));
     }
     const std::size_t ny = outputs.size();
     for (unsigned k = 0; k < 5; ++k) outputs.push_back(gen(4) * outputs[k]);
