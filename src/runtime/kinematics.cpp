@@ -45,6 +45,16 @@ Mat3 Kinematics::rotation(int body) const {
   return R(body);
 }
 
+bool Kinematics::all_finite(bool accelerations) const {
+  auto finite = [](const std::vector<double>& a) {
+    return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size())).allFinite();
+  };
+  for (const auto* a : {&R_, &x_, &v_, &w_, &dv_, &dwq_}) {
+    if (!finite(*a)) return false;
+  }
+  return !accelerations || (finite(a_) && finite(dw_));
+}
+
 void Kinematics::clear_rates() {
   std::fill(v_.begin(), v_.end(), 0.0);
   std::fill(w_.begin(), w_.end(), 0.0);

@@ -79,6 +79,11 @@ class Kinematics {
   // Sets v, w (and a, dw) to zero; used before evaluating positions only.
   void clear_rates();
 
+  // Whether R, x, v, w, the partial velocities and (with accelerations) a and
+  // dw hold finite values only: one pass over each array, the fast check
+  // before a search for the culprit.
+  bool all_finite(bool accelerations) const;
+
  private:
   static Eigen::Map<const Vec3> vec(const std::vector<double>& a, int i) {
     return Eigen::Map<const Vec3>(&a[3 * i]);
