@@ -1,5 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <limits>
+
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/pendulum.hpp"
 #include "fixtures/rigid_body.hpp"
@@ -113,4 +116,31 @@ TEST_CASE("Kinematics views and point helpers", "[runtime][model]") {
   CHECK(k.point_velocity(ground, Vec3(1, 2, 3)) == Vec3::Zero());
   CHECK(k.dv_dqd(1, 1) == k.dv_dqd(1).row(1).transpose());
   CHECK(k.w(1)(2) == Approx(qd[0] + qd[1]));
+}
+
+TEST_CASE("Kinematics::all_finite sees a non-finite value in any array it checks", "[runtime][model]") {
+  const Model m = Model::from<fx::double_pendulum_absolute>();
+  Kinematics k = m.make_kinematics();
+  const double q[2] = {0.4, -0.9}, qd[2] = {1.3, 0.7}, qdd[2] = {0.2, -0.1};
+  m.accelerations(0.0, q, qd, qdd, k);
+  m.partial_velocities(0.0, q, k);
+  CHECK(k.all_finite(true));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto with = [&](double* array, std::size_t at, double value, bool accelerations) {
+    const double kept = array[at];
+    array[at] = value;
+    const bool finite = k.all_finite(accelerations);
+    array[at] = kept;
+    return finite;
+  };
+  CHECK_FALSE(with(k.R_data(), 17, nan, false));
+  CHECK_FALSE(with(k.x_data(), 5, -INFINITY, false));
+  CHECK_FALSE(with(k.v_data(), 0, nan, false));
+  CHECK_FALSE(with(k.w_data(), 3, nan, false));
+  CHECK_FALSE(with(k.dv_dqd_data(), 11, nan, false));
+  CHECK_FALSE(with(k.dw_dqd_data(), 6, INFINITY, false));
+  // Accelerations count only when asked for.
+  CHECK(with(k.a_data(), 4, nan, false));
+  CHECK_FALSE(with(k.a_data(), 4, nan, true));
+  CHECK_FALSE(with(k.dw_data(), 2, nan, true));
 }
