@@ -83,6 +83,9 @@ std::string element(const std::string& name, std::size_t i) {
   return out;
 }
 
+// The C++ text of element i of an input array; the time t is a scalar.
+std::string input_element(const std::string& in, std::size_t i) { return in == "t" ? "t" : element(in, i); }
+
 // The inputs of every entry point are among these arrays, in this order.
 constexpr const char* kInputs[] = {"t", "q", "qd", "qdd", "param"};
 
@@ -215,14 +218,17 @@ class Emitter {
       std::vector<std::size_t>& mine = d.arrays_of.emplace_back();
       if (!e.body.empty()) continue;
       for (const OutputArray& o : e.outputs) {
-        std::size_t i = 0;
-        bool taken = false;
-        for (; i < d.arrays.size(); ++i) {
-          if (d.arrays[i].values == o.values && d.arrays[i].name == (taken ? e.name + "_" + o.name : o.name)) break;
-          taken = taken || d.arrays[i].name == o.name;
+        const std::string renamed = e.name + "_" + o.name;
+        auto named = [&](const std::string& name) {
+          return std::find_if(d.arrays.begin(), d.arrays.end(), [&](const OutputArray& a) { return a.name == name; });
+        };
+        auto same = named(o.name);
+        if (same != d.arrays.end() && same->values != o.values) same = named(renamed);
+        if (same == d.arrays.end()) {
+          const bool taken = named(o.name) != d.arrays.end();
+          same = d.arrays.insert(d.arrays.end(), {taken ? renamed : o.name, o.shape, o.values});
         }
-        if (i == d.arrays.size()) d.arrays.push_back({taken ? e.name + "_" + o.name : o.name, o.shape, o.values});
-        mine.push_back(i);
+        mine.push_back(static_cast<std::size_t>(same - d.arrays.begin()));
       }
     }
   }
@@ -248,7 +254,7 @@ class Emitter {
     for (const char* in : kInputs) {
       const std::size_t n = symbols_.at(in).size();
       naming.input_arrays.emplace_back(in, n);
-      for (std::size_t i = 0; i < n; ++i) naming.inputs.push_back(std::string_view(in) == "t" ? "t" : element(in, i));
+      for (std::size_t i = 0; i < n; ++i) naming.inputs.push_back(input_element(in, i));
     }
     std::vector<std::size_t> first_output;  // of each array
     for (const OutputArray& a : d.arrays) {
@@ -278,7 +284,7 @@ class Emitter {
       const std::size_t fn = function_of[e];
       f.program = d.program.subprogram(functions[fn], input_indices(entry));
       f.operations = f.program->operation_count();
-      code.source += function_text(entry, part_calls(entry, d, shared, fn, naming));
+      code.source += function_text(entry, part_calls(e, d, shared.parts, shared.functions[fn], naming));
     }
   }
 
@@ -327,14 +333,13 @@ class Emitter {
   }
 
   // An entry point's body: its scratch array, then a call of each of its parts.
-  std::string part_calls(const EntryPoint& e, const Derivation& d, const symbolic::CppShared& shared, std::size_t fn,
-                         const symbolic::CppNaming& naming) const {
-    const symbolic::CppFunctionParts& mine = shared.functions[fn];
+  std::string part_calls(std::size_t entry, const Derivation& d, const std::vector<symbolic::CppPart>& parts,
+                         const symbolic::CppFunctionParts& mine, const symbolic::CppNaming& naming) const {
+    const EntryPoint& e = entries_[entry];
     std::string out;
     if (mine.scratch_size > 0) out += fmt::format("  double {}[{}];\n", naming.scratch, mine.scratch_size);
-    const std::size_t entry = static_cast<std::size_t>(&e - entries_.data());
     for (std::size_t p : mine.parts) {
-      const symbolic::CppPart& part = shared.parts[p];
+      const symbolic::CppPart& part = parts[p];
       std::vector<std::string> args;
       for (std::size_t a : part.input_arrays) {
         const std::string& in = naming.input_arrays[a].first;
@@ -485,7 +490,7 @@ class Emitter {
     symbolic::CppNaming naming;
     for (const std::string& in : e.inputs) {
       const std::size_t n = symbols_.at(in).size();
-      for (std::size_t i = 0; i < n; ++i) naming.inputs.push_back(in == "t" ? "t" : element(in, i));
+      for (std::size_t i = 0; i < n; ++i) naming.inputs.push_back(input_element(in, i));
     }
     for (const OutputArray& o : e.outputs) {
       naming.outputs.reserve(naming.outputs.size() + o.values.size());

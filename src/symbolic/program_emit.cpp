@@ -7,6 +7,7 @@
 #include <cmath>
 #include <iterator>
 #include <map>
+#include <numeric>
 #include <set>
 #include <string>
 #include <string_view>
@@ -439,12 +440,10 @@ CppShared emit_cpp_shared(const Program& program, const CppNaming& naming,
 }
 
 std::string emit_cpp(const Program& program, const CppNaming& naming) {
-  check_naming(program, naming);
-  if (program.output_count() == 0) return {};
-  std::vector<std::size_t> all(program.output_count());
-  for (std::size_t o = 0; o < all.size(); ++o) all[o] = o;
-  const std::vector<std::vector<std::size_t>> one{std::move(all)};
-  return std::move(emit_cpp_shared(program, naming, one, 0).parts.front().body);
+  std::vector<std::vector<std::size_t>> one(1, std::vector<std::size_t>(program.output_count()));
+  std::iota(one[0].begin(), one[0].end(), std::size_t{0});
+  CppShared code = emit_cpp_shared(program, naming, one, 0);
+  return code.parts.empty() ? std::string() : std::move(code.parts.front().body);  // no output: no part
 }
 
 }  // namespace symdyn::symbolic
