@@ -224,6 +224,7 @@ class Emitter {
         };
         auto same = named(o.name);
         if (same != d.arrays.end() && same->values != o.values) same = named(renamed);
+        if (same == d.arrays.end()) same = same_values(d.arrays, mine, o.values);
         if (same == d.arrays.end()) {
           const bool taken = named(o.name) != d.arrays.end();
           same = d.arrays.insert(d.arrays.end(), {taken ? renamed : o.name, o.shape, o.values});
@@ -231,6 +232,18 @@ class Emitter {
         mine.push_back(static_cast<std::size_t>(same - d.arrays.begin()));
       }
     }
+  }
+
+  // An array of these values under another name (dynamics_velocities' dw is
+  // partial_velocities' dw, named partial_velocities_dw), not one of `taken`.
+  static std::vector<OutputArray>::iterator same_values(std::vector<OutputArray>& arrays,
+                                                        const std::vector<std::size_t>& taken,
+                                                        const std::vector<Expr>& values) {
+    for (auto a = arrays.begin(); a != arrays.end(); ++a) {
+      const auto index = static_cast<std::size_t>(a - arrays.begin());
+      if (a->values == values && std::find(taken.begin(), taken.end(), index) == taken.end()) return a;
+    }
+    return arrays.end();
   }
 
   std::vector<Expr> all_inputs() const {
@@ -439,8 +452,32 @@ class Emitter {
                           {{"M", fmt::format("({} x {})", nq, nq), dyn.mass_matrix}}, {}});
       entries.push_back({"bias_forces", "h(q, qd, t): inertia terms at qdd = 0 and gravity (M qdd + h = Q).",
                           {"t", "q", "qd", "param"}, {{"h", fmt::format("({})", nq), dyn.bias}}, {}});
+      add_dynamics(entries);
     }
     return entries;
+  }
+
+  // The runtime's hot path: M and h in one call, so that the sines, cosines
+  // and rotations they share are computed once, with (for force elements)
+  // the kinematics and partial velocities of the same state.
+  void add_dynamics(std::vector<EntryPoint>& entries) const {
+    const auto find = [&](const std::string& entry, const std::string& array) {
+      const auto e = std::find_if(entries.begin(), entries.end(), [&](const EntryPoint& p) { return p.name == entry; });
+      return *std::find_if(e->outputs.begin(), e->outputs.end(), [&](const OutputArray& o) { return o.name == array; });
+    };
+    const std::vector<std::string> inputs{"t", "q", "qd", "param"};
+    const OutputArray M = find("mass_matrix", "M"), h = find("bias_forces", "h");
+    entries.push_back({"dynamics", "M and h together (the runtime's hot path without force elements).", inputs, {M, h}, {}});
+    if (!options_.symbolic_partials) return;  // numeric partial velocities are a loop, not a program to fuse
+    const OutputArray R = find("positions", "R"), x = find("positions", "x"), v = find("velocities", "v"),
+                      w = find("velocities", "w"), dv = find("partial_velocities", "dv"),
+                      dw = find("partial_velocities", "dw");
+    entries.push_back({"dynamics_positions",
+                       "M and h with the positions and partial velocities that force elements read.", inputs,
+                       {M, h, R, x, dv, dw}, {}});
+    entries.push_back({"dynamics_velocities",
+                       "M and h with the positions, velocities and partial velocities that force elements read.",
+                       inputs, {M, h, R, x, v, w, dv, dw}, {}});
   }
 
   std::string numeric_partials_body(std::size_t nb, std::size_t nq) const {

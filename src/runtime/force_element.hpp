@@ -26,13 +26,18 @@ class Loads {
     F.setZero();
     M.setZero();
     Q.setZero();
+    on_bodies_ = false;
   }
   // Force at G of a body (ignored for the ground).
   void add_force(int body, const Vec3& f) {
-    if (body != ground) F.col(body) += f;
+    if (body == ground) return;
+    F.col(body) += f;
+    on_bodies_ = true;
   }
   void add_moment(int body, const Vec3& m) {
-    if (body != ground) M.col(body) += m;
+    if (body == ground) return;
+    M.col(body) += m;
+    on_bodies_ = true;
   }
   // Force f at the global point X of a body with centre of gravity at G:
   // f at G plus the moment (X - G) x f.
@@ -40,21 +45,35 @@ class Loads {
     if (body == ground) return;
     F.col(body) += f;
     M.col(body) += (X - k.x(body)).cross(f);
+    on_bodies_ = true;
   }
   void add_generalized(int coordinate, double q) { Q(coordinate) += q; }
 
+  // Whether a force or moment was added on a body since clear().
+  bool on_bodies() const { return on_bodies_; }
+
+  // Read them; add through the functions above.
   Eigen::Matrix<double, 3, Eigen::Dynamic> F;  // (3 x nbody)
   Eigen::Matrix<double, 3, Eigen::Dynamic> M;  // (3 x nbody)
   Vector Q;                                    // (nq)
+
+ private:
+  bool on_bodies_ = false;
 };
 
-// What a force element sees: the state (t, q, qd, y) and the kinematics at
-// velocity level of that state (R, x, v, w of every body; partial velocities).
+// What a force element sees: the state (t, q, qd, y) and the kinematics of
+// that state up to the level it declares by reads(). The runtime evaluates
+// no more than the attached elements read: an element of level `none` sees
+// stale kinematics and may only add generalized forces (a force on a body
+// needs the partial velocities to be projected: ModelError); `positions`
+// gives R, x and the partial velocities; `velocities` also v and w.
 class ForceElement {
  public:
   virtual ~ForceElement() = default;
   // A short description naming the element ("spring 'strut'").
   virtual std::string name() const = 0;
+  // The kinematics apply() and potential_energy() read.
+  virtual KinematicsLevel reads() const { return KinematicsLevel::velocities; }
   // Adds this element's loads. Must not allocate (it runs in the hot path).
   virtual void apply(const State& s, const Kinematics& k, Loads& loads) const = 0;
   // Elastic energy stored in the element (0 for non-conservative elements).

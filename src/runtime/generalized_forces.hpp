@@ -15,6 +15,7 @@ class CoordinateSpringDamper : public ForceElement {
   CoordinateSpringDamper(std::string name, int coordinate, double stiffness, double damping,
                          double free_value = 0.0);
   std::string name() const override { return "coordinate spring '" + name_ + "'"; }
+  KinematicsLevel reads() const override { return KinematicsLevel::none; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
   // 1/2 k (q - free_value)^2
   double potential_energy(const State& s, const Kinematics& k) const override;
@@ -32,6 +33,7 @@ class CoordinateForce : public ForceElement {
   using Law = std::function<double(double t, double q, double qd, const State& s)>;
   CoordinateForce(std::string name, int coordinate, Law law);
   std::string name() const override { return "coordinate force '" + name_ + "'"; }
+  KinematicsLevel reads() const override { return KinematicsLevel::none; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
 
  private:
@@ -49,6 +51,7 @@ class CoordinateTracking : public ForceElement {
   CoordinateTracking(std::string name, int coordinate, double kp, double kd, Reference r,
                      Reference rd = nullptr);
   std::string name() const override { return "coordinate tracking '" + name_ + "'"; }
+  KinematicsLevel reads() const override { return KinematicsLevel::none; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
 
  private:

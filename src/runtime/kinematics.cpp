@@ -45,14 +45,23 @@ Mat3 Kinematics::rotation(int body) const {
   return R(body);
 }
 
+namespace {
+bool finite(const std::vector<double>& a) {
+  return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size())).allFinite();
+}
+}  // namespace
+
 bool Kinematics::all_finite(bool accelerations) const {
-  auto finite = [](const std::vector<double>& a) {
-    return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size())).allFinite();
-  };
   for (const auto* a : {&R_, &x_, &v_, &w_, &dv_, &dwq_}) {
     if (!finite(*a)) return false;
   }
   return !accelerations || (finite(a_) && finite(dw_));
+}
+
+bool Kinematics::finite_up_to(KinematicsLevel level) const {
+  if (level == KinematicsLevel::none) return true;
+  if (!finite(R_) || !finite(x_)) return false;
+  return level == KinematicsLevel::positions || (finite(v_) && finite(w_));
 }
 
 void Kinematics::clear_rates() {

@@ -22,6 +22,11 @@ using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 // Index of the ground in the point helpers and force elements.
 inline constexpr int ground = -1;
 
+// How much of the kinematics an evaluation needs, each level including the
+// one before: nothing beyond the state; positions R, x with the partial
+// velocities (to project forces on bodies); velocities v, w as well.
+enum class KinematicsLevel { none, positions, velocities };
+
 class Kinematics {
  public:
   Kinematics() = default;
@@ -83,6 +88,8 @@ class Kinematics {
   // dw hold finite values only: one pass over each array, the fast check
   // before a search for the culprit.
   bool all_finite(bool accelerations) const;
+  // Whether R, x and (from velocities up) v, w hold finite values only.
+  bool finite_up_to(KinematicsLevel level) const;
 
  private:
   static Eigen::Map<const Vec3> vec(const std::vector<double>& a, int i) {

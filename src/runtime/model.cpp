@@ -190,4 +190,30 @@ void Model::bias_forces(double t, const double* q, const double* qd, double* h) 
   d_.bias_forces(t, q, qd, param_.data(), h);
 }
 
+void Model::dynamics(double t, const double* q, const double* qd, KinematicsLevel level, double* M,
+                     double* h, Kinematics& k) const {
+  const double* p = param_.data();
+  using enum KinematicsLevel;
+  if (level == none && d_.dynamics != nullptr) return d_.dynamics(t, q, qd, p, M, h);
+  if (level == positions && d_.dynamics_positions != nullptr) {
+    return d_.dynamics_positions(t, q, qd, p, M, h, k.R_data(), k.x_data(), k.dv_dqd_data(),
+                                 k.dw_dqd_data());
+  }
+  if (level == velocities && d_.dynamics_velocities != nullptr) {
+    return d_.dynamics_velocities(t, q, qd, p, M, h, k.R_data(), k.x_data(), k.v_data(),
+                                  k.w_data(), k.dv_dqd_data(), k.dw_dqd_data());
+  }
+  dynamics_separately(t, q, qd, level, M, h, k);
+}
+
+void Model::dynamics_separately(double t, const double* q, const double* qd,
+                                KinematicsLevel level, double* M, double* h,
+                                Kinematics& k) const {
+  if (level == KinematicsLevel::positions) positions(t, q, k);
+  if (level == KinematicsLevel::velocities) velocities(t, q, qd, k);
+  if (level != KinematicsLevel::none) partial_velocities(t, q, k);
+  mass_matrix(t, q, M);
+  bias_forces(t, q, qd, h);
+}
+
 }  // namespace symdyn::runtime

@@ -44,6 +44,15 @@ using DependentParametersFn = void (*)(double t, const double* q, const double* 
 using MassMatrixFn = void (*)(double t, const double* q, const double* param, double* M);
 using BiasForcesFn = void (*)(double t, const double* q, const double* qd, const double* param,
                               double* h);
+// M and h in one call, alone or with the kinematics force elements read.
+using DynamicsFn = void (*)(double t, const double* q, const double* qd, const double* param,
+                            double* M, double* h);
+using DynamicsPositionsFn = void (*)(double t, const double* q, const double* qd,
+                                     const double* param, double* M, double* h, double* R,
+                                     double* x, double* dv, double* dw);
+using DynamicsVelocitiesFn = void (*)(double t, const double* q, const double* qd,
+                                      const double* param, double* M, double* h, double* R,
+                                      double* x, double* v, double* w, double* dv, double* dw);
 
 namespace detail {
 template <class G>
@@ -83,6 +92,18 @@ concept has_bias_forces = requires(double t, const double* c, double* o) {
   G::bias_forces(t, c, c, c, o);
 };
 template <class G>
+concept has_dynamics = requires(double t, const double* c, double* o) {
+  G::dynamics(t, c, c, c, o, o);
+};
+template <class G>
+concept has_dynamics_positions = requires(double t, const double* c, double* o) {
+  G::dynamics_positions(t, c, c, c, o, o, o, o, o, o);
+};
+template <class G>
+concept has_dynamics_velocities = requires(double t, const double* c, double* o) {
+  G::dynamics_velocities(t, c, c, c, o, o, o, o, o, o, o, o);
+};
+template <class G>
 concept generated_model = requires {
   { G::model } -> std::convertible_to<const char*>;
   { G::nq } -> std::convertible_to<int>;
@@ -120,6 +141,9 @@ struct ModelDescription {
   DependentParametersFn dependent_parameters = nullptr;
   MassMatrixFn mass_matrix = nullptr;
   BiasForcesFn bias_forces = nullptr;
+  DynamicsFn dynamics = nullptr;
+  DynamicsPositionsFn dynamics_positions = nullptr;
+  DynamicsVelocitiesFn dynamics_velocities = nullptr;
 };
 
 class Model {
@@ -199,11 +223,21 @@ class Model {
   // Matrix is fine since M is symmetric) and h (nq).
   void mass_matrix(double t, const double* q, double* M) const;
   void bias_forces(double t, const double* q, const double* qd, double* h) const;
+  // M and h, with the kinematics up to `level` and (from positions up) the
+  // partial velocities into k: one emitted call (dynamics, dynamics_positions,
+  // dynamics_velocities) when the generator emitted it, else the separate
+  // entry points.
+  void dynamics(double t, const double* q, const double* qd, KinematicsLevel level, double* M,
+                double* h, Kinematics& k) const;
 
  private:
   void evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
                         std::vector<Mat3>& inertia) const;
   [[noreturn]] void missing(const char* entry) const;
+  // dynamics() from the separate entry points (a model without the fused ones).
+  [[gnu::noinline]] void dynamics_separately(double t, const double* q, const double* qd,
+                                             KinematicsLevel level, double* M, double* h,
+                                             Kinematics& k) const;
 
   ModelDescription d_;
   std::vector<double> zeros_;  // (max(nq, 1)) qd = 0 for positions from velocities
@@ -254,6 +288,9 @@ Model Model::from() {
     if (eom) {
       d.mass_matrix = &G::mass_matrix;
       d.bias_forces = &G::bias_forces;
+      if constexpr (detail::has_dynamics<G>) d.dynamics = &G::dynamics;
+      if constexpr (detail::has_dynamics_positions<G>) d.dynamics_positions = &G::dynamics_positions;
+      if constexpr (detail::has_dynamics_velocities<G>) d.dynamics_velocities = &G::dynamics_velocities;
     }
   }
   return Model(std::move(d));

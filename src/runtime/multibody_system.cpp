@@ -5,14 +5,17 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <utility>
 
 #include "runtime/errors.hpp"
 
 namespace symdyn::runtime {
 
-MultibodySystem::MultibodySystem(Model model, EquationsSource source)
-    : model_(std::move(model)), source_(source) {
+MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> source)
+    : model_(std::move(model)) {
+  const bool emitted = model_.has_equations_of_motion();
+  source_ = source.value_or(emitted ? EquationsSource::emitted : EquationsSource::assembled);
   const char* needed[] = {"velocities", "accelerations", "partial_velocities"};
   const bool present[] = {model_.has_velocities(), model_.has_accelerations(),
                           model_.has_partial_velocities()};
@@ -22,18 +25,17 @@ MultibodySystem::MultibodySystem(Model model, EquationsSource source)
                                    model_.name(), needed[n]));
     }
   }
-  set_source(source);
+  set_source(source_);
   const int nq = model_.nq();
   k_ = model_.make_kinematics();
   loads_ = Loads(nq, model_.nbody());
   zero_ = Vector::Zero(nq);
   f0_.resize(nq);
   Qa_.resize(nq);
-  h_.resize(nq);
-  M_.resize(nq, nq);
+  h_ = Vector::Zero(nq);
+  M_ = Matrix::Zero(nq, nq);
   DwJ_.resize(nq, 3);
-  // Eigen leaves an LDLT's status unset until compute(): factor once so that copies are defined.
-  ldlt_.compute(Matrix::Identity(nq, nq));
+  solver_ = SpdSolver(nq);
 }
 
 void MultibodySystem::set_source(EquationsSource source) {
@@ -48,10 +50,16 @@ void MultibodySystem::set_source(EquationsSource source) {
 void MultibodySystem::add(std::shared_ptr<const ForceElement> element) {
   if (!element) throw ModelError("a null force element was added");
   elements_.push_back(std::move(element));
+  update_level();
+}
+
+void MultibodySystem::update_level() {
+  level_ = extra_reads_;
+  for (const auto& e : elements_) level_ = std::max(level_, e->reads());
 }
 
 void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vector& initial,
-                                       ExtraEquations e) {
+                                       ExtraEquations e, KinematicsLevel reads) {
   if (initial.size() != static_cast<Eigen::Index>(names.size())) {
     throw ModelError(fmt::format("{} extra states named but {} initial values given",
                                  names.size(), initial.size()));
@@ -60,6 +68,8 @@ void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vec
   extra_names_ = std::move(names);
   extra_initial_ = initial;
   extra_ = std::move(e);
+  extra_reads_ = extra_ ? reads : KinematicsLevel::none;
+  update_level();
 }
 
 State MultibodySystem::initial_state() const {
@@ -80,7 +90,28 @@ std::string MultibodySystem::describe(const State& s) const {
   return out + ")";
 }
 
+namespace {
+
+// x·0 is 0 for a finite x and NaN otherwise: one pass without branches.
+bool all_finite(const double* x, Eigen::Index n) {
+  double zero = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) zero += x[i] * 0.0;
+  return zero == 0.0;
+}
+
+}  // namespace
+
 void MultibodySystem::check_state(const State& s) const {
+  const Eigen::Index nq = model_.nq();
+  const auto ny = static_cast<Eigen::Index>(extra_names_.size());
+  if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != ny) state_error(s);
+  if (!(all_finite(&s.t, 1) && all_finite(s.q.data(), nq) && all_finite(s.qd.data(), nq) &&
+        all_finite(s.y.data(), ny))) {
+    state_error(s);
+  }
+}
+
+void MultibodySystem::state_error(const State& s) const {
   const int nq = model_.nq();
   if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != num_extra_states()) {
     throw ModelError(fmt::format(
@@ -100,21 +131,26 @@ void MultibodySystem::check_state(const State& s) const {
                                      extra_names_[j], s.y(j)));
     }
   }
+  throw std::logic_error("MultibodySystem::state_error called on a valid state");
 }
 
-void MultibodySystem::check_kinematics(const State& s, bool accelerations) const {
-  if (k_.all_finite(accelerations)) return;
-  // Error path: find the body and the quantity to name.
+void MultibodySystem::check_kinematics(const State& s, KinematicsLevel level,
+                                       bool accelerations) const {
+  using enum KinematicsLevel;
+  if (level == none) return;
+  if (level == velocities && k_.all_finite(accelerations)) return;
+  // Error path (or positions only): find the body and the quantity to name.
   struct Quantity {
     const char* name;
     bool finite;
   };
+  const bool rates = level == velocities;
   for (int i = 0; i < model_.nbody(); ++i) {
     const Quantity qs[] = {
         {"rotation R", k_.R(i).allFinite()},
         {"position x", k_.x(i).allFinite()},
-        {"velocity v", k_.v(i).allFinite()},
-        {"angular velocity w", k_.w(i).allFinite()},
+        {"velocity v", !rates || k_.v(i).allFinite()},
+        {"angular velocity w", !rates || k_.w(i).allFinite()},
         {"acceleration a", !accelerations || k_.a(i).allFinite()},
         {"angular acceleration dw", !accelerations || k_.dw(i).allFinite()},
         {"partial velocity dv/dqd", k_.dv_dqd(i).allFinite()},
@@ -132,6 +168,18 @@ void MultibodySystem::check_kinematics(const State& s, bool accelerations) const
 void MultibodySystem::compute_loads(const State& s) {
   loads_.clear();
   for (const auto& e : elements_) e->apply(s, k_, loads_);
+  if (level_ == KinematicsLevel::none && loads_.on_bodies()) {
+    // Without partial velocities a force on a body cannot be projected.
+    for (const auto& e : elements_) {
+      Loads one(model_.nq(), model_.nbody());
+      e->apply(s, k_, one);
+      if (one.on_bodies()) {
+        throw ModelError(fmt::format("{} applies a force on a body but declares that it reads no kinematics "
+                                     "(ForceElement::reads() must be positions or velocities)",
+                                     e->name()));
+      }
+    }
+  }
   if (loads_.F.allFinite() && loads_.M.allFinite() && loads_.Q.allFinite()) return;
   // Error path: find the element and the body or coordinate to name.
   for (const auto& e : elements_) {
@@ -199,7 +247,7 @@ const Kinematics& MultibodySystem::evaluate_kinematics(const State& s) {
   check_state(s);
   model_.velocities(s.t, s.q.data(), s.qd.data(), k_);
   model_.partial_velocities(s.t, s.q.data(), k_);
-  check_kinematics(s, false);
+  check_kinematics(s, KinematicsLevel::velocities, false);
   return k_;
 }
 
@@ -215,7 +263,7 @@ void MultibodySystem::mass_matrix_assembled(const State& s, Matrix& M) {
   check_state(s);
   model_.positions(s.t, s.q.data(), k_);
   model_.partial_velocities(s.t, s.q.data(), k_);
-  check_kinematics(s, false);
+  check_kinematics(s, KinematicsLevel::positions, false);
   M.resize(model_.nq(), model_.nq());
   assemble_mass_matrix(M);
 }
@@ -232,7 +280,7 @@ void MultibodySystem::bias_forces_assembled(const State& s, Vector& h) {
   check_state(s);
   model_.accelerations(s.t, s.q.data(), s.qd.data(), zero_.data(), k_);
   model_.partial_velocities(s.t, s.q.data(), k_);
-  check_kinematics(s, true);
+  check_kinematics(s, KinematicsLevel::velocities, true);
   h.resize(model_.nq());
   assemble_residual(h, true, false);
 }
@@ -250,22 +298,39 @@ void MultibodySystem::applied_forces(const State& s, Vector& Q) {
   project_loads(Q);
 }
 
-void MultibodySystem::solve(const State& s, const Matrix& M, const Vector& rhs, Vector& qdd) {
-  if (!M.allFinite()) {
+void MultibodySystem::evaluate_equations(const State& s) {
+  model_.dynamics(s.t, s.q.data(), s.qd.data(), level_, M_.data(), h_.data(), k_);
+  if (elements_.empty()) return;
+  if (!k_.finite_up_to(level_)) check_kinematics(s, level_, false);
+  compute_loads(s);
+  project_loads(Qa_);
+}
+
+void MultibodySystem::solve_in_place(const State& s, Vector& x) {
+  if (!solver_.factor(M_)) {
+    if (!M_.allFinite()) explain_non_finite(s);
+    // Pivots of an SPD matrix are positive; a tiny or negative one means M is
+    // singular (a coordinate without inertia, a gimbal lock) or indefinite.
+    throw NumericError(fmt::format(
+        "t = {}: mass matrix is singular or indefinite (smallest pivot {} of largest {}) at {}", s.t,
+        solver_.smallest_pivot(), solver_.largest_pivot(), describe(s)));
+  }
+  solver_.solve_in_place(x);
+  if (!all_finite(x.data(), x.size())) explain_non_finite(s);
+}
+
+void MultibodySystem::explain_non_finite(const State& s) const {
+  if (!M_.allFinite()) {
     throw NumericError(fmt::format("t = {}: mass matrix is not finite at {}", s.t, describe(s)));
   }
-  ldlt_.compute(M);
-  const auto D = ldlt_.vectorD();
-  const double dmax = D.cwiseAbs().maxCoeff();
-  const double dmin = D.minCoeff();
-  // Pivots of an SPD matrix are positive; a tiny or negative one means M is
-  // singular (a coordinate without inertia, a gimbal lock) or indefinite.
-  if (ldlt_.info() != Eigen::Success || !(dmin > 1e-12 * dmax)) {
-    throw NumericError(fmt::format(
-        "t = {}: mass matrix is singular or indefinite (smallest LDLT pivot {} of largest {}) at {}",
-        s.t, dmin, dmax, describe(s)));
+  for (int j = 0; j < model_.nq(); ++j) {
+    if (!std::isfinite(h_(j))) {
+      throw NumericError(fmt::format("t = {}: bias force on coordinate '{}' is not finite at {}", s.t,
+                                     model_.q_names()[j], describe(s)));
+    }
   }
-  qdd = ldlt_.solve(rhs);
+  check_kinematics(s, level_, false);
+  throw NumericError(fmt::format("t = {}: accelerations are not finite at {}", s.t, describe(s)));
 }
 
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
@@ -274,22 +339,20 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
     // M qdd = -f(qdd = 0)
     model_.accelerations(s.t, s.q.data(), s.qd.data(), zero_.data(), k_);
     model_.partial_velocities(s.t, s.q.data(), k_);
-    check_kinematics(s, true);
+    check_kinematics(s, KinematicsLevel::velocities, true);
     compute_loads(s);
     assemble_residual(f0_, true, true);
     assemble_mass_matrix(M_);
-    f0_ = -f0_;
+    qdd = -f0_;
   } else {
     // M qdd = Q - h
-    evaluate_kinematics(s);
-    compute_loads(s);
-    project_loads(Qa_);
-    bias_forces_emitted(s, h_);
-    mass_matrix_emitted(s, M_);
-    f0_ = Qa_ - h_;
+    evaluate_equations(s);
+    qdd.resize(h_.size());
+    for (Eigen::Index j = 0; j < h_.size(); ++j) qdd[j] = -h_[j];
+    if (!elements_.empty()) qdd += Qa_;
   }
-  solve(s, M_, f0_, qdd);
-  yd.resize(num_extra_states());
+  solve_in_place(s, qdd);
+  yd.resize(static_cast<Eigen::Index>(extra_names_.size()));
   if (extra_) extra_(s, k_, yd);
 }
 
@@ -300,18 +363,15 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
   if (source_ == EquationsSource::assembled) {
     model_.accelerations(s.t, s.q.data(), s.qd.data(), qdd.data(), k_);
     model_.partial_velocities(s.t, s.q.data(), k_);
-    check_kinematics(s, true);
+    check_kinematics(s, KinematicsLevel::velocities, true);
     compute_loads(s);
     assemble_residual(f, true, true);
   } else {
     // f = M qdd + h - Q
-    evaluate_kinematics(s);
-    compute_loads(s);
-    project_loads(Qa_);
-    bias_forces_emitted(s, h_);
-    mass_matrix_emitted(s, M_);
+    evaluate_equations(s);
     f.noalias() = M_ * qdd;
-    f += h_ - Qa_;
+    f += h_;
+    if (!elements_.empty()) f -= Qa_;
   }
   g.resize(num_extra_states());
   if (extra_) {

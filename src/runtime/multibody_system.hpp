@@ -6,26 +6,33 @@
 //   f_j = sum_i (m_i a_i - F_i).dv_i/dqd_j + (J_i dw_i + w_i x (J_i w_i) - M_i).dw_i/dqd_j - Q_j
 // with J_i = R_i I_i R_i^T, F_i and M_i the applied forces and moments at G_i
 // (gravity m_i g included in F_i) and Q_j the generalized forces of elements.
-// Explicit form: M qdd = -f(qdd = 0), solved by LDLT; a singular or
+// Explicit form: M qdd = Q - h, solved by Cholesky (SpdSolver); a singular or
 // indefinite M is a NumericError naming the time and the state.
 //
 // Two sources of M and h (selectable, compare_sources() checks they agree):
+//   emitted:   the generated equations, the default when the model has them.
+//              One emitted call per evaluation gives M, h and exactly the
+//              kinematics the force elements read (ForceElement::reads():
+//              nothing, positions or velocities, with the partial velocities
+//              that project their forces on bodies); without force elements,
+//              M and h alone;
 //   assembled: M_jk = sum_i m_i dv_ij.dv_ik + dw_ij.J_i dw_ik from the partial
-//              velocities, h = f(qdd = 0) without applied forces but gravity;
-//   emitted:   the generated mass_matrix and bias_forces; partial velocities
-//              then serve only to project the applied forces of elements.
+//              velocities, h = f(qdd = 0) without applied forces but gravity
+//              (EasyDyn's way, and the reference the emitted source is checked
+//              against).
 //
 // Extra first-order states y (a motor current, a controller integral) have
 // yd = e(t, q, qd, y) given by a callback; force elements read y from the
-// state. Every value that crosses an API boundary is checked: a non-finite q,
-// qd, y, kinematic quantity or load is a NumericError naming the time, the
-// quantity and the body or coordinate (and the force element for loads).
+// state. Every value that crosses an API boundary is checked once: a
+// non-finite q, qd, y, kinematic quantity read, load or result is a
+// NumericError naming the time, the quantity and the body or coordinate (and
+// the force element for loads).
 //
 // Not thread-safe: a system owns its workspace; use one system per thread.
 
-#include <Eigen/Cholesky>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,6 +41,7 @@
 #include "runtime/energy.hpp"
 #include "runtime/force_element.hpp"
 #include "runtime/model.hpp"
+#include "runtime/spd_solver.hpp"
 
 namespace symdyn::runtime {
 
@@ -43,8 +51,9 @@ class MultibodySystem : public DynamicSystem {
  public:
   // Throws ModelError when the model lacks the entry points the source needs
   // (velocities, accelerations, partial_velocities; mass_matrix and
-  // bias_forces for the emitted source).
-  explicit MultibodySystem(Model model, EquationsSource source = EquationsSource::assembled);
+  // bias_forces for the emitted source). Without a source: emitted when the
+  // model has its equations of motion, else assembled.
+  explicit MultibodySystem(Model model, std::optional<EquationsSource> source = std::nullopt);
 
   const Model& model() const { return model_; }
   // Sets a run-time model parameter (inertia re-validated: ModelError).
@@ -65,10 +74,15 @@ class MultibodySystem : public DynamicSystem {
   }
 
   // Extra states: names (m), initial values (m) and e(s, k, out) writing yd
-  // (m) from the state and its velocity-level kinematics.
+  // (m) from the state and its kinematics up to `reads`.
   using ExtraEquations =
       std::function<void(const State& s, const Kinematics& k, Eigen::Ref<Vector> yd)>;
-  void set_extra_states(std::vector<std::string> names, const Vector& initial, ExtraEquations e);
+  void set_extra_states(std::vector<std::string> names, const Vector& initial, ExtraEquations e,
+                        KinematicsLevel reads = KinematicsLevel::velocities);
+
+  // The kinematics an evaluation computes: the most any force element or the
+  // extra equations read.
+  KinematicsLevel kinematics_level() const { return level_; }
 
   // The model's initial q and qd at t = 0, with the extra states' initial values.
   State initial_state() const;
@@ -109,7 +123,15 @@ class MultibodySystem : public DynamicSystem {
 
  private:
   void check_state(const State& s) const;
-  void check_kinematics(const State& s, bool accelerations) const;
+  // Names what is wrong with a state check_state() refused.
+  [[noreturn, gnu::cold, gnu::noinline]] void state_error(const State& s) const;
+  // Throws naming the first body with a non-finite quantity among those
+  // evaluated: up to `level` (with partial velocities from positions up),
+  // and a, dw with accelerations.
+  void check_kinematics(const State& s, KinematicsLevel level, bool accelerations) const;
+  void update_level();
+  // M_, h_ and (with force elements) Qa_ at s, kinematics up to level_.
+  void evaluate_equations(const State& s);
   void compute_loads(const State& s);
   // sum_i F_i.dv_ij + M_i.dw_ij + Q_j of the current loads and kinematics.
   void project_loads(Vector& Q) const;
@@ -117,7 +139,9 @@ class MultibodySystem : public DynamicSystem {
   // loads; with_gravity adds the weights to the applied forces.
   void assemble_residual(Vector& f, bool with_gravity, bool with_loads) const;
   void assemble_mass_matrix(Matrix& M);
-  void solve(const State& s, const Matrix& M, const Vector& rhs, Vector& qdd);
+  // x := M_⁻¹·x, naming what is not finite or singular.
+  void solve_in_place(const State& s, Vector& x);
+  [[noreturn, gnu::cold, gnu::noinline]] void explain_non_finite(const State& s) const;
   std::string describe(const State& s) const;
 
   Model model_;
@@ -126,6 +150,8 @@ class MultibodySystem : public DynamicSystem {
   std::vector<std::string> extra_names_;
   Vector extra_initial_;
   ExtraEquations extra_;
+  KinematicsLevel extra_reads_ = KinematicsLevel::none;
+  KinematicsLevel level_ = KinematicsLevel::none;
 
   // Workspace: sized at construction, reused by every evaluation.
   Kinematics k_;
@@ -133,7 +159,7 @@ class MultibodySystem : public DynamicSystem {
   Vector zero_, f0_, Qa_, h_;
   Matrix M_;
   Eigen::Matrix<double, Eigen::Dynamic, 3> DwJ_;  // (nq x 3)
-  Eigen::LDLT<Matrix> ldlt_;
+  SpdSolver solver_;
 };
 
 // Largest absolute differences between the assembled and the emitted mass

@@ -27,7 +27,8 @@ void PointSpringDamper::apply(const State& s, const Kinematics& k, Loads& loads)
   }
   const Vec3 u = d / L;
   // Ld = u . (v_Pb - v_Pa)
-  const double Ld = u.dot(k.point_velocity(b_.body, b_.point) - k.point_velocity(a_.body, a_.point));
+  const double Ld = c_ == 0.0 ? 0.0
+                              : u.dot(k.point_velocity(b_.body, b_.point) - k.point_velocity(a_.body, a_.point));
   const double tension = k_ * (L - L0_) + c_ * Ld;
   loads.add_force_at(b_.body, k, Pb, -tension * u);
   loads.add_force_at(a_.body, k, Pa, tension * u);
@@ -53,8 +54,8 @@ void PointLoad::apply(const State& s, const Kinematics& k, Loads& loads) const {
   loads.add_moment(at_.body, m);
 }
 
-UserForce::UserForce(std::string name, Callback callback)
-    : name_(std::move(name)), callback_(std::move(callback)) {}
+UserForce::UserForce(std::string name, Callback callback, KinematicsLevel reads)
+    : name_(std::move(name)), callback_(std::move(callback)), reads_(reads) {}
 
 void UserForce::apply(const State& s, const Kinematics& k, Loads& loads) const {
   callback_(s, k, loads);

@@ -25,6 +25,10 @@ class PointSpringDamper : public ForceElement {
   PointSpringDamper(std::string name, BodyPoint a, BodyPoint b, double stiffness,
                     double free_length, double damping = 0.0);
   std::string name() const override { return "spring '" + name_ + "'"; }
+  // Without damping only the positions.
+  KinematicsLevel reads() const override {
+    return c_ != 0.0 ? KinematicsLevel::velocities : KinematicsLevel::positions;
+  }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
   // 1/2 k (L - free_length)^2
   double potential_energy(const State& s, const Kinematics& k) const override;
@@ -47,6 +51,10 @@ class PointLoad : public ForceElement {
   // Force and torque computed by law at each evaluation.
   PointLoad(std::string name, BodyPoint at, Law law);
   std::string name() const override { return "load '" + name_ + "'"; }
+  // A constant load only needs its point; a law may read anything.
+  KinematicsLevel reads() const override {
+    return law_ ? KinematicsLevel::velocities : KinematicsLevel::positions;
+  }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
 
  private:
@@ -56,17 +64,21 @@ class PointLoad : public ForceElement {
   Law law_;
 };
 
-// Anything else: a callback that adds loads given (t, state, kinematics).
+// Anything else: a callback that adds loads given (t, state, kinematics),
+// reading the kinematics up to `reads` (none: generalized forces only).
 class UserForce : public ForceElement {
  public:
   using Callback = std::function<void(const State& s, const Kinematics& k, Loads& loads)>;
-  UserForce(std::string name, Callback callback);
+  UserForce(std::string name, Callback callback,
+            KinematicsLevel reads = KinematicsLevel::velocities);
   std::string name() const override { return "user force '" + name_ + "'"; }
+  KinematicsLevel reads() const override { return reads_; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
 
  private:
   std::string name_;
   Callback callback_;
+  KinematicsLevel reads_;
 };
 
 }  // namespace symdyn::runtime

@@ -62,7 +62,9 @@ class References {
       return out;
     }
     const bool relative = entry.rfind("relative_", 0) == 0;
-    const bool partials = entry.find("partial_velocities") != std::string::npos;
+    // dynamics_positions and dynamics_velocities carry the partial velocities as dv, dw.
+    const bool partials = entry.find("partial_velocities") != std::string::npos ||
+                          (entry.rfind("dynamics_", 0) == 0 && (array == "dv" || array == "dw"));
     for (std::size_t i = 0; i < k_.bodies.size(); ++i) {
       const model::Motion& motion = relative ? k_.bodies[i].relative : k_.bodies[i];
       if (partials) {

@@ -92,6 +92,19 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
   if constexpr (G::has_equations_of_motion) {
     if (name == "mass_matrix") G::mass_matrix(s.t, s.q.data(), p, M.data()), take({&M});
     if (name == "bias_forces") G::bias_forces(s.t, s.q.data(), s.qd.data(), p, h.data()), take({&h});
+    if (name == "dynamics") G::dynamics(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data()), take({&M, &h});
+    if constexpr (requires { G::dynamics_velocities; }) {
+      if (name == "dynamics_positions") {
+        G::dynamics_positions(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data(), R.data(), x.data(), dv.data(),
+                              dwp.data());
+        take({&M, &h, &R, &x, &dv, &dwp});
+      }
+      if (name == "dynamics_velocities") {
+        G::dynamics_velocities(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data(), R.data(), x.data(), v.data(),
+                               w.data(), dv.data(), dwp.data());
+        take({&M, &h, &R, &x, &v, &w, &dv, &dwp});
+      }
+    }
   }
   return out;
 }
@@ -172,6 +185,32 @@ void check_emitted(const EmittedSetup& setup) {
       }
     }
     CHECK(gap(call_entry<G>("relative_accelerations", s), relative) < 1e-12);
+    // The fused entry points give exactly what the separate ones give.
+    if constexpr (G::has_equations_of_motion) {
+      const auto separate = [&](std::initializer_list<const char*> entries) {
+        std::vector<double> out;
+        for (const char* e : entries) {
+          const std::vector<double> part = call_entry<G>(e, s);
+          out.insert(out.end(), part.begin(), part.end());
+        }
+        return out;
+      };
+      CHECK(gap(call_entry<G>("dynamics", s), separate({"mass_matrix", "bias_forces"})) < 1e-14);
+      if constexpr (requires { G::dynamics_velocities; }) {
+        std::vector<double> velocities = call_entry<G>("velocities", s);
+        const std::vector<double> partials = call_entry<G>("partial_velocities", s);
+        velocities.insert(velocities.end(), partials.begin(), partials.end());
+        const std::vector<double> mh = separate({"mass_matrix", "bias_forces"});
+        std::vector<double> expected = mh;
+        expected.insert(expected.end(), velocities.begin(), velocities.end());
+        CHECK(gap(call_entry<G>("dynamics_velocities", s), expected) < 1e-14);
+        // R and x are the first 12 nbody entries of velocities' R, x, v, w.
+        expected = mh;
+        expected.insert(expected.end(), velocities.begin(), velocities.begin() + 12 * G::nbody);
+        expected.insert(expected.end(), partials.begin(), partials.end());
+        CHECK(gap(call_entry<G>("dynamics_positions", s), expected) < 1e-14);
+      }
+    }
     // Against the interpreter over the printed program, entry point by entry point.
     for (const auto& f : functions) {
       if (!f.program) continue;

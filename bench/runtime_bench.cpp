@@ -1,0 +1,184 @@
+// symdyn_bench_runtime: what the runtime adds to the emitted equations it calls.
+//
+// Per reference model, three ways to get qdd at 64 random states (no force
+// element, gravity only):
+//   system     runtime::MultibodySystem::accelerations, what users call;
+//   equations  the emitted mass_matrix() and bias_forces(), then Eigen's
+//              dynamic-size LDLT: the emitted equations plus a solve, by hand;
+//   dynamics   the emitted dynamics() (M and h in one call), then the
+//              runtime's own factorization (runtime::SpdSolver): the floor the
+//              runtime can reach.
+//
+//   symdyn_bench_runtime [Google Benchmark flags]     medians of CPU time
+//   symdyn_bench_runtime --count MODE MODEL [CALLS]   one workload, for
+//       valgrind --tool=callgrind --toggle-collect='*counted_workload*'
+//   symdyn_bench_runtime --list                       each model and its nq
+// bench/runtime_overhead.sh runs the instruction counts of every model.
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "runtime/multibody_system.hpp"
+#include "runtime/spd_solver.hpp"
+#include "runtime_bench_models.hpp"
+
+namespace {
+
+using namespace symdyn::runtime;
+
+constexpr int kStates = 64;
+
+// q within 0.1 of the model's initial configuration (dependent parameters
+// stay in their domains), qd in [-1, 1].
+std::vector<State> random_states(const Model& model) {
+  std::mt19937 rng(2013);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<State> states;
+  for (int k = 0; k < kStates; ++k) {
+    State s = model.initial_state();
+    for (int j = 0; j < model.nq(); ++j) {
+      s.q(j) += 0.1 * u(rng);
+      s.qd(j) = u(rng);
+    }
+    states.push_back(s);
+  }
+  return states;
+}
+
+// One way of computing qdd at a state, set up for a model.
+using Workload = std::function<void(const State& s, Vector& qdd)>;
+
+struct BenchModel {
+  std::string name;
+  std::function<Model()> make;
+  std::function<Workload()> equations;
+  std::function<Workload()> dynamics;
+};
+
+template <class G>
+BenchModel bench_model(std::string name) {
+  BenchModel b;
+  b.name = std::move(name);
+  b.make = [] { return Model::from<G>(); };
+  b.equations = [] {
+    auto M = std::make_shared<Matrix>(G::nq, G::nq);
+    auto h = std::make_shared<Vector>(G::nq);
+    auto ldlt = std::make_shared<Eigen::LDLT<Matrix>>(G::nq);
+    return [=](const State& s, Vector& qdd) {
+      G::mass_matrix(s.t, s.q.data(), G::param_defaults, M->data());
+      G::bias_forces(s.t, s.q.data(), s.qd.data(), G::param_defaults, h->data());
+      ldlt->compute(*M);
+      qdd = ldlt->solve(-*h);
+    };
+  };
+  b.dynamics = [] {
+    auto M = std::make_shared<Matrix>(G::nq, G::nq);
+    auto h = std::make_shared<Vector>(G::nq);
+    auto solver = std::make_shared<SpdSolver>(G::nq);
+    return [=](const State& s, Vector& qdd) {
+      G::dynamics(s.t, s.q.data(), s.qd.data(), G::param_defaults, M->data(), h->data());
+      if (!solver->factor(*M)) throw NumericError("singular mass matrix");
+      qdd = -*h;
+      solver->solve_in_place(qdd);
+    };
+  };
+  return b;
+}
+
+const std::vector<BenchModel>& models() {
+  static const std::vector<BenchModel> all = [] {
+    std::vector<BenchModel> v;
+#define SYMDYN_BENCH_MODEL(target) v.push_back(bench_model<symdyn_generated::target>(#target));
+    SYMDYN_BENCH_MODELS(SYMDYN_BENCH_MODEL)
+#undef SYMDYN_BENCH_MODEL
+    return v;
+  }();
+  return all;
+}
+
+// The system's accelerations as a workload (the system lives in the closure).
+Workload system_workload(const BenchModel& b) {
+  auto system = std::make_shared<MultibodySystem>(b.make(), EquationsSource::emitted);
+  auto yd = std::make_shared<Vector>();
+  return [=](const State& s, Vector& qdd) { system->accelerations(s, qdd, *yd); };
+}
+
+Workload workload(const BenchModel& b, const std::string& mode) {
+  if (mode == "system") return system_workload(b);
+  if (mode == "equations") return b.equations();
+  if (mode == "dynamics") return b.dynamics();
+  throw std::invalid_argument(fmt::format("unknown mode '{}' (system, equations, dynamics)", mode));
+}
+
+// The counted region: callgrind --toggle-collect='*counted_workload*'.
+[[gnu::noinline]] double counted_workload(const Workload& w, const std::vector<State>& states, int calls,
+                                          Vector& qdd) {
+  double sum = 0.0;
+  for (int c = 0; c < calls; ++c) {
+    w(states[static_cast<std::size_t>(c) % states.size()], qdd);
+    sum += qdd(0);
+  }
+  return sum;
+}
+
+int count(const std::string& mode, const std::string& name, int calls) {
+  for (const BenchModel& b : models()) {
+    if (b.name != name) continue;
+    const Workload w = workload(b, mode);
+    const auto states = random_states(b.make());
+    Vector qdd;
+    counted_workload(w, states, kStates, qdd);  // warm: first-call allocations stay outside
+    const double sum = counted_workload(w, states, calls, qdd);
+    fmt::print("{} {} calls {} checksum {:.17g}\n", mode, name, calls, sum);
+    return 0;
+  }
+  fmt::print(stderr, "unknown model '{}' (--list)\n", name);
+  return 2;
+}
+
+void register_benchmarks() {
+  for (const BenchModel& b : models()) {
+    for (const char* mode : {"system", "equations", "dynamics"}) {
+      benchmark::RegisterBenchmark(fmt::format("{}/{}", b.name, mode).c_str(),
+                                   [&b, m = std::string(mode)](benchmark::State& st) {
+                                     const Workload w = workload(b, m);
+                                     const auto states = random_states(b.make());
+                                     Vector qdd;
+                                     std::size_t k = 0;
+                                     for (auto _ : st) {
+                                       w(states[k++ % states.size()], qdd);
+                                       benchmark::DoNotOptimize(qdd.data());
+                                     }
+                                   });
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && args[0] == "--list") {
+    for (const BenchModel& b : models()) fmt::print("{} {}\n", b.name, b.make().nq());
+    return 0;
+  }
+  if (!args.empty() && args[0] == "--count") {
+    if (args.size() < 3) {
+      fmt::print(stderr, "usage: symdyn_bench_runtime --count system|equations|dynamics MODEL [CALLS]\n");
+      return 2;
+    }
+    return count(args[1], args[2], args.size() > 3 ? std::stoi(args[3]) : 1000);
+  }
+  register_benchmarks();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
