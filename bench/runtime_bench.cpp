@@ -9,7 +9,8 @@
 //              runtime's own factorization (runtime::SpdSolver): the floor the
 //              runtime can reach.
 //
-//   symdyn_bench_runtime [Google Benchmark flags]     medians of CPU time
+//   symdyn_bench_runtime [Google Benchmark flags]     medians of CPU time (and
+//       solve/*: SpdSolver against Eigen's LLT and LDLT by size)
 //   symdyn_bench_runtime --count MODE MODEL [CALLS]   one workload, for
 //       valgrind --tool=callgrind --toggle-collect='*counted_workload*'
 //   symdyn_bench_runtime --list                       each model and its nq
@@ -143,6 +144,55 @@ int count(const std::string& mode, const std::string& name, int calls) {
   return 2;
 }
 
+// A random SPD matrix of size n, as a mass matrix would be.
+Matrix random_spd(int n) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Matrix A(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) A(i, j) = u(rng);
+  }
+  return A * A.transpose() + n * Matrix::Identity(n, n);
+}
+
+// Factor and solve: SpdSolver (its column loop up to kLoopUpTo, Eigen's LLT
+// above) against Eigen's dynamic-size LLT and LDLT, where it switches.
+void register_solver_benchmarks() {
+  for (int n : {1, 2, 5, 13, 24, 32, 40, 48, 64}) {
+    const Matrix M = random_spd(n);
+    benchmark::RegisterBenchmark(fmt::format("solve/SpdSolver/{}", n).c_str(), [M, n](benchmark::State& st) {
+      SpdSolver solver(n);
+      Vector b(n);
+      for (auto _ : st) {
+        b.setOnes();
+        if (!solver.factor(M)) st.SkipWithError("refused");
+        solver.solve_in_place(b);
+        benchmark::DoNotOptimize(b.data());
+      }
+    });
+    benchmark::RegisterBenchmark(fmt::format("solve/EigenLLT/{}", n).c_str(), [M, n](benchmark::State& st) {
+      Eigen::LLT<Matrix> llt(n);
+      Vector b(n);
+      for (auto _ : st) {
+        b.setOnes();
+        llt.compute(M);
+        llt.solveInPlace(b);
+        benchmark::DoNotOptimize(b.data());
+      }
+    });
+    benchmark::RegisterBenchmark(fmt::format("solve/EigenLDLT/{}", n).c_str(), [M, n](benchmark::State& st) {
+      Eigen::LDLT<Matrix> ldlt(n);
+      Vector b(n);
+      for (auto _ : st) {
+        b.setOnes();
+        ldlt.compute(M);
+        ldlt.solveInPlace(b);
+        benchmark::DoNotOptimize(b.data());
+      }
+    });
+  }
+}
+
 void register_benchmarks() {
   for (const BenchModel& b : models()) {
     for (const char* mode : {"system", "equations", "dynamics"}) {
@@ -177,6 +227,7 @@ int main(int argc, char** argv) {
     return count(args[1], args[2], args.size() > 3 ? std::stoi(args[3]) : 1000);
   }
   register_benchmarks();
+  register_solver_benchmarks();
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

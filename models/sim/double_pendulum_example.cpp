@@ -12,8 +12,7 @@
 using namespace symdyn::runtime;
 
 int main() {
-  MultibodySystem system(Model::from<symdyn_generated::double_pendulum_absolute>(),
-                         EquationsSource::emitted);
+  MultibodySystem system(Model::from<symdyn_generated::double_pendulum_absolute>());
   CsvRecorder csv(std::cout, system);
 
   IntegratorOptions options;
