@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "runtime/errors.hpp"
+#include "runtime/spd_solver.hpp"
 
 namespace symdyn::runtime {
 
@@ -76,11 +77,13 @@ Linearization linearize(DynamicSystem& sys, const State& s, const LinearizationO
     for (int r = 0; r < nk; ++r) lin.B(r, c) = -(fp(lin.kept[r]) - fm(lin.kept[r])) / (2.0 * h);
   }
 
-  const Eigen::LDLT<Matrix> ldlt(lin.M);
-  if (nk > 0 && (ldlt.info() != Eigen::Success ||
-                 !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().cwiseAbs().maxCoeff()))) {
-    throw NumericError(fmt::format("linearize: mass matrix is singular or indefinite at t = {}", s.t));
+  SpdSolver solver(nk);
+  if (nk > 0 && !solver.factor(lin.M)) {
+    throw NumericError(fmt::format(
+        "linearize: mass matrix is singular or indefinite at t = {}: {}", s.t,
+        mass_matrix_singularity(lin.M, [&](int r) { return sys.coordinate_name(lin.kept[r]); })));
   }
+  const Eigen::LDLT<Matrix> ldlt(lin.M);
   lin.A = Matrix::Zero(2 * nk, 2 * nk);
   lin.A.topRightCorner(nk, nk).setIdentity();
   lin.A.bottomLeftCorner(nk, nk) = -ldlt.solve(lin.K);

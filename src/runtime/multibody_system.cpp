@@ -309,11 +309,10 @@ void MultibodySystem::evaluate_equations(const State& s) {
 void MultibodySystem::solve_in_place(const State& s, Vector& x) {
   if (!solver_.factor(M_)) {
     if (!M_.allFinite()) explain_non_finite(s);
-    // Pivots of an SPD matrix are positive; a tiny or negative one means M is
-    // singular (a coordinate without inertia, a gimbal lock) or indefinite.
     throw NumericError(fmt::format(
-        "t = {}: mass matrix is singular or indefinite (smallest pivot {} of largest {}) at {}", s.t,
-        solver_.smallest_pivot(), solver_.largest_pivot(), describe(s)));
+        "t = {}: mass matrix is singular or indefinite: {} (pivot {:.3g} of its diagonal) at {}", s.t,
+        mass_matrix_singularity(M_, [this](int j) { return model_.q_names()[j]; }),
+        solver_.smallest_pivot_ratio(), describe(s)));
   }
   solver_.solve_in_place(x);
   if (!all_finite(x.data(), x.size())) explain_non_finite(s);

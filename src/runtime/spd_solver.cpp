@@ -1,7 +1,13 @@
 #include "runtime/spd_solver.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace symdyn::runtime {
 
@@ -9,7 +15,7 @@ SpdSolver::SpdSolver(int n) : L_(Matrix::Identity(n, n)) {}
 
 bool SpdSolver::factor(const Matrix& M) {
   const bool positive = size() <= kLoopUpTo ? factor_by_columns(M) : factor_blocked(M);
-  return positive && smallest_ > kSingularRatio * largest_;
+  return positive && smallest_ratio_ > kSingularRatio;
 }
 
 // L_jj = sqrt(M_jj - Σ_k<j L_jk²),  L_ij = (M_ij - Σ_k<j L_ik·L_jk) / L_jj  (i > j)
@@ -18,17 +24,15 @@ bool SpdSolver::factor_by_columns(const Matrix& M) {
   const Eigen::Index n = L_.rows();
   const double* m = M.data();
   double* l = L_.data();
-  double smallest = 0.0, largest = 0.0;
+  double smallest = 1.0;
   for (Eigen::Index j = 0; j < n; ++j) {
     double d = m[j + j * n];
     for (Eigen::Index k = 0; k < j; ++k) d -= l[j + k * n] * l[j + k * n];
     if (!(d > 0.0)) {  // also NaN
-      smallest_ = d;
-      largest_ = largest;
+      smallest_ratio_ = d < 0.0 && m[j + j * n] > 0.0 ? d / m[j + j * n] : 0.0;
       return false;
     }
-    smallest = j == 0 ? d : std::min(smallest, d);
-    largest = std::max(largest, d);
+    smallest = std::min(smallest, d / m[j + j * n]);
     const double Ljj = std::sqrt(d);
     l[j + j * n] = Ljj;
     for (Eigen::Index i = j + 1; i < n; ++i) {
@@ -37,8 +41,7 @@ bool SpdSolver::factor_by_columns(const Matrix& M) {
       l[i + j * n] = sum / Ljj;
     }
   }
-  smallest_ = smallest;
-  largest_ = largest;
+  smallest_ratio_ = smallest;
   return true;
 }
 
@@ -47,11 +50,10 @@ bool SpdSolver::factor_blocked(const Matrix& M) {
   const Eigen::LLT<Eigen::Ref<Matrix>> llt(L_);  // factors L_ in place
   // Eigen's pivot test (x <= 0) lets NaN through.
   if (llt.info() != Eigen::Success || !L_.diagonal().allFinite()) {
-    smallest_ = largest_ = 0.0;
+    smallest_ratio_ = 0.0;
     return false;
   }
-  smallest_ = L_.diagonal().cwiseAbs2().minCoeff();
-  largest_ = L_.diagonal().cwiseAbs2().maxCoeff();
+  smallest_ratio_ = L_.diagonal().cwiseAbs2().cwiseQuotient(M.diagonal()).minCoeff();
   return true;
 }
 
@@ -76,6 +78,59 @@ void SpdSolver::solve_in_place(Vector& b) const {
     for (Eigen::Index k = i + 1; k < n; ++k) sum -= l[k + i * n] * x[k];
     x[i] = sum / l[i + i * n];
   }
+}
+
+namespace {
+
+// The components of a unit vector u that make up 99 % of it, largest first
+// (ties in index order).
+std::vector<int> main_components(const Vector& u) {
+  std::vector<int> order(static_cast<std::size_t>(u.size()));
+  for (int j = 0; j < u.size(); ++j) order[static_cast<std::size_t>(j)] = j;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(u(a)) > std::abs(u(b)); });
+  std::vector<int> main;
+  double covered = 0.0;
+  for (int j : order) {
+    main.push_back(j);
+    covered += u(j) * u(j);
+    if (covered >= 0.99 * u.squaredNorm()) break;
+  }
+  return main;
+}
+
+// "'a' (0.71), 'b' (-0.71)", signed so that the largest component is positive
+// (a direction's sign is arbitrary).
+std::string components(const Vector& u, const std::vector<int>& main, const std::vector<int>& shown,
+                       const std::function<std::string(int)>& name) {
+  const double sign = u(main.front()) < 0.0 ? -1.0 : 1.0;
+  std::vector<std::string> parts;
+  for (int j : shown) parts.push_back(fmt::format("'{}' ({:.2f})", name(j), sign * u(j)));
+  return fmt::format("{}", fmt::join(parts, ", "));
+}
+
+}  // namespace
+
+std::string null_direction(const Matrix& A, const std::function<std::string(int)>& name) {
+  if (A.rows() == 0 || !A.allFinite()) return "(a matrix that is not finite)";
+  const Eigen::JacobiSVD<Matrix> svd(A, Eigen::ComputeFullV);
+  const Vector u = svd.matrixV().col(A.cols() - 1);  // singular values in decreasing order
+  const std::vector<int> main = main_components(u);
+  return main.size() == 1 ? fmt::format("'{}'", name(main[0])) : components(u, main, main, name);
+}
+
+std::string mass_matrix_singularity(const Matrix& M, const std::function<std::string(int)>& name) {
+  if (M.rows() == 0 || !M.allFinite()) return "it is not finite";
+  const Eigen::SelfAdjointEigenSolver<Matrix> eig(M);
+  const Vector u = eig.eigenvectors().col(0);  // eigenvalues in increasing order
+  const std::vector<int> main = main_components(u);
+  if (eig.eigenvalues()(0) < -SpdSolver::kSingularRatio * eig.eigenvalues().cwiseAbs().maxCoeff()) {
+    return fmt::format("it is indefinite along {}", components(u, main, main, name));
+  }
+  if (main.size() == 1) return fmt::format("coordinate '{}' moves no mass", name(main[0]));
+  const std::vector<int> last(main.end() - 1, main.end());
+  const std::vector<int> rest(main.begin(), main.end() - 1);
+  return fmt::format("coordinates {} and {} move the bodies the same way", components(u, main, rest, name),
+                     components(u, main, last, name));
 }
 
 }  // namespace symdyn::runtime

@@ -8,13 +8,19 @@
 // pays for its generality at every column), while from about 40 coordinates
 // Eigen's blocked, vectorized LLT is faster (bench/results/runtime_overhead.md).
 //
-// M is refused when it is not positive definite, or when its smallest
-// pivot of L·D·Lᵀ (D_k = L_kk²) is below 1e-12 of its largest: a
-// coordinate without inertia, or a configuration where two coordinates move
-// the same way (a gimbal lock).
+// M is refused when it is not positive definite, or when a pivot of
+// L·D·Lᵀ (D_k = L_kk²) is within rounding of zero against its own
+// coordinate's diagonal, D_k <= kSingularRatio·M_kk: the coordinate's inertia
+// is all used up by the coordinates before it (two coordinates that move the
+// bodies the same way, as at a gimbal lock, or a coordinate that moves no
+// mass). Per coordinate, so a light coordinate beside heavy ones, or a nearly
+// locked gimbal that still has a few digits of inertia left, passes.
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+
+#include <functional>
+#include <string>
 
 #include "runtime/dynamic_system.hpp"
 
@@ -33,13 +39,12 @@ class SpdSolver {
   // b := M⁻¹·b (n).
   void solve_in_place(Vector& b) const;
 
-  // Smallest and largest pivot D_k = L_kk² of the last factorization; the
-  // smallest is the first non-positive one when M is not positive definite.
-  double smallest_pivot() const { return smallest_; }
-  double largest_pivot() const { return largest_; }
+  // min_k D_k / M_kk of the last factorization: the share of its own
+  // inertia the worst coordinate has left (<= 0: M is not positive definite).
+  double smallest_pivot_ratio() const { return smallest_ratio_; }
 
-  // Pivots below this fraction of the largest mean M is singular.
-  static constexpr double kSingularRatio = 1e-12;
+  // Below this a pivot is rounding: 64 ulps of the diagonal it came from.
+  static constexpr double kSingularRatio = 64 * 2.220446049250313e-16;
   // Up to this size the column loop, above it Eigen's LLT.
   static constexpr int kLoopUpTo = 40;
 
@@ -48,8 +53,18 @@ class SpdSolver {
   bool factor_blocked(const Matrix& M);
 
   Matrix L_;  // (n x n) its lower triangle is L
-  double smallest_ = 0.0;
-  double largest_ = 0.0;
+  double smallest_ratio_ = 0.0;
 };
+
+// The direction in which a square A (n x n) is (nearly) singular, in
+// coordinate names (name(j) names coordinate j): the right singular vector of
+// its smallest singular value, by the components that make up 99 % of it,
+// "'x'" or "'psi' (0.71), 'phi' (-0.71)". For error messages: it allocates.
+std::string null_direction(const Matrix& A, const std::function<std::string(int)>& name);
+
+// Why a symmetric mass matrix M was refused, from its smallest eigenvalue's
+// direction: "coordinate 'x' moves no mass", "coordinates 'psi' (0.71) and
+// 'phi' (-0.71) move the bodies the same way" or "it is indefinite along ...".
+std::string mass_matrix_singularity(const Matrix& M, const std::function<std::string(int)>& name);
 
 }  // namespace symdyn::runtime

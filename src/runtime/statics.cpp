@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "runtime/errors.hpp"
+#include "runtime/spd_solver.hpp"
 
 namespace symdyn::runtime {
 
@@ -59,8 +60,9 @@ StaticsReport solve_statics(DynamicSystem& sys, const State& start,
     const Eigen::FullPivLU<Matrix> lu(A);
     if (!lu.isInvertible()) {
       throw NumericError(fmt::format(
-          "statics: iteration matrix {}·M + K is singular at iteration {} (|f| = {:.3e})",
-          options.mass_weight, r.iterations, fnorm));
+          "statics: iteration matrix {}·M + K is singular at iteration {} (|f| = {:.3e}) along {}",
+          options.mass_weight, r.iterations, fnorm,
+          null_direction(A, [&](int j) { return sys.coordinate_name(j); })));
     }
     const Vector dq = -lu.solve(f);
     // Backtracking on |f|: halve while the residual does not decrease.

@@ -197,9 +197,14 @@ TEST_CASE("Singular mass matrix is a NumericError naming time and state",
       rb.accelerations(make_state(0.5, q, Vector::Zero(6)), qdd, yd), NumericError,
       Catch::Matchers::Predicate<std::exception>([](const std::exception& e) {
         const std::string m = e.what();
-        return m.find("t = 0.5: mass matrix is singular or indefinite") == 0 &&
+        return m.find("t = 0.5: mass matrix is singular or indefinite: coordinates 'yaw' (0.71) and 'roll' "
+                      "(0.71) move the bodies the same way") == 0 &&
                m.find("pitch = 1.5707963267948966") != std::string::npos;
-      }, "message names the time and the pitch"));
+      }, "message names the time, the coordinates locked together and the pitch"));
+  // A micro-radian from the lock the inertia left is tiny but real: solved.
+  q(4) = std::numbers::pi / 2 - 1e-6;
+  REQUIRE_NOTHROW(rb.accelerations(make_state(0.5, q, Vector::Zero(6)), qdd, yd));
+  CHECK(qdd.allFinite());
 }
 
 TEST_CASE("Non-finite values are NumericErrors naming time, quantity and culprit",

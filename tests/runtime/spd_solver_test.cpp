@@ -3,10 +3,13 @@
 
 #include <catch2/catch.hpp>
 
+#include <fmt/format.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "runtime/spd_solver.hpp"
 
@@ -38,10 +41,10 @@ TEST_CASE("SpdSolver solves as Eigen's LLT does, below and above its switch", "[
     const Vector reference = Eigen::LLT<Matrix>(M).solve(b);
     CHECK((x - reference).norm() <= 1e-10 * reference.norm());
     CHECK((M * x - b).norm() <= 1e-12 * 1e3 * b.norm());
-    // The pivots D_k = L_kk² of an SPD matrix lie between its extreme
-    // eigenvalues (here 1e-3 and 1).
-    CHECK(solver.smallest_pivot() >= 1e-3 * (1.0 - 1e-9));
-    CHECK(solver.largest_pivot() <= 1.0 + 1e-12);
+    // A pivot D_k = L_kk² of an SPD matrix is at least its smallest
+    // eigenvalue (1e-3), and at most its own diagonal.
+    CHECK(solver.smallest_pivot_ratio() >= 1e-3 * (1.0 - 1e-9) / M.diagonal().maxCoeff());
+    CHECK(solver.smallest_pivot_ratio() <= 1.0 + 1e-12);
   }
 }
 
@@ -54,16 +57,45 @@ TEST_CASE("SpdSolver refuses indefinite, singular and non-finite matrices", "[ru
     Matrix indefinite = M;
     indefinite(n - 1, n - 1) = -1.0;
     CHECK_FALSE(solver.factor(indefinite));
-    // A coordinate without inertia: singular to working precision.
-    Matrix singular = M;
-    singular.row(1).setZero();
-    singular.col(1).setZero();
-    singular(1, 1) = 1e-14 * M.diagonal().maxCoeff();
-    CHECK_FALSE(solver.factor(singular));
+    // A coordinate without inertia.
+    Matrix massless = M;
+    massless.row(1).setZero();
+    massless.col(1).setZero();
+    CHECK_FALSE(solver.factor(massless));
+    // Two coordinates that move the same masses the same way (rank n - 1):
+    // their pivot is rounding of their diagonal.
+    Matrix twins = M;
+    twins.row(2) = 2.0 * twins.row(0);
+    twins.col(2) = 2.0 * twins.col(0);
+    CHECK_FALSE(solver.factor(twins));
+    CHECK(solver.smallest_pivot_ratio() <= SpdSolver::kSingularRatio);
+    // A light coordinate beside heavy ones is not singular: the test is
+    // against each coordinate's own diagonal.
+    Matrix light = M;
+    light.row(1) *= 1e-9;
+    light.col(1) *= 1e-9;
+    CHECK(solver.factor(light));
     Matrix nan = M;
     nan(n - 1, 0) = nan(0, n - 1) = std::numeric_limits<double>::quiet_NaN();
     CHECK_FALSE(solver.factor(nan));
     // Refusal leaves the solver usable.
     REQUIRE(solver.factor(M));
   }
+}
+
+TEST_CASE("a refused mass matrix is explained in coordinate names", "[runtime][solver]") {
+  const auto name = [](int j) { return fmt::format("q{}", j); };
+  Matrix M = Matrix::Identity(3, 3);
+  M(1, 1) = 0.0;
+  CHECK(mass_matrix_singularity(M, name) == "coordinate 'q1' moves no mass");
+  // q0 and q2 move the same body: M = [1 0 1; 0 1 0; 1 0 1].
+  M = Matrix::Identity(3, 3);
+  M(0, 2) = M(2, 0) = M(2, 2) = 1.0;
+  CHECK(mass_matrix_singularity(M, name) == "coordinates 'q0' (0.71) and 'q2' (-0.71) move the bodies the same way");
+  M(1, 1) = -2.0;
+  CHECK(mass_matrix_singularity(M, name) == "it is indefinite along 'q1' (1.00)");
+  // A general square matrix: its null direction.
+  Matrix A = Matrix::Identity(2, 2);
+  A(1, 1) = 0.0;
+  CHECK(null_direction(A, name) == "'q1'");
 }
