@@ -118,6 +118,12 @@ void Model::set_parameters(const std::vector<double>& values) {
     throw ModelError(fmt::format("model '{}': {} parameter values given, expected {}", d_.model,
                                  values.size(), d_.nparam));
   }
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (!std::isfinite(values[k])) {
+      throw ModelError(fmt::format("model '{}': parameter '{}' must be finite, not {}", d_.model,
+                                   d_.param_names[k], values[k]));
+    }
+  }
   std::vector<double> p = values;
   if (p.empty()) p.push_back(0.0);
   std::vector<double> mass;

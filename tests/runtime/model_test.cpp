@@ -97,6 +97,11 @@ TEST_CASE("Parameters are settable and re-validate the inertia", "[runtime][mode
                     Contains("body 'rod': inertia is not positive definite"));
   CHECK(m.parameters()[0] == 2.0);  // unchanged by the failed update
   CHECK_THROWS_WITH(m.set_parameters({1.0, 2.0}), "model 'pendulum': 2 parameter values given, expected 1");
+  CHECK_THROWS_WITH(m.set_parameter("length", std::numeric_limits<double>::quiet_NaN()),
+                    "model 'pendulum': parameter 'length' must be finite, not nan");
+  CHECK_THROWS_WITH(m.set_parameter("length", -std::numeric_limits<double>::infinity()),
+                    "model 'pendulum': parameter 'length' must be finite, not -inf");
+  CHECK(m.parameters()[0] == 2.0);
 }
 
 TEST_CASE("Kinematics views and point helpers", "[runtime][model]") {
