@@ -89,7 +89,7 @@ TEST_CASE("step size underflow at a finite-time blow-up", "[integrator][errors]"
 TEST_CASE("unknown integrator name lists the valid ones", "[integrator][errors]") {
   const std::string message = message_of<OptionError>([] { make_integrator("euler"); });
   CHECK(message ==
-        "unknown integrator 'euler'; valid names: newmark, generalized-alpha, rk4, dopri5, cvode");
+        "unknown integrator 'euler'; valid names: newmark, generalized-alpha, rk4, dopri5, dop853, cvode, arkode");
 }
 
 TEST_CASE("bad options are reported with the option named", "[integrator][errors]") {
