@@ -45,8 +45,9 @@
 // interpolates between accepted steps (dense output) and only the last step is
 // shortened, to end at t_end. newmark, generalized-alpha, rk4 and midpoint use the
 // quintic Hermite interpolant of q from (q, qd, qdd) at both ends of the step (cubic
-// for y from (y, yd)), dopri5 and dop853 their continuous extensions (orders 4 and
-// 7), cvode and arkode their own interpolating polynomials.
+// ones for qdd from (qd, qdd) and for y from (y, yd)), dopri5 and dop853 their
+// continuous extensions (orders 4 and 7), cvode and arkode their own interpolating
+// polynomials.
 //
 // Errors (errors.hpp), each naming the time and the culprit:
 //   OptionError   bad options (tolerances <= 0, min_step > max_step, rk4 without

@@ -40,15 +40,16 @@ void SteppingIntegrator::interpolate(double t, State& s, Vector& qdd, Vector& yd
   const double th = (t - a.t) / h;
   std::array<std::array<double, 3>, 6> p;
   for (int k = 0; k < 6; ++k) p[k] = evaluate(quintic[k], th);
-  // d/dt = (1/h)·d/dth
-  const double scale[3] = {1.0, 1.0 / h, 1.0 / (h * h)};
-  Vector* out[3] = {&s.q, &s.qd, &qdd};
-  for (int d = 0; d < 3; ++d) {
-    *out[d] = scale[d] * (p[0][d] * a.q + (h * p[1][d]) * a.qd + (h * h * p[2][d]) * previous_qdd_ +
-                          p[3][d] * b.q + (h * p[4][d]) * b.qd + (h * h * p[5][d]) * qdd_);
-  }
   std::array<std::array<double, 3>, 4> c;
   for (int k = 0; k < 4; ++k) c[k] = evaluate(cubic[k], th);
+  // q and qd = dq/dt = (1/h)·dq/dth from the quintic.
+  s.q = p[0][0] * a.q + (h * p[1][0]) * a.qd + (h * h * p[2][0]) * previous_qdd_ + p[3][0] * b.q +
+        (h * p[4][0]) * b.qd + (h * h * p[5][0]) * qdd_;
+  s.qd = (p[0][1] * a.q + (h * p[1][1]) * a.qd + (h * h * p[2][1]) * previous_qdd_ + p[3][1] * b.q +
+          (h * p[4][1]) * b.qd + (h * h * p[5][1]) * qdd_) / h;
+  // qdd from the cubic of qd, not from the quintic's second derivative, which would
+  // divide the step's local error in q by h².
+  qdd = (c[0][1] * a.qd + (h * c[1][1]) * previous_qdd_ + c[2][1] * b.qd + (h * c[3][1]) * qdd_) / h;
   s.y = c[0][0] * a.y + (h * c[1][0]) * previous_yd_ + c[2][0] * b.y + (h * c[3][0]) * yd_;
   yd = (c[0][1] * a.y + (h * c[1][1]) * previous_yd_ + c[2][1] * b.y + (h * c[3][1]) * yd_) / h;
   s.t = t;

@@ -55,8 +55,9 @@ class SteppingIntegrator : public Integrator {
 
   // Dense output: the state, qdd and yd at t in the last accepted step, from
   // previous_ to current_. By default the quintic Hermite interpolant of q from
-  // (q, qd, qdd) at both ends (its derivatives give qd and qdd) and the cubic one
-  // of y from (y, yd) (its derivative gives yd): no evaluation of the system.
+  // (q, qd, qdd) at both ends (its derivative gives qd), the cubic ones of qd from
+  // (qd, qdd) (its derivative gives qdd) and of y from (y, yd) (its derivative gives
+  // yd): no evaluation of the system.
   virtual void interpolate(double t, State& s, Vector& qdd, Vector& yd);
 
   // Evaluations through the system, counted.

@@ -143,4 +143,15 @@ TEST_CASE("a non-finite initial state is named", "[integrator][errors]") {
   }
 }
 
+TEST_CASE("q_scale of the wrong size or not positive names the option", "[integrator][errors]") {
+  Oscillator osc;
+  IntegratorOptions o;
+  o.q_scale = {1.0, 2.0};
+  CHECK_THROWS_WITH(make_integrator("dopri5", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
+                    "integrator 'dopri5': q_scale has 2 entries, the system has 1 coordinates");
+  o.q_scale = {0.0};
+  CHECK_THROWS_WITH(make_integrator("cvode", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
+                    "integrator 'cvode': q_scale[0] = 0 must be finite and positive");
+}
+
 }  // namespace
