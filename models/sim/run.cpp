@@ -44,7 +44,7 @@ runtime::IntegratorOptions integrator_options(const Scenario& scenario, const Ru
   o.output_interval = options.output_interval.value_or(scenario.output_interval);
   if (options.step) {
     o.initial_step = *options.step;
-  } else if (integrator == "rk4") {
+  } else if (integrator == "rk4" || integrator == "midpoint") {
     o.initial_step = o.output_interval / 10.0;
   }
   return o;

@@ -24,7 +24,7 @@ struct RunOptions {
   std::optional<double> rtol;             // relative only, over tolerance
   std::optional<double> atol;             // absolute only, over tolerance
   std::optional<double> output_interval;  // default: the scenario's
-  std::optional<double> step;             // initial (rk4: fixed) step; rk4 default: interval / 10
+  std::optional<double> step;             // initial (rk4, midpoint: fixed) step; their default: interval / 10
   // Emitted M and h when the model has them, else assembled from the kinematics.
   bool assembled = false;
   std::ostream* csv = nullptr;  // CSV of every output instant, if given

@@ -102,7 +102,9 @@ void Arkode::setup(Sundials& sun, CallbackData& data, const State& initial, doub
   if (std::isfinite(options_.max_step)) {
     check(ARKStepSetMaxStep(mem, options_.max_step), "ARKStepSetMaxStep", data);
   }
-  if (options_.initial_step > 0.0) {
+  if (options_.fixed_step) {
+    check(ARKStepSetFixedStep(mem, options_.initial_step), "ARKStepSetFixedStep", data);
+  } else if (options_.initial_step > 0.0) {
     check(ARKStepSetInitStep(mem, options_.initial_step), "ARKStepSetInitStep", data);
   }
 }
@@ -133,8 +135,8 @@ void Arkode::collect_statistics(const Sundials& sun, const CallbackData& data) {
 }
 
 State Arkode::run(DynamicSystem& system, const State& initial, double t_end) {
-  if (options_.fixed_step) {
-    throw OptionError("integrator 'arkode': fixed_step is not available (ARKODE is adaptive here)");
+  if (options_.fixed_step && !(options_.initial_step > 0.0)) {
+    throw OptionError("integrator 'arkode': a fixed-step run needs initial_step > 0 (the step)");
   }
   CallbackData data;
   data.system = &system;

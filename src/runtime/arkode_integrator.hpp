@@ -10,7 +10,7 @@
 // Steps, outputs, failures and statistics as for cvode (cvode_integrator.hpp):
 // one step at a time, never past t_end, output instants from ARKODE's Hermite
 // interpolating polynomial (ARKStepGetDky), so the outputs never change the steps.
-// fixed_step is not available (OptionError).
+// With options.fixed_step, steps of initial_step without error test (for order studies).
 
 #include <memory>
 

@@ -17,6 +17,9 @@
 //   "dopri5"             Dormand-Prince 5(4), adaptive, with dense output.
 //   "dop853"             Dormand-Prince 8(5,3), adaptive, with a seventh-order dense
 //                        output: for tight tolerances and reference solutions.
+//   "midpoint"           implicit midpoint on Hamilton's equations in (q, p = M·qd),
+//                        fixed step, symplectic, second order: bounded energy error
+//                        over long runs of conservative mechanisms.
 //   "cvode"              SUNDIALS CVODE, BDF orders 1-5 with Newton and a dense
 //                        linear solver (difference-quotient Jacobian): the reference
 //                        stiff solver.
@@ -24,9 +27,10 @@
 //                        with Newton and a dense linear solver: a one-step stiff solver.
 //
 // All of them integrate the n coordinates q (second order) and the m extra states y
-// (first order) of a DynamicSystem together. The implicit ones ("newmark",
-// "generalized-alpha") use the residual form and DynamicSystem::jacobians; the others
-// use the explicit form DynamicSystem::accelerations on x = (q, qd, y).
+// (first order) of a DynamicSystem together. "newmark" and "generalized-alpha" use
+// the residual form and DynamicSystem::jacobians; "midpoint" the residual (for M)
+// and the accelerations; the others the explicit form DynamicSystem::accelerations
+// on x = (q, qd, y).
 //
 // Error control: every adaptive integrator measures its local error estimate e of
 // x = (q, qd, y) with the same weights (ErrorWeights below),
@@ -50,7 +54,7 @@
 // polynomials.
 //
 // Errors (errors.hpp), each naming the time and the culprit:
-//   OptionError   bad options (tolerances <= 0, min_step > max_step, rk4 without
+//   OptionError   bad options (tolerances <= 0, min_step > max_step, rk4 or midpoint without
 //                 initial_step, output times outside the interval, unknown name);
 //   ModelError    state sizes that do not match the system;
 //   NumericError  a value that is not finite (q, qd, y, qdd, yd or a residual, with
@@ -95,14 +99,15 @@ struct IntegratorOptions {
   // newmark, generalized-alpha, dopri5 and dop853: take steps of exactly
   // initial_step (the last one shortened to end at t_end), without error control.
   // For order studies and for users who want EasyDyn's fixed-step mode. rk4 and
-  // midpoint always do.
+  // midpoint always do (they require initial_step > 0).
   bool fixed_step = false;
 
   // generalized-alpha: spectral radius at infinite frequency, in [0, 1];
   // 1 is Newmark's trapezoidal rule, 0 annihilates the highest frequencies.
   double rho_infinity = 0.8;
 
-  // newmark, generalized-alpha: Newton iterations per step attempt (EasyDyn: 100).
+  // newmark, generalized-alpha: Newton iterations per step attempt (EasyDyn: 100);
+  // midpoint: fixed-point iterations per step.
   int max_newton_iterations = 100;
 
   // Output instants: either a sorted list (each in [t_begin, t_end]) or an interval

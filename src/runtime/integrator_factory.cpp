@@ -10,6 +10,7 @@
 #include "runtime/dop853.hpp"
 #include "runtime/errors.hpp"
 #include "runtime/integrator.hpp"
+#include "runtime/midpoint.hpp"
 #include "runtime/newmark.hpp"
 #include "runtime/runge_kutta.hpp"
 
@@ -22,12 +23,13 @@ struct Entry {
   std::unique_ptr<Integrator> (*make)(IntegratorOptions);
 };
 
-constexpr std::array<Entry, 7> integrators = {{
+constexpr std::array<Entry, 8> integrators = {{
     {"newmark", make_newmark},
     {"generalized-alpha", make_generalized_alpha},
     {"rk4", make_rk4},
     {"dopri5", make_dopri5},
     {"dop853", make_dop853},
+    {"midpoint", make_midpoint},
     {"cvode", make_cvode},
     {"arkode", make_arkode},
 }};

@@ -44,7 +44,7 @@ TEST_CASE("a NaN at t = 0.5 stops the run naming time and coordinate; earlier ou
     BreaksAtHalf sys;
     IntegratorOptions o;
     o.output_interval = 0.1;
-    if (name == "rk4") o.initial_step = 0.01;
+    if (name == "rk4" || name == "midpoint") o.initial_step = 0.01;
     std::vector<double> delivered;
     o.on_output = [&](const State& s, const Vector&, const Vector&) { delivered.push_back(s.t); };
     auto integ = make_integrator(name, o);
@@ -89,7 +89,7 @@ TEST_CASE("step size underflow at a finite-time blow-up", "[integrator][errors]"
 TEST_CASE("unknown integrator name lists the valid ones", "[integrator][errors]") {
   const std::string message = message_of<OptionError>([] { make_integrator("euler"); });
   CHECK(message ==
-        "unknown integrator 'euler'; valid names: newmark, generalized-alpha, rk4, dopri5, dop853, cvode, arkode");
+        "unknown integrator 'euler'; valid names: newmark, generalized-alpha, rk4, dopri5, dop853, midpoint, cvode, arkode");
 }
 
 TEST_CASE("bad options are reported with the option named", "[integrator][errors]") {
