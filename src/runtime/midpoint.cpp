@@ -35,6 +35,7 @@ class Midpoint final : public detail::SteppingIntegrator {
 
   int n_ = 0;
   int m_ = 0;
+  Vector q_scale_;               // (n) options.q_scale, or ones
   Vector p_;                     // (n) momentum at current_
   Vector pdot_;                  // (n) the last step's midpoint dp/dt: the next step's guess
   Vector q1_, p1_, y1_;          // (n), (n), (m) the step being solved
@@ -46,42 +47,58 @@ class Midpoint final : public detail::SteppingIntegrator {
   Vector f0_, f1_, g_, zero_n_, zero_m_, Mv_plus_, Mv_minus_;
 };
 
-// M·x = f(t, q, 0, x, y) - f(t, q, 0, 0, y).
+// The power of two nearest to 1e6·max(1, |f0|)/|x|: M·x = (f(λ·x) - f0)/λ with λ·x
+// far larger than f0 loses only eps·|M·x| to rounding, not eps·|f0| (gravity, say);
+// a power of two scales exactly.
+double amplification(const Vector& f0, double x_size) {
+  const double target = 1e6 * std::max(1.0, f0.lpNorm<Eigen::Infinity>()) / x_size;
+  return std::exp2(std::round(std::log2(target)));
+}
+
+// M·x = (f(t, q, 0, λ·x, y) - f(t, q, 0, 0, y))/λ.
 void Midpoint::mass_times(double t, const Vector& q, const Vector& y, const Vector& x, Vector& Mx) {
   probe_.t = t;
   probe_.q = q;
   probe_.qd = zero_n_;
   probe_.y = y;
-  residual(probe_, x, zero_m_, f1_, g_);
   residual(probe_, zero_n_, zero_m_, f0_, g_);
-  Mx = f1_ - f0_;
+  const double size = x.lpNorm<Eigen::Infinity>();
+  if (size == 0.0) {
+    Mx = zero_n_;
+    return;
+  }
+  const double lambda = amplification(f0_, size);
+  residual(probe_, lambda * x, zero_m_, f1_, g_);
+  Mx = (f1_ - f0_) / lambda;
 }
 
-// M column by column: n + 1 residuals.
+// M column by column: n + 1 residuals, amplified as in mass_times.
 void Midpoint::mass_matrix(double t, const Vector& q, const Vector& y, Matrix& M) {
   probe_.t = t;
   probe_.q = q;
   probe_.qd = zero_n_;
   probe_.y = y;
   residual(probe_, zero_n_, zero_m_, f0_, g_);
+  const double lambda = amplification(f0_, 1.0);
   M.resize(n_, n_);
   Vector e = zero_n_;
   for (int j = 0; j < n_; ++j) {
-    e[j] = 1.0;
+    e[j] = lambda;
     residual(probe_, e, zero_m_, f1_, g_);
-    M.col(j) = f1_ - f0_;
+    M.col(j) = (f1_ - f0_) / lambda;
     e[j] = 0.0;
   }
 }
 
 // dp/dt = M·qdd + Ṁ·v, Ṁ·v = (M(q + d·v) - M(q - d·v))·v / (2d): a central
-// difference with d·|v| = cbrt(eps)·max(1, |q|) (truncation and rounding balanced).
+// difference with d·|v / q_scale| = cbrt(eps) (truncation and rounding balanced). The
+// scale of q, not |q|: M varies with an angle over a radian however far it has wound.
 void Midpoint::momentum_rate(double t, const Vector& q, const Vector& v, const Vector& y,
                              const Vector& qdd, const Matrix& M, Vector& pdot) {
   pdot = M * qdd;
-  const double speed = v.lpNorm<Eigen::Infinity>();
+  const double speed = v.cwiseQuotient(q_scale_).lpNorm<Eigen::Infinity>();
   if (speed == 0.0) return;
-  const double d = std::cbrt(eps) * std::max(1.0, q.lpNorm<Eigen::Infinity>()) / speed;
+  const double d = std::cbrt(eps) / speed;
   mass_times(t, q + d * v, y, v, Mv_plus_);
   mass_times(t, q - d * v, y, v, Mv_minus_);
   pdot += (Mv_plus_ - Mv_minus_) / (2.0 * d);
@@ -92,6 +109,10 @@ void Midpoint::start(const State& initial) {
   m_ = system_->num_extra_states();
   zero_n_ = Vector::Zero(n_);
   zero_m_ = Vector::Zero(m_);
+  q_scale_ = Vector::Ones(n_);
+  for (std::size_t i = 0; i < options_.q_scale.size(); ++i) {
+    q_scale_[static_cast<Eigen::Index>(i)] = options_.q_scale[i];
+  }
   current_ = initial;
   mass_matrix(initial.t, initial.q, initial.y, M_);
   p_ = M_ * initial.qd;
@@ -152,17 +173,19 @@ detail::StepOutcome Midpoint::attempt(double h, bool) {
     if (!bad.empty()) return {false, h, detail::at_time(tm, bad)};
     momentum_rate(tm, qm_, vm_, ym_, qdd_m_, M_, pdot_);
 
-    // Change of this update, relative to the size of each quantity.
+    // Change of this update, relative to q_scale for q (never |q|, which winds up)
+    // and to the size of p and y.
     double change = 0.0;
-    auto update = [&change](Vector& x, const Vector& next) {
+    auto update = [&change](Vector& x, const Vector& next, const Vector* scale) {
       for (Eigen::Index i = 0; i < x.size(); ++i) {
-        change = std::max(change, std::abs(next[i] - x[i]) / std::max(1.0, std::abs(next[i])));
+        const double size = scale != nullptr ? (*scale)[i] : std::max(1.0, std::abs(next[i]));
+        change = std::max(change, std::abs(next[i] - x[i]) / size);
       }
       x = next;
     };
-    update(q1_, current_.q + h * vm_);
-    update(p1_, p_ + h * pdot_);
-    update(y1_, current_.y + h * yd_m_);
+    update(q1_, current_.q + h * vm_, &q_scale_);
+    update(p1_, p_ + h * pdot_, nullptr);
+    update(y1_, current_.y + h * yd_m_, nullptr);
     ++stats_.newton_iterations;
     // Converged at rounding level, or stalled at the level of the rounding noise of
     // M and Ṁ·v from residual differences (the change no longer halves).

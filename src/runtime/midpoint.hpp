@@ -14,9 +14,10 @@
 // solved by fixed-point iteration until the update stops shrinking at the level of
 // rounding (a loose solve would break the symplectic map), at most
 // options.max_newton_iterations iterations. Only the
-// DynamicSystem interface is used: M·x = f(q, 0, x) - f(q, 0, 0) (f is linear in
-// qdd), so M costs n + 1 residuals; Ṁ·v is a central difference of M(q)·v along v
-// (4 residuals), with a step of cbrt(eps) relative to q.
+// DynamicSystem interface is used: M·x = (f(q, 0, λ·x) - f(q, 0, 0))/λ (f is linear
+// in qdd; λ, a large power of two, keeps the rounding relative to M·x), so M costs
+// n + 1 residuals; Ṁ·v is a central difference of M(q)·v along v
+// (4 residuals), with a step of cbrt(eps) relative to q_scale (1 by default).
 //
 // Fixed step only (options.initial_step, the last step shortened to end at t_end);
 // outputs from the quintic Hermite interpolant; qd and qdd at the step ends from
