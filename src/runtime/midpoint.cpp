@@ -26,6 +26,9 @@ class Midpoint final : public detail::SteppingIntegrator {
   double first_step(double) override { return options_.initial_step; }
   void start(const State& initial) override;
   detail::StepOutcome attempt(double h, bool fixed) override;
+  std::string map(double h, const Vector& z, Vector& Gz);
+  double change(const Vector& dz, const Vector& z) const;
+  std::string factor_newton_matrix(double h, const Vector& z, const Vector& Gz);
 
   void mass_matrix(double t, const Vector& q, const Vector& y, Matrix& M);
   void mass_times(double t, const Vector& q, const Vector& y, const Vector& x, Vector& Mx);
@@ -43,6 +46,7 @@ class Midpoint final : public detail::SteppingIntegrator {
   Vector qdd_m_, yd_m_;          // accelerations at the midpoint
   Matrix M_;                     // (n x n)
   Eigen::PartialPivLU<Matrix> lu_;
+  Eigen::PartialPivLU<Matrix> newton_lu_;  // of I - dG/dz, (2n+m x 2n+m)
   State probe_;                  // scratch state for the residuals
   Vector f0_, f1_, g_, zero_n_, zero_m_, Mv_plus_, Mv_minus_;
 };
@@ -143,64 +147,103 @@ std::string Midpoint::end_of_step(double t1) {
   return {};
 }
 
+// G(z) for z = (q1, p1, y1) (2n + m): (q0 + h·vm, p0 + h·ṗm, y0 + h·ydm) at the
+// midpoint of z and the step start. "" or what went wrong.
+std::string Midpoint::map(double h, const Vector& z, Vector& Gz) {
+  const double tm = current_.t + 0.5 * h;
+  qm_ = 0.5 * (current_.q + z.head(n_));
+  pm_ = 0.5 * (p_ + z.segment(n_, n_));
+  ym_ = 0.5 * (current_.y + z.tail(m_));
+  mass_matrix(tm, qm_, ym_, M_);
+  lu_.compute(M_);
+  vm_ = lu_.solve(pm_);
+  probe_.t = tm;
+  probe_.q = qm_;
+  probe_.qd = vm_;
+  probe_.y = ym_;
+  qdd_m_.resize(n_);
+  yd_m_.resize(m_);
+  try {
+    accelerations(probe_, qdd_m_, yd_m_);
+  } catch (const NumericError& e) {
+    return detail::at_time(tm, e.what());
+  }
+  const std::string bad = detail::non_finite_value(*system_, probe_, qdd_m_, yd_m_);
+  if (!bad.empty()) return detail::at_time(tm, bad);
+  momentum_rate(tm, qm_, vm_, ym_, qdd_m_, M_, pdot_);
+  Gz.resize(z.size());
+  Gz << current_.q + h * vm_, p_ + h * pdot_, current_.y + h * yd_m_;
+  return {};
+}
+
+// Largest |dz_i| relative to q_scale for q (never |q|, which winds up) and to the
+// size of p and y.
+double Midpoint::change(const Vector& dz, const Vector& z) const {
+  double c = 0.0;
+  for (Eigen::Index i = 0; i < dz.size(); ++i) {
+    const double size = i < n_ ? q_scale_[i] : std::max(1.0, std::abs(z[i]));
+    c = std::max(c, std::abs(dz[i]) / size);
+  }
+  return c;
+}
+
+// (I - dG/dz) by forward differences at z, factored for Newton's updates.
+std::string Midpoint::factor_newton_matrix(double h, const Vector& z, const Vector& Gz) {
+  const Eigen::Index size = z.size();
+  Matrix A = Matrix::Identity(size, size);
+  Vector zp = z, Gp;
+  for (Eigen::Index j = 0; j < size; ++j) {
+    const double scale = j < n_ ? q_scale_[j] : std::max(1.0, std::abs(z[j]));
+    const double d = std::sqrt(eps) * std::max(scale, std::abs(z[j]));
+    zp[j] = z[j] + d;
+    const std::string bad = map(h, zp, Gp);
+    if (!bad.empty()) return bad;
+    A.col(j) -= (Gp - Gz) / (zp[j] - z[j]);
+    zp[j] = z[j];
+  }
+  newton_lu_.compute(A);
+  return {};
+}
+
+// Fixed-point iteration z <- G(z), which contracts by about h·|dG/dz|/2; when it
+// contracts slowly (fast motion, large step), Newton on z - G(z) = 0 with a
+// difference Jacobian takes over.
 detail::StepOutcome Midpoint::attempt(double h, bool) {
-  const double t0 = current_.t;
-  const double tm = t0 + 0.5 * h;
+  const double t1 = current_.t + h;
   // Guess: q advanced by Taylor, p and y by the last rates.
-  q1_ = current_.q + h * current_.qd + (0.5 * h * h) * qdd_;
-  p1_ = p_ + h * pdot_;
-  y1_ = current_.y + h * yd_;
+  Vector z(2 * n_ + m_), Gz, dz;
+  z << current_.q + h * current_.qd + (0.5 * h * h) * qdd_, p_ + h * pdot_, current_.y + h * yd_;
+  bool newton = false;
   double previous_change = std::numeric_limits<double>::infinity();
   for (int k = 1; k <= options_.max_newton_iterations; ++k) {
-    qm_ = 0.5 * (current_.q + q1_);
-    pm_ = 0.5 * (p_ + p1_);
-    ym_ = 0.5 * (current_.y + y1_);
-    mass_matrix(tm, qm_, ym_, M_);
-    lu_.compute(M_);
-    vm_ = lu_.solve(pm_);
-    probe_.t = tm;
-    probe_.q = qm_;
-    probe_.qd = vm_;
-    probe_.y = ym_;
-    qdd_m_.resize(n_);
-    yd_m_.resize(m_);
-    try {
-      accelerations(probe_, qdd_m_, yd_m_);
-    } catch (const NumericError& e) {
-      return {false, h, detail::at_time(tm, e.what())};
-    }
-    const std::string bad = detail::non_finite_value(*system_, probe_, qdd_m_, yd_m_);
-    if (!bad.empty()) return {false, h, detail::at_time(tm, bad)};
-    momentum_rate(tm, qm_, vm_, ym_, qdd_m_, M_, pdot_);
-
-    // Change of this update, relative to q_scale for q (never |q|, which winds up)
-    // and to the size of p and y.
-    double change = 0.0;
-    auto update = [&change](Vector& x, const Vector& next, const Vector* scale) {
-      for (Eigen::Index i = 0; i < x.size(); ++i) {
-        const double size = scale != nullptr ? (*scale)[i] : std::max(1.0, std::abs(next[i]));
-        change = std::max(change, std::abs(next[i] - x[i]) / size);
-      }
-      x = next;
-    };
-    update(q1_, current_.q + h * vm_, &q_scale_);
-    update(p1_, p_ + h * pdot_, nullptr);
-    update(y1_, current_.y + h * yd_m_, nullptr);
+    std::string bad = map(h, z, Gz);
+    if (!bad.empty()) return {false, h, bad};
+    dz = newton ? Vector(newton_lu_.solve(Gz - z)) : Vector(Gz - z);
+    z += dz;
     ++stats_.newton_iterations;
-    // Converged at rounding level, or stalled at the level of the rounding noise of
-    // M and Ṁ·v from residual differences (the change no longer halves).
-    const bool converged = change <= 4.0 * eps || (change < 1e-9 && change > 0.5 * previous_change);
-    if (converged) {
-      const std::string failure = end_of_step(t0 + h);
+    const double c = change(dz, z);
+    if (!std::isfinite(c)) break;
+    // Converged at rounding level, or Newton stalled at the level of the rounding
+    // noise of M and Ṁ·v from residual differences (the change no longer halves).
+    if (c <= 4.0 * eps || (newton && c < 1e-7 && c > 0.5 * previous_change)) {
+      q1_ = z.head(n_);
+      p1_ = z.segment(n_, n_);
+      y1_ = z.tail(m_);
+      const std::string failure = end_of_step(t1);
       return {failure.empty(), h, failure};
     }
-    if (!std::isfinite(change)) break;
-    previous_change = change;
+    if (!newton && k >= 3 && c > 0.25 * previous_change) {
+      bad = map(h, z, Gz);
+      if (bad.empty()) bad = factor_newton_matrix(h, z, Gz);
+      if (!bad.empty()) return {false, h, bad};
+      ++stats_.jacobian_evaluations;
+      newton = true;
+    }
+    previous_change = c;
   }
   return {false, h,
-          detail::at_time(t0 + h, fmt::format("midpoint iteration did not converge in {} iterations "
-                                              "(step {} too large for a fixed-point iteration?)",
-                                              options_.max_newton_iterations, h))};
+          detail::at_time(t1, fmt::format("midpoint iteration did not converge in {} iterations",
+                                          options_.max_newton_iterations))};
 }
 
 }  // namespace

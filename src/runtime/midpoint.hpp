@@ -11,9 +11,11 @@
 //   p1 = p0 + h·(M(qm)·qdd_m + Ṁ(qm, vm)·vm)      (ṗ = M·qdd + Ṁ·qd)
 //   y1 = y0 + h·yd_m
 //
-// solved by fixed-point iteration until the update stops shrinking at the level of
-// rounding (a loose solve would break the symplectic map), at most
-// options.max_newton_iterations iterations. Only the
+// solved by fixed-point iteration, switching to Newton with a difference Jacobian
+// when it contracts slowly (fast motion, large step), until the update stops
+// shrinking at the level of rounding (a loose solve would break the symplectic map),
+// at most options.max_newton_iterations iterations (counted as newton_iterations;
+// Jacobians as jacobian_evaluations). Only the
 // DynamicSystem interface is used: M·x = (f(q, 0, λ·x) - f(q, 0, 0))/λ (f is linear
 // in qdd; λ, a large power of two, keeps the rounding relative to M·x), so M costs
 // n + 1 residuals; Ṁ·v is a central difference of M(q)·v along v
