@@ -39,12 +39,12 @@ runtime::IntegratorOptions integrator_options(const Scenario& scenario, const Ru
                                               const std::string& integrator) {
   runtime::IntegratorOptions o;
   const double tolerance = options.tolerance.value_or(scenario.tolerance);
-  o.relative_tolerance = tolerance;
-  o.absolute_tolerance = tolerance;
+  o.relative_tolerance = options.rtol.value_or(tolerance);
+  o.absolute_tolerance = options.atol.value_or(tolerance);
   o.output_interval = options.output_interval.value_or(scenario.output_interval);
   if (options.step) {
     o.initial_step = *options.step;
-  } else if (integrator == "rk4") {
+  } else if (integrator == "rk4" || integrator == "midpoint") {
     o.initial_step = o.output_interval / 10.0;
   }
   return o;
@@ -66,7 +66,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   r.integrator = options.integrator.empty() ? scenario.integrator : options.integrator;
   r.equations = emitted ? "emitted" : "assembled";
   r.t_end = options.t_end.value_or(scenario.t_end);
-  r.tolerance = options.tolerance.value_or(scenario.tolerance);
+  r.tolerance = options.rtol.value_or(options.tolerance.value_or(scenario.tolerance));
+  r.absolute_tolerance = options.atol.value_or(options.tolerance.value_or(scenario.tolerance));
 
   std::unique_ptr<runtime::CsvRecorder> csv;
   std::ostringstream unused;
@@ -107,8 +108,12 @@ double energy_drift_bound(const RunResult& run) { return std::max(1e-6, 1e4 * ru
 
 std::string summary(const RunResult& run) {
   const auto& st = run.statistics;
-  std::string out = fmt::format("{} ({}, {} equations), {} at tolerance {:g}, t = 0 .. {:g} s\n", run.model,
-                                run.variant, run.equations, run.integrator, run.tolerance, run.t_end);
+  const std::string tolerance =
+      run.tolerance == run.absolute_tolerance
+          ? fmt::format("tolerance {:g}", run.tolerance)
+          : fmt::format("rtol {:g}, atol {:g}", run.tolerance, run.absolute_tolerance);
+  std::string out = fmt::format("{} ({}, {} equations), {} at {}, t = 0 .. {:g} s\n", run.model, run.variant,
+                                run.equations, run.integrator, tolerance, run.t_end);
   out += fmt::format("  steps {} (rejected {}), evaluations: {} accelerations, {} residuals, {} Jacobians; {:.3f} s\n",
                      st.steps, st.rejected_steps, st.rhs_evaluations, st.residual_evaluations,
                      st.jacobian_evaluations, run.wall_seconds);

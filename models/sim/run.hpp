@@ -21,8 +21,10 @@ struct RunOptions {
   std::optional<double> t_end;            // default: the scenario's
   std::string integrator;                 // empty: the scenario's
   std::optional<double> tolerance;        // relative and absolute; default: the scenario's
+  std::optional<double> rtol;             // relative only, over tolerance
+  std::optional<double> atol;             // absolute only, over tolerance
   std::optional<double> output_interval;  // default: the scenario's
-  std::optional<double> step;             // initial (rk4: fixed) step; rk4 default: interval / 10
+  std::optional<double> step;             // initial (rk4, midpoint: fixed) step; their default: interval / 10
   // Emitted M and h when the model has them, else assembled from the kinematics.
   bool assembled = false;
   std::ostream* csv = nullptr;  // CSV of every output instant, if given
@@ -31,7 +33,8 @@ struct RunOptions {
 
 struct RunResult {
   std::string model, variant, integrator, equations;
-  double t_end = 0.0, tolerance = 0.0;
+  double t_end = 0.0, tolerance = 0.0;  // tolerance: the relative one
+  double absolute_tolerance = 0.0;
   std::vector<std::string> columns;  // of the CSV
   std::vector<Sample> samples;       // every output instant, t = 0 .. t_end
   runtime::Statistics statistics;
@@ -56,8 +59,8 @@ struct EnergyDrift {
 };
 EnergyDrift energy_drift(const RunResult& run);
 
-// The energy drift a conservative run may show at its tolerance: errors of
-// order tolerance per step add up over thousands of steps, hence 1e4 times
+// The energy drift a conservative run may show at its relative tolerance: errors
+// of order tolerance per step add up over thousands of steps, hence 1e4 times
 // the tolerance, and never less than 1e-6.
 double energy_drift_bound(const RunResult& run);
 

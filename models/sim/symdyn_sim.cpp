@@ -2,7 +2,7 @@
 // generated code, writes the time history as CSV and prints a summary.
 //
 //   symdyn-sim <model> [--variant V] [--t-end T] [--integrator I] [--tolerance X]
-//              [--interval DT] [--step H] [--assembled] [--out FILE]
+//              [--rtol R] [--atol A] [--interval DT] [--step H] [--assembled] [--out FILE]
 //   symdyn-sim --list
 //
 // Exit codes: 0 success, 1 the run failed (numeric or model error) or a headline
@@ -67,8 +67,11 @@ int main(int argc, char** argv) {
   app.add_flag("--list", args.list, "list the models and variants built in, with their scenarios");
   app.add_option("--variant", args.run.variant, "generated variant (default: the model's first)");
   app.add_option("--t-end", args.run.t_end, "end time in s (default: the scenario's)")->check(CLI::PositiveNumber);
-  app.add_option("--integrator", args.run.integrator, "newmark, generalized-alpha, rk4, dopri5 or cvode");
+  app.add_option("--integrator", args.run.integrator,
+                 fmt::format("one of {}", fmt::join(runtime::integrator_names(), ", ")));
   app.add_option("--tolerance", args.run.tolerance, "relative and absolute tolerance")->check(CLI::PositiveNumber);
+  app.add_option("--rtol", args.run.rtol, "relative tolerance (over --tolerance)")->check(CLI::PositiveNumber);
+  app.add_option("--atol", args.run.atol, "absolute tolerance (over --tolerance)")->check(CLI::PositiveNumber);
   app.add_option("--interval", args.run.output_interval, "output interval in s")->check(CLI::PositiveNumber);
   app.add_option("--step", args.run.step, "initial step in s (rk4: the fixed step)")->check(CLI::PositiveNumber);
   app.add_flag("--assembled", args.run.assembled, "assemble M and h from the kinematics instead of the emitted ones");

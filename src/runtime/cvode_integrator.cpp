@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <exception>
+#include <memory>
+#include <type_traits>
 
 #include <cvode/cvode.h>
 #include <fmt/format.h>
@@ -13,63 +15,17 @@
 
 #include "runtime/errors.hpp"
 #include "runtime/stepping_integrator.hpp"
+#include "runtime/sundials_support.hpp"
 
 namespace symdyn::runtime {
 
 namespace {
 
-// What the C callbacks see (user data): the system, scratch, and what went wrong.
-struct CallbackData {
-  DynamicSystem* system = nullptr;
-  int n = 0;
-  int m = 0;
-  State s;
-  Vector qdd, yd;
-  long evaluations = 0;
-  std::string last_failure;     // last non-finite value or NumericError, with its time
-  std::string cvode_message;    // CVODE's own message of its last error
-  std::exception_ptr error;     // any other exception, rethrown after CVODE returns
-};
-
-// Unpacks x = (q, qd, y) into data.s at t.
-void unpack(CallbackData& d, double t, N_Vector x) {
-  const Eigen::Map<const Vector> xv(N_VGetArrayPointer(x), 2 * d.n + d.m);
-  d.s.t = t;
-  d.s.q = xv.head(d.n);
-  d.s.qd = xv.segment(d.n, d.n);
-  d.s.y = xv.tail(d.m);
-}
-
-// dx = (qd, qdd, yd). Returns 0, 1 (recoverable: CVODE retries with a smaller step)
-// or -1 (unrecoverable: the exception is kept and rethrown).
-int right_hand_side(realtype t, N_Vector x, N_Vector dx, void* user) {
-  auto& d = *static_cast<CallbackData*>(user);
-  try {
-    unpack(d, t, x);
-    ++d.evaluations;
-    d.qdd.resize(d.n);
-    d.yd.resize(d.m);
-    d.system->accelerations(d.s, d.qdd, d.yd);
-    const std::string bad = detail::non_finite_value(*d.system, d.s, d.qdd, d.yd);
-    if (!bad.empty()) {
-      d.last_failure = detail::at_time(t, bad);
-      return 1;
-    }
-    Eigen::Map<Vector> out(N_VGetArrayPointer(dx), 2 * d.n + d.m);
-    out << d.s.qd, d.qdd, d.yd;
-    return 0;
-  } catch (const NumericError& e) {
-    d.last_failure = detail::at_time(t, e.what());
-    return 1;
-  } catch (...) {
-    d.error = std::current_exception();
-    return -1;
-  }
-}
-
-void keep_message(int, const char*, const char* function, char* message, void* user) {
-  static_cast<CallbackData*>(user)->cvode_message = fmt::format("{}: {}", function, message);
-}
+using detail::CallbackData;
+using detail::error_weights;
+using detail::keep_message;
+using detail::right_hand_side;
+using detail::unpack;
 
 // Owns the SUNDIALS objects of one run.
 struct Sundials {
@@ -115,7 +71,7 @@ std::string flag_name(int flag) {
 void check(int flag, const char* call, const CallbackData& data) {
   if (flag >= 0) return;
   throw NumericError(fmt::format("integrator 'cvode': {} failed with {} ({})", call,
-                                 flag_name(flag), data.cvode_message));
+                                 flag_name(flag), data.solver_message));
 }
 
 void Cvode::setup(Sundials& sun, CallbackData& data, const State& initial, double t_end) {
@@ -136,8 +92,7 @@ void Cvode::setup(Sundials& sun, CallbackData& data, const State& initial, doubl
   check(CVodeSetErrHandlerFn(mem, keep_message, &data), "CVodeSetErrHandlerFn", data);
   check(CVodeInit(mem, right_hand_side, initial.t, sun.x), "CVodeInit", data);
   check(CVodeSetUserData(mem, &data), "CVodeSetUserData", data);
-  check(CVodeSStolerances(mem, options_.relative_tolerance, options_.absolute_tolerance),
-        "CVodeSStolerances", data);
+  check(CVodeWFtolerances(mem, error_weights), "CVodeWFtolerances", data);
   check(CVodeSetLinearSolver(mem, sun.solver, sun.A), "CVodeSetLinearSolver", data);
   check(CVodeSetMaxNumSteps(mem, 1000000000L), "CVodeSetMaxNumSteps", data);
   check(CVodeSetStopTime(mem, t_end), "CVodeSetStopTime", data);
@@ -184,13 +139,15 @@ State Cvode::run(DynamicSystem& system, const State& initial, double t_end) {
   data.n = system.num_coordinates();
   data.m = system.num_extra_states();
   if (2 * data.n + data.m == 0) throw ModelError("integrator 'cvode': the system has no state");
+  ErrorWeights weights(options_, name(), data.n, data.m);
+  data.weights = &weights;
   Sundials sun;
   setup(sun, data, initial, t_end);
 
   // The initial output, through the same path as the others.
   deliver(data, initial.t, sun.x);
 
-  // Advances to `target` (CV_NORMAL) or by one step (CV_ONE_STEP), reporting failures.
+  // Advances by one step towards `target`, reporting failures.
   auto advance = [&](double target, int mode) {
     double reached = initial.t;
     const int flag = CVode(sun.cvode, target, sun.x, &reached, mode);
@@ -200,21 +157,27 @@ State Cvode::run(DynamicSystem& system, const State& initial, double t_end) {
       CVodeGetCurrentTime(sun.cvode, &reached);
       throw NumericError(detail::at_time(
           reached, fmt::format("integrator 'cvode' failed with {} ({}){}",
-                               flag_name(flag), data.cvode_message,
+                               flag_name(flag), data.solver_message,
                                data.last_failure.empty() ? "" : "; last failure: " + data.last_failure)));
     }
     return reached;
   };
+  // One step at a time (CV_ONE_STEP, never past t_end), the output instants in each
+  // step from CVODE's interpolating polynomial: the outputs do not change the steps.
+  N_Vector at = N_VClone(sun.x);
+  const std::unique_ptr<std::remove_pointer_t<N_Vector>, void (*)(N_Vector)> owner(at, N_VDestroy);
+  std::size_t next_output = 0;
   double t = initial.t;
-  if (output_every_step()) {
-    while (t < t_end) {
-      t = advance(t_end, CV_ONE_STEP);
+  while (t < t_end) {
+    t = advance(t_end, CV_ONE_STEP);
+    if (output_every_step()) {
       deliver(data, t, sun.x);
+      continue;
     }
-  } else {
-    for (double target : output_instants()) {
-      t = advance(target, CV_NORMAL);
-      deliver(data, target, sun.x);
+    for (; next_output < output_instants().size() && output_instants()[next_output] <= t; ++next_output) {
+      const double ti = output_instants()[next_output];
+      check(CVodeGetDky(sun.cvode, ti, 0, at), "CVodeGetDky", data);
+      deliver(data, ti, at);
     }
   }
   collect_statistics(sun, data);

@@ -83,6 +83,7 @@ State Integrator::integrate(DynamicSystem& system, const State& initial, double 
   }
   const std::string bad = detail::non_finite_value(system, initial, Vector(), Vector());
   if (!bad.empty()) throw NumericError(detail::at_time(initial.t, bad + " (initial state)"));
+  ErrorWeights(options_, name(), n, m);  // checks q_scale before the run
   stats_ = Statistics{};
   t_begin_ = initial.t;
   t_end_ = t_end;
@@ -98,6 +99,51 @@ void Integrator::emit(DynamicSystem& system, const State& s, const Vector& qdd, 
 
 void Integrator::progress(double t) const {
   if (options_.on_progress) options_.on_progress(t, t_begin_, t_end_);
+}
+
+ErrorWeights::ErrorWeights(const IntegratorOptions& options, std::string_view integrator, int n,
+                           int m)
+    : atol_(options.absolute_tolerance),
+      rtol_(options.relative_tolerance),
+      n_(n),
+      m_(m),
+      w_(Vector::Constant(2 * n + m, options.absolute_tolerance + options.relative_tolerance)) {
+  const auto& scale = options.q_scale;
+  if (scale.empty()) return;
+  if (static_cast<int>(scale.size()) != n) {
+    throw OptionError(fmt::format("integrator '{}': q_scale has {} entries, the system has {} coordinates",
+                                  integrator, scale.size(), n));
+  }
+  for (int i = 0; i < n; ++i) {
+    const double s = scale[static_cast<std::size_t>(i)];
+    if (!(std::isfinite(s) && s > 0.0)) {
+      throw OptionError(fmt::format("integrator '{}': q_scale[{}] = {} must be finite and positive",
+                                    integrator, i, s));
+    }
+    w_[i] = atol_ + rtol_ * s;
+  }
+}
+
+const Vector& ErrorWeights::update(const Vector& x0, const Vector& x1) {
+  for (int i = n_; i < 2 * n_ + m_; ++i) {
+    w_[i] = atol_ + rtol_ * std::max(std::abs(x0[i]), std::abs(x1[i]));
+  }
+  return w_;
+}
+
+const Vector& ErrorWeights::update(const State& s0, const State& s1) {
+  for (int i = 0; i < n_; ++i) {
+    w_[n_ + i] = atol_ + rtol_ * std::max(std::abs(s0.qd[i]), std::abs(s1.qd[i]));
+  }
+  for (int j = 0; j < m_; ++j) {
+    w_[2 * n_ + j] = atol_ + rtol_ * std::max(std::abs(s0.y[j]), std::abs(s1.y[j]));
+  }
+  return w_;
+}
+
+double ErrorWeights::rms(const Vector& e) const {
+  const double mean = e.cwiseQuotient(w_).squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, w_.size()));
+  return std::sqrt(mean);
 }
 
 namespace detail {

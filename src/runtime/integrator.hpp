@@ -15,23 +15,46 @@
 //                        the step end; implicit, second order, damps high frequencies.
 //   "rk4"                classic fixed-step Runge-Kutta 4 on the first-order form.
 //   "dopri5"             Dormand-Prince 5(4), adaptive, with dense output.
+//   "dop853"             Dormand-Prince 8(5,3), adaptive, with a seventh-order dense
+//                        output: for tight tolerances and reference solutions.
+//   "midpoint"           implicit midpoint on Hamilton's equations in (q, p = M·qd),
+//                        fixed step, symplectic, second order: bounded energy error
+//                        over long runs of conservative mechanisms.
 //   "cvode"              SUNDIALS CVODE, BDF orders 1-5 with Newton and a dense
 //                        linear solver (difference-quotient Jacobian): the reference
 //                        stiff solver.
+//   "arkode"             SUNDIALS ARKODE ARKStep, the fourth-order L-stable SDIRK-5-3-4
+//                        with Newton and a dense linear solver: a one-step stiff solver.
 //
 // All of them integrate the n coordinates q (second order) and the m extra states y
-// (first order) of a DynamicSystem together. The implicit ones ("newmark",
-// "generalized-alpha") use the residual form and DynamicSystem::jacobians; the others
-// use the explicit form DynamicSystem::accelerations on x = (q, qd, y).
+// (first order) of a DynamicSystem together. "newmark" and "generalized-alpha" use
+// the residual form and DynamicSystem::jacobians; "midpoint" the residual (for M)
+// and the accelerations; the others the explicit form DynamicSystem::accelerations
+// on x = (q, qd, y).
+//
+// Error control: every adaptive integrator measures its local error estimate e of
+// x = (q, qd, y) with the same weights (ErrorWeights below),
+//
+//   w_i = absolute_tolerance + relative_tolerance·s_i,   accepted when
+//   sqrt(mean_i (e_i / w_i)²) <= 1,
+//
+//   s_i = q_scale[i] (1 unless set) for a coordinate q_i: a fixed scale, never |q_i|,
+//         since a crank that has wound up 3 900 rad is not known less precisely;
+//   s_i = max(|x_i(t0)|, |x_i(t1)|) for a rate qd_i or an extra state y_i (both ends
+//         of the step; cvode only sees the current value).
 //
 // Output instants: a list of times, or a fixed interval from the initial time, or
 // (both empty) every accepted step. The initial and final states are always
-// delivered. Newmark, generalized-alpha and RK4 shorten their steps to hit every
-// instant exactly; dopri5 interpolates with its continuous extension (order 4) and
-// cvode with its own interpolating polynomial, so their steps are not disturbed.
+// delivered. The output instants never change the steps taken: every integrator
+// interpolates between accepted steps (dense output) and only the last step is
+// shortened, to end at t_end. newmark, generalized-alpha, rk4 and midpoint use the
+// quintic Hermite interpolant of q from (q, qd, qdd) at both ends of the step (cubic
+// ones for qdd from (qd, qdd) and for y from (y, yd)), dopri5 and dop853 their
+// continuous extensions (orders 4 and 7), cvode and arkode their own interpolating
+// polynomials.
 //
 // Errors (errors.hpp), each naming the time and the culprit:
-//   OptionError   bad options (tolerances <= 0, min_step > max_step, rk4 without
+//   OptionError   bad options (tolerances <= 0, min_step > max_step, rk4 or midpoint without
 //                 initial_step, output times outside the interval, unknown name);
 //   ModelError    state sizes that do not match the system;
 //   NumericError  a value that is not finite (q, qd, y, qdd, yd or a residual, with
@@ -61,25 +84,30 @@ using OutputCallback = std::function<void(const State& s, const Vector& qdd, con
 using ProgressCallback = std::function<void(double t, double t_begin, double t_end)>;
 
 struct IntegratorOptions {
-  // Mixed error test, per component i: |error_i| <= absolute + relative·|x_i|,
-  // as a root mean square over the components.
+  // The error test (see ErrorWeights): |e_i| <= absolute + relative·s_i, as a root
+  // mean square over the components of x = (q, qd, y).
   double relative_tolerance = 1e-6;
   double absolute_tolerance = 1e-8;
+  // (n or empty) the scale s_i of coordinate q_i in the error test, each > 0 (a
+  // length in m, an angle in rad); empty: 1 for every coordinate.
+  std::vector<double> q_scale;
 
   double initial_step = 0.0;  // 0: the integrator chooses (rk4 requires it > 0)
   double min_step = 1e-12;    // below it, a run stops with a NumericError
   double max_step = std::numeric_limits<double>::infinity();
 
-  // newmark, generalized-alpha and dopri5: take steps of exactly initial_step
-  // (shortened only to hit output instants), without error control. For order
-  // studies and for users who want EasyDyn's fixed-step mode. rk4 always is.
+  // newmark, generalized-alpha, dopri5 and dop853: take steps of exactly
+  // initial_step (the last one shortened to end at t_end), without error control.
+  // For order studies and for users who want EasyDyn's fixed-step mode. rk4 and
+  // midpoint always do (they require initial_step > 0).
   bool fixed_step = false;
 
   // generalized-alpha: spectral radius at infinite frequency, in [0, 1];
   // 1 is Newmark's trapezoidal rule, 0 annihilates the highest frequencies.
   double rho_infinity = 0.8;
 
-  // newmark, generalized-alpha: Newton iterations per step attempt (EasyDyn: 100).
+  // newmark, generalized-alpha: Newton iterations per step attempt (EasyDyn: 100);
+  // midpoint: fixed-point iterations per step.
   int max_newton_iterations = 100;
 
   // Output instants: either a sorted list (each in [t_begin, t_end]) or an interval
@@ -142,6 +170,28 @@ class Integrator {
   std::vector<double> instants_;
   double t_begin_ = 0.0;
   double t_end_ = 0.0;
+};
+
+// The weights of the error test, shared by every adaptive integrator (see the top
+// of this file). x = (q, qd, y) (2n + m).
+class ErrorWeights {
+ public:
+  // Throws OptionError naming the integrator when q_scale has neither 0 nor n
+  // entries or an entry that is not finite and positive.
+  ErrorWeights(const IntegratorOptions& options, std::string_view integrator, int n, int m);
+
+  // The weights for a step from x0 to x1 (2n + m each).
+  const Vector& update(const Vector& x0, const Vector& x1);
+  const Vector& update(const State& s0, const State& s1);
+
+  // sqrt(mean_i (e_i / w_i)²) with the weights of the last update; e (2n + m).
+  double rms(const Vector& e) const;
+  const Vector& weights() const { return w_; }
+
+ private:
+  double atol_, rtol_;
+  int n_, m_;
+  Vector w_;  // (2n + m); its q part is fixed
 };
 
 // The integrator called `name` (see the list above). Throws OptionError naming the

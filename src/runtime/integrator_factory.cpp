@@ -5,9 +5,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "runtime/arkode_integrator.hpp"
 #include "runtime/cvode_integrator.hpp"
+#include "runtime/dop853.hpp"
 #include "runtime/errors.hpp"
 #include "runtime/integrator.hpp"
+#include "runtime/midpoint.hpp"
 #include "runtime/newmark.hpp"
 #include "runtime/runge_kutta.hpp"
 
@@ -20,12 +23,15 @@ struct Entry {
   std::unique_ptr<Integrator> (*make)(IntegratorOptions);
 };
 
-constexpr std::array<Entry, 5> integrators = {{
+constexpr std::array<Entry, 8> integrators = {{
     {"newmark", make_newmark},
     {"generalized-alpha", make_generalized_alpha},
     {"rk4", make_rk4},
     {"dopri5", make_dopri5},
+    {"dop853", make_dop853},
+    {"midpoint", make_midpoint},
     {"cvode", make_cvode},
+    {"arkode", make_arkode},
 }};
 
 }  // namespace

@@ -46,11 +46,9 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   void apply(double h);
   void evaluate_jacobian();
   void factor(double h);
-  double newton_norm(double h) const;
-  double error_norm(double h) const;
-  double weight(double x) const {
-    return options_.absolute_tolerance + options_.relative_tolerance * std::abs(x);
-  }
+  double newton_norm(double h);
+  double third_derivative(double r0, double r1, double r2, double h) const;
+  double error_norm(double h);
 
   const Coefficients c_;
   const double da_;     // d a1 / d qdd1 = (1 - af)/(1 - am)
@@ -61,6 +59,7 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
 
   // Committed step (with current_, qdd_, yd_ of the base).
   Vector a_;             // (n) algorithmic acceleration
+  Vector qdd_previous_;  // (n) qdd one step before, for q''''
   Vector yd_previous_;   // (m) yd one step before, for y'''
   double h_previous_ = 0.0;
 
@@ -82,6 +81,7 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   Eigen::PartialPivLU<Matrix> lu_;
 
   Vector f_, g_, rhs_, delta_;            // scratch (n), (m), (n+m), (n+m)
+  Vector error_;                          // scratch (2n+m)
 };
 
 void NewmarkFamily::start(const State& initial) {
@@ -94,6 +94,7 @@ void NewmarkFamily::start(const State& initial) {
   trial_a_ = Vector::Zero(n_);
   f_.resize(n_);
   g_.resize(m_);
+  error_.resize(2 * n_ + m_);
   have_jacobian_ = false;
   factored_ = false;
   h_previous_ = 0.0;
@@ -106,14 +107,11 @@ void NewmarkFamily::start(const State& initial) {
   qdd_ = trial_qdd_;
   yd_ = trial_yd_;
   a_ = qdd_;
+  qdd_previous_ = qdd_;
   yd_previous_ = yd_;
 }
 
-double NewmarkFamily::first_step(double t_end) {
-  double h = 1e-3 * (t_end - current_.t);
-  if (!output_every_step()) h = std::min(h, output_instants().front() - current_.t);
-  return h;
-}
+double NewmarkFamily::first_step(double t_end) { return 1e-3 * (t_end - current_.t); }
 
 // qdd1 = qdd0, yd1 = yd0, and q1, qd1, y1 from the formulas of the scheme.
 void NewmarkFamily::predict(double h) {
@@ -138,23 +136,23 @@ void NewmarkFamily::apply(double h) {
   trial_.y -= (0.5 * h) * dyd;
 }
 
-// RMS of the corrections of q, qd and y relative to their tolerances (of qdd and
-// yd themselves when h = 0, where q, qd and y do not move).
-double NewmarkFamily::newton_norm(double h) const {
-  double sum = 0.0;
+// RMS of the corrections of q, qd and y under the error weights (of qdd and yd
+// themselves, relative to atol + rtol·|x|, when h = 0, where q, qd and y do not move).
+double NewmarkFamily::newton_norm(double h) {
   const auto dqdd = delta_.head(n_);
   const auto dyd = delta_.tail(m_);
   if (h == 0.0) {
+    const auto weight = [this](double x) {
+      return options_.absolute_tolerance + options_.relative_tolerance * std::abs(x);
+    };
+    double sum = 0.0;
     for (int i = 0; i < n_; ++i) sum += std::pow(dqdd[i] / weight(trial_qdd_[i]), 2);
     for (int j = 0; j < m_; ++j) sum += std::pow(dyd[j] / weight(trial_yd_[j]), 2);
     return std::sqrt(sum / std::max(1, n_ + m_));
   }
-  for (int i = 0; i < n_; ++i) {
-    sum += std::pow(beta_ * h * h * dqdd[i] / weight(trial_.q[i]), 2);
-    sum += std::pow(gamma_ * h * dqdd[i] / weight(trial_.qd[i]), 2);
-  }
-  for (int j = 0; j < m_; ++j) sum += std::pow(0.5 * h * dyd[j] / weight(trial_.y[j]), 2);
-  return std::sqrt(sum / std::max(1, 2 * n_ + m_));
+  error_ << (beta_ * h * h) * dqdd, (gamma_ * h) * dqdd, (0.5 * h) * dyd;
+  weights_->update(current_, trial_);
+  return weights_->rms(error_);
 }
 
 void NewmarkFamily::evaluate_jacobian() {
@@ -264,24 +262,28 @@ std::string NewmarkFamily::solve(double h) {
   return trouble.empty() ? trouble : detail::at_time(trial_.t, trouble);
 }
 
-// EasyDyn's estimate for q, trapezoidal error for y, mixed tolerance, RMS.
-double NewmarkFamily::error_norm(double h) const {
-  double sum = 0.0;
+// Third derivative of a quantity from its rates r0 (one step before, h_previous),
+// r1 (step start) and r2 (step end, after h): a divided difference over both steps;
+// on the first step only the second derivative is known, and h·x'' bounds h²·x'''
+// for small steps.
+double NewmarkFamily::third_derivative(double r0, double r1, double r2, double h) const {
+  const double slope = (r2 - r1) / h;
+  return h_previous_ > 0.0 ? 2.0 / (h + h_previous_) * (slope - (r1 - r0) / h_previous_) : slope / h;
+}
+
+// Local errors: q (EasyDyn) h³·q'''/12 = h²·|qdd1 - qdd0|/12; qd, trapezoidal in qdd,
+// h³·q''''/12; y, trapezoidal in yd, h³·y'''/12. RMS under the error weights.
+double NewmarkFamily::error_norm(double h) {
+  const double h3 = h * h * h / 12.0;
   for (int i = 0; i < n_; ++i) {
-    const double e = h * h * std::abs(trial_qdd_[i] - qdd_[i]) / 12.0;
-    sum += std::pow(e / weight(std::max(std::abs(trial_.q[i]), std::abs(current_.q[i]))), 2);
+    error_[i] = h * h * std::abs(trial_qdd_[i] - qdd_[i]) / 12.0;
+    error_[n_ + i] = h3 * std::abs(third_derivative(qdd_previous_[i], qdd_[i], trial_qdd_[i], h));
   }
   for (int j = 0; j < m_; ++j) {
-    const double slope = (trial_yd_[j] - yd_[j]) / h;
-    // y''' from divided differences of yd over this step and the one before; on the
-    // first step only y'' is known and h·y'' bounds h²·y''' for small steps.
-    const double y3 = h_previous_ > 0.0
-                          ? 2.0 / (h + h_previous_) * (slope - (yd_[j] - yd_previous_[j]) / h_previous_)
-                          : slope / h;
-    const double e = h * h * h * std::abs(y3) / 12.0;
-    sum += std::pow(e / weight(std::max(std::abs(trial_.y[j]), std::abs(current_.y[j]))), 2);
+    error_[2 * n_ + j] = h3 * std::abs(third_derivative(yd_previous_[j], yd_[j], trial_yd_[j], h));
   }
-  return std::sqrt(sum / std::max(1, n_ + m_));
+  weights_->update(current_, trial_);
+  return weights_->rms(error_);
 }
 
 detail::StepOutcome NewmarkFamily::attempt(double h, bool fixed) {
@@ -295,14 +297,19 @@ detail::StepOutcome NewmarkFamily::attempt(double h, bool fixed) {
   }
   if (!failure.empty()) return {false, h / 4.0, failure};
   const double error = error_norm(h);
-  if (!fixed && error > 1.0) return {false, h / 2.0, {}};
+  // The estimate is O(h³): the step that would meet the tolerance is h·err^(-1/3).
+  const double ratio = 0.9 * std::pow(std::max(error, 1e-10), -1.0 / 3.0);
+  if (!fixed && error > 1.0) return {false, h * std::max(0.2, ratio), {}};
+  qdd_previous_ = qdd_;
   yd_previous_ = yd_;
   h_previous_ = h;
   current_ = trial_;
   qdd_ = trial_qdd_;
   yd_ = trial_yd_;
   a_ = trial_a_;
-  return {true, error < 1.0 / 16.0 ? 2.0 * h : h, {}};
+  // Growth below 1.5 is not worth refactoring the iteration matrix.
+  const double next = ratio < 1.0 ? h * ratio : ratio >= 1.5 ? h * std::min(ratio, 4.0) : h;
+  return {true, next, {}};
 }
 
 }  // namespace

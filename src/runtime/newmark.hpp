@@ -25,11 +25,15 @@
 // kept across iterations and steps, refactored when h changes and re-evaluated when
 // the iteration converges slowly (rate above 1/4) or diverges.
 //
-// Local error (EasyDyn): h²·|qdd1 - qdd0|/12 per coordinate; for the extra states
-// the trapezoidal error h³·|y'''|/12 with y''' from divided differences of yd; mixed
-// tolerance, RMS. Step control (EasyDyn): a Newton failure or a non-finite value
-// divides h by 4, an error above tolerance halves it, an error below 1/16 of it
-// doubles it (the estimate is O(h³)).
+// Local error: h²·|qdd1 - qdd0|/12 (EasyDyn) for q; the trapezoidal errors
+// h³·|q''''|/12 for qd and h³·|y'''|/12 for y, with q'''' and y''' from divided
+// differences of qdd and yd over this step and the one before; RMS under the error
+// weights (ErrorWeights, integrator.hpp). Outputs come from the quintic Hermite
+// interpolant (integrator.hpp), so they never shorten a step. Step control: a
+// Newton failure or a non-finite value divides h by 4 (EasyDyn); otherwise, the
+// estimate being O(h³), the next step is h·r with r = 0.9·err^(-1/3) within
+// [0.2, 4], kept at h when 1 <= r < 1.5 (the iteration matrix is refactored only
+// when h changes).
 // At the start, Newton with h = 0 computes accelerations consistent with the state.
 
 #include <memory>

@@ -7,82 +7,13 @@
 #include <fmt/format.h>
 
 #include "runtime/errors.hpp"
-#include "runtime/stepping_integrator.hpp"
+#include "runtime/explicit_integrator.hpp"
 
 namespace symdyn::runtime {
 
 namespace {
 
-// The first-order form shared by the explicit methods: x = (q, qd, y).
-class ExplicitIntegrator : public detail::SteppingIntegrator {
- public:
-  using SteppingIntegrator::SteppingIntegrator;
-
- protected:
-  void start(const State& initial) override {
-    n_ = system_->num_coordinates();
-    m_ = system_->num_extra_states();
-    current_ = initial;
-    x_.resize(2 * n_ + m_);
-    x_ << initial.q, initial.qd, initial.y;
-    dx_.resize(x_.size());
-    const std::string bad = derivative(initial.t, x_, dx_);
-    if (!bad.empty()) throw NumericError(detail::at_time(initial.t, bad));
-    unpack_rates(dx_, qdd_, yd_);
-  }
-
-  // dx = (qd, qdd, yd) at (t, x). "" or what is not finite (then dx is meaningless).
-  std::string derivative(double t, const Vector& x, Vector& dx) {
-    scratch_.t = t;
-    unpack(x, scratch_);
-    qdd_scratch_.resize(n_);
-    yd_scratch_.resize(m_);
-    try {
-      accelerations(scratch_, qdd_scratch_, yd_scratch_);
-    } catch (const NumericError& e) {  // the system's own report of a bad state
-      return e.what();
-    }
-    std::string bad = detail::non_finite_value(*system_, scratch_, qdd_scratch_, yd_scratch_);
-    if (!bad.empty()) return bad;
-    dx.resize(x.size());
-    dx << scratch_.qd, qdd_scratch_, yd_scratch_;
-    return {};
-  }
-
-  void unpack(const Vector& x, State& s) const {
-    s.q = x.head(n_);
-    s.qd = x.segment(n_, n_);
-    s.y = x.tail(m_);
-  }
-  void unpack_rates(const Vector& dx, Vector& qdd, Vector& yd) const {
-    qdd = dx.segment(n_, n_);
-    yd = dx.tail(m_);
-  }
-
-  // Commits x1 at t1 with its derivative dx1.
-  void commit(double t1, const Vector& x1, const Vector& dx1) {
-    x_ = x1;
-    dx_ = dx1;
-    current_.t = t1;
-    unpack(x_, current_);
-    unpack_rates(dx_, qdd_, yd_);
-  }
-
-  double weight(double x) const {
-    return options_.absolute_tolerance + options_.relative_tolerance * std::abs(x);
-  }
-
-  int n_ = 0;
-  int m_ = 0;
-  Vector x_;   // (2n + m) at current_
-  Vector dx_;  // (2n + m) at current_
-
- private:
-  State scratch_;
-  Vector qdd_scratch_, yd_scratch_;
-};
-
-class Rk4 final : public ExplicitIntegrator {
+class Rk4 final : public detail::ExplicitIntegrator {
  public:
   using ExplicitIntegrator::ExplicitIntegrator;
   std::string_view name() const override { return "rk4"; }
@@ -131,13 +62,12 @@ constexpr double d1 = -12715105075.0 / 11282082432, d3 = 87487479700.0 / 3270041
                  d4 = -10690763975.0 / 1880347072, d5 = 701980252875.0 / 199316789632,
                  d6 = -1453857185.0 / 822651844, d7 = 69997945.0 / 29380423;
 
-class Dopri5 final : public ExplicitIntegrator {
+class Dopri5 final : public detail::ExplicitIntegrator {
  public:
   using ExplicitIntegrator::ExplicitIntegrator;
   std::string_view name() const override { return "dopri5"; }
 
  private:
-  bool has_dense_output() const override { return true; }
   void start(const State& initial) override {
     ExplicitIntegrator::start(initial);
     error_old_ = 1e-4;
@@ -146,7 +76,6 @@ class Dopri5 final : public ExplicitIntegrator {
   double first_step(double t_end) override;
   detail::StepOutcome attempt(double h, bool fixed) override;
   void interpolate(double t, State& s, Vector& qdd, Vector& yd) override;
-  double rms_scaled(const Vector& v, const Vector& x0, const Vector& x1) const;
 
   Vector k2_, k3_, k4_, k5_, k6_, k7_, xs_, x1_;
   // Continuous extension of the last accepted step [t_old, t_old + h_old].
@@ -157,29 +86,7 @@ class Dopri5 final : public ExplicitIntegrator {
   bool rejected_ = false;
 };
 
-double Dopri5::rms_scaled(const Vector& v, const Vector& x0, const Vector& x1) const {
-  double sum = 0.0;
-  for (Eigen::Index i = 0; i < v.size(); ++i) {
-    sum += std::pow(v[i] / weight(std::max(std::abs(x0[i]), std::abs(x1[i]))), 2);
-  }
-  return std::sqrt(sum / static_cast<double>(std::max<Eigen::Index>(1, v.size())));
-}
-
-// Hairer's starting step: the step an Euler step with error 0.01 would take, from
-// |x0|, |f0| and a difference estimate of |f'|, for order 5.
-double Dopri5::first_step(double t_end) {
-  const double span = t_end - current_.t;
-  const double d0 = rms_scaled(x_, x_, x_);
-  const double d1 = rms_scaled(dx_, x_, x_);
-  double h0 = (d0 < 1e-10 || d1 < 1e-10) ? 1e-6 * span : 0.01 * d0 / d1;
-  h0 = std::min({h0, options_.max_step, span});
-  xs_ = x_ + h0 * dx_;
-  if (!derivative(current_.t + h0, xs_, k2_).empty()) return h0;
-  const double d2 = rms_scaled(k2_ - dx_, x_, x_) / h0;
-  const double dmax = std::max(d1, d2);
-  const double h1 = dmax <= 1e-15 ? std::max(1e-6 * span, h0 * 1e-3) : std::pow(0.01 / dmax, 0.2);
-  return std::min({100.0 * h0, h1, span});
-}
+double Dopri5::first_step(double t_end) { return starting_step(t_end, 5, k2_); }
 
 detail::StepOutcome Dopri5::attempt(double h, bool fixed) {
   const double t = current_.t;

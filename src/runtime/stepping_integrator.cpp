@@ -1,6 +1,7 @@
 #include "runtime/stepping_integrator.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -9,8 +10,49 @@
 
 namespace symdyn::runtime::detail {
 
-void SteppingIntegrator::interpolate(double t, State&, Vector&, Vector&) {
-  throw NumericError(at_time(t, fmt::format("integrator '{}' has no dense output", name())));
+namespace {
+
+// Hermite bases on [0, 1] as coefficients of 1, th, ..., th^5. Quintic, for
+// (x0, h·x0', h²·x0'', x1, h·x1', h²·x1''); cubic, for (x0, h·x0', x1, h·x1').
+constexpr double quintic[6][6] = {{1, 0, 0, -10, 15, -6},     {0, 1, 0, -6, 8, -3},
+                                  {0, 0, 0.5, -1.5, 1.5, -0.5}, {0, 0, 0, 10, -15, 6},
+                                  {0, 0, 0, -4, 7, -3},         {0, 0, 0, 0.5, -1, 0.5}};
+constexpr double cubic[4][6] = {{1, 0, -3, 2, 0, 0}, {0, 1, -2, 1, 0, 0}, {0, 0, 3, -2, 0, 0},
+                                {0, 0, -1, 1, 0, 0}};
+
+// The value and the first two derivatives in th of a polynomial of degree <= 5.
+std::array<double, 3> evaluate(const double (&c)[6], double th) {
+  double p = 0.0, dp = 0.0, ddp = 0.0;
+  for (int k = 5; k >= 0; --k) {
+    ddp = ddp * th + 2.0 * dp;
+    dp = dp * th + p;
+    p = p * th + c[k];
+  }
+  return {p, dp, ddp};
+}
+
+}  // namespace
+
+void SteppingIntegrator::interpolate(double t, State& s, Vector& qdd, Vector& yd) {
+  const State& a = previous_;
+  const State& b = current_;
+  const double h = b.t - a.t;
+  const double th = (t - a.t) / h;
+  std::array<std::array<double, 3>, 6> p;
+  for (int k = 0; k < 6; ++k) p[k] = evaluate(quintic[k], th);
+  std::array<std::array<double, 3>, 4> c;
+  for (int k = 0; k < 4; ++k) c[k] = evaluate(cubic[k], th);
+  // q and qd = dq/dt = (1/h)·dq/dth from the quintic.
+  s.q = p[0][0] * a.q + (h * p[1][0]) * a.qd + (h * h * p[2][0]) * previous_qdd_ + p[3][0] * b.q +
+        (h * p[4][0]) * b.qd + (h * h * p[5][0]) * qdd_;
+  s.qd = (p[0][1] * a.q + (h * p[1][1]) * a.qd + (h * h * p[2][1]) * previous_qdd_ + p[3][1] * b.q +
+          (h * p[4][1]) * b.qd + (h * h * p[5][1]) * qdd_) / h;
+  // qdd from the cubic of qd, not from the quintic's second derivative, which would
+  // divide the step's local error in q by h².
+  qdd = (c[0][1] * a.qd + (h * c[1][1]) * previous_qdd_ + c[2][1] * b.qd + (h * c[3][1]) * qdd_) / h;
+  s.y = c[0][0] * a.y + (h * c[1][0]) * previous_yd_ + c[2][0] * b.y + (h * c[3][0]) * yd_;
+  yd = (c[0][1] * a.y + (h * c[1][1]) * previous_yd_ + c[2][1] * b.y + (h * c[3][1]) * yd_) / h;
+  s.t = t;
 }
 
 void SteppingIntegrator::accelerations(const State& s, Vector& qdd, Vector& yd) {
@@ -37,7 +79,7 @@ double SteppingIntegrator::initial_step(double t_end) {
 }
 
 // Delivers the output instants reached by the step that ended at current_.t:
-// the one hit exactly, or (dense output) every instant in (t_previous, t].
+// every instant in (t_previous, t], interpolated unless it is the step's end.
 void SteppingIntegrator::deliver(double t_previous, std::size_t& next_output) {
   if (output_every_step()) {
     emit(*system_, current_, qdd_, yd_);
@@ -60,8 +102,7 @@ void SteppingIntegrator::deliver(double t_previous, std::size_t& next_output) {
 State SteppingIntegrator::run(DynamicSystem& system, const State& initial, double t_end) {
   system_ = &system;
   const bool fixed = options_.fixed_step || fixed_step_only();
-  // Steps other methods would take and we shorten to hit an output instant exactly.
-  const bool hit_instants = !has_dense_output();
+  weights_.emplace(options_, name(), system.num_coordinates(), system.num_extra_states());
   start(initial);
   double h = initial_step(t_end);
   emit(system, current_, qdd_, yd_);
@@ -70,9 +111,7 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
   std::size_t next_output = 0;
   std::string last_failure;
   while (current_.t < t_end) {
-    // The limit this step must not cross: the next output instant or t_end.
-    double limit = t_end;
-    if (hit_instants && next_output < output_instants().size()) limit = output_instants()[next_output];
+    const double limit = t_end;
     double step = h;
     bool shortened = false;
     // Landing within 1e-6 steps of the limit counts as reaching it: no sliver step after.
@@ -81,6 +120,9 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
       shortened = true;
     }
     const double t_previous = current_.t;
+    previous_ = current_;
+    previous_qdd_ = qdd_;
+    previous_yd_ = yd_;
     StepOutcome outcome = attempt(step, fixed);
     if (!outcome.accepted) {
       ++stats_.rejected_steps;
@@ -105,7 +147,7 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
     deliver(t_previous, next_output);
     progress(current_.t);
     if (fixed) continue;
-    // A step shortened for an output says nothing against the step before it.
+    // The last step, shortened to end at t_end, says nothing against the step before it.
     h = shortened && outcome.next_step >= step ? std::max(outcome.next_step, h) : outcome.next_step;
     h = std::min(h, options_.max_step);
     if (h < options_.min_step) {

@@ -1,12 +1,14 @@
 #pragma once
 // Private to the runtime: the step loop shared by the one-step integrators
-// (newmark, generalized-alpha, rk4, dopri5), and the checks that name a
-// non-finite value.
+// (newmark, generalized-alpha, rk4, dopri5, dop853, midpoint), and the checks that
+// name a non-finite value.
 //
-// Why a shared loop: hitting output instants, step-size bounds, the underflow
-// test, rejected-step bookkeeping and progress are the same for every one-step
-// method; a method only says how to attempt one step and what step to try next.
+// Why a shared loop: dense output at the output instants, step-size bounds, the
+// underflow test, rejected-step bookkeeping and progress are the same for every
+// one-step method; a method only says how to attempt one step and what step to try
+// next, and may replace the Hermite interpolant by its own continuous extension.
 
+#include <optional>
 #include <string>
 
 #include "runtime/integrator.hpp"
@@ -51,8 +53,11 @@ class SteppingIntegrator : public Integrator {
   // Whether the method only has fixed steps (rk4), whatever options_.fixed_step says.
   virtual bool fixed_step_only() const { return false; }
 
-  // Dense output: the state, qdd and yd at t in the last accepted step.
-  virtual bool has_dense_output() const { return false; }
+  // Dense output: the state, qdd and yd at t in the last accepted step, from
+  // previous_ to current_. By default the quintic Hermite interpolant of q from
+  // (q, qd, qdd) at both ends (its derivative gives qd), the cubic ones of qd from
+  // (qd, qdd) (its derivative gives qdd) and of y from (y, yd) (its derivative gives
+  // yd): no evaluation of the system.
   virtual void interpolate(double t, State& s, Vector& qdd, Vector& yd);
 
   // Evaluations through the system, counted.
@@ -60,9 +65,12 @@ class SteppingIntegrator : public Integrator {
   void residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f, Vector& g);
 
   DynamicSystem* system_ = nullptr;
+  std::optional<ErrorWeights> weights_;  // set before start()
   State current_;
   Vector qdd_;  // (n) at current_
   Vector yd_;   // (m) at current_
+  State previous_;  // the start of the last accepted step
+  Vector previous_qdd_, previous_yd_;
 
  private:
   State run(DynamicSystem& system, const State& initial, double t_end) final;

@@ -44,7 +44,7 @@ TEST_CASE("a NaN at t = 0.5 stops the run naming time and coordinate; earlier ou
     BreaksAtHalf sys;
     IntegratorOptions o;
     o.output_interval = 0.1;
-    if (name == "rk4") o.initial_step = 0.01;
+    if (name == "rk4" || name == "midpoint") o.initial_step = 0.01;
     std::vector<double> delivered;
     o.on_output = [&](const State& s, const Vector&, const Vector&) { delivered.push_back(s.t); };
     auto integ = make_integrator(name, o);
@@ -89,7 +89,7 @@ TEST_CASE("step size underflow at a finite-time blow-up", "[integrator][errors]"
 TEST_CASE("unknown integrator name lists the valid ones", "[integrator][errors]") {
   const std::string message = message_of<OptionError>([] { make_integrator("euler"); });
   CHECK(message ==
-        "unknown integrator 'euler'; valid names: newmark, generalized-alpha, rk4, dopri5, cvode");
+        "unknown integrator 'euler'; valid names: newmark, generalized-alpha, rk4, dopri5, dop853, midpoint, cvode, arkode");
 }
 
 TEST_CASE("bad options are reported with the option named", "[integrator][errors]") {
@@ -141,6 +141,17 @@ TEST_CASE("a non-finite initial state is named", "[integrator][errors]") {
     CHECK(message.find("t = 0") == 0);
     CHECK(message.find("of coordinate 'x' is inf") != std::string::npos);
   }
+}
+
+TEST_CASE("q_scale of the wrong size or not positive names the option", "[integrator][errors]") {
+  Oscillator osc;
+  IntegratorOptions o;
+  o.q_scale = {1.0, 2.0};
+  CHECK_THROWS_WITH(make_integrator("dopri5", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
+                    "integrator 'dopri5': q_scale has 2 entries, the system has 1 coordinates");
+  o.q_scale = {0.0};
+  CHECK_THROWS_WITH(make_integrator("cvode", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
+                    "integrator 'cvode': q_scale[0] = 0 must be finite and positive");
 }
 
 }  // namespace

@@ -23,6 +23,7 @@ IntegratorOptions tight(const std::string& name, double tol, double interval) {
   o.absolute_tolerance = tol;
   o.output_interval = interval;
   if (name == "rk4") o.initial_step = 1e-3;
+  if (name == "midpoint") o.initial_step = 1e-4;
   return o;
 }
 
@@ -48,8 +49,10 @@ TEST_CASE("every integrator follows q = cos 2 pi t at tight tolerance", "[integr
   Oscillator osc;
   for (const auto& name : integrator_names()) {
     CAPTURE(name);
-    // The second-order implicit methods reach a lesser accuracy at the same tolerance.
-    const bool second_order = name == "newmark" || name == "generalized-alpha";
+    // The second-order methods, and arkode (an L-stable method whose damping of the
+    // oscillation adds up), reach a lesser accuracy at the same tolerance.
+    const bool looser = name == "newmark" || name == "generalized-alpha" || name == "arkode" ||
+                        name == "midpoint";
     IntegratorOptions o = tight(name, 1e-10, 0.05);
     Statistics stats;
     const auto out = run(name, o, osc, initial_state(1.0, 0.0), 2.0, &stats);
@@ -63,7 +66,7 @@ TEST_CASE("every integrator follows q = cos 2 pi t at tight tolerance", "[integr
                         std::abs(out[k].qdd[0] + two_pi * two_pi * std::cos(two_pi * t)) /
                             (two_pi * two_pi)});
     }
-    CHECK(worst < (second_order ? 2e-6 : 1e-7));
+    CHECK(worst < (looser ? 2e-6 : 1e-7));
     CHECK(stats.steps > 0);
   }
 }
@@ -105,8 +108,10 @@ TEST_CASE("observed order of accuracy when halving a fixed step", "[integrator][
     double order;
     double h;
   };
-  const Case cases[] = {{"rk4", 4, 1.0 / 40}, {"newmark", 2, 1.0 / 80},
-                        {"generalized-alpha", 2, 1.0 / 80}, {"dopri5", 5, 1.0 / 20}};
+  const Case cases[] = {{"rk4", 4, 1.0 / 40},     {"newmark", 2, 1.0 / 80},
+                        {"generalized-alpha", 2, 1.0 / 80}, {"dopri5", 5, 1.0 / 20},
+                        {"dop853", 8, 1.0 / 8},   {"midpoint", 2, 1.0 / 80},
+                        {"arkode", 4, 1.0 / 40}};
   for (const auto& c : cases) {
     const double e1 = fixed_step_error(c.name, c.h);
     const double e2 = fixed_step_error(c.name, c.h / 2);
@@ -143,7 +148,8 @@ TEST_CASE("damped oscillator driving a low-pass filter (extra first-order state)
   const double q0 = 1.0, v0 = 0.5, y0 = -0.3;
   for (const auto& name : integrator_names()) {
     CAPTURE(name);
-    const bool second_order = name == "newmark" || name == "generalized-alpha";
+    const bool looser = name == "newmark" || name == "generalized-alpha" || name == "arkode" ||
+                        name == "midpoint";
     Statistics stats;
     const auto out = run(name, tight(name, 1e-10, 0.1), sys, initial_state(q0, v0, y0), 3.0, &stats);
     REQUIRE(out.size() == 31);
@@ -157,9 +163,9 @@ TEST_CASE("damped oscillator driving a low-pass filter (extra first-order state)
     }
     INFO(fmt::format("errors q {:.2e} y {:.2e} yd {:.2e}, {} steps", worst_q, worst_y, worst_yd,
                      stats.steps));
-    CHECK(worst_q < (second_order ? 2e-6 : 1e-7));
-    CHECK(worst_y < (second_order ? 2e-6 : 1e-7));
-    CHECK(worst_yd < (second_order ? 2e-5 : 1e-6));
+    CHECK(worst_q < (looser ? 5e-6 : 1e-7));
+    CHECK(worst_y < (looser ? 5e-6 : 1e-7));
+    CHECK(worst_yd < (looser ? 2e-5 : 1e-6));
   }
 }
 
@@ -307,6 +313,113 @@ TEST_CASE("generalized-alpha damps a high frequency that Newmark keeps", "[integ
   // 30 steps at |R| ~ 0.5 leave an energy ~ 0.25^30 ~ 1e-18, times the known
   // overshoot of the first steps (a factor ~40 here).
   CHECK(energy(g.back()) < 1e-10);
+}
+
+
+// The steps of a run, the final state and the outputs seen.
+struct Trace {
+  Statistics stats;
+  State end;
+  std::vector<double> progress;  // after each step (stepping integrators) or output
+};
+
+Trace trace(const std::string& name, double interval) {
+  Pendulum p;
+  IntegratorOptions o;
+  o.relative_tolerance = o.absolute_tolerance = 1e-7;
+  o.output_interval = interval;
+  if (name == "rk4" || name == "midpoint") o.initial_step = 2e-3;
+  Trace t;
+  o.on_progress = [&t](double time, double, double) { t.progress.push_back(time); };
+  auto integ = make_integrator(name, o);
+  t.end = integ->integrate(p, initial_state(2.5, 0.0), 10.0);
+  t.stats = integ->statistics();
+  return t;
+}
+
+TEST_CASE("the output interval never changes the steps taken", "[integrator][output]") {
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    const Trace none = trace(name, 0.0);  // every step delivered
+    for (double interval : {1e-3, 1e-2}) {
+      CAPTURE(interval);
+      const Trace t = trace(name, interval);
+      CHECK(t.stats.steps == none.stats.steps);
+      CHECK(t.stats.rejected_steps == none.stats.rejected_steps);
+      CHECK(t.end.t == none.end.t);
+      CHECK(t.end.q == none.end.q);    // bit for bit
+      CHECK(t.end.qd == none.end.qd);
+    }
+    CHECK(none.stats.steps > 20);
+  }
+}
+
+TEST_CASE("dense output is as accurate as the steps", "[integrator][output]") {
+  // The worst error in q, qd and qdd at outputs every 1e-3 s (between steps of ~1e-2
+  // s) against the worst at the step ends themselves: the interpolants of rk4
+  // (quintic Hermite) and dop853 (order 7 for an order-8 method) lose a factor 3 to 4.
+  Oscillator osc;
+  auto worst_error = [&](const std::string& name, double interval) {
+    IntegratorOptions o = tight(name, 1e-8, interval);
+    if (name == "rk4" || name == "midpoint") o.initial_step = 1e-2;
+    double worst = 0.0;
+    for (const auto& s : run(name, o, osc, initial_state(1.0, 0.0), 1.0)) {
+      const double t = s.s.t;
+      worst = std::max({worst, std::abs(s.s.q[0] - std::cos(two_pi * t)),
+                        std::abs(s.s.qd[0] + two_pi * std::sin(two_pi * t)) / two_pi,
+                        std::abs(s.qdd[0] + two_pi * two_pi * std::cos(two_pi * t)) / (two_pi * two_pi)});
+    }
+    return worst;
+  };
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    const double at_steps = worst_error(name, 0.0);
+    const double dense = worst_error(name, 1e-3);
+    INFO(fmt::format("worst error at the steps {:.3e}, at the outputs {:.3e}", at_steps, dense));
+    CHECK(dense < 5.0 * at_steps);
+  }
+}
+
+TEST_CASE("q_scale sets the error weight of each coordinate, never |q|", "[integrator][weights]") {
+  IntegratorOptions o;
+  o.relative_tolerance = 1e-6;
+  o.absolute_tolerance = 1e-9;
+  ErrorWeights unit(o, "test", 2, 1);
+  State a, b;
+  a.q = Eigen::Vector2d(1000.0, -3.0);
+  a.qd = Eigen::Vector2d(50.0, 0.0);
+  a.y = Vector::Constant(1, -2.0);
+  b = a;
+  b.qd[1] = -4.0;
+  const Vector& w = unit.update(a, b);
+  CHECK(w[0] == 1e-9 + 1e-6);  // q: the unit scale, whatever |q| = 1000
+  CHECK(w[1] == 1e-9 + 1e-6);
+  CHECK(w[2] == 1e-9 + 1e-6 * 50.0);  // qd: largest magnitude at either end
+  CHECK(w[3] == 1e-9 + 1e-6 * 4.0);
+  CHECK(w[4] == 1e-9 + 1e-6 * 2.0);  // y
+  Vector e(5);
+  e << 1e-6, 0.0, 0.0, 0.0, 0.0;
+  CHECK(unit.rms(e) == Approx(1e-6 / w[0] / std::sqrt(5.0)));
+
+  o.q_scale = {0.1, 10.0};
+  ErrorWeights scaled(o, "test", 2, 1);
+  CHECK(scaled.update(a, b)[0] == 1e-9 + 1e-6 * 0.1);
+  CHECK(scaled.weights()[1] == 1e-9 + 1e-6 * 10.0);
+}
+
+TEST_CASE("a larger q_scale loosens the position error test", "[integrator][weights]") {
+  Pendulum p;
+  auto steps = [&](std::vector<double> scale) {
+    IntegratorOptions o;
+    o.relative_tolerance = 1e-8;
+    o.absolute_tolerance = 1e-14;
+    o.q_scale = std::move(scale);
+    auto integ = make_integrator("newmark", o);
+    integ->integrate(p, initial_state(1.0, 0.0), 5.0);
+    return integ->statistics().steps;
+  };
+  CHECK(steps({100.0}) < steps({}));
+  CHECK(steps({}) < steps({0.01}));
 }
 
 }  // namespace

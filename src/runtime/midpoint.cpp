@@ -1,0 +1,255 @@
+#include "runtime/midpoint.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/LU>
+#include <fmt/format.h>
+
+#include "runtime/errors.hpp"
+#include "runtime/stepping_integrator.hpp"
+
+namespace symdyn::runtime {
+
+namespace {
+
+constexpr double eps = std::numeric_limits<double>::epsilon();
+
+class Midpoint final : public detail::SteppingIntegrator {
+ public:
+  using SteppingIntegrator::SteppingIntegrator;
+  std::string_view name() const override { return "midpoint"; }
+
+ private:
+  bool fixed_step_only() const override { return true; }
+  double first_step(double) override { return options_.initial_step; }
+  void start(const State& initial) override;
+  detail::StepOutcome attempt(double h, bool fixed) override;
+  std::string map(double h, const Vector& z, Vector& Gz);
+  double change(const Vector& dz, const Vector& z) const;
+  std::string factor_newton_matrix(double h, const Vector& z, const Vector& Gz);
+
+  void mass_matrix(double t, const Vector& q, const Vector& y, Matrix& M);
+  void mass_times(double t, const Vector& q, const Vector& y, const Vector& x, Vector& Mx);
+  void momentum_rate(double t, const Vector& q, const Vector& v, const Vector& y, const Vector& qdd,
+                     const Matrix& M, Vector& pdot);
+  std::string end_of_step(double t1);
+
+  int n_ = 0;
+  int m_ = 0;
+  Vector q_scale_;               // (n) options.q_scale, or ones
+  Vector p_;                     // (n) momentum at current_
+  Vector pdot_;                  // (n) the last step's midpoint dp/dt: the next step's guess
+  Vector q1_, p1_, y1_;          // (n), (n), (m) the step being solved
+  Vector qm_, pm_, vm_, ym_;     // midpoint values
+  Vector qdd_m_, yd_m_;          // accelerations at the midpoint
+  Matrix M_;                     // (n x n)
+  Eigen::PartialPivLU<Matrix> lu_;
+  Eigen::PartialPivLU<Matrix> newton_lu_;  // of I - dG/dz, (2n+m x 2n+m)
+  State probe_;                  // scratch state for the residuals
+  Vector f0_, f1_, g_, zero_n_, zero_m_, Mv_plus_, Mv_minus_;
+};
+
+// The power of two nearest to 1e6·max(1, |f0|)/|x|: M·x = (f(λ·x) - f0)/λ with λ·x
+// far larger than f0 loses only eps·|M·x| to rounding, not eps·|f0| (gravity, say);
+// a power of two scales exactly.
+double amplification(const Vector& f0, double x_size) {
+  const double target = 1e6 * std::max(1.0, f0.lpNorm<Eigen::Infinity>()) / x_size;
+  return std::exp2(std::round(std::log2(target)));
+}
+
+// M·x = (f(t, q, 0, λ·x, y) - f(t, q, 0, 0, y))/λ.
+void Midpoint::mass_times(double t, const Vector& q, const Vector& y, const Vector& x, Vector& Mx) {
+  probe_.t = t;
+  probe_.q = q;
+  probe_.qd = zero_n_;
+  probe_.y = y;
+  residual(probe_, zero_n_, zero_m_, f0_, g_);
+  const double size = x.lpNorm<Eigen::Infinity>();
+  if (size == 0.0) {
+    Mx = zero_n_;
+    return;
+  }
+  const double lambda = amplification(f0_, size);
+  residual(probe_, lambda * x, zero_m_, f1_, g_);
+  Mx = (f1_ - f0_) / lambda;
+}
+
+// M column by column: n + 1 residuals, amplified as in mass_times.
+void Midpoint::mass_matrix(double t, const Vector& q, const Vector& y, Matrix& M) {
+  probe_.t = t;
+  probe_.q = q;
+  probe_.qd = zero_n_;
+  probe_.y = y;
+  residual(probe_, zero_n_, zero_m_, f0_, g_);
+  const double lambda = amplification(f0_, 1.0);
+  M.resize(n_, n_);
+  Vector e = zero_n_;
+  for (int j = 0; j < n_; ++j) {
+    e[j] = lambda;
+    residual(probe_, e, zero_m_, f1_, g_);
+    M.col(j) = (f1_ - f0_) / lambda;
+    e[j] = 0.0;
+  }
+}
+
+// dp/dt = M·qdd + Ṁ·v, Ṁ·v = (M(q + d·v) - M(q - d·v))·v / (2d): a central
+// difference with d·|v / q_scale| = cbrt(eps) (truncation and rounding balanced). The
+// scale of q, not |q|: M varies with an angle over a radian however far it has wound.
+void Midpoint::momentum_rate(double t, const Vector& q, const Vector& v, const Vector& y,
+                             const Vector& qdd, const Matrix& M, Vector& pdot) {
+  pdot = M * qdd;
+  const double speed = v.cwiseQuotient(q_scale_).lpNorm<Eigen::Infinity>();
+  if (speed == 0.0) return;
+  const double d = std::cbrt(eps) / speed;
+  mass_times(t, q + d * v, y, v, Mv_plus_);
+  mass_times(t, q - d * v, y, v, Mv_minus_);
+  pdot += (Mv_plus_ - Mv_minus_) / (2.0 * d);
+}
+
+void Midpoint::start(const State& initial) {
+  n_ = system_->num_coordinates();
+  m_ = system_->num_extra_states();
+  zero_n_ = Vector::Zero(n_);
+  zero_m_ = Vector::Zero(m_);
+  q_scale_ = Vector::Ones(n_);
+  for (std::size_t i = 0; i < options_.q_scale.size(); ++i) {
+    q_scale_[static_cast<Eigen::Index>(i)] = options_.q_scale[i];
+  }
+  current_ = initial;
+  mass_matrix(initial.t, initial.q, initial.y, M_);
+  p_ = M_ * initial.qd;
+  qdd_.resize(n_);
+  yd_.resize(m_);
+  accelerations(current_, qdd_, yd_);
+  const std::string bad = detail::non_finite_value(*system_, current_, qdd_, yd_);
+  if (!bad.empty()) throw NumericError(detail::at_time(initial.t, bad));
+  momentum_rate(initial.t, initial.q, initial.qd, initial.y, qdd_, M_, pdot_);
+}
+
+// qd1 = M(q1)⁻¹·p1 and (qdd1, yd1) at the step end; "" or what went wrong.
+std::string Midpoint::end_of_step(double t1) {
+  mass_matrix(t1, q1_, y1_, M_);
+  lu_.compute(M_);
+  probe_.t = t1;
+  probe_.q = q1_;
+  probe_.qd = lu_.solve(p1_);
+  probe_.y = y1_;
+  Vector qdd(n_), yd(m_);
+  accelerations(probe_, qdd, yd);
+  std::string bad = detail::non_finite_value(*system_, probe_, qdd, yd);
+  if (!bad.empty()) return detail::at_time(t1, bad);
+  current_ = probe_;
+  qdd_ = qdd;
+  yd_ = yd;
+  p_ = p1_;
+  return {};
+}
+
+// G(z) for z = (q1, p1, y1) (2n + m): (q0 + h·vm, p0 + h·ṗm, y0 + h·ydm) at the
+// midpoint of z and the step start. "" or what went wrong.
+std::string Midpoint::map(double h, const Vector& z, Vector& Gz) {
+  const double tm = current_.t + 0.5 * h;
+  qm_ = 0.5 * (current_.q + z.head(n_));
+  pm_ = 0.5 * (p_ + z.segment(n_, n_));
+  ym_ = 0.5 * (current_.y + z.tail(m_));
+  mass_matrix(tm, qm_, ym_, M_);
+  lu_.compute(M_);
+  vm_ = lu_.solve(pm_);
+  probe_.t = tm;
+  probe_.q = qm_;
+  probe_.qd = vm_;
+  probe_.y = ym_;
+  qdd_m_.resize(n_);
+  yd_m_.resize(m_);
+  try {
+    accelerations(probe_, qdd_m_, yd_m_);
+  } catch (const NumericError& e) {
+    return detail::at_time(tm, e.what());
+  }
+  const std::string bad = detail::non_finite_value(*system_, probe_, qdd_m_, yd_m_);
+  if (!bad.empty()) return detail::at_time(tm, bad);
+  momentum_rate(tm, qm_, vm_, ym_, qdd_m_, M_, pdot_);
+  Gz.resize(z.size());
+  Gz << current_.q + h * vm_, p_ + h * pdot_, current_.y + h * yd_m_;
+  return {};
+}
+
+// Largest |dz_i| relative to q_scale for q (never |q|, which winds up) and to the
+// size of p and y.
+double Midpoint::change(const Vector& dz, const Vector& z) const {
+  double c = 0.0;
+  for (Eigen::Index i = 0; i < dz.size(); ++i) {
+    const double size = i < n_ ? q_scale_[i] : std::max(1.0, std::abs(z[i]));
+    c = std::max(c, std::abs(dz[i]) / size);
+  }
+  return c;
+}
+
+// (I - dG/dz) by forward differences at z, factored for Newton's updates.
+std::string Midpoint::factor_newton_matrix(double h, const Vector& z, const Vector& Gz) {
+  const Eigen::Index size = z.size();
+  Matrix A = Matrix::Identity(size, size);
+  Vector zp = z, Gp;
+  for (Eigen::Index j = 0; j < size; ++j) {
+    const double scale = j < n_ ? q_scale_[j] : std::max(1.0, std::abs(z[j]));
+    const double d = std::sqrt(eps) * std::max(scale, std::abs(z[j]));
+    zp[j] = z[j] + d;
+    const std::string bad = map(h, zp, Gp);
+    if (!bad.empty()) return bad;
+    A.col(j) -= (Gp - Gz) / (zp[j] - z[j]);
+    zp[j] = z[j];
+  }
+  newton_lu_.compute(A);
+  return {};
+}
+
+// Fixed-point iteration z <- G(z), which contracts by about h·|dG/dz|/2; when it
+// contracts slowly (fast motion, large step), Newton on z - G(z) = 0 with a
+// difference Jacobian takes over.
+detail::StepOutcome Midpoint::attempt(double h, bool) {
+  const double t1 = current_.t + h;
+  // Guess: q advanced by Taylor, p and y by the last rates.
+  Vector z(2 * n_ + m_), Gz, dz;
+  z << current_.q + h * current_.qd + (0.5 * h * h) * qdd_, p_ + h * pdot_, current_.y + h * yd_;
+  bool newton = false;
+  double previous_change = std::numeric_limits<double>::infinity();
+  for (int k = 1; k <= options_.max_newton_iterations; ++k) {
+    std::string bad = map(h, z, Gz);
+    if (!bad.empty()) return {false, h, bad};
+    dz = newton ? Vector(newton_lu_.solve(Gz - z)) : Vector(Gz - z);
+    z += dz;
+    ++stats_.newton_iterations;
+    const double c = change(dz, z);
+    if (!std::isfinite(c)) break;
+    // Converged at rounding level, or Newton stalled at the level of the rounding
+    // noise of M and Ṁ·v from residual differences (the change no longer halves).
+    if (c <= 4.0 * eps || (newton && c < 1e-7 && c > 0.5 * previous_change)) {
+      q1_ = z.head(n_);
+      p1_ = z.segment(n_, n_);
+      y1_ = z.tail(m_);
+      const std::string failure = end_of_step(t1);
+      return {failure.empty(), h, failure};
+    }
+    if (!newton && k >= 3 && c > 0.25 * previous_change) {
+      bad = map(h, z, Gz);
+      if (bad.empty()) bad = factor_newton_matrix(h, z, Gz);
+      if (!bad.empty()) return {false, h, bad};
+      ++stats_.jacobian_evaluations;
+      newton = true;
+    }
+    previous_change = c;
+  }
+  return {false, h,
+          detail::at_time(t1, fmt::format("midpoint iteration did not converge in {} iterations",
+                                          options_.max_newton_iterations))};
+}
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_midpoint(IntegratorOptions options) {
+  return std::make_unique<Midpoint>(std::move(options));
+}
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,58 @@
+#include "runtime/sundials_support.hpp"
+
+#include <fmt/format.h>
+
+#include "runtime/errors.hpp"
+#include "runtime/stepping_integrator.hpp"
+
+namespace symdyn::runtime::detail {
+
+
+void unpack(CallbackData& d, double t, N_Vector x) {
+  const Eigen::Map<const Vector> xv(N_VGetArrayPointer(x), 2 * d.n + d.m);
+  d.s.t = t;
+  d.s.q = xv.head(d.n);
+  d.s.qd = xv.segment(d.n, d.n);
+  d.s.y = xv.tail(d.m);
+}
+
+// dx = (qd, qdd, yd); a failure is kept in d for the message.
+int right_hand_side(realtype t, N_Vector x, N_Vector dx, void* user) {
+  auto& d = *static_cast<CallbackData*>(user);
+  try {
+    unpack(d, t, x);
+    ++d.evaluations;
+    d.qdd.resize(d.n);
+    d.yd.resize(d.m);
+    d.system->accelerations(d.s, d.qdd, d.yd);
+    const std::string bad = non_finite_value(*d.system, d.s, d.qdd, d.yd);
+    if (!bad.empty()) {
+      d.last_failure = at_time(t, bad);
+      return 1;
+    }
+    Eigen::Map<Vector> out(N_VGetArrayPointer(dx), 2 * d.n + d.m);
+    out << d.s.qd, d.qdd, d.yd;
+    return 0;
+  } catch (const NumericError& e) {
+    d.last_failure = at_time(t, e.what());
+    return 1;
+  } catch (...) {
+    d.error = std::current_exception();
+    return -1;
+  }
+}
+
+// ewt = 1/w (SUNDIALS multiplies by its weights).
+int error_weights(N_Vector x, N_Vector ewt, void* user) {
+  auto& d = *static_cast<CallbackData*>(user);
+  const Eigen::Map<const Vector> xv(N_VGetArrayPointer(x), 2 * d.n + d.m);
+  const Vector& w = d.weights->update(xv, xv);
+  Eigen::Map<Vector>(N_VGetArrayPointer(ewt), w.size()) = w.cwiseInverse();
+  return 0;
+}
+
+void keep_message(int, const char*, const char* function, char* message, void* user) {
+  static_cast<CallbackData*>(user)->solver_message = fmt::format("{}: {}", function, message);
+}
+
+}  // namespace symdyn::runtime::detail
