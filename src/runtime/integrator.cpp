@@ -30,6 +30,11 @@ void Integrator::check_options(double t_begin, double t_end) const {
                      o.min_step, o.max_step));
   }
   if (!(o.initial_step >= 0.0)) fail(fmt::format("initial_step {} is negative", o.initial_step));
+  if (o.initial_step > 0.0 && o.initial_step < o.min_step) {
+    fail(fmt::format("initial_step {:g} is below min_step {:g}", o.initial_step, o.min_step));
+  }
+  if (!(o.max_steps > 0)) fail(fmt::format("max_steps {} must be positive", o.max_steps));
+
   if (o.max_newton_iterations < 1) {
     fail(fmt::format("max_newton_iterations {} must be at least 1", o.max_newton_iterations));
   }
@@ -53,22 +58,28 @@ void Integrator::check_options(double t_begin, double t_end) const {
 // Instants after t_begin (the initial state is always delivered first), the last
 // one t_end. An interval's instants are t_begin + k·interval, computed by product
 // so that they do not drift; one closer to t_end than 1e-9 intervals merges with it.
-void Integrator::plan_outputs(double t_begin, double t_end) {
-  instants_.clear();
-  const auto& o = options_;
-  if (o.output_interval > 0.0) {
-    for (long k = 1;; ++k) {
-      const double ti = t_begin + static_cast<double>(k) * o.output_interval;
-      if (ti >= t_end - 1e-9 * o.output_interval) break;
-      instants_.push_back(ti);
-    }
-    instants_.push_back(t_end);
+Integrator::OutputInstants::OutputInstants(const IntegratorOptions& o, double t_begin, double t_end)
+    : t_begin_(t_begin), t_end_(t_end), interval_(o.output_interval) {
+  if (interval_ > 0.0) {
+    // Instants k = 1 .. K before t_end, K from the ratio then corrected by the test itself.
+    const auto inside = [&](double k) { return t_begin + k * interval_ < t_end - 1e-9 * interval_; };
+    double K = std::max(0.0, std::floor((t_end - t_begin) / interval_));
+    while (K > 0.0 && !inside(K)) K -= 1.0;
+    while (inside(K + 1.0)) K += 1.0;
+    count_ = static_cast<std::size_t>(K) + 1;
   } else if (!o.output_times.empty()) {
-    for (double ti : o.output_times) {
-      if (ti > t_begin && ti < t_end) instants_.push_back(ti);
-    }
-    instants_.push_back(t_end);
+    times_ = &o.output_times;
+    const auto first = std::upper_bound(o.output_times.begin(), o.output_times.end(), t_begin);
+    const auto last = std::lower_bound(first, o.output_times.end(), t_end);
+    first_ = static_cast<std::size_t>(first - o.output_times.begin());
+    count_ = static_cast<std::size_t>(last - first) + 1;
   }
+}
+
+double Integrator::OutputInstants::operator[](std::size_t k) const {
+  if (k + 1 == count_) return t_end_;
+  if (times_ != nullptr) return (*times_)[first_ + k];
+  return t_begin_ + static_cast<double>(k + 1) * interval_;
 }
 
 State Integrator::integrate(DynamicSystem& system, const State& initial, double t_end) {
@@ -87,7 +98,7 @@ State Integrator::integrate(DynamicSystem& system, const State& initial, double 
   stats_ = Statistics{};
   t_begin_ = initial.t;
   t_end_ = t_end;
-  plan_outputs(initial.t, t_end);
+  instants_ = OutputInstants(options_, initial.t, t_end);
   return run(system, initial, t_end);
 }
 
@@ -148,7 +159,11 @@ double ErrorWeights::rms(const Vector& e) const {
 
 namespace detail {
 
-std::string at_time(double t, const std::string& what) { return fmt::format("t = {}: {}", t, what); }
+std::string at_time(double t, const std::string& what) {
+  // A message from the system already names its time.
+  if (what.rfind("t = ", 0) == 0) return what;
+  return fmt::format("t = {}: {}", t, what);
+}
 
 std::string non_finite_entry(const DynamicSystem& system, const char* quantity, const Vector& v,
                              bool extra) {

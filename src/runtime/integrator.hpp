@@ -93,8 +93,11 @@ struct IntegratorOptions {
   std::vector<double> q_scale;
 
   double initial_step = 0.0;  // 0: the integrator chooses (rk4 requires it > 0)
-  double min_step = 1e-12;    // below it, a run stops with a NumericError
+  double min_step = 1e-12;    // below it (a fixed step too), a run stops with an error
   double max_step = std::numeric_limits<double>::infinity();
+  // Step attempts (accepted and rejected) a run may take before it stops with a
+  // NumericError; a fixed-step run that would need more is an OptionError at once.
+  long max_steps = 100'000'000;
 
   // newmark, generalized-alpha, dopri5 and dop853: take steps of exactly
   // initial_step (the last one shortened to end at t_end), without error control.
@@ -151,9 +154,24 @@ class Integrator {
   // The run itself, after the checks: deliver outputs through emit(), count in stats_.
   virtual State run(DynamicSystem& system, const State& initial, double t_end) = 0;
 
-  // Output instants of the run in increasing order, the last one t_end; empty for
+  // Output instants of the run in increasing order, the last one t_end, each
+  // computed when asked (a run of 10^9 outputs holds none in memory); empty for
   // "every accepted step" (then t_end is delivered by the run itself).
-  const std::vector<double>& output_instants() const { return instants_; }
+  class OutputInstants {
+   public:
+    OutputInstants() = default;
+    OutputInstants(const IntegratorOptions& o, double t_begin, double t_end);
+    std::size_t size() const { return count_; }
+    bool empty() const { return count_ == 0; }
+    double operator[](std::size_t k) const;
+
+   private:
+    const std::vector<double>* times_ = nullptr;  // the instants of a list, inside (t_begin, t_end)
+    std::size_t first_ = 0;                       // index of the first of them in the list
+    double t_begin_ = 0.0, t_end_ = 0.0, interval_ = 0.0;
+    std::size_t count_ = 0;
+  };
+  const OutputInstants& output_instants() const { return instants_; }
   bool output_every_step() const { return instants_.empty(); }
 
   // Delivers one output after checking every value is finite.
@@ -165,9 +183,8 @@ class Integrator {
 
  private:
   void check_options(double t_begin, double t_end) const;
-  void plan_outputs(double t_begin, double t_end);
 
-  std::vector<double> instants_;
+  OutputInstants instants_;
   double t_begin_ = 0.0;
   double t_end_ = 0.0;
 };

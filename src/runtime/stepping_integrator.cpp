@@ -72,6 +72,13 @@ double SteppingIntegrator::initial_step(double t_end) {
       throw OptionError(fmt::format(
           "integrator '{}': a fixed-step run needs initial_step > 0 (the step)", name()));
     }
+    // The number of steps is known: refuse at once what would not finish.
+    const double steps = (t_end - current_.t) / options_.initial_step;
+    if (steps > static_cast<double>(options_.max_steps)) {
+      throw OptionError(fmt::format(
+          "integrator '{}': a fixed step of {:g} s from t = {:g} to {:g} takes {:.3g} steps, over max_steps {}",
+          name(), options_.initial_step, current_.t, t_end, steps, options_.max_steps));
+    }
     return options_.initial_step;
   }
   const double h = options_.initial_step > 0.0 ? options_.initial_step : first_step(t_end);
@@ -110,7 +117,12 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
 
   std::size_t next_output = 0;
   std::string last_failure;
+  FailureStreak streak;
   while (current_.t < t_end) {
+    if (stats_.steps + stats_.rejected_steps >= options_.max_steps) {
+      throw NumericError(at_time(current_.t, fmt::format("{} step attempts reached max_steps (integrator '{}')",
+                                                         options_.max_steps, name())));
+    }
     const double limit = t_end;
     double step = h;
     bool shortened = false;
@@ -126,7 +138,15 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
     StepOutcome outcome = attempt(step, fixed);
     if (!outcome.accepted) {
       ++stats_.rejected_steps;
-      if (!outcome.failure.empty()) last_failure = outcome.failure;
+      if (!outcome.failure.empty()) {
+        last_failure = outcome.failure;
+        if (streak.failed(step)) {
+          throw NumericError(fmt::format(
+              "{} (integrator '{}': {} failed steps from {:g} s down to {:g} s without recovering; the solution "
+              "runs into values it cannot take, such as a dependent parameter out of its domain)",
+              outcome.failure, name(), streak.count(), streak.first_step(), step));
+        }
+      }
       if (fixed) {
         throw NumericError(fmt::format("{} (fixed step {} from t = {})", outcome.failure, step,
                                        t_previous));
@@ -141,6 +161,7 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
       continue;
     }
     ++stats_.steps;
+    streak.accepted(step);
     if (shortened) current_.t = limit;  // exactly, whatever the rounding of t + step
     const std::string bad = non_finite_value(system, current_, qdd_, yd_);
     if (!bad.empty()) throw NumericError(at_time(current_.t, bad));

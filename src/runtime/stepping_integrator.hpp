@@ -34,6 +34,33 @@ struct StepOutcome {
   std::string failure;     // why a step failed (Newton, non-finite), with its time; "" otherwise
 };
 
+// Step failures (a non-finite value, a Newton iteration that diverged) that
+// follow one another without the integrator getting back to the step that
+// first failed: the solution creeps towards a place it cannot pass (asin's
+// argument at 1), which smaller steps only approach. Recovery is an accepted
+// step as long as the first failed one, or kRecoverySteps accepted steps in a row.
+class FailureStreak {
+ public:
+  static constexpr int kLimit = 12;  // 4^12: steps divided by 1.7e7
+  static constexpr int kRecoverySteps = 50;
+  // Records a failed step of size h; true when the streak reaches kLimit.
+  bool failed(double h) {
+    if (count_ == 0) first_ = h;
+    accepted_ = 0;
+    return ++count_ >= kLimit;
+  }
+  void accepted(double h) {
+    if (count_ > 0 && (h >= first_ || ++accepted_ >= kRecoverySteps)) count_ = 0;
+  }
+  int count() const { return count_; }
+  double first_step() const { return first_; }
+
+ private:
+  int count_ = 0;
+  int accepted_ = 0;
+  double first_ = 0.0;
+};
+
 class SteppingIntegrator : public Integrator {
  public:
   using Integrator::Integrator;

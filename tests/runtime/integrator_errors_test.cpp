@@ -155,3 +155,56 @@ TEST_CASE("q_scale of the wrong size or not positive names the option", "[integr
 }
 
 }  // namespace
+
+TEST_CASE("a solution that runs out of its model's domain stops every integrator, never creeps to the end",
+          "[integrator][errors]") {
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    DomainEdge edge;
+    IntegratorOptions o;
+    o.relative_tolerance = o.absolute_tolerance = 1e-8;
+    if (name == "rk4" || name == "midpoint") o.initial_step = 1e-3;
+    double last_output = 0.0;
+    o.output_interval = 0.01;
+    o.on_output = [&](const State& s, const Vector&, const Vector&) { last_output = s.t; };
+    auto integrator = make_integrator(name, o);
+    const std::string m = message_of<NumericError>([&] { integrator->integrate(edge, initial_state(0.0, 1.0), 10.0); });
+    CAPTURE(m);
+    CHECK(m.find("crank") != std::string::npos);  // the non-finite value is named
+    // q = 1 is reached near t = 0.8: the run stops there, with the outputs before it delivered.
+    const std::vector<double> t = times_named(m);
+    REQUIRE(!t.empty());
+    CHECK(t.front() > 0.5);
+    CHECK(t.front() < 1.0);
+    CHECK(last_output > 0.5);
+    CHECK(m.rfind("t = ", 0) == 0);
+    static const std::regex repeated(R"(t = [-+0-9.eE]+: t = )");
+    CHECK_FALSE(std::regex_search(m, repeated));  // one time prefix, not "t = 0.8: t = 0.8: ..."
+  }
+}
+
+TEST_CASE("work is bounded: max_steps, and a fixed step below min_step or too many steps refused at once",
+          "[integrator][errors]") {
+  Oscillator osc;
+  IntegratorOptions o;
+  o.initial_step = 1e-300;
+  CHECK_THROWS_WITH(make_integrator("rk4", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
+                    "integrator 'rk4': initial_step 1e-300 is below min_step 1e-12");
+  o.initial_step = 1e-9;
+  CHECK_THROWS_WITH(make_integrator("rk4", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
+                    "integrator 'rk4': a fixed step of 1e-09 s from t = 0 to 1 takes 1e+09 steps, over max_steps "
+                    "100000000");
+  IntegratorOptions adaptive;
+  adaptive.max_steps = 50;
+  adaptive.relative_tolerance = adaptive.absolute_tolerance = 1e-10;
+  const std::string m = message_of<NumericError>(
+      [&] { make_integrator("dopri5", adaptive)->integrate(osc, initial_state(1.0, 0.0), 100.0); });
+  CHECK(m.find("50 step attempts reached max_steps (integrator 'dopri5')") != std::string::npos);
+  // Output instants are computed as they come: 10^9 of them cost no memory up front.
+  IntegratorOptions many;
+  many.output_interval = 1e-9;
+  std::size_t outputs = 0;
+  many.on_output = [&](const State&, const Vector&, const Vector&) { ++outputs; };
+  make_integrator("dopri5", many)->integrate(osc, initial_state(1.0, 0.0), 1e-6);
+  CHECK(outputs == 1001);
+}

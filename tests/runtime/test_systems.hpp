@@ -236,6 +236,25 @@ class BreaksAtHalf : public Oscillator {
   }
 };
 
+// q'' = 1/sqrt(1 - q) from q = 0, q' = 1: q reaches 1 at a finite speed
+// (q'² = 5 - 4·sqrt(1 - q)) and passes into q > 1, where the model has no
+// value (a crank longer than its rod: asin's argument beyond 1).
+class DomainEdge : public DynamicSystem {
+ public:
+  int num_coordinates() const override { return 1; }
+  std::string coordinate_name(int) const override { return "crank"; }
+  void accelerations(const State& s, Vector& qdd, Vector& yd) override {
+    qdd.resize(1);
+    yd.resize(0);
+    qdd[0] = 1.0 / std::sqrt(1.0 - s.q[0]);
+  }
+  void residual(const State& s, const Vector& qdd, const Vector&, Vector& f, Vector& g) override {
+    f.resize(1);
+    g.resize(0);
+    f[0] = qdd[0] - 1.0 / std::sqrt(1.0 - s.q[0]);
+  }
+};
+
 inline State initial_state(double q0, double v0, double y0 = std::nan("")) {
   State s;
   s.q = Vector::Constant(1, q0);
