@@ -41,7 +41,7 @@
 //   s_i = q_scale[i] (1 unless set) for a coordinate q_i: a fixed scale, never |q_i|,
 //         since a crank that has wound up 3 900 rad is not known less precisely;
 //   s_i = max(|x_i(t0)|, |x_i(t1)|) for a rate qd_i or an extra state y_i (both ends
-//         of the step; cvode only sees the current value).
+//         of the step; cvode and arkode see the current value only).
 //
 // Output instants: a list of times, or a fixed interval from the initial time, or
 // (both empty) every accepted step. The initial and final states are always
