@@ -172,17 +172,46 @@ const std::vector<SymdynModel>& symdyn_models() {
   return all;
 }
 
-// MultibodySystem::accelerations under gravity, what users call.
-Workload system_workload(const SymdynModel& s, const States& st) {
-  auto system = std::make_shared<rt::MultibodySystem>(s.make(), rt::EquationsSource::emitted);
-  auto state = std::make_shared<rt::State>(system->initial_state());
-  auto qdd = std::make_shared<rt::Vector>();
-  auto yd = std::make_shared<rt::Vector>();
-  return [=, &st](int k) {
-    state->q = st.q[k];
-    state->qd = st.qd[k];
-    system->accelerations(*state, *qdd, *yd);
-  };
+// What users call: MultibodySystem::accelerations under gravity, and for M and
+// tau the system's mass_matrix and residual (f = M·qdd + h, no force element).
+// The runtime has no call for positions alone: users call the emitted positions().
+struct SystemWorkload {
+  std::shared_ptr<rt::MultibodySystem> system;
+  std::shared_ptr<rt::State> state;
+  std::shared_ptr<rt::Vector> out, yd, g;
+  std::shared_ptr<rt::Matrix> M;
+};
+
+Workload system_workload(const SymdynModel& s, const States& st, Op op = Op::forward_dynamics) {
+  SystemWorkload w{std::make_shared<rt::MultibodySystem>(s.make(), rt::EquationsSource::emitted),
+                   nullptr,
+                   std::make_shared<rt::Vector>(),
+                   std::make_shared<rt::Vector>(),
+                   std::make_shared<rt::Vector>(),
+                   std::make_shared<rt::Matrix>()};
+  w.state = std::make_shared<rt::State>(w.system->initial_state());
+  switch (op) {
+    case Op::forward_dynamics:
+      return [w, &st](int k) {
+        w.state->q = st.q[k];
+        w.state->qd = st.qd[k];
+        w.system->accelerations(*w.state, *w.out, *w.yd);
+      };
+    case Op::mass_matrix:
+      return [w, &st](int k) {
+        w.state->q = st.q[k];
+        w.system->mass_matrix(*w.state, *w.M);
+      };
+    case Op::inverse_dynamics:
+      return [w, &st](int k) {
+        w.state->q = st.q[k];
+        w.state->qd = st.qd[k];
+        w.system->residual(*w.state, st.qdd[k], *w.yd, *w.out, *w.g);
+      };
+    case Op::positions:
+      return {};
+  }
+  return {};
 }
 
 struct PeerFactory {
@@ -267,7 +296,10 @@ Contenders verify(const SymdynModel& s, const States& st) {
 
   // symdyn's own two paths agree first: the runtime against the emitted code.
   std::vector<Outputs> ref;
-  double max_cond = 0, system_err = 0;
+  double max_cond = 0;
+  std::map<std::string, double> system_err;
+  rt::Matrix M_sys;
+  rt::Vector tau_sys, g;
   auto system = rt::MultibodySystem(s.make(), rt::EquationsSource::emitted);
   rt::State state = system.initial_state();
   rt::Vector qdd_sys, yd;
@@ -285,12 +317,22 @@ Contenders verify(const SymdynModel& s, const States& st) {
     state.q = q;
     state.qd = qd;
     system.accelerations(state, qdd_sys, yd);
-    system_err = std::max(system_err, relative_error({qdd_sys.data(), qdd_sys.data() + nq}, o.qdd));
+    system_err["qdd"] =
+        std::max(system_err["qdd"], relative_error({qdd_sys.data(), qdd_sys.data() + nq}, o.qdd));
+    system.mass_matrix(state, M_sys);
+    const RowMatrix M_rows = M_sys;
+    system_err["M"] =
+        std::max(system_err["M"], relative_error({M_rows.data(), M_rows.data() + nq * nq}, o.M));
+    system.residual(state, qdd, yd, tau_sys, g);
+    system_err["tau"] =
+        std::max(system_err["tau"], relative_error({tau_sys.data(), tau_sys.data() + nq}, o.tau));
     ref.push_back(std::move(o));
   }
   fmt::print("cond\t{}\t{:.3g}\n", s.target, max_cond);
-  fmt::print("verify\t{}\tsymdyn_system\tqdd\t{:.3g}\t{:.0e}\t{}\n", s.target, system_err,
-             kTolerance, system_err <= kTolerance ? "ok" : "DISAGREES");
+  for (const auto& [quantity, e] : system_err) {
+    fmt::print("verify\t{}\tsymdyn_system\t{}\t{:.3g}\t{:.0e}\t{}\n", s.target, quantity, e,
+               kTolerance, e <= kTolerance ? "ok" : "DISAGREES");
+  }
 
   Contenders c;
   for (const PeerFactory& f : peer_factories()) {
@@ -360,7 +402,7 @@ void time_model(const SymdynModel& s, int rounds, double batch_ms) {
   for (Op op : kOps) {
     std::vector<std::pair<std::string, Workload>> w;
     w.emplace_back("symdyn_emitted", s.workload(op, st));
-    if (op == Op::forward_dynamics) w.emplace_back("symdyn_system", system_workload(s, st));
+    if (op != Op::positions) w.emplace_back("symdyn_system", system_workload(s, st, op));
     for (auto& [id, p] : c.peers) w.emplace_back(id, peer_workload(*p, op, st));
     // Passes per batch: a batch lasts about batch_ms, found on a warm-up batch.
     std::vector<int> passes;
@@ -404,7 +446,7 @@ int count(const std::string& library, const std::string& op_text, const std::str
     Workload w;
     std::unique_ptr<Peer> peer;
     if (library == "symdyn_emitted") w = s.workload(op, st);
-    if (library == "symdyn_system") w = system_workload(s, st);
+    if (library == "symdyn_system") w = system_workload(s, st, op);
     for (const PeerFactory& f : peer_factories()) {
       if (library != f.id) continue;
       std::string why;
