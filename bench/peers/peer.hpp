@@ -15,10 +15,14 @@
 
 namespace symdyn::bench::peers {
 
+enum class Operation { forward_dynamics, mass_matrix, inverse_dynamics, positions };
+
 class Peer {
  public:
   virtual ~Peer() = default;
   virtual std::string name() const = 0;
+  // Whether the library computes op on this model (its make_ function says why not).
+  virtual bool can(Operation) const { return true; }
   // The total mass the library's model holds (an independent check of the model).
   virtual double total_mass() const = 0;
 
@@ -36,7 +40,8 @@ class Peer {
 };
 
 // Each returns nullptr when the library cannot express the mechanism, and sets
-// why (a sentence for the results).
+// why (a sentence for the results); or a peer that cannot do some operations,
+// with why saying which and why.
 std::unique_ptr<Peer> make_mujoco(const Mechanism& m, std::string& why);
 std::unique_ptr<Peer> make_simbody(const Mechanism& m, std::string& why);
 std::unique_ptr<Peer> make_kdl(const Mechanism& m, std::string& why);

@@ -43,6 +43,7 @@ def main(work, out):
     times = {}          # (model, op, lib) -> (median, q1, q3)
     verify = collections.defaultdict(dict)  # (model, lib) -> quantity -> (err, ok)
     skips = {}          # (model, lib) -> why
+    skipops = {}        # (model, op, lib) -> why
     cond = {}
     for r in rows:
         kind = r[0]
@@ -54,6 +55,8 @@ def main(work, out):
             verify[(r[1], r[2])][r[3]] = (float(r[4]), r[6] == "ok")
         elif kind == "skip":
             skips[(r[1], r[2])] = r[3]
+        elif kind == "skipop":
+            skipops[(r[1], r[3], r[2])] = r[4]
         elif kind == "cond":
             cond[r[1]] = r[2]
     counts = {(r[0], r[1]): r[2] for r in read_tsv(os.path.join(work, "counts.tsv"))}
@@ -64,7 +67,7 @@ def main(work, out):
         return v is not None and all(ok for _, ok in v.values())
 
     def cell(model, op, lib):
-        if (model, lib) in skips:
+        if (model, lib) in skips or (model, op, lib) in skipops:
             return "—"
         if lib in PEERS and not agreed(model, lib):
             return "disagrees"
@@ -124,8 +127,12 @@ def main(work, out):
             v = verify.get((m, lib))
             if not v:
                 continue
-            g = lambda q: f"{v[q][0]:.1e}" if q in v else ""
+            g = lambda q: f"{v[q][0]:.1e}" if q in v else ("" if lib == "symdyn_system" else "—")
             verdict = "agrees" if all(ok for _, ok in v.values()) else "**disagrees: not timed**"
+            missing = sorted({why for (mm, op, ll), why in skipops.items() if mm == m and ll == lib})
+            if missing:
+                ops = [op.replace("_", " ") for (mm, op, ll) in skipops if mm == m and ll == lib]
+                verdict += f" (no {' nor '.join(ops)}: {'; '.join(missing)})"
             o.append(f"| {m} | {cond.get(m, '')} | {TITLE[lib]} | {g('mass')} | {g('M')} | {g('qdd')} | "
                      f"{g('tau')} | {g('R')} | {g('x')} | {g('M_at_q0')} | {verdict} |")
     o.append("")
@@ -135,7 +142,10 @@ def main(work, out):
              "library in turn, about 2 ms each, cycling through the same 64 states), CPU time of the thread "
              "per call. Every call goes through one `std::function` (and, for peers, one virtual call): "
              "the same few ns for every library. \"fastest peer\" is the fastest of MuJoCo, Simbody, KDL, "
-             "DART; the ratio is symdyn's time over it (below 1: symdyn ahead). \"symdyn system\" is what "
+             "DART; the ratio is symdyn's time over it (below 1: symdyn ahead). The machine is shared with "
+             "other work: all figures move together by tens of percent from one run to the next, so a ratio "
+             "within about 0.2 of 1 needs a rerun before it is trusted; the instruction counts below do "
+             "not move. \"symdyn system\" is what "
              "users call on `runtime::MultibodySystem`: `accelerations`, `mass_matrix`, and `residual` "
              "(f = M·qdd + h − Q with no force element, Q = 0) for inverse dynamics; the runtime has no call "
              "for positions alone, so positions compare the emitted `positions()`.\n")
@@ -172,7 +182,8 @@ def main(work, out):
 
     o.append("## Instructions per forward dynamics call (callgrind)\n")
     o.append("`symdyn_bench_peers --count LIBRARY forward_dynamics MODEL 256` under `valgrind --tool=callgrind "
-             "--toggle-collect='*counted_workload*'`: 256 calls over the 64 states after 64 warm-up calls; "
+             "--toggle-collect='*counted_workload*'`: 256 calls over the 64 states, after 64 warm-up calls "
+             "outside the counted function; "
              "repeatable whatever else the machine does.\n")
     o.append("| model | " + " | ".join(TITLE[l] for l in LIBS) + " | system / fewest of the peers |")
     o.append("|---|" + "---:|" * len(LIBS) + "---:|")
@@ -180,7 +191,7 @@ def main(work, out):
         cells = []
         for l in LIBS:
             c = counts.get((l, m))
-            cells.append("—" if (m, l) in skips else ("disagrees" if l in PEERS and not agreed(m, l) else
+            cells.append("—" if (m, l) in skips or (m, "forward_dynamics", l) in skipops else ("disagrees" if l in PEERS and not agreed(m, l) else
                                                        (f"{int(c):,}".replace(",", " ") if c and c.isdigit() else "—")))
         peer_c = [int(counts[(p, m)]) for p in PEERS if counts.get((p, m), "").isdigit() and agreed(m, p)]
         sysc = counts.get(("symdyn_system", m), "")
@@ -192,9 +203,13 @@ def main(work, out):
     if not_ahead:
         for s in not_ahead:
             o.append(f"- {s}")
+        if any(s.startswith("inverse dynamics") for s in not_ahead):
+            o.append("\nsymdyn emits no inverse dynamics of its own: tau is M·qdd + h from the full M and h, "
+                     "whose entries grow with the chain, where the peers' recursive Newton-Euler is linear in "
+                     "the number of bodies; on the longest chain the recursion wins.")
     else:
-        o.append("- nowhere in the tables above: symdyn (system for forward dynamics, emitted code for the "
-                 "rest) is faster than the fastest peer on every model and operation measured.")
+        o.append("- nowhere in the tables above: symdyn, through `MultibodySystem` and through the emitted "
+                 "code alike, is faster than the fastest peer on every model and operation measured.")
     o.append("")
 
     o.append("## About the peers as installed\n")
@@ -218,8 +233,8 @@ def main(work, out):
 
     o.append("## Models out of reach\n")
     o.append("- KDL, hexapod_tree: a tree; KDL's forward dynamics and mass matrix solvers "
-             "(`ChainFdSolver_RNE`, `ChainDynParam`) take chains only (its `TreeIdSolver_RNE` gives inverse "
-             "dynamics alone, not measured here).")
+             "(`ChainFdSolver_RNE`, `ChainDynParam`) take chains only. Its `TreeIdSolver_RNE` (inverse "
+             "dynamics) and `TreeFkSolverPos_recursive` (poses, one body per call) are measured.")
     o.append("- slider_crank and amru5: closed kinematic loops, which symdyn writes in minimal coordinates "
              "with dependent parameters p(q). The peers would need loop constraints (MuJoCo's soft equality "
              "constraints, Simbody's constraints with projection, DART's constraint solver inside its World "

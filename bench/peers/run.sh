@@ -42,8 +42,9 @@ if [ "$count" = 1 ]; then
   libraries=$("$bench" --list | awk '$1 == "library" { print $2 }')
   for model in $(awk -F'\t' '$1 == "mass" { print $2 }' "$work/time.tsv"); do
     for lib in $libraries; do
-      # Only the libraries that agreed with symdyn (and could express the model).
+      # Only the libraries that agreed with symdyn (and can compute the model's forward dynamics).
       if awk -F'\t' -v m="$model" -v l="$lib" '($1 == "skip" && $2 == m && $3 == l) ||
+          ($1 == "skipop" && $2 == m && $3 == l && $4 == "forward_dynamics") ||
           ($1 == "verify" && $2 == m && $3 == l && $7 != "ok") { bad = 1 } END { exit !bad }' "$work/time.tsv"; then
         continue
       fi
@@ -91,5 +92,7 @@ git diff --quiet HEAD -- src models bench/peers || commit="$commit (with uncommi
   echo "rounds = $rounds"
   echo "duration = $(( $(date +%s) - start )) s for the whole of bench/peers/run.sh, of which $(( built - start )) s configuring and building"
 } >"$work/meta.txt"
+# What was measured stays in the build tree: report.py can rewrite the results from it.
+mkdir -p build/release/bench/peers/last_run && cp "$work"/*.tsv "$work/meta.txt" build/release/bench/peers/last_run/
 python3 bench/peers/report.py "$work" "$results"
 echo "wrote $results in $(( $(date +%s) - start )) s"
