@@ -5,12 +5,12 @@
 #
 #   bench/peers/run.sh [--rounds N] [--calls N] [--no-count] [--results FILE] [MODEL...]
 #
-# --rounds: interleaved timing rounds (21); --calls: calls counted per workload
+# --rounds: interleaved timing rounds (31); --calls: calls counted per workload
 # (256); --no-count: skip callgrind; MODEL...: only these (e.g. chain_8_absolute);
 # a partial run should go to another --results file.
 set -euo pipefail
 cd "$(git -C "$(dirname "$0")" rev-parse --show-toplevel)"
-rounds=21 calls=256 count=1 results=bench/results/peers.md models=()
+rounds=31 calls=256 count=1 results=bench/results/peers.md models=()
 while [ $# -gt 0 ]; do
   case $1 in
     --rounds) rounds=$2; shift 2 ;;
