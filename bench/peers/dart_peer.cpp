@@ -21,7 +21,7 @@ template <class J>
 BodyNode* add_link(const SkeletonPtr& skel, BodyNode* parent, const Link& l) {
   typename J::Properties joint;
   joint.mName = l.name;
-  joint.mAxis = Eigen::Vector3d::Unit(l.axis);
+  joint.mAxis = l.axis;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = l.R;
   T.translation() = l.p;

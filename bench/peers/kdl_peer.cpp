@@ -27,12 +27,19 @@ KDL::Vector vec(const Eigen::Vector3d& v) {
 // so link i's segment ends at link i+1's joint (f_tip: link i+1's offset), and
 // its centre of mass is given from there. The offset of the first link is a
 // fixed segment of its own (none in these models).
+// About or along a coordinate axis: KDL's own joint types; another axis through the origin.
 KDL::Joint joint(const Link& l) {
   static constexpr KDL::Joint::JointType revolute[] = {KDL::Joint::RotX, KDL::Joint::RotY,
                                                        KDL::Joint::RotZ};
   static constexpr KDL::Joint::JointType prismatic[] = {KDL::Joint::TransX, KDL::Joint::TransY,
                                                         KDL::Joint::TransZ};
-  return KDL::Joint(l.name, l.type == JointType::revolute ? revolute[l.axis] : prismatic[l.axis]);
+  for (int k = 0; k < 3; ++k) {
+    if (l.axis == Eigen::Vector3d::Unit(k)) {
+      return KDL::Joint(l.name, l.type == JointType::revolute ? revolute[k] : prismatic[k]);
+    }
+  }
+  return KDL::Joint(l.name, KDL::Vector::Zero(), vec(l.axis),
+                    l.type == JointType::revolute ? KDL::Joint::RotAxis : KDL::Joint::TransAxis);
 }
 
 KDL::Chain kdl_chain(const Mechanism& m) {

@@ -3,6 +3,7 @@
 #include "mechanism.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <numbers>
 #include <stdexcept>
 
@@ -12,11 +13,11 @@ namespace {
 
 using Eigen::Vector3d;
 
-constexpr int X = 0, Y = 1, Z = 2;
+const Vector3d X = Vector3d::UnitX(), Y = Vector3d::UnitY(), Z = Vector3d::UnitZ();
 
 // A massive link: a symdyn body.
-Link body(std::string name, int parent, Vector3d p, JointType type, int axis, int q, double mass,
-          Vector3d com, Vector3d inertia, int body_index) {
+Link body(std::string name, int parent, Vector3d p, JointType type, Vector3d axis, int q,
+          double mass, Vector3d com, Vector3d inertia, int body_index) {
   Link l;
   l.name = std::move(name);
   l.parent = parent;
@@ -32,7 +33,7 @@ Link body(std::string name, int parent, Vector3d p, JointType type, int axis, in
 }
 
 // A massless link: one step of a multi-DOF motion.
-Link step(std::string name, int parent, Vector3d p, JointType type, int axis, int q) {
+Link step(std::string name, int parent, Vector3d p, JointType type, Vector3d axis, int q) {
   return body(std::move(name), parent, p, type, axis, q, 0.0, Vector3d::Zero(), Vector3d::Zero(),
               -1);
 }
@@ -93,7 +94,7 @@ Mechanism robot3d() {
 Mechanism chain(int n) {
   const Vector3d I(0.001, 0.020833333333333333, 0.020833333333333333);
   Mechanism m{"chain_" + std::to_string(n), {}, Vector3d(0, 0, -9.81)};
-  static constexpr int axes[] = {Z, Y, X};
+  const Vector3d axes[] = {Z, Y, X};
   for (int k = 0; k < n; ++k) {
     m.links.push_back(body("link" + std::to_string(k), k - 1,
                            k == 0 ? Vector3d::Zero() : Vector3d(0.5, 0, 0), JointType::revolute,
@@ -132,6 +133,38 @@ Mechanism hexapod_tree() {
     m.links.push_back(body("tibia_" + s, coxa + 1, Vector3d(0.3, 0, 0), R, Y, coxa + 2, 2.0,
                            Vector3d(0.2, 0, 0), Vector3d(0.002, 0.03, 0.03), 3 + 3 * k));
   }
+  check(m);
+  return m;
+}
+
+// chassis: Tdisp(q0, q1, q2)·Trotz(q3)·Troty(q4)·Trotx(q5); rear axle from the chassis:
+// Tdisp(-0.9 - q6·cos(pi/4), 0, -0.2 + q6·sin(pi/4))·Trotx(q7) (a slider along the
+// inclined strut); rear wheels from the axle: Tdisp(0, ±0.55, 0)·Troty(q8 | q9); front
+// wheel from the chassis: Tdisp(1.2, 0, -0.2)·Trotz(q10)·Tdisp(0, 0, -q11)·Troty(q12).
+// The multibody system only: its tyre, suspension, steering and drive forces are not here.
+Mechanism trike() {
+  Mechanism m{"trike", {}, Vector3d(0, 0, -9.81)};
+  const auto P = JointType::prismatic, R = JointType::revolute;
+  const double strut = std::numbers::pi / 4;
+  m.links.push_back(step("base_x", -1, Vector3d::Zero(), P, X, 0));
+  m.links.push_back(step("base_y", 0, Vector3d::Zero(), P, Y, 1));
+  m.links.push_back(step("base_z", 1, Vector3d::Zero(), P, Z, 2));
+  m.links.push_back(step("base_yaw", 2, Vector3d::Zero(), R, Z, 3));
+  m.links.push_back(step("base_pitch", 3, Vector3d::Zero(), R, Y, 4));
+  m.links.push_back(body("chassis", 4, Vector3d::Zero(), R, X, 5, 150.0, Vector3d::Zero(),
+                         Vector3d(15, 40, 45), 0));
+  m.links.push_back(step("rear_strut", 5, Vector3d(-0.9, 0, -0.2), P,
+                         Vector3d(-std::cos(strut), 0, std::sin(strut)), 6));
+  m.links.push_back(body("rear_axle", 6, Vector3d::Zero(), R, X, 7, 20.0, Vector3d::Zero(),
+                         Vector3d(2, 0.2, 2), 1));
+  m.links.push_back(body("left_rear_wheel", 7, Vector3d(0, 0.55, 0), R, Y, 8, 5.0, Vector3d::Zero(),
+                         Vector3d(0.2, 0.4, 0.2), 2));
+  m.links.push_back(body("right_rear_wheel", 7, Vector3d(0, -0.55, 0), R, Y, 9, 5.0,
+                         Vector3d::Zero(), Vector3d(0.2, 0.4, 0.2), 3));
+  m.links.push_back(step("steering", 5, Vector3d(1.2, 0, -0.2), R, Z, 10));
+  m.links.push_back(step("front_suspension", 10, Vector3d::Zero(), P, -Z, 11));
+  m.links.push_back(body("front_wheel", 11, Vector3d::Zero(), R, Y, 12, 6.0, Vector3d::Zero(),
+                         Vector3d(0.2, 0.4, 0.2), 4));
   check(m);
   return m;
 }

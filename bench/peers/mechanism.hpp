@@ -25,7 +25,7 @@ struct Link {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // fixed rotation of the offset
   Eigen::Vector3d p = Eigen::Vector3d::Zero();      // fixed translation, in the parent's axes
   JointType type = JointType::revolute;
-  int axis = 2;                                       // 0, 1, 2: the link's local x, y, z
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();    // unit, in the link's axes
   int q = 0;                                          // index of the joint's coordinate
   double mass = 0.0;                                  // 0: an intermediate frame
   Eigen::Vector3d com = Eigen::Vector3d::Zero();      // centre of mass in the link frame
@@ -46,5 +46,6 @@ Mechanism double_pendulum();
 Mechanism robot3d();
 Mechanism chain(int n);
 Mechanism hexapod_tree();
+Mechanism trike();
 
 }  // namespace symdyn::bench::peers

@@ -24,9 +24,11 @@ std::string mjcf_name(char kind, std::size_t i) {
   return s;
 }
 
-const char* axis_text(int axis) {
-  static constexpr const char* text[] = {"1 0 0", "0 1 0", "0 0 1"};
-  return text[axis];
+std::string axis_text(const Eigen::Vector3d& axis) {
+  std::ostringstream out;
+  out.precision(17);
+  out << axis.x() << ' ' << axis.y() << ' ' << axis.z();
+  return out.str();
 }
 
 // Consecutive joints share a MuJoCo body (applied in order, in the moving frame,

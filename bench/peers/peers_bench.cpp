@@ -97,6 +97,7 @@ Mechanism mechanism_of(const std::string& model) {
   if (model == "double_pendulum") return double_pendulum();
   if (model == "robot3d") return robot3d();
   if (model == "hexapod_tree") return hexapod_tree();
+  if (model == "trike") return trike();
   if (model.rfind("chain_", 0) == 0) return chain(std::stoi(model.substr(6)));
   throw std::invalid_argument("no mechanism for " + model);
 }

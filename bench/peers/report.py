@@ -81,7 +81,9 @@ def main(work, out):
              "tree read off `models/*.cpp`: same masses, inertias at the same centres of mass, joint axes, "
              "lengths and gravity); every library takes the coordinates in symdyn's order and sign, checked "
              "when each model is built (no permutation). symdyn runs the emitted code of the `*_absolute` "
-             "variants (chain_N: `chain_N_absolute`; hexapod_tree: its only variant).\n")
+             "variants (chain_N: `chain_N_absolute`; hexapod_tree and trike: their only variant). trike is its "
+             "multibody system under gravity alone, like every model here: its tyre, suspension, steering "
+             "and drive forces are not part of the comparison.\n")
     o.append("## Measured\n")
     for k in ["machine", "cpu", "compiler", "commit", "mujoco", "simbody", "kdl", "dart", "valgrind",
               "rounds", "duration"]:
@@ -223,7 +225,7 @@ def main(work, out):
              "release build from source would be faster than the figures here. It is the slowest peer on "
              "most rows, so the ratio to the fastest peer does not depend on it.")
     o.append("- DART is Debian's 6.12.1; it warns about the massless links (robot3d's shoulder and wrist, "
-             "hexapod_tree's floating base steps) and computes them correctly (verified above). DART's own "
+             "the floating base steps of hexapod_tree and trike, trike's strut, steering and fork) and computes them correctly (verified above). DART's own "
              "multi-DOF joints (EulerJoint, TranslationalJoint, UniversalJoint) and Simbody's would avoid "
              "them; they were not tried. MuJoCo, the fastest peer on those models, puts several joints in "
              "one body, its own way.")
@@ -232,7 +234,7 @@ def main(work, out):
     o.append("")
 
     o.append("## Models out of reach\n")
-    o.append("- KDL, hexapod_tree: a tree; KDL's forward dynamics and mass matrix solvers "
+    o.append("- KDL, hexapod_tree and trike: trees; KDL's forward dynamics and mass matrix solvers "
              "(`ChainFdSolver_RNE`, `ChainDynParam`) take chains only. Its `TreeIdSolver_RNE` (inverse "
              "dynamics) and `TreeFkSolverPos_recursive` (poses, one body per call) are measured.")
     o.append("- slider_crank and amru5: closed kinematic loops, which symdyn writes in minimal coordinates "
@@ -240,9 +242,10 @@ def main(work, out):
              "constraints, Simbody's constraints with projection, DART's constraint solver inside its World "
              "step; KDL has none): a different set of equations, not the same ODE in the same coordinates, "
              "so no like-for-like timing.")
-    o.append("- trike: the mechanism is a tree the peers could hold (an inclined prismatic strut, a "
-             "negative-sign slider); what defines the model is its tyre, suspension and drive forces, "
-             "which each peer would need reimplemented. It is not in this comparison.")
+    o.append("- trike's scenario: the multibody system is compared above (an inclined slider for the "
+             "rear strut, a slider along −z for the front suspension), but not the tyre, suspension, "
+             "steering and drive forces that make the scenario: each peer would need them reimplemented, "
+             "and then the comparison would be of force models, not of dynamics.")
     o.append("")
 
     if build:

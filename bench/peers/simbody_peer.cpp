@@ -11,12 +11,20 @@ namespace {
 
 using namespace SimTK;
 
-// A rotation taking Pin's z axis (Slider's x axis) onto the link's axis: a
-// cyclic permutation of the axes, exact.
-Rotation onto(int from, int to) {
-  Mat33 r(0);
-  for (int k = 0; k < 3; ++k) r((k + to) % 3, (k + from) % 3) = 1;
-  return Rotation(r, true);
+// A rotation taking Pin's z axis (Slider's x axis) onto the link's axis: for
+// ±x, ±y, ±z a cyclic permutation of the axes (after a half turn for -), exact.
+Rotation onto(int from, const Eigen::Vector3d& axis) {
+  for (int to = 0; to < 3; ++to) {
+    for (double sign : {1.0, -1.0}) {
+      if (axis != sign * Eigen::Vector3d::Unit(to)) continue;
+      Mat33 r(0);
+      for (int k = 0; k < 3; ++k) r((k + to) % 3, (k + from) % 3) = 1;
+      Mat33 half(0);  // a half turn about the axis after `from`: from -> -from
+      for (int k = 0; k < 3; ++k) half(k, k) = k == (from + 1) % 3 ? 1 : sign;
+      return Rotation(r * half, true);
+    }
+  }
+  return Rotation(UnitVec3(axis.x(), axis.y(), axis.z()), CoordinateAxis(from));
 }
 
 class SimbodyPeer final : public Peer {
