@@ -74,7 +74,7 @@ const std::vector<double>& reference() {
 void run(benchmark::State& bench, const std::string& name, double setting) {
   IntegratorOptions o;
   o.output_interval = interval;
-  if (name == "rk4") {
+  if (name == "rk4" || name == "midpoint") {
     o.initial_step = setting;
   } else {
     o.relative_tolerance = setting;
@@ -108,11 +108,12 @@ void run(benchmark::State& bench, const std::string& name, double setting) {
 
 int main(int argc, char** argv) {
   for (const auto& name : integrator_names()) {
-    const std::vector<double> settings = name == "rk4" ? std::vector<double>{1e-2, 3e-3, 1e-3, 3e-4}
+    const bool fixed = name == "rk4" || name == "midpoint";
+    const std::vector<double> settings = fixed ? std::vector<double>{1e-2, 3e-3, 1e-3, 3e-4}
                                                        : std::vector<double>{1e-4, 1e-6, 1e-8, 1e-10};
     for (double setting : settings) {
       const std::string label =
-          fmt::format("pendulum/{}/{}={:g}", name, name == "rk4" ? "h" : "tol", setting);
+          fmt::format("pendulum/{}/{}={:g}", name, fixed ? "h" : "tol", setting);
       benchmark::RegisterBenchmark(label.c_str(), [name, setting](benchmark::State& s) {
         run(s, name, setting);
       })->Unit(benchmark::kMicrosecond);

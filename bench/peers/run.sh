@@ -25,7 +25,7 @@ start=$(date +%s)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-cmake --preset release >"$work/configure.log" || { cat "$work/configure.log"; exit 1; }
+cmake --preset release -DSYMDYN_PEERS_BENCH=ON >"$work/configure.log" || { cat "$work/configure.log"; exit 1; }
 grep 'peers bench' "$work/configure.log" || true
 cmake --build --preset release -j2 --target symdyn_bench_peers
 built=$(date +%s)
