@@ -78,6 +78,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   runtime::IntegratorOptions o = integrator_options(scenario, options, r.integrator);
   o.on_output = [&](const State& s, const runtime::Vector&, const runtime::Vector&) {
     r.samples.push_back({s, system.energies(s)});
+    if (options.on_sample) options.on_sample(r.samples.back());
     if (options.csv != nullptr) csv->write(s);
   };
   runtime::ProgressBar bar;

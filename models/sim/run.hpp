@@ -7,6 +7,7 @@
 //   RunResult r = run_scenario(s, {.t_end = 2.0});
 //   fmt::print("{}", summary(r));
 
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -28,6 +29,9 @@ struct RunOptions {
   // Emitted M and h when the model has them, else assembled from the kinematics.
   bool assembled = false;
   std::ostream* csv = nullptr;  // CSV of every output instant, if given
+  // Called with every output sample as it is produced (a failed run has
+  // delivered those before the failure).
+  std::function<void(const Sample&)> on_sample;
   bool progress = false;        // progress bar on stderr (only drawn on a terminal)
 };
 
