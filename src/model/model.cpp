@@ -277,13 +277,21 @@ std::vector<int> Model::topological_order() const {
 }
 
 void Model::validate() const {
+  // In this order (docs/errors.md): the first culprit found is reported.
+  static constexpr void (Model::*kChecks[])() const = {
+      &Model::validate_structure, &Model::validate_bodies, &Model::validate_gravity,
+      &Model::validate_coordinates_move_bodies, &Model::validate_initial_configuration};
+  for (auto check : kChecks) (this->*check)();
+}
+
+void Model::validate_structure() const {
   if (coordinates_.empty()) throw ModelError(fmt::format("model '{}' has no coordinate", name_));
   if (bodies_.empty()) throw ModelError(fmt::format("model '{}' has no body", name_));
   topological_order();  // unknown references and cycles
+}
+
+void Model::validate_bodies() const {
   for (const Body& b : bodies_) validate_body(b);
-  validate_gravity();
-  validate_coordinates_move_bodies();
-  validate_initial_configuration();
 }
 
 // A body as the runtime will check it at construction (runtime/model.cpp),

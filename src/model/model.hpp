@@ -153,6 +153,8 @@ class Model {
  private:
   void check_declared(Expr e, std::string_view where) const;
   bool is_declared(Expr symbol) const;
+  void validate_structure() const;
+  void validate_bodies() const;
   void validate_body(const Body& body) const;
   void validate_gravity() const;
   void validate_coordinates_move_bodies() const;
