@@ -4,11 +4,12 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cctype>
+#include <cstdint>
 #include <stdexcept>
 #include <unordered_map>
 
 #include "model/dynamics.hpp"
+#include "model/identifier.hpp"
 #include "model/kinematics.hpp"
 #include "symbolic/diff.hpp"
 #include "symbolic/print.hpp"
@@ -94,9 +95,6 @@ class Emitter {
   Emitter(const model::Model& model, std::string_view variant, std::string_view basename, const Options& options)
       : model_(model), variant_(variant), basename_(basename), options_(options) {
     struct_name_ = std::string(basename);
-    for (char& c : struct_name_) {
-      if (std::isalnum(static_cast<unsigned char>(c)) == 0) c = '_';
-    }
     for (const char* in : kInputs) symbols_[in];
     const auto& coords = model.coordinates();
     for (const auto& c : coords) {
@@ -106,9 +104,6 @@ class Emitter {
     }
     symbols_["t"] = {model.time()};
     for (const auto& p : model.parameters()) symbols_["param"].push_back(p.symbol);
-    for (Expr g : model.gravity()) {
-      if (!g.is_number()) throw ModelError(fmt::format("model '{}': gravity must be numeric", model.name()));
-    }
   }
 
   GeneratedCode run() {
@@ -147,8 +142,12 @@ class Emitter {
         if (f.program) f.operations = f.program->operation_count();
       }
     }
+    // The guard's name depends on everything emitted, so it is computed last.
+    const std::string unique = fmt::format("symdyn_model_{}_{:016x}", struct_name_,
+                                           fnv1a(code.source + emit_header(code.functions, {})));
+    code.source += link_guard_definitions(unique);
     code.source += fmt::format("\n}}  // namespace {}\n", options_.name_space);
-    code.header = emit_header(code.functions);
+    code.header = emit_header(code.functions, link_guard_reference(unique));
     return code;
   }
 
@@ -547,7 +546,34 @@ class Emitter {
     return out;
   }
 
-  std::string emit_header(const std::vector<EmittedFunction>& stats) const {
+  // 64-bit FNV-1a: a deterministic fingerprint of the emitted text.
+  static std::uint64_t fnv1a(const std::string& text) {
+    std::uint64_t h = 14695981039346656037ull;
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    return h;
+  }
+
+  // Every file including the header refers to this model's own symbol, so the
+  // linker pulls this model's object even from a static library, and a second,
+  // different model of the same struct name then collides with it on
+  // symdyn_model_<struct> (docs/emitted_interface.md, link-time guard).
+  std::string link_guard_reference(const std::string& unique) const {
+    return fmt::format(
+        "// Link-time guard: two different models named {name} in one program fail to link\n"
+        "// (multiple definition of {ns}::symdyn_model_{name}).\n"
+        "extern const char {unique}[];\n"
+        "[[gnu::used]] static const char* const symdyn_model_{name}_link = {unique};\n\n",
+        fmt::arg("name", struct_name_), fmt::arg("ns", options_.name_space), fmt::arg("unique", unique));
+  }
+
+  std::string link_guard_definitions(const std::string& unique) const {
+    const std::string what = fmt::format("\"model '{}', variant '{}'\"", model_.name(), variant_);
+    return fmt::format("\n// Link-time guard: see the header.\nextern const char symdyn_model_{0}[];\n"
+                       "const char symdyn_model_{0}[] = {1};\nconst char {2}[] = {1};\n",
+                       struct_name_, what, unique);
+  }
+
+  std::string emit_header(const std::vector<EmittedFunction>& stats, const std::string& link_guard) const {
     const auto& coords = model_.coordinates();
     std::vector<std::string> q_names, body_names, param_names;
     std::vector<double> q0, qd0, param_defaults, gravity;
@@ -605,6 +631,7 @@ class Emitter {
         "  static constexpr int reference_body[{nbody}] = {{{refs}}};\n\n"
         "{declarations}"
         "}};\n\n"
+        "{link_guard}"
         "}}  // namespace {ns}\n",
         fmt::arg("model", model_.name()), fmt::arg("variant", variant_), fmt::arg("simplify", options_.simplify),
         fmt::arg("partials", options_.symbolic_partials ? "symbolic" : "numeric"),
@@ -616,7 +643,8 @@ class Emitter {
         fmt::arg("param_names", string_array_literal(param_names)),
         fmt::arg("param_defaults", array_literal(param_defaults)), fmt::arg("q0", array_literal(q0)),
         fmt::arg("qd0", array_literal(qd0)), fmt::arg("gravity", array_literal(gravity)),
-        fmt::arg("refs", fmt::join(references, ", ")), fmt::arg("declarations", declarations));
+        fmt::arg("refs", fmt::join(references, ", ")), fmt::arg("declarations", declarations),
+        fmt::arg("link_guard", link_guard));
   }
 
   const model::Model model_;
@@ -631,10 +659,29 @@ class Emitter {
 
 }  // namespace
 
+void check_options(std::string_view variant, std::string_view basename, const Options& options) {
+  model::check_name(variant, "variant");  // first: the default basename is made of it
+  model::check_identifier(basename, "basename");
+  if (options.name_space.empty()) throw ModelError("namespace is empty (the code would be in an anonymous namespace)");
+  std::string_view rest = options.name_space;
+  for (std::size_t sep = rest.find("::");; sep = rest.find("::")) {
+    if (auto problem = model::identifier_problem(rest.substr(0, sep))) {
+      throw ModelError(fmt::format("namespace '{}': '{}' {}", options.name_space, rest.substr(0, sep), *problem));
+    }
+    if (sep == std::string_view::npos) break;
+    rest.remove_prefix(sep + 2);
+  }
+}
+
 GeneratedCode generate(const model::Model& model, std::string_view variant, std::string_view basename,
                        const Options& options) {
+  check_options(variant, basename, options);
   model.validate();  // first, so that errors speak of the model as written
-  return Emitter(model.with_shared_motions_relative(), variant, basename, options).run();
+  try {
+    return Emitter(model.with_shared_motions_relative(), variant, basename, options).run();
+  } catch (const symbolic::SymbolicError& e) {
+    throw ModelError(fmt::format("model '{}' variant '{}': {}", model.name(), variant, e.what()));
+  }
 }
 
 }  // namespace symdyn::codegen

@@ -9,7 +9,8 @@
 // run by exactly the entry points that need its statements (positions(),
 // velocities() and accelerations() run the same parts for the rotations), so
 // that the compiler sees every statement once. The output is deterministic:
-// the same model and options give the same bytes.
+// the same model and options give the same bytes. Errors and what is checked
+// where: docs/errors.md.
 
 #include <optional>
 #include <string>
@@ -69,14 +70,23 @@ struct EmittedFunction {
 };
 
 struct GeneratedCode {
-  std::string struct_name;  // the basename, made an identifier
+  std::string struct_name;  // the basename
   std::string header;       // <basename>.hpp
   std::string source;       // <basename>.cpp
   std::vector<EmittedFunction> functions;
 };
 
+// Throws model::ModelError naming the culprit unless the basename and each
+// component of the namespace are C++ identifiers a program may declare (not
+// keywords, not reserved: no '__', no leading '_'), and the variant, printed
+// only inside a string literal, has the shape of one (model/identifier.hpp).
+void check_options(std::string_view variant, std::string_view basename, const Options& options);
+
 // Derives and emits the model. `basename` names the files (the source includes
-// "<basename>.hpp") and the struct (by default the generator uses <model>_<variant>). Throws model::ModelError for an invalid model.
+// "<basename>.hpp") and the struct (by default the generator uses
+// <model>_<variant>). Checks the options (check_options) and the model
+// (Model::validate) first; throws model::ModelError for an invalid model, the
+// errors of the symbolic engine during derivation included.
 GeneratedCode generate(const model::Model& model, std::string_view variant, std::string_view basename,
                        const Options& options = {});
 

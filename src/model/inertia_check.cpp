@@ -32,31 +32,36 @@ std::array<double, 3> principal_moments(const std::array<double, 9>& A) {
   return e;
 }
 
+// The runtime's checks at construction (runtime/model.cpp, validate_inertia),
+// with its tolerances, so that a model the generator accepts is one it accepts.
 void check_inertia(std::string_view where, double mass, const std::array<double, 9>& I) {
   if (!std::isfinite(mass)) throw ModelError(fmt::format("{}: mass {} is not finite", where, mass));
-  if (mass < 0.0) throw ModelError(fmt::format("{}: negative mass {}", where, mass));
+  if (!(mass > 0.0)) throw ModelError(fmt::format("{}: mass {} is not positive", where, mass));
   double scale = 0.0;
-  for (double v : I) {
-    if (!std::isfinite(v)) throw ModelError(fmt::format("{}: inertia has a non-finite entry {}", where, v));
-    scale = std::max(scale, std::abs(v));
+  for (int k = 0; k < 9; ++k) {
+    if (!std::isfinite(I[k])) {
+      throw ModelError(fmt::format("{}: inertia I{}{} = {} is not finite", where, k / 3, k % 3, I[k]));
+    }
+    scale = std::max(scale, std::abs(I[k]));
   }
-  const double tol = 1e-12 * std::max(scale, 1e-300);
+  scale = std::max(scale, 1e-300);
   for (int i = 0; i < 3; ++i) {
     for (int j = i + 1; j < 3; ++j) {
-      if (std::abs(I[3 * i + j] - I[3 * j + i]) > tol) {
+      if (std::abs(I[3 * i + j] - I[3 * j + i]) > 1e-9 * scale) {
         throw ModelError(fmt::format("{}: inertia is not symmetric (I{}{} = {} but I{}{} = {})", where, i, j,
                                      I[3 * i + j], j, i, I[3 * j + i]));
       }
     }
   }
   const auto m = principal_moments(I);
-  if (m[0] < -tol) {
-    throw ModelError(fmt::format("{}: inertia is not positive semidefinite (principal moments {}, {}, {})", where,
+  if (!(m[0] > 0.0)) {
+    throw ModelError(fmt::format("{}: inertia is not positive definite (principal moments {}, {}, {})", where,
                                  m[0], m[1], m[2]));
   }
-  if (m[0] + m[1] < m[2] - tol) {
-    throw ModelError(fmt::format("{}: inertia violates the triangle inequality ({} + {} < {})", where, m[0], m[1],
-                                 m[2]));
+  // A thin rod or disc is exactly at the limit: rounding allowed.
+  if (m[0] + m[1] < m[2] * (1.0 - 1e-9)) {
+    throw ModelError(fmt::format("{}: inertia violates the triangle inequality (principal moments {} + {} < {})",
+                                 where, m[0], m[1], m[2]));
   }
 }
 

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "model/identifier.hpp"
 #include "model/inertia_check.hpp"
 #include "symbolic/eval.hpp"
 #include "symbolic/traversal.hpp"
@@ -34,24 +35,67 @@ Expr declare(std::string_view name, SymbolKind kind) {
   }
 }
 
-void check_name(std::string_view name, std::string_view what) {
-  const bool ok = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) != 0 || name[0] == '_') &&
-                  std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; });
-  if (!ok) throw ModelError(fmt::format("{} name '{}' is not an identifier", what, name));
+void check_builder_name(std::string_view name, std::string_view what) { check_name(name, fmt::format("{} name", what)); }
+
+// "coordinate 'q0'", "time 't'", ...: a symbol as a message names it.
+std::string describe_symbol(Expr s) {
+  switch (s.symbol_kind()) {
+    case SymbolKind::Variable: return fmt::format("coordinate '{}'", s.name());
+    case SymbolKind::Time: return fmt::format("time '{}'", s.name());
+    case SymbolKind::Parameter: return fmt::format("run-time parameter '{}'", s.name());
+    case SymbolKind::Dependent: return fmt::format("dependent parameter '{}'", s.name());
+    default: return fmt::format("rate or acceleration '{}'", s.name());
+  }
+}
+
+// The first symbol of `e` that is not a run-time parameter: a mass or an
+// inertia is emitted in inertia(param), which sees no q, t or p.
+std::optional<Expr> non_constant_symbol(Expr e) {
+  for (Expr s : symbolic::free_symbols(std::span<const Expr>(&e, 1))) {
+    if (s.symbol_kind() != SymbolKind::Parameter) return s;
+  }
+  return std::nullopt;
+}
+
+// The innermost operation of `e` whose value is not finite, as a user wrote it
+// ("asin(2.5)", "sqrt(-1)", "pow(0, -1)"), or nothing when `e` is finite.
+std::optional<std::string> undefined_operation(Expr e, symbolic::Evaluator<double>& evaluate) {
+  if (std::isfinite(evaluate(e))) return std::nullopt;
+  for (Expr node : symbolic::postorder(std::span<const Expr>(&e, 1))) {
+    if (std::isfinite(evaluate(node))) continue;
+    std::vector<std::string> args;
+    for (Expr a : node.args()) args.push_back(fmt::format("{}", evaluate(a)));
+    std::string name(symbolic::info(node.kind()).name);
+    if (node.kind() == symbolic::Kind::Pow) {
+      name = node.arg(1) == Expr(symbolic::Number(1, 2)) ? "sqrt" : "pow";
+      if (name == "sqrt") args.pop_back();  // the exponent 1/2
+    }
+    return fmt::format("{}({})", name, fmt::join(args, ", "));
+  }
+  return std::string("its value");  // unreachable: a non-finite value comes from some operation
 }
 
 }  // namespace
 
 Body::Body(std::string name) : name_(std::move(name)), mass_(0), inertia_{} {}
 
-Body& Body::mass(Expr m) {
-  mass_ = m;
+Expr Scalar::to_expr(std::string_view what) const {
+  if (!is_number_) return expr_;
+  if (!std::isfinite(number_)) throw ModelError(fmt::format("{} is not finite ({})", what, number_));
+  return Expr(number_);
+}
+
+Body& Body::mass(Scalar m) {
+  mass_ = m.to_expr(fmt::format("body '{}': mass", name_));
   return *this;
 }
 
-Body& Body::inertia(Expr ixx, Expr iyy, Expr izz) {
+Body& Body::inertia(Scalar ixx, Scalar iyy, Scalar izz) {
   const Expr o(0);
-  inertia_ = {ixx, o, o, o, iyy, o, o, o, izz};
+  auto moment = [&](const Scalar& v, const char* axis) {
+    return v.to_expr(fmt::format("body '{}': inertia {}", name_, axis));
+  };
+  inertia_ = {moment(ixx, "Ixx"), o, o, o, moment(iyy, "Iyy"), o, o, o, moment(izz, "Izz")};
   return *this;
 }
 
@@ -75,7 +119,7 @@ Model::Model(std::string name)
     : name_(std::move(name)),
       gravity_(zero3()),
       time_(declare("t", SymbolKind::Time)) {
-  check_name(name_, "model");
+  check_builder_name(name_, "model");
 }
 
 bool Model::is_declared(Expr s) const {
@@ -97,7 +141,7 @@ void Model::check_declared(Expr e, std::string_view where) const {
 }
 
 Expr Model::coordinate(std::string_view name) {
-  check_name(name, "coordinate");
+  check_builder_name(name, "coordinate");
   if (is_declared(declare(name, SymbolKind::Variable))) {
     throw ModelError(fmt::format("coordinate '{}' is declared twice", name));
   }
@@ -115,7 +159,7 @@ std::vector<Expr> Model::coordinates(int n, std::string_view prefix) {
 }
 
 Expr Model::parameter(std::string_view name, double value, bool runtime) {
-  check_name(name, "parameter");
+  check_builder_name(name, "parameter");
   if (!std::isfinite(value)) throw ModelError(fmt::format("parameter '{}' = {} is not finite", name, value));
   if (!(runtime || runtime_parameters_)) return Expr(value);
   const Expr s = declare(name, SymbolKind::Parameter);
@@ -125,7 +169,7 @@ Expr Model::parameter(std::string_view name, double value, bool runtime) {
 }
 
 Expr Model::dependent(std::string_view name, Expr expression) {
-  check_name(name, "dependent parameter");
+  check_builder_name(name, "dependent parameter");
   check_declared(expression, fmt::format("dependent parameter '{}'", name));
   if (inline_dependents_) return expression;
   const Expr s = declare(name, SymbolKind::Dependent);
@@ -137,14 +181,14 @@ Expr Model::dependent(std::string_view name, Expr expression) {
 }
 
 Body& Model::body(std::string_view name) {
-  check_name(name, "body");
+  check_builder_name(name, "body");
   if (body_index(name) >= 0) throw ModelError(fmt::format("body '{}' is declared twice", name));
   bodies_.push_back(Body(std::string(name)));
   return bodies_.back();
 }
 
-void Model::gravity(Expr gx, Expr gy, Expr gz) {
-  gravity_ = {gx, gy, gz};
+void Model::gravity(Scalar gx, Scalar gy, Scalar gz) {
+  gravity_ = {gx.to_expr("gravity x"), gy.to_expr("gravity y"), gz.to_expr("gravity z")};
   for (Expr g : gravity_) check_declared(g, "gravity");
 }
 
@@ -233,24 +277,110 @@ std::vector<int> Model::topological_order() const {
 }
 
 void Model::validate() const {
+  // In this order (docs/errors.md): the first culprit found is reported.
+  static constexpr void (Model::*kChecks[])() const = {
+      &Model::validate_structure, &Model::validate_bodies, &Model::validate_gravity,
+      &Model::validate_coordinates_move_bodies, &Model::validate_initial_configuration};
+  for (auto check : kChecks) (this->*check)();
+}
+
+void Model::validate_structure() const {
   if (coordinates_.empty()) throw ModelError(fmt::format("model '{}' has no coordinate", name_));
   if (bodies_.empty()) throw ModelError(fmt::format("model '{}' has no body", name_));
   topological_order();  // unknown references and cycles
+}
+
+void Model::validate_bodies() const {
+  for (const Body& b : bodies_) validate_body(b);
+}
+
+// A body as the runtime will check it at construction (runtime/model.cpp),
+// with the parameters at their defaults.
+void Model::validate_body(const Body& b) const {
+  const std::string where = fmt::format("body '{}'", b.name());
+  if (!b.has_motion()) throw ModelError(fmt::format("{} has no motion", where));
+  for (const Transform::Step& s : b.motion().steps()) {
+    for (Expr e : s.displacement) check_declared(e, where + " motion");
+    check_declared(s.angle, where + " motion");
+  }
+  check_declared(b.mass(), where + " mass");
+  for (Expr e : b.inertia()) check_declared(e, where + " inertia");
+  const auto constant = [&](Expr e, std::string_view quantity) {
+    if (const auto s = non_constant_symbol(e)) {
+      throw ModelError(fmt::format("{}: {} depends on {}; a mass or inertia may use only constants and run-time "
+                                   "parameters", where, quantity, describe_symbol(*s)));
+    }
+  };
+  constant(b.mass(), "mass");
+  for (int k = 0; k < 9; ++k) constant(b.inertia()[k], fmt::format("inertia I{}{}", k / 3, k % 3));
   symbolic::Bindings<double> values;
   for (const Parameter& p : parameters_) values.emplace(p.symbol, p.value);
+  symbolic::Evaluator<double> evaluate(values);
+  std::array<double, 9> I{};
+  for (int k = 0; k < 9; ++k) I[k] = evaluate(b.inertia()[k]);
+  check_inertia(where, evaluate(b.mass()), I);
+}
+
+// The emitted gravity is a constant array: numbers only.
+void Model::validate_gravity() const {
+  for (int k = 0; k < 3; ++k) {
+    const Expr g = gravity_[k];
+    if (g.is_number()) continue;
+    const auto symbols = symbolic::free_symbols(std::span<const Expr>(&g, 1));
+    throw ModelError(fmt::format("gravity {}: '{}' depends on {}; gravity must be a number", "xyz"[k], g.str(),
+                                 describe_symbol(symbols.front())));
+  }
+}
+
+// A coordinate that appears in no body's motion, directly or through dependent
+// parameters, moves nothing: its row of the mass matrix would be zero.
+void Model::validate_coordinates_move_bodies() const {
+  std::vector<Expr> motions;
   for (const Body& b : bodies_) {
-    const std::string where = fmt::format("body '{}'", b.name());
-    if (!b.has_motion()) throw ModelError(fmt::format("{} has no motion", where));
     for (const Transform::Step& s : b.motion().steps()) {
-      for (Expr e : s.displacement) check_declared(e, where + " motion");
-      check_declared(s.angle, where + " motion");
+      motions.insert(motions.end(), s.displacement.begin(), s.displacement.end());
+      motions.push_back(s.angle);
     }
-    check_declared(b.mass(), where + " mass");
-    for (Expr e : b.inertia()) check_declared(e, where + " inertia");
-    const double m = symbolic::evaluate(b.mass(), values);
-    std::array<double, 9> I{};
-    for (int k = 0; k < 9; ++k) I[k] = symbolic::evaluate(b.inertia()[k], values);
-    check_inertia(where, m, I);
+  }
+  std::vector<Expr> used = symbolic::free_symbols(motions);
+  // Dependent parameters are declared in order: the later ones first expand into the earlier ones.
+  for (auto d = dependents_.rbegin(); d != dependents_.rend(); ++d) {
+    if (std::find(used.begin(), used.end(), d->symbol) == used.end()) continue;
+    for (Expr s : symbolic::free_symbols(std::span<const Expr>(&d->expression, 1))) used.push_back(s);
+  }
+  for (const Coordinate& c : coordinates_) {
+    if (std::find(used.begin(), used.end(), c.q) == used.end()) {
+      throw ModelError(fmt::format("coordinate '{}' moves no body: no body's position or rotation depends on it "
+                                   "(its mass matrix row would be zero)", c.q.name()));
+    }
+  }
+}
+
+// Each dependent parameter, then each body's motion, evaluated at t = 0, q =
+// the initial values and the parameters' defaults: an expression out of its
+// domain there names the parameter or the body, and the function.
+void Model::validate_initial_configuration() const {
+  symbolic::Bindings<double> values;
+  values.emplace(time_, 0.0);
+  for (const Parameter& p : parameters_) values.emplace(p.symbol, p.value);
+  for (const Coordinate& c : coordinates_) values.emplace(c.q, c.initial);
+  const auto check = [&](Expr e, symbolic::Evaluator<double>& evaluate, const std::string& where) {
+    if (const auto operation = undefined_operation(e, evaluate)) {
+      throw ModelError(fmt::format("{}: {} is not defined at the initial configuration (t = 0, coordinates at "
+                                   "their initial values)", where, *operation));
+    }
+  };
+  for (const Dependent& d : dependents_) {
+    symbolic::Evaluator<double> evaluate(values);
+    check(d.expression, evaluate, fmt::format("dependent parameter '{}'", d.symbol.name()));
+    values.emplace(d.symbol, evaluate(d.expression));
+  }
+  symbolic::Evaluator<double> evaluate(values);
+  for (const Body& b : bodies_) {
+    for (const Transform::Step& s : b.motion().steps()) {
+      for (Expr e : s.displacement) check(e, evaluate, fmt::format("body '{}' motion", b.name()));
+      check(s.angle, evaluate, fmt::format("body '{}' motion", b.name()));
+    }
   }
 }
 
@@ -266,7 +396,11 @@ Model Definition::make(std::string_view variant) const {
                                  fmt::join(variants, ", ")));
   }
   Model m(name);
-  build(m, chosen);
+  try {
+    build(m, chosen);
+  } catch (const symbolic::SymbolicError& e) {  // a constant out of a function's domain, folded at construction
+    throw ModelError(fmt::format("model '{}' variant '{}': {}", name, chosen, e.what()));
+  }
   return m;
 }
 

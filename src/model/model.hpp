@@ -25,6 +25,7 @@
 // Bodies have a mass, an inertia tensor at G in body axes, and a motion: a
 // product of elementary transformations (transform.hpp), absolute or relative
 // to another body. Mistakes raise ModelError naming the culprit.
+// What is checked where (builder, validate(), generator, runtime): docs/errors.md.
 
 #include <functional>
 #include <deque>
@@ -38,10 +39,26 @@
 
 namespace symdyn::model {
 
+// A builder argument: an expression, or a plain number kept unchecked until
+// the call that takes it, so that a NaN or an infinity is reported naming the
+// body or gravity (Expr(double) itself refuses them without a name).
+class Scalar {
+ public:
+  Scalar(Expr e) : expr_(e), is_number_(false) {}  // NOLINT(google-explicit-constructor)
+  Scalar(double v) : number_(v) {}                // NOLINT(google-explicit-constructor)
+  // The expression; throws ModelError "<what> is not finite (nan)" for a non-finite number.
+  Expr to_expr(std::string_view what) const;
+
+ private:
+  Expr expr_;
+  double number_ = 0.0;
+  bool is_number_ = true;
+};
+
 class Body {
  public:
-  Body& mass(Expr m);
-  Body& inertia(Expr ixx, Expr iyy, Expr izz);  // principal, diagonal in body axes
+  Body& mass(Scalar m);
+  Body& inertia(Scalar ixx, Scalar iyy, Scalar izz);  // principal, diagonal in body axes
   Body& inertia(const Mat3& tensor);              // full, symmetric
   Body& motion(const Transform& T0G);             // absolute, or T_BG when relative_to
   Body& relative_to(std::string_view reference);
@@ -96,7 +113,7 @@ class Model {
   Expr dependent(std::string_view name, Expr expression);
   Expr time() const { return time_; }
   Body& body(std::string_view name);
-  void gravity(Expr gx, Expr gy, Expr gz);
+  void gravity(Scalar gx, Scalar gy, Scalar gz);
   void initial(Expr q, double value, double rate = 0.0);
 
   void inline_dependents(bool on) { inline_dependents_ = on; }
@@ -115,7 +132,11 @@ class Model {
   // Bodies in an order where every reference comes before the bodies relative to it.
   std::vector<int> topological_order() const;
 
-  // Checks the whole model; throws ModelError naming the first culprit.
+  // Checks the whole model as the runtime will (docs/errors.md): structure,
+  // masses and inertias (constant, positive, positive definite, triangle
+  // inequalities), gravity, every coordinate moving a body, and every dependent
+  // parameter and motion defined at the initial configuration. Throws ModelError naming
+  // the first culprit.
   void validate() const;
 
   // The same mechanics, with each body whose motion begins with the whole
@@ -132,6 +153,12 @@ class Model {
  private:
   void check_declared(Expr e, std::string_view where) const;
   bool is_declared(Expr symbol) const;
+  void validate_structure() const;
+  void validate_bodies() const;
+  void validate_body(const Body& body) const;
+  void validate_gravity() const;
+  void validate_coordinates_move_bodies() const;
+  void validate_initial_configuration() const;
 
   std::string name_;
   std::vector<Coordinate> coordinates_;

@@ -12,6 +12,7 @@
 #include <rapidcheck.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -20,6 +21,7 @@
 #include "model/model.hpp"
 #include "support/kinematics_checks.hpp"
 #include "symbolic/print.hpp"
+#include "symbolic/traversal.hpp"
 
 namespace symdyn::testing {
 
@@ -39,14 +41,17 @@ class RandomModel {
     symbols_ = m.coordinates(nq);
     symbols_.push_back(m.time());
     const int ndep = *rc::gen::inRange(0, 3);
+    std::vector<Expr> values;  // of the dependent parameters, in order
     for (int k = 0; k < ndep; ++k) {
       const Expr value = dependent_value();
       text_ << "p" << k << " = " << symbolic::to_infix(value) << "\n";
+      values.push_back(value);
       symbols_.push_back(m.dependent(fmt::format("p{}", k), value));
     }
     std::vector<BodyDraw> bodies;
     const int nbody = *rc::gen::inRange(1, 6);
     for (int i = 0; i < nbody; ++i) bodies.push_back(draw_body(i));
+    move_every_coordinate(bodies, nq, values);
     add_bodies(m, bodies, *rc::gen::arbitrary<bool>());
     m.gravity(draw(-10, 10, 1.0), draw(-10, 10, 1.0), draw(-10, 10, 1.0));
     return m;
@@ -129,6 +134,31 @@ class RandomModel {
       const BodyDraw& b = bodies[reversed ? bodies.size() - 1 - k : k];
       model::Body& body = m.body(b.name).mass(b.mass).inertia(b.inertia).motion(b.motion);
       if (b.reference >= 0) body.relative_to(fmt::format("b{}", b.reference));
+    }
+  }
+
+  // Model::validate refuses a coordinate that moves no body: one drawn in no
+  // motion (directly or through a dependent parameter) turns the first body.
+  void move_every_coordinate(std::vector<BodyDraw>& bodies, int nq, const std::vector<model::Expr>& values) {
+    std::vector<model::Expr> used;
+    for (const BodyDraw& b : bodies) {
+      for (const auto& s : b.motion.steps()) {
+        used.insert(used.end(), s.displacement.begin(), s.displacement.end());
+        used.push_back(s.angle);
+      }
+    }
+    const auto uses = [&](model::Expr s) {
+      return std::any_of(used.begin(), used.end(), [&](model::Expr e) { return symbolic::depends_on(e, s); });
+    };
+    for (std::size_t k = values.size(); k-- > 0;) {  // later dependent parameters use earlier ones
+      const model::Expr p = symbols_[static_cast<std::size_t>(nq) + 1 + k];
+      if (p.is_symbol() && uses(p)) used.push_back(values[k]);
+    }
+    for (int j = 0; j < nq; ++j) {
+      const model::Expr q = symbols_[static_cast<std::size_t>(j)];
+      if (uses(q)) continue;
+      bodies.front().motion = bodies.front().motion * model::Trotx(q);
+      text_ << "b0 also turns by rotx(" << q.name() << ")\n";
     }
   }
 
