@@ -1,0 +1,90 @@
+// symdyn-sim as a user meets it: nothing lost (arguments checked before a file
+// is touched, rows kept when a run fails), bounded work and output, exit codes
+// (0 success, 1 failed run, 2 bad command line) and the culprit on stderr.
+#include <catch2/catch.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "codegen/run_command.hpp"
+
+using namespace symdyn::testing;
+using Catch::Matchers::Contains;
+
+namespace {
+
+const std::string kSim = SYMDYN_SIM;
+
+std::string read(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A directory holding results.csv with earlier results in it.
+std::filesystem::path with_earlier_results() {
+  const auto dir = scratch_directory("sim");
+  std::ofstream(dir / "results.csv") << "earlier results\n";
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("symdyn-sim: a typo leaves the earlier results alone", "[bad_input][sim]") {
+  struct Case {
+    std::vector<std::string> args;
+    std::string culprit;
+  };
+  const Case cases[] = {
+      {{"--integrator", "dopri6"}, "unknown integrator 'dopri6'; valid names: newmark"},
+      {{"--variant", "nope"}, "model 'double_pendulum' has no variant 'nope' (built variants: absolute, relative)"},
+      {{"--interval", "1e-300", "--t-end", "1e9"}, "the run would write inf rows"},
+      {{"--t-end", "1e6"}, "the run would write 1e+08 rows (t-end / interval), over --max-rows 1e+07"},
+      {{"--integrator", "rk4", "--step", "1e-300"}, "integrator 'rk4': initial_step 1e-300 is below min_step 1e-12"},
+      {{"--integrator", "rk4", "--step", "1e-9"}, "a fixed step of 1e-09 s from t = 0 to 10 takes 1e+10 steps, over max_steps 100000000"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.culprit);
+    const auto dir = with_earlier_results();
+    std::vector<std::string> args{kSim, "double_pendulum", "--out", (dir / "results.csv").string()};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CommandResult r = run_command(args);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(c.culprit));
+    CHECK(read(dir / "results.csv") == "earlier results\n");
+    CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
+    std::filesystem::remove_all(dir);
+  }
+}
+
+TEST_CASE("symdyn-sim: --max-rows allows a long output, and a run replaces the results when it ends",
+          "[bad_input][sim]") {
+  const auto dir = with_earlier_results();
+  const CommandResult r = run_command({kSim, "double_pendulum", "--t-end", "0.1", "--interval", "1e-5", "--max-rows",
+                                       "2e4", "--out", (dir / "results.csv").string()});
+  CHECK(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("(10001 rows of 11 columns"));
+  CHECK(read(dir / "results.csv").rfind("t,q0,q1,", 0) == 0);
+  CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("symdyn-sim: a run that fails keeps its rows and says how far it got", "[bad_input][sim]") {
+  // RK4 with a step of 0.9 s on the double pendulum (periods about 1.2 s) diverges.
+  const auto dir = with_earlier_results();
+  const auto csv = dir / "results.csv";
+  const CommandResult r = run_command(
+      {kSim, "double_pendulum", "--integrator", "rk4", "--step", "0.9", "--t-end", "200", "--out", csv.string()});
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains("error: t = 2.7: bias force on coordinate 'q0' is not finite"));
+  CHECK_THAT(r.err, Contains(fmt::format("the run stopped; CSV: {} keeps its 181 rows up to t = 1.8", csv.string())));
+  const std::string rows = read(csv);
+  CHECK(std::count(rows.begin(), rows.end(), '\n') == 182);  // the header and 181 rows
+  CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
+  std::filesystem::remove_all(dir);
+}
