@@ -69,6 +69,7 @@ class Dop853 final : public detail::ExplicitIntegrator {
 
   std::array<Vector, 16> k_;  // slopes of the stages (2n + m each)
   Vector xs_, x1_, slope_;
+  Vector e3_;  // the third-order error estimate (error_norm's workspace)
   // The last accepted step [t_old, t_old + h_old] from x_old, and its interpolant
   // x(t_old + th·h) = r0 + th·(r1 + th1·(r2 + th·(r3 + th1·(r4 + th·(r5 + th1·(r6 + th·r7))))))
   // with th1 = 1 - th, built on the first output instant inside the step.
@@ -96,7 +97,8 @@ std::string Dop853::stage(int i, double t, double h) {
 // eighth-order error for small h and stays sane for large h.
 double Dop853::error_norm(double h) {
   xs_.setZero();
-  Vector e3 = Vector::Zero(x_.size());
+  Vector& e3 = e3_;
+  e3.setZero(x_.size());
   for (int j = 0; j < 12; ++j) {
     const auto& k = k_[static_cast<std::size_t>(j)];
     if (e5[j] != 0.0) xs_ += e5[j] * k;

@@ -385,9 +385,12 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
   mass_matrix(s, M);
   C.resize(n, n);
   K.resize(n, n);
-  State p = s;
-  Vector yd = Vector::Zero(num_extra_states());
-  Vector fp(n), fm(n), g;
+  // The workspace of the differences, reused: an implicit integrator calls this every few steps.
+  State& p = jacobian_state_;
+  p = s;
+  Vector& yd = jacobian_yd_;
+  yd.setZero(num_extra_states());
+  Vector &fp = jacobian_fp_, &fm = jacobian_fm_, &g = jacobian_g_;
   // Central differences with a relative step: error O(h^2) against rounding eps/h.
   for (int j = 0; j < n; ++j) {
     const double hq = 1e-6 * std::max(1.0, std::abs(s.q(j)));

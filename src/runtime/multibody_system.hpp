@@ -160,6 +160,8 @@ class MultibodySystem : public DynamicSystem {
   Matrix M_;
   Eigen::Matrix<double, Eigen::Dynamic, 3> DwJ_;  // (nq x 3)
   SpdSolver solver_;
+  State jacobian_state_;                                   // jacobians(): the shifted state,
+  Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
 };
 
 // Largest absolute differences between the assembled and the emitted mass
