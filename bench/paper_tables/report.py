@@ -26,7 +26,7 @@ CASE_TEXT = {
     3: "simplification, symbolic partial velocities",
     4: "as 3, with the mass matrix and bias forces emitted (Robotran-style)",
 }
-# SymPy's cse + ccode operation counts of the kinematics, case 2 (issue 7).
+# SymPy's cse + ccode operation counts of the kinematics, case 2 (a target of the tables).
 SYMPY_KINEMATICS = [
     ("double_pendulum", "relative", 2, 42),
     ("robot3d", "relative", 2, 104),
@@ -328,7 +328,7 @@ def verdict(ok):
 
 
 def targets(rows, out):
-    out.append("## Targets of issue 7\n")
+    out.append("## Targets: generation, equations, compile time\n")
     out.append("Measured figures from the tables above. Generation times are medians; T1 and T2 are compared between "
                "cases 1 and 2 by the instructions their workloads execute per evaluation (valgrind --tool=callgrind, "
                "repeatable), since on this shared machine the medians of identical code differ by up to 1.7x.\n")
