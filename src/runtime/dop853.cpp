@@ -183,11 +183,7 @@ void Dop853::interpolate(double t, State& s, Vector& qdd, Vector& yd) {
   const double th = (t - t_old_) / h_old_;
   const double th1 = 1.0 - th;
   xs_ = r_[0] + th * (r_[1] + th1 * (r_[2] + th * (r_[3] + th1 * (r_[4] + th * (r_[5] + th1 * (r_[6] + th * r_[7]))))));
-  const std::string bad = derivative(t, xs_, slope_);
-  if (!bad.empty()) throw NumericError(detail::at_time(t, bad + " (dense output)"));
-  s.t = t;
-  unpack(xs_, s);
-  unpack_rates(slope_, qdd, yd);
+  interpolated(t, xs_, slope_, s, qdd, yd);
 }
 
 }  // namespace

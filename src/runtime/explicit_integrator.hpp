@@ -80,6 +80,16 @@ class ExplicitIntegrator : public SteppingIntegrator {
     yd = dx.tail(m_);
   }
 
+  // Dense output: s, qdd and yd at t from the interpolated x, its rates evaluated
+  // there into the scratch dx.
+  void interpolated(double t, const Vector& x, Vector& dx, State& s, Vector& qdd, Vector& yd) {
+    const std::string bad = derivative(t, x, dx);
+    if (!bad.empty()) throw NumericError(at_time(t, bad + " (dense output)"));
+    s.t = t;
+    unpack(x, s);
+    unpack_rates(dx, qdd, yd);
+  }
+
   // Commits x1 at t1 with its derivative dx1.
   void commit(double t1, const Vector& x1, const Vector& dx1) {
     x_ = x1;

@@ -158,11 +158,7 @@ void Dopri5::interpolate(double t, State& s, Vector& qdd, Vector& yd) {
   const double th = (t - t_old_) / h_old_;
   const double th1 = 1.0 - th;
   xs_ = r1_ + th * (r2_ + th1 * (r3_ + th * (r4_ + th1 * r5_)));
-  const std::string bad = derivative(t, xs_, k2_);
-  if (!bad.empty()) throw NumericError(detail::at_time(t, bad + " (dense output)"));
-  s.t = t;
-  unpack(xs_, s);
-  unpack_rates(k2_, qdd, yd);
+  interpolated(t, xs_, k2_, s, qdd, yd);
 }
 
 }  // namespace
