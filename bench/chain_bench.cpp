@@ -15,7 +15,7 @@
 
 #include "support/chain_model.hpp"
 #include "support/dag_size.hpp"
-#include "symbolic/diff.hpp"
+#include <symdyn/symbolic/diff.hpp>
 
 #ifdef SYMDYN_HAVE_GINAC
 #include <ginac/ginac.h>

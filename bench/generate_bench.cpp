@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "codegen/generate.hpp"
+#include <symdyn/codegen/generate.hpp>
 
 namespace {
 

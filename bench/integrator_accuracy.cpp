@@ -26,7 +26,7 @@
 #include <fmt/format.h>
 
 #include "accuracy_problems.hpp"
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace {
 

@@ -17,7 +17,7 @@
 
 #include <fmt/format.h>
 
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 
 namespace {
 

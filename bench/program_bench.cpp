@@ -12,8 +12,8 @@
 #include <unordered_set>
 
 #include "support/random_expr.hpp"
-#include "symbolic/eval.hpp"
-#include "symbolic/program.hpp"
+#include <symdyn/symbolic/eval.hpp>
+#include <symdyn/symbolic/program.hpp>
 
 namespace {
 

@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "runtime/multibody_system.hpp"
-#include "runtime/spd_solver.hpp"
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/spd_solver.hpp>
 #include "runtime_bench_models.hpp"
 
 namespace {

@@ -8,9 +8,9 @@
 #include <map>
 #include <vector>
 
-#include "symbolic/cost.hpp"
-#include "symbolic/expr.hpp"
-#include "symbolic/simplify.hpp"
+#include <symdyn/symbolic/cost.hpp>
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/simplify.hpp>
 
 namespace {
 

@@ -4,7 +4,7 @@
 // link from the ground: the full product of the chain up to it).
 #include <fmt/format.h>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace {
 

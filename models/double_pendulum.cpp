@@ -1,5 +1,5 @@
 // Double pendulum (paper Table 1; models.md 1): two rods hinged about z.
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <vector>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace symdyn::models {
 

@@ -1,5 +1,5 @@
 // Slider-crank (paper Tables 4-5, eqs. 1-5; models.md 3).
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace {
 

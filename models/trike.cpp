@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace {
 

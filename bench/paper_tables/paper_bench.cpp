@@ -39,11 +39,11 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 #include "plugin.hpp"
 #include "reference.hpp"
-#include "runtime/model.hpp"
-#include "runtime/multibody_system.hpp"
+#include <symdyn/runtime/model.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
 

@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "symbolic/eval.hpp"
+#include <symdyn/symbolic/eval.hpp>
 
 namespace symdyn::paper {
 

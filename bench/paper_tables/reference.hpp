@@ -22,7 +22,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace symdyn::paper {
 

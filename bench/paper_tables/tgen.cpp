@@ -15,8 +15,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "codegen/generate.hpp"
-#include "model/model.hpp"
+#include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/model.hpp>
 
 namespace {
 

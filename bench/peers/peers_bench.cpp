@@ -28,8 +28,8 @@
 #include "mechanism.hpp"
 #include "peer.hpp"
 #include "peers_models.hpp"
-#include "runtime/multibody_system.hpp"
-#include "runtime/spd_solver.hpp"
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/spd_solver.hpp>
 
 namespace {
 

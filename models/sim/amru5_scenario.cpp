@@ -13,9 +13,9 @@
 #include <numbers>
 
 #include "run.hpp"
-#include "runtime/contact.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/generalized_forces.hpp"
+#include <symdyn/runtime/contact.hpp>
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/generalized_forces.hpp>
 
 #if __has_include("amru5_inline.hpp")
 #include "amru5_inline.hpp"

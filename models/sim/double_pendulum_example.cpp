@@ -6,8 +6,8 @@
 #include <iostream>
 
 #include "double_pendulum_absolute.hpp"  // emitted by symdyn_add_model
-#include "runtime/integrator.hpp"
-#include "runtime/runtime.hpp"
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/runtime.hpp>
 
 using namespace symdyn::runtime;
 

@@ -12,8 +12,8 @@
 #include <fmt/format.h>
 
 #include "run.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/generalized_forces.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/generalized_forces.hpp>
 
 #if __has_include("robot3d_absolute.hpp")
 #include "robot3d_absolute.hpp"

@@ -8,8 +8,8 @@
 #include <memory>
 #include <sstream>
 
-#include "runtime/errors.hpp"
-#include "runtime/progress_bar.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/progress_bar.hpp>
 
 namespace symdyn::sim {
 

@@ -6,7 +6,7 @@
 #include <deque>
 #include <utility>
 
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::sim {
 

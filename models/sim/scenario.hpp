@@ -17,10 +17,10 @@
 #include <string_view>
 #include <vector>
 
-#include "runtime/csv.hpp"
-#include "runtime/integrator.hpp"
-#include "runtime/model.hpp"
-#include "runtime/multibody_system.hpp"
+#include <symdyn/runtime/csv.hpp>
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/model.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 
 namespace symdyn::sim {
 

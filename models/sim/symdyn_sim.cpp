@@ -22,8 +22,8 @@
 #include <iostream>
 
 #include "run.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/integrator.hpp>
 
 namespace {
 

@@ -14,10 +14,10 @@
 #include <numbers>
 
 #include "run.hpp"
-#include "runtime/contact.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/generalized_forces.hpp"
-#include "runtime/point_forces.hpp"
+#include <symdyn/runtime/contact.hpp>
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/point_forces.hpp>
 
 #if __has_include("trike.hpp")
 #include "trike.hpp"

@@ -1,4 +1,4 @@
-#include "codegen/generate.hpp"
+#include <symdyn/codegen/generate.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -8,12 +8,12 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "model/dynamics.hpp"
-#include "model/identifier.hpp"
-#include "model/kinematics.hpp"
-#include "symbolic/diff.hpp"
-#include "symbolic/print.hpp"
-#include "symbolic/simplify.hpp"
+#include <symdyn/model/dynamics.hpp>
+#include <symdyn/model/identifier.hpp>
+#include <symdyn/model/kinematics.hpp>
+#include <symdyn/symbolic/diff.hpp>
+#include <symdyn/symbolic/print.hpp>
+#include <symdyn/symbolic/simplify.hpp>
 
 namespace symdyn::codegen {
 namespace {

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "model/model.hpp"
-#include "symbolic/program.hpp"
+#include <symdyn/model/model.hpp>
+#include <symdyn/symbolic/program.hpp>
 
 namespace symdyn::codegen {
 

@@ -20,10 +20,10 @@
 #include <fstream>
 #include <iostream>
 
-#include "codegen/generate.hpp"
-#include "model/errors.hpp"
-#include "model/identifier.hpp"
-#include "symbolic/errors.hpp"
+#include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/errors.hpp>
+#include <symdyn/model/identifier.hpp>
+#include <symdyn/symbolic/errors.hpp>
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "model/dynamics.hpp"
+#include <symdyn/model/dynamics.hpp>
 
 #include <fmt/format.h>
 
@@ -6,9 +6,9 @@
 #include <optional>
 #include <unordered_map>
 
-#include "model/intermediates.hpp"
-#include "symbolic/diff.hpp"
-#include "symbolic/traversal.hpp"
+#include <symdyn/model/intermediates.hpp>
+#include <symdyn/symbolic/diff.hpp>
+#include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::model {
 namespace {

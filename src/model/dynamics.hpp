@@ -41,7 +41,7 @@
 
 #include <vector>
 
-#include "model/kinematics.hpp"
+#include <symdyn/model/kinematics.hpp>
 
 namespace symdyn::model {
 

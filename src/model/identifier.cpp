@@ -1,11 +1,11 @@
-#include "model/identifier.hpp"
+#include <symdyn/model/identifier.hpp>
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <iterator>
 
-#include "model/errors.hpp"
+#include <symdyn/model/errors.hpp>
 
 namespace symdyn::model {
 

@@ -1,4 +1,4 @@
-#include "model/inertia_check.hpp"
+#include <symdyn/model/inertia_check.hpp>
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "model/errors.hpp"
+#include <symdyn/model/errors.hpp>
 
 namespace symdyn::model {
 

@@ -1,4 +1,4 @@
-#include "model/intermediates.hpp"
+#include <symdyn/model/intermediates.hpp>
 
 #include <stdexcept>
 

@@ -12,7 +12,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::model {
 

@@ -1,11 +1,11 @@
-#include "model/kinematics.hpp"
+#include <symdyn/model/kinematics.hpp>
 
 #include <fmt/format.h>
 
 #include <unordered_map>
 
-#include "model/intermediates.hpp"
-#include "symbolic/diff.hpp"
+#include <symdyn/model/intermediates.hpp>
+#include <symdyn/symbolic/diff.hpp>
 
 namespace symdyn::model {
 namespace {

@@ -28,7 +28,7 @@
 #include <functional>
 #include <vector>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace symdyn::model {
 

@@ -1,4 +1,4 @@
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -7,10 +7,10 @@
 #include <cctype>
 #include <cmath>
 
-#include "model/identifier.hpp"
-#include "model/inertia_check.hpp"
-#include "symbolic/eval.hpp"
-#include "symbolic/traversal.hpp"
+#include <symdyn/model/identifier.hpp>
+#include <symdyn/model/inertia_check.hpp>
+#include <symdyn/symbolic/eval.hpp>
+#include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::model {
 

@@ -34,8 +34,8 @@
 #include <string_view>
 #include <vector>
 
-#include "model/errors.hpp"
-#include "model/transform.hpp"
+#include <symdyn/model/errors.hpp>
+#include <symdyn/model/transform.hpp>
 
 namespace symdyn::model {
 

@@ -1,11 +1,11 @@
-#include "model/transform.hpp"
+#include <symdyn/model/transform.hpp>
 
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
-#include "model/errors.hpp"
+#include <symdyn/model/errors.hpp>
 
 namespace symdyn::model {
 namespace {

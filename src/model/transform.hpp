@@ -12,7 +12,7 @@
 
 #include <vector>
 
-#include "model/vector3.hpp"
+#include <symdyn/model/vector3.hpp>
 
 namespace symdyn::model {
 

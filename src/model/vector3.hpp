@@ -3,7 +3,7 @@
 
 #include <array>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::model {
 

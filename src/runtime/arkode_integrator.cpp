@@ -1,9 +1,9 @@
-#include "runtime/arkode_integrator.hpp"
+#include <symdyn/runtime/arkode_integrator.hpp>
 
 #include <arkode/arkode_arkstep.h>
 
-#include "runtime/sundials_integrator.hpp"
-#include "runtime/sundials_support.hpp"
+#include <symdyn/runtime/sundials_integrator.hpp>
+#include <symdyn/runtime/sundials_support.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,4 +1,4 @@
-#include "runtime/bushing.hpp"
+#include <symdyn/runtime/bushing.hpp>
 
 #include <Eigen/LU>
 #include <utility>

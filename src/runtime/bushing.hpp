@@ -16,8 +16,8 @@
 
 #include <string>
 
-#include "runtime/cardan.hpp"
-#include "runtime/force_element.hpp"
+#include <symdyn/runtime/cardan.hpp>
+#include <symdyn/runtime/force_element.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,11 +1,11 @@
-#include "runtime/cardan.hpp"
+#include <symdyn/runtime/cardan.hpp>
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
 

@@ -9,7 +9,7 @@
 #include <array>
 #include <string_view>
 
-#include "runtime/kinematics.hpp"
+#include <symdyn/runtime/kinematics.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,4 +1,4 @@
-#include "runtime/contact.hpp"
+#include <symdyn/runtime/contact.hpp>
 
 #include <algorithm>
 #include <cmath>

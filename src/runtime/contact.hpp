@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "runtime/force_element.hpp"
+#include <symdyn/runtime/force_element.hpp>
 
 namespace symdyn::runtime {
 

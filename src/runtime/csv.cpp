@@ -1,10 +1,10 @@
-#include "runtime/csv.hpp"
+#include <symdyn/runtime/csv.hpp>
 
 #include <fmt/format.h>
 
 #include <utility>
 
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/multibody_system.hpp"
+#include <symdyn/runtime/multibody_system.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,9 +1,9 @@
-#include "runtime/cvode_integrator.hpp"
+#include <symdyn/runtime/cvode_integrator.hpp>
 
 #include <cvode/cvode.h>
 
-#include "runtime/sundials_integrator.hpp"
-#include "runtime/sundials_support.hpp"
+#include <symdyn/runtime/sundials_integrator.hpp>
+#include <symdyn/runtime/sundials_support.hpp>
 
 namespace symdyn::runtime {
 

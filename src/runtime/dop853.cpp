@@ -1,10 +1,10 @@
-#include "runtime/dop853.hpp"
+#include <symdyn/runtime/dop853.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "runtime/explicit_integrator.hpp"
+#include <symdyn/runtime/explicit_integrator.hpp>
 
 namespace symdyn::runtime {
 

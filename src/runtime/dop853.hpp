@@ -11,7 +11,7 @@
 
 #include <memory>
 
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,4 +1,4 @@
-#include "runtime/dynamic_system.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "runtime/energy.hpp"
+#include <symdyn/runtime/energy.hpp>
 
 #include <Eigen/Geometry>
 

@@ -8,8 +8,8 @@
 //   linear        p = sum_i m_i v_i
 //   angular       L = sum_i x_i x (m_i v_i) + J_i w_i    (about the global origin)
 
-#include "runtime/kinematics.hpp"
-#include "runtime/model.hpp"
+#include <symdyn/runtime/kinematics.hpp>
+#include <symdyn/runtime/model.hpp>
 
 namespace symdyn::runtime {
 

@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "runtime/dynamic_system.hpp"
-#include "runtime/kinematics.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
+#include <symdyn/runtime/kinematics.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,4 +1,4 @@
-#include "runtime/generalized_forces.hpp"
+#include <symdyn/runtime/generalized_forces.hpp>
 
 #include <utility>
 

@@ -5,7 +5,7 @@
 #include <functional>
 #include <string>
 
-#include "runtime/force_element.hpp"
+#include <symdyn/runtime/force_element.hpp>
 
 namespace symdyn::runtime {
 

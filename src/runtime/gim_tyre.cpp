@@ -1,4 +1,4 @@
-#include "runtime/gim_tyre.hpp"
+#include <symdyn/runtime/gim_tyre.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>

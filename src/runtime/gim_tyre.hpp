@@ -39,8 +39,8 @@
 
 #include <string>
 
-#include "runtime/contact.hpp"
-#include "runtime/force_element.hpp"
+#include <symdyn/runtime/contact.hpp>
+#include <symdyn/runtime/force_element.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,12 +1,12 @@
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
-#include "runtime/errors.hpp"
-#include "runtime/stepping_integrator.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
 

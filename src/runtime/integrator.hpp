@@ -72,7 +72,7 @@
 #include <string_view>
 #include <vector>
 
-#include "runtime/dynamic_system.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime {
 

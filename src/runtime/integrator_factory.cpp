@@ -5,14 +5,14 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "runtime/arkode_integrator.hpp"
-#include "runtime/cvode_integrator.hpp"
-#include "runtime/dop853.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/integrator.hpp"
-#include "runtime/midpoint.hpp"
-#include "runtime/newmark.hpp"
-#include "runtime/runge_kutta.hpp"
+#include <symdyn/runtime/arkode_integrator.hpp>
+#include <symdyn/runtime/cvode_integrator.hpp>
+#include <symdyn/runtime/dop853.hpp>
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/midpoint.hpp>
+#include <symdyn/runtime/newmark.hpp>
+#include <symdyn/runtime/runge_kutta.hpp>
 
 namespace symdyn::runtime {
 

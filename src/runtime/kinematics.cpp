@@ -1,4 +1,4 @@
-#include "runtime/kinematics.hpp"
+#include <symdyn/runtime/kinematics.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "runtime/linearization.hpp"
+#include <symdyn/runtime/linearization.hpp>
 
 #include <fmt/format.h>
 
@@ -8,8 +8,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "runtime/errors.hpp"
-#include "runtime/spd_solver.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/dynamic_system.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime {
 

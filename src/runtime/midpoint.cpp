@@ -1,4 +1,4 @@
-#include "runtime/midpoint.hpp"
+#include <symdyn/runtime/midpoint.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <Eigen/LU>
 #include <fmt/format.h>
 
-#include "runtime/errors.hpp"
-#include "runtime/stepping_integrator.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,4 +1,4 @@
-#include "runtime/model.hpp"
+#include <symdyn/runtime/model.hpp>
 
 #include <fmt/format.h>
 

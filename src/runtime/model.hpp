@@ -18,10 +18,10 @@
 #include <string_view>
 #include <vector>
 
-#include "runtime/dynamic_system.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/kinematics.hpp"
-#include "runtime/relative_motion.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/kinematics.hpp>
+#include <symdyn/runtime/relative_motion.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,4 +1,4 @@
-#include "runtime/multibody_system.hpp"
+#include <symdyn/runtime/multibody_system.hpp>
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
 

@@ -37,11 +37,11 @@
 #include <string_view>
 #include <vector>
 
-#include "runtime/dynamic_system.hpp"
-#include "runtime/energy.hpp"
-#include "runtime/force_element.hpp"
-#include "runtime/model.hpp"
-#include "runtime/spd_solver.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
+#include <symdyn/runtime/energy.hpp>
+#include <symdyn/runtime/force_element.hpp>
+#include <symdyn/runtime/model.hpp>
+#include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,10 +1,10 @@
-#include "runtime/point_forces.hpp"
+#include <symdyn/runtime/point_forces.hpp>
 
 #include <fmt/format.h>
 
 #include <utility>
 
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
 

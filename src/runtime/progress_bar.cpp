@@ -1,4 +1,4 @@
-#include "runtime/progress_bar.hpp"
+#include <symdyn/runtime/progress_bar.hpp>
 
 #include <algorithm>
 #include <string>

@@ -14,7 +14,7 @@
 #include <chrono>
 #include <cstdio>
 
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 
 namespace symdyn::runtime {
 

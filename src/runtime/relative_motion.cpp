@@ -1,8 +1,8 @@
-#include "runtime/relative_motion.hpp"
+#include <symdyn/runtime/relative_motion.hpp>
 
 #include <fmt/format.h>
 
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
 namespace {

@@ -13,7 +13,7 @@
 
 #include <vector>
 
-#include "runtime/kinematics.hpp"
+#include <symdyn/runtime/kinematics.hpp>
 
 namespace symdyn::runtime {
 

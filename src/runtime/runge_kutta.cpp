@@ -1,4 +1,4 @@
-#include "runtime/runge_kutta.hpp"
+#include <symdyn/runtime/runge_kutta.hpp>
 
 #include <algorithm>
 #include <array>
@@ -6,8 +6,8 @@
 
 #include <fmt/format.h>
 
-#include "runtime/errors.hpp"
-#include "runtime/explicit_integrator.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/explicit_integrator.hpp>
 
 namespace symdyn::runtime {
 

@@ -18,7 +18,7 @@
 
 #include <memory>
 
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,4 +1,4 @@
-#include "runtime/spd_solver.hpp"
+#include <symdyn/runtime/spd_solver.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

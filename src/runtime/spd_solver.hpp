@@ -22,7 +22,7 @@
 #include <functional>
 #include <string>
 
-#include "runtime/dynamic_system.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime {
 

@@ -1,4 +1,4 @@
-#include "runtime/statics.hpp"
+#include <symdyn/runtime/statics.hpp>
 
 #include <fmt/format.h>
 
@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "runtime/errors.hpp"
-#include "runtime/spd_solver.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
 

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/dynamic_system.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime {
 

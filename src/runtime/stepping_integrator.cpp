@@ -1,4 +1,4 @@
-#include "runtime/stepping_integrator.hpp"
+#include <symdyn/runtime/stepping_integrator.hpp>
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime::detail {
 

@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 
 namespace symdyn::runtime::detail {
 

@@ -1,4 +1,4 @@
-#include "runtime/sundials_integrator.hpp"
+#include <symdyn/runtime/sundials_integrator.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -11,9 +11,9 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
-#include "runtime/errors.hpp"
-#include "runtime/stepping_integrator.hpp"
-#include "runtime/sundials_support.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/stepping_integrator.hpp>
+#include <symdyn/runtime/sundials_support.hpp>
 
 namespace symdyn::runtime::detail {
 

@@ -16,7 +16,7 @@
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nvector.h>
 
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 
 namespace symdyn::runtime::detail {
 

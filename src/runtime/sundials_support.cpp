@@ -1,9 +1,9 @@
-#include "runtime/sundials_support.hpp"
+#include <symdyn/runtime/sundials_support.hpp>
 
 #include <fmt/format.h>
 
-#include "runtime/errors.hpp"
-#include "runtime/stepping_integrator.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime::detail {
 

@@ -7,7 +7,7 @@
 
 #include <nvector/nvector_serial.h>
 
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 
 namespace symdyn::runtime::detail {
 

@@ -6,8 +6,8 @@
 #include <numbers>
 #include <unordered_map>
 
-#include "symbolic/expr.hpp"
-#include "symbolic/small_vector.hpp"
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic {
 namespace {

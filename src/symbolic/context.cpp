@@ -6,7 +6,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::symbolic {
 namespace {

@@ -1,5 +1,5 @@
 // The operation count of a DAG; see cost.hpp for the model.
-#include "symbolic/cost.hpp"
+#include <symdyn/symbolic/cost.hpp>
 
 #include <algorithm>
 #include <bit>

@@ -26,7 +26,7 @@
 #include <span>
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::symbolic {
 

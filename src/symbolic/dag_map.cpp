@@ -1,4 +1,4 @@
-#include "symbolic/dag_map.hpp"
+#include <symdyn/symbolic/dag_map.hpp>
 
 #include <algorithm>
 #include <utility>

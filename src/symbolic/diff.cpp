@@ -1,6 +1,6 @@
 // Differentiation, total time derivative and substitution: three DagMap rules.
 // The calculus is in one place, the table of local partials below.
-#include "symbolic/diff.hpp"
+#include <symdyn/symbolic/diff.hpp>
 
 #include <fmt/format.h>
 

@@ -31,8 +31,8 @@
 #include <span>
 #include <unordered_map>
 
-#include "symbolic/dag_map.hpp"
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/dag_map.hpp>
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::symbolic {
 

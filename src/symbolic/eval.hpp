@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "symbolic/expr.hpp"
-#include "symbolic/scalar_ops.hpp"
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/scalar_ops.hpp>
 
 namespace symdyn::symbolic {
 

@@ -45,9 +45,9 @@
 #include <string_view>
 #include <vector>
 
-#include "symbolic/errors.hpp"
-#include "symbolic/node_kinds.hpp"
-#include "symbolic/number.hpp"
+#include <symdyn/symbolic/errors.hpp>
+#include <symdyn/symbolic/node_kinds.hpp>
+#include <symdyn/symbolic/number.hpp>
 
 namespace symdyn::symbolic {
 

@@ -11,7 +11,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::symbolic::detail {
 

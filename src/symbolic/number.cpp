@@ -1,4 +1,4 @@
-#include "symbolic/number.hpp"
+#include <symdyn/symbolic/number.hpp>
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <limits>
 #include <numeric>
 
-#include "symbolic/errors.hpp"
+#include <symdyn/symbolic/errors.hpp>
 
 namespace symdyn::symbolic {
 namespace {

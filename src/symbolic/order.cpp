@@ -1,7 +1,7 @@
 // The structural order of canonical forms.
 #include <algorithm>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::symbolic {
 namespace {

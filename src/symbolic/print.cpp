@@ -1,4 +1,4 @@
-#include "symbolic/print.hpp"
+#include <symdyn/symbolic/print.hpp>
 
 #include <fmt/format.h>
 

@@ -13,7 +13,7 @@
 #include <functional>
 #include <string>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::symbolic {
 

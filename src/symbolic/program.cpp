@@ -1,6 +1,6 @@
 // IR -> instructions: binarization with sign folding, sincos fusion, slot
 // numbering and workspace allocation; the opcode table and operation counts.
-#include "symbolic/program.hpp"
+#include <symdyn/symbolic/program.hpp>
 
 #include <fmt/format.h>
 
@@ -9,8 +9,8 @@
 #include <map>
 #include <optional>
 
-#include "symbolic/program_ir.hpp"
-#include "symbolic/small_vector.hpp"
+#include <symdyn/symbolic/program_ir.hpp>
+#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic {
 namespace {

@@ -73,9 +73,9 @@
 
 #include <fmt/format.h>
 
-#include "symbolic/errors.hpp"
-#include "symbolic/expr.hpp"
-#include "symbolic/scalar_ops.hpp"
+#include <symdyn/symbolic/errors.hpp>
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/scalar_ops.hpp>
 
 namespace symdyn::symbolic {
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <string_view>
 
-#include "symbolic/print.hpp"
-#include "symbolic/program.hpp"
+#include <symdyn/symbolic/print.hpp>
+#include <symdyn/symbolic/program.hpp>
 
 namespace symdyn::symbolic {
 namespace {

@@ -18,9 +18,9 @@
 #include <span>
 #include <vector>
 
-#include "symbolic/expr.hpp"
-#include "symbolic/program.hpp"
-#include "symbolic/small_vector.hpp"
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/program.hpp>
+#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic::ir {
 

@@ -7,10 +7,10 @@
 #include <functional>
 #include <queue>
 
-#include "symbolic/flat_map.hpp"
-#include "symbolic/program_ir.hpp"
-#include "symbolic/scalar_ops.hpp"
-#include "symbolic/small_vector.hpp"
+#include <symdyn/symbolic/flat_map.hpp>
+#include <symdyn/symbolic/program_ir.hpp>
+#include <symdyn/symbolic/scalar_ops.hpp>
+#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic::ir {
 

@@ -32,9 +32,9 @@
 #include <queue>
 #include <stdexcept>
 
-#include "symbolic/flat_map.hpp"
-#include "symbolic/program_ir.hpp"
-#include "symbolic/small_vector.hpp"
+#include <symdyn/symbolic/flat_map.hpp>
+#include <symdyn/symbolic/program_ir.hpp>
+#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic::ir {
 namespace {

@@ -6,7 +6,7 @@
 // and stops as soon as k() returns true. That is what lets a sum pattern try
 // every assignment of its terms and a product pattern every sub-multiset,
 // while a wildcard bound in one term constrains the next.
-#include "symbolic/rewrite.hpp"
+#include <symdyn/symbolic/rewrite.hpp>
 
 #include <fmt/format.h>
 
@@ -19,9 +19,9 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "symbolic/cost.hpp"
-#include "symbolic/flat_map.hpp"
-#include "symbolic/small_vector.hpp"
+#include <symdyn/symbolic/cost.hpp>
+#include <symdyn/symbolic/flat_map.hpp>
+#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic {
 namespace {

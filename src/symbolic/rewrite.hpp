@@ -53,8 +53,8 @@
 #include <utility>
 #include <vector>
 
-#include "symbolic/expr.hpp"
-#include "symbolic/node_table.hpp"
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/node_table.hpp>
 
 namespace symdyn::symbolic {
 

@@ -7,7 +7,7 @@
 #include <complex>
 #include <span>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::symbolic::scalar {
 

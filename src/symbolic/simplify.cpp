@@ -1,10 +1,10 @@
 // expand and simplify; see simplify.hpp.
-#include "symbolic/simplify.hpp"
+#include <symdyn/symbolic/simplify.hpp>
 
 #include <algorithm>
 
-#include "symbolic/cost.hpp"
-#include "symbolic/trig_rules.hpp"
+#include <symdyn/symbolic/cost.hpp>
+#include <symdyn/symbolic/trig_rules.hpp>
 
 namespace symdyn::symbolic {
 namespace {

@@ -33,9 +33,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "symbolic/expr.hpp"
-#include "symbolic/node_table.hpp"
-#include "symbolic/rewrite.hpp"
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/node_table.hpp>
+#include <symdyn/symbolic/rewrite.hpp>
 
 namespace symdyn::symbolic {
 

@@ -1,4 +1,4 @@
-#include "symbolic/traversal.hpp"
+#include <symdyn/symbolic/traversal.hpp>
 
 #include <algorithm>
 #include <unordered_set>

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "symbolic/rewrite.hpp"
+#include <symdyn/symbolic/rewrite.hpp>
 
 namespace symdyn::symbolic {
 

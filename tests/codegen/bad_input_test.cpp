@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "codegen/generate.hpp"
+#include <symdyn/codegen/generate.hpp>
 #include "codegen/run_command.hpp"
 
 using namespace symdyn;

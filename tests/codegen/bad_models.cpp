@@ -2,7 +2,7 @@
 // generator (symdyn_generator_bad_models) that the command-line tests run.
 #include <limits>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace {
 

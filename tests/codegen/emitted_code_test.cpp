@@ -4,11 +4,11 @@
 // (support/emitted_check.hpp).
 #include <catch2/catch.hpp>
 
-#include "codegen/generate.hpp"
+#include <symdyn/codegen/generate.hpp>
 #include "double_pendulum_absolute.hpp"
 #include "double_pendulum_absolute_case1.hpp"
 #include "double_pendulum_relative.hpp"
-#include "model/kinematics.hpp"
+#include <symdyn/model/kinematics.hpp>
 #include "slider_crank_dependent.hpp"
 #include "slider_crank_dependent_parts.hpp"
 #include "slider_crank_inline.hpp"

@@ -10,7 +10,7 @@
 
 #include <array>
 
-#include "codegen/generate.hpp"
+#include <symdyn/codegen/generate.hpp>
 #include "support/emitted_check.hpp"
 #include "support/equations_checks.hpp"
 #include "support/random_model.hpp"

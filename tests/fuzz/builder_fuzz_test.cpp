@@ -9,8 +9,8 @@
 #include <limits>
 #include <typeinfo>
 
-#include "codegen/generate.hpp"
-#include "model/model.hpp"
+#include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/model.hpp>
 
 using namespace symdyn;
 using model::Expr;

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 using namespace symdyn::model;
 using Catch::Matchers::Contains;

@@ -4,7 +4,7 @@
 // and finite differences in qd (partial velocities, exact since v is affine in qd).
 #include <catch2/catch.hpp>
 
-#include "model/kinematics.hpp"
+#include <symdyn/model/kinematics.hpp>
 #include "support/kinematics_checks.hpp"
 
 using namespace symdyn;

@@ -2,7 +2,7 @@
 // that the kinematics of the rewritten model equal the model's as written.
 #include <catch2/catch.hpp>
 
-#include "model/kinematics.hpp"
+#include <symdyn/model/kinematics.hpp>
 #include "support/kinematics_checks.hpp"
 
 using namespace symdyn;

@@ -1,7 +1,7 @@
 // Every validation error of the builder API, with its message.
 #include <catch2/catch.hpp>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 
 using namespace symdyn::model;
 using Catch::Matchers::Contains;

@@ -7,7 +7,7 @@
 
 #include <map>
 
-#include "codegen/generate.hpp"
+#include <symdyn/codegen/generate.hpp>
 
 using namespace symdyn;
 

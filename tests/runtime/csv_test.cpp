@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "fixtures/spring_mass.hpp"
-#include "runtime/csv.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/point_forces.hpp"
+#include <symdyn/runtime/csv.hpp>
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/point_forces.hpp>
 #include "test_util.hpp"
 
 using namespace symdyn::runtime;

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "runtime/dynamic_system.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
 
 namespace {
 

@@ -7,12 +7,12 @@
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/rigid_body.hpp"
 #include "fixtures/spring_mass.hpp"
-#include "runtime/bushing.hpp"
-#include "runtime/contact.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/generalized_forces.hpp"
-#include "runtime/multibody_system.hpp"
-#include "runtime/point_forces.hpp"
+#include <symdyn/runtime/bushing.hpp>
+#include <symdyn/runtime/contact.hpp>
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/point_forces.hpp>
 #include "test_util.hpp"
 
 using namespace symdyn::runtime;

@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "fixtures/rigid_body.hpp"
-#include "runtime/gim_tyre.hpp"
-#include "runtime/multibody_system.hpp"
+#include <symdyn/runtime/gim_tyre.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 #include "test_util.hpp"
 
 using namespace symdyn::runtime;

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "runtime/errors.hpp"
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/integrator.hpp>
 #include "runtime/test_systems.hpp"
 
 namespace {

@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "runtime/integrator.hpp"
+#include <symdyn/runtime/integrator.hpp>
 #include "runtime/test_systems.hpp"
 
 namespace {

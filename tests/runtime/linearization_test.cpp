@@ -7,10 +7,10 @@
 
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/spring_mass.hpp"
-#include "runtime/generalized_forces.hpp"
-#include "runtime/linearization.hpp"
-#include "runtime/multibody_system.hpp"
-#include "runtime/point_forces.hpp"
+#include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/linearization.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/point_forces.hpp>
 #include "test_util.hpp"
 
 using namespace symdyn::runtime;

@@ -6,9 +6,9 @@
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/pendulum.hpp"
 #include "fixtures/rigid_body.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/model.hpp"
-#include "runtime/multibody_system.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/model.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 #include "test_util.hpp"
 
 using namespace symdyn::runtime;

@@ -6,7 +6,7 @@
 #include <string>
 #include <thread>
 
-#include "runtime/progress_bar.hpp"
+#include <symdyn/runtime/progress_bar.hpp>
 
 namespace {
 

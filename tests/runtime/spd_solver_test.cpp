@@ -11,7 +11,7 @@
 #include <limits>
 #include <string>
 
-#include "runtime/spd_solver.hpp"
+#include <symdyn/runtime/spd_solver.hpp>
 
 using namespace symdyn::runtime;
 

@@ -5,11 +5,11 @@
 
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/spring_mass.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/generalized_forces.hpp"
-#include "runtime/multibody_system.hpp"
-#include "runtime/point_forces.hpp"
-#include "runtime/statics.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/point_forces.hpp>
+#include <symdyn/runtime/statics.hpp>
 #include "test_util.hpp"
 
 using namespace symdyn::runtime;

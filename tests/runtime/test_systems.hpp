@@ -10,7 +10,7 @@
 
 #include <Eigen/Dense>
 
-#include "runtime/dynamic_system.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime::testing {
 

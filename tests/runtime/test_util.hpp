@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "runtime/dynamic_system.hpp"
+#include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime::test {
 

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "double_pendulum_absolute.hpp"
-#include "runtime/integrator.hpp"
-#include "runtime/multibody_system.hpp"
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 #include "slider_crank_dependent.hpp"
 
 namespace symdyn_test::accuracy {

@@ -12,11 +12,11 @@
 
 #include "double_pendulum_absolute.hpp"
 #include "double_pendulum_relative.hpp"
-#include "runtime/generalized_forces.hpp"
-#include "runtime/integrator.hpp"
-#include "runtime/linearization.hpp"
-#include "runtime/multibody_system.hpp"
-#include "runtime/statics.hpp"
+#include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/linearization.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/statics.hpp>
 #include "runtime/test_util.hpp"
 
 namespace {

@@ -10,9 +10,9 @@
 #include <string>
 
 #include "all_models.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/multibody_system.hpp"
-#include "runtime/relative_motion.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/relative_motion.hpp>
 
 namespace {
 

@@ -11,11 +11,11 @@
 
 #include "all_models.hpp"
 #include "allocation_count.hpp"
-#include "runtime/errors.hpp"
-#include "runtime/generalized_forces.hpp"
-#include "runtime/integrator.hpp"
-#include "runtime/multibody_system.hpp"
-#include "runtime/point_forces.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/point_forces.hpp>
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <fmt/format.h>
 
 #include "double_pendulum_absolute.hpp"
-#include "runtime/integrator.hpp"
-#include "runtime/multibody_system.hpp"
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "run.hpp"
-#include "runtime/errors.hpp"
+#include <symdyn/runtime/errors.hpp>
 
 namespace {
 

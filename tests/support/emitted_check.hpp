@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "codegen/generate.hpp"
-#include "model/kinematics.hpp"
+#include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/kinematics.hpp>
 #include "support/model_eval.hpp"
 
 namespace symdyn::testing {

@@ -9,7 +9,7 @@
 //
 // (⁰: at qdd = 0, Ω = Rᵀ·w, Ω̇ = Rᵀ·dw).
 
-#include "model/dynamics.hpp"
+#include <symdyn/model/dynamics.hpp>
 #include "support/kinematics_checks.hpp"
 
 namespace symdyn::testing {

@@ -17,8 +17,8 @@
 #include <utility>
 #include <vector>
 
-#include "model/kinematics.hpp"
-#include "symbolic/simplify.hpp"
+#include <symdyn/model/kinematics.hpp>
+#include <symdyn/symbolic/simplify.hpp>
 #include "support/model_eval.hpp"
 
 namespace symdyn::testing {

@@ -9,8 +9,8 @@
 #include <span>
 #include <vector>
 
-#include "model/kinematics.hpp"
-#include "symbolic/eval.hpp"
+#include <symdyn/model/kinematics.hpp>
+#include <symdyn/symbolic/eval.hpp>
 
 namespace symdyn::testing {
 

@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include <symdyn/symbolic/expr.hpp>
 
 namespace symdyn::testing {
 

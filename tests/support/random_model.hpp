@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "model/model.hpp"
+#include <symdyn/model/model.hpp>
 #include "support/kinematics_checks.hpp"
-#include "symbolic/print.hpp"
-#include "symbolic/traversal.hpp"
+#include <symdyn/symbolic/print.hpp>
+#include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::testing {
 

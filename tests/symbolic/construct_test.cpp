@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 
-#include "symbolic/eval.hpp"
-#include "symbolic/expr.hpp"
-#include "symbolic/print.hpp"
+#include <symdyn/symbolic/eval.hpp>
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/print.hpp>
 #include "support/random_expr.hpp"
 
 using namespace symdyn::symbolic;

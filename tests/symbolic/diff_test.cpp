@@ -11,8 +11,8 @@
 #include "support/chain_model.hpp"
 #include "support/dag_size.hpp"
 #include "support/random_expr.hpp"
-#include "symbolic/diff.hpp"
-#include "symbolic/eval.hpp"
+#include <symdyn/symbolic/diff.hpp>
+#include <symdyn/symbolic/eval.hpp>
 
 using namespace symdyn::symbolic;
 using symdyn::testing::RandomExpr;

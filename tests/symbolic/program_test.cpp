@@ -13,9 +13,9 @@
 #include <fmt/format.h>
 
 #include "support/random_expr.hpp"
-#include "symbolic/eval.hpp"
-#include "symbolic/expr.hpp"
-#include "symbolic/program.hpp"
+#include <symdyn/symbolic/eval.hpp>
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/program.hpp>
 
 using namespace symdyn::symbolic;
 using Complex = std::complex<double>;

@@ -9,12 +9,12 @@
 #include <fmt/format.h>
 
 #include "support/random_expr.hpp"
-#include "symbolic/cost.hpp"
-#include "symbolic/eval.hpp"
-#include "symbolic/expr.hpp"
-#include "symbolic/rewrite.hpp"
-#include "symbolic/simplify.hpp"
-#include "symbolic/trig_rules.hpp"
+#include <symdyn/symbolic/cost.hpp>
+#include <symdyn/symbolic/eval.hpp>
+#include <symdyn/symbolic/expr.hpp>
+#include <symdyn/symbolic/rewrite.hpp>
+#include <symdyn/symbolic/simplify.hpp>
+#include <symdyn/symbolic/trig_rules.hpp>
 
 using namespace symdyn::symbolic;
 

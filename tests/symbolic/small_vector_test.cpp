@@ -1,7 +1,7 @@
 // SmallVector: the same elements as a std::vector given the same pushes,
 // inserts and erases, inline and past its inline capacity, and after copies
 // and moves.
-#include "symbolic/small_vector.hpp"
+#include <symdyn/symbolic/small_vector.hpp>
 
 #include <catch2/catch.hpp>
 
