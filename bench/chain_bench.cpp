@@ -1,4 +1,4 @@
-// Kinematics of chain_N (absolute variant, /work/shared/spec/models.md):
+// Kinematics of chain_N (absolute variant, docs/models.md):
 // poses of all bodies as products of 4x4 matrices, then their velocities and
 // accelerations by the total time derivative. symdyn beside GiNaC on the same
 // task. See bench/README.md for how to run and what the counters mean.

@@ -1,4 +1,4 @@
-// Six-legged walking robot in the spirit of AMRU5 (paper Table 7; models.md 5):
+// Six-legged walking robot in the spirit of AMRU5 (paper Table 7; docs/models.md 5):
 // 49 bodies, 24 DOF, 12 dependent parameters. Each leg is a closed loop
 // (two sliders, a thigh and a shank meeting at the knee) whose two angles
 // alpha_k, beta_k are explicit functions of the sliders' positions.

@@ -1,4 +1,4 @@
-// A serial chain of N identical links (models.md 6), for scaling studies:
+// A serial chain of N identical links (docs/models.md 6), for scaling studies:
 // one model chain_N per N in {2, 4, 8, 16, 32, 64}, each with the variants
 // "relative" (every link relative to the previous one) and "absolute" (every
 // link from the ground: the full product of the chain up to it).

@@ -1,4 +1,4 @@
-// Double pendulum (paper Table 1; models.md 1): two rods hinged about z.
+// Double pendulum (paper Table 1; docs/models.md 1): two rods hinged about z.
 #include <symdyn/model/model.hpp>
 
 namespace {

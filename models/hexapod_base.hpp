@@ -1,5 +1,5 @@
 #pragma once
-// What amru5 and hexapod_tree share (models.md 5 and 7): the main body on a
+// What amru5 and hexapod_tree share (docs/models.md 5 and 7): the main body on a
 // floating base and the six hips.
 #include <array>
 #include <numbers>

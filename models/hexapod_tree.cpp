@@ -1,4 +1,4 @@
-// Six-legged robot with serial legs (models.md 7), for comparison with
+// Six-legged robot with serial legs (docs/models.md 7), for comparison with
 // libraries that handle kinematic trees only: 19 bodies, 24 DOF.
 #include <fmt/format.h>
 

@@ -1,5 +1,5 @@
 // Robot with a turret, a telescopic arm and a two-axis wrist (paper Tables 2-3;
-// models.md 2): 3 bodies, 5 DOF.
+// docs/models.md 2): 3 bodies, 5 DOF.
 #include <symdyn/model/model.hpp>
 
 namespace {

@@ -1,4 +1,4 @@
-// Slider-crank (paper Tables 4-5, eqs. 1-5; models.md 3).
+// Slider-crank (paper Tables 4-5, eqs. 1-5; docs/models.md 3).
 #include <symdyn/model/model.hpp>
 
 namespace {

@@ -1,4 +1,4 @@
-// Three-wheeled vehicle (paper Table 6; models.md 4): 5 bodies, 13 DOF.
+// Three-wheeled vehicle (paper Table 6; docs/models.md 4): 5 bodies, 13 DOF.
 // Kinematics and equations of motion only: suspension, steering, drive and
 // tyre forces belong to the simulation.
 #include <cmath>

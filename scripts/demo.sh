@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# symdyn at work on the double pendulum (models.md 1), for real:
+# symdyn at work on the double pendulum (docs/models.md 1), for real:
 #   1. installs what is missing (Debian 12, as root), configures the release
 #      preset and builds what the demo runs (quick when already built);
 #   2. runs the model's generator with --stats (time, operation counts) and

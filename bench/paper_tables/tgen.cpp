@@ -33,7 +33,7 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// The options of the paper's cases (design.md) and of case 4.
+// The options of the paper's cases (docs/design.md) and of case 4.
 codegen::Options case_options(int c) {
   codegen::Options o;
   o.simplify = c >= 2;

@@ -1,4 +1,4 @@
-// The models of models.md 1, 2, 6 and 7 as joint trees (mechanism.hpp), each
+// The models of docs/models.md 1, 2, 6 and 7 as joint trees (mechanism.hpp), each
 // step read off the model's T0G products in models/*.cpp.
 #include "mechanism.hpp"
 

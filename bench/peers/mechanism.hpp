@@ -1,5 +1,5 @@
 #pragma once
-// The reference models of /work/shared/spec/models.md that a joint-tree library
+// The reference models of docs/models.md that a joint-tree library
 // can express, written once as trees of one-DOF joints; every peer builds its own
 // model from this description, so all of them see the same mechanism.
 //

@@ -99,7 +99,7 @@ class Deriver {
     return b;
   }
 
-  // Composition with the reference body B (design.md).
+  // Composition with the reference body B (docs/design.md).
   static BodyKinematics compose(const BodyKinematics& B, const Motion& l) {
     BodyKinematics b;
     b.relative = l;

@@ -6,7 +6,7 @@
 //   w = Σ_k R_(before k)·axis_k·d(angle_k)/dt  (exact and short; skew(w) = dR/dt·Rᵀ)
 //   dw = dw/dt
 // For a body relative to B, only T_BG is derived; the absolute quantities are
-// composed from B's (design.md), so the emitted code evaluates the composition
+// composed from B's (docs/design.md), so the emitted code evaluates the composition
 // numerically. B's quantities enter as named intermediates (symbols defined in
 // Kinematics::intermediates), each computed once: substituted, B's sums would
 // merge into the body's own and a chain's k-th body would cost O(k).

@@ -45,7 +45,7 @@ Transform Transform::after(std::size_t n) const {
 }
 
 // Rodrigues: R = c·I + s·[k]x + (1 - c)·k·kᵀ; the elementary axes give the
-// familiar Rx, Ry, Rz of models.md with no zero terms to fold.
+// familiar Rx, Ry, Rz of docs/models.md with no zero terms to fold.
 Mat3 Transform::rotation_matrix(const Vec3& k, Expr angle) {
   const Expr c = cos(angle);
   const Expr s = sin(angle);

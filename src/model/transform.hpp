@@ -6,7 +6,7 @@
 //   Trot(axis, a)       rotation by a about a constant unit axis (local frame)
 //
 // A product A·B·C is read left to right as successive motions of a moving
-// frame (models.md). A Transform keeps its elementary factors, not only the
+// frame (docs/models.md). A Transform keeps its elementary factors, not only the
 // 4x4 matrix, because the angular velocity is exact and short when composed
 // from them: w = Σ_k R_(before k)·axis_k·d(angle_k)/dt.
 

@@ -3,7 +3,7 @@
 //
 // For the order (i, j, k), three distinct axes among x, y, z, the angles
 // (a, b, c) satisfy R = R_i(a) R_j(b) R_k(c), with R_x, R_y, R_z the
-// elementary rotations of models.md; b lies in [-pi/2, pi/2], and the angles
+// elementary rotations of docs/models.md; b lies in [-pi/2, pi/2], and the angles
 // are singular (gimbal lock) at |b| = pi/2.
 
 #include <array>

@@ -1,6 +1,6 @@
 #pragma once
 // Penalty contact with a plane: a body point or sphere, and the simple tyre of
-// models.md (the trike's).
+// docs/models.md (the trike's).
 
 #include <string>
 
@@ -17,7 +17,7 @@ struct Plane {
 
 // How friction is regularized near zero slip speed v_s:
 //   linear: Ft = -mu N vt / max(|vt|, v_s)       (EasyDyn: linear below v_s)
-//   smooth: Ft = -mu N vt / sqrt(|vt|^2 + v_s^2)  (models.md's contacts)
+//   smooth: Ft = -mu N vt / sqrt(|vt|^2 + v_s^2)  (docs/models.md's contacts)
 enum class FrictionRegularization { linear, smooth };
 
 struct ContactProperties {
@@ -60,7 +60,7 @@ class PlaneContact : public ForceElement {
   ContactProperties p_;
 };
 
-// The simple tyre of models.md. Wheel centre C = the body point `centre`,
+// The simple tyre of docs/models.md. Wheel centre C = the body point `centre`,
 // spin axis e = R . axis (the wheel's local y axis by default), radius R:
 //   d = unit(n - (n.e) e);  P = C - R d;  delta = -(P - O).n
 //   vP = velocity of the wheel's material point at P

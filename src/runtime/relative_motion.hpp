@@ -2,7 +2,7 @@
 // Composition of relative motions, as EasyDyn composed CAGeM's code: the
 // emitted relative_accelerations (and relative_partial_velocities) give each
 // body's motion relative to its reference in the reference's axes; composing
-// them, references first, gives the absolute kinematics (design.md):
+// them, references first, gives the absolute kinematics (docs/design.md):
 //   r = R_B·x_rel, x = x_B + r, R = R_B·R_rel, w = w_B + R_B·w_rel,
 //   v = v_B + w_B×r + R_B·v_rel,
 //   a = a_B + dw_B×r + w_B×(w_B×r) + 2·w_B×(R_B·v_rel) + R_B·a_rel,

@@ -1,4 +1,4 @@
-// The reference models against the numbers of models.md, typed here again
+// The reference models against the numbers of docs/models.md, typed here again
 // from the page: sizes, masses and inertias, gravity, initial states, and
 // positions in simple configurations; amru5's legs close (the thigh and the
 // shank meet at the knee) and its dependent parameters follow the page's formulas.
@@ -95,7 +95,7 @@ bool near(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).n
 
 }  // namespace
 
-TEST_CASE("robot3d matches models.md", "[models]") {
+TEST_CASE("robot3d matches docs/models.md", "[models]") {
   const InertiaTable table = {{"turret", {10.0, 0.3, 0.3, 0.1}},
                               {"arm", {5.0, 0.01, 0.41666666666666667, 0.41666666666666667}},
                               {"gripper", {2.0, 0.01, 0.02, 0.02}}};
@@ -116,7 +116,7 @@ TEST_CASE("robot3d matches models.md", "[models]") {
   check.operator()<gen::robot3d_relative>();
 }
 
-TEST_CASE("trike matches models.md", "[models]") {
+TEST_CASE("trike matches docs/models.md", "[models]") {
   using G = gen::trike;
   check_sizes<G>(13, 5, 0);
   check_gravity<G>(0, 0, -9.81);
@@ -148,7 +148,7 @@ namespace {
 
 const InertiaTable hexapod_main_body = {{"body", {60, 2.0, 7.4, 9.0}}};
 
-// Hips and their mounting yaw (models.md 5).
+// Hips and their mounting yaw (docs/models.md 5).
 struct HipSpec {
   double x, y, psi;
 };
@@ -158,7 +158,7 @@ const HipSpec hip_spec[6] = {{0.5, 0.3, std::numbers::pi / 2}, {0.5, -0.3, -std:
 
 }  // namespace
 
-TEST_CASE("amru5 matches models.md", "[models]") {
+TEST_CASE("amru5 matches docs/models.md", "[models]") {
   InertiaTable table = hexapod_main_body;
   table.insert({{"coxa", {1.0, 0.002, 0.002, 0.002}},
                 {"vertical_slider", {0.5, 0.001, 0.001, 0.001}},
@@ -210,7 +210,7 @@ TEST_CASE("amru5's legs close: thigh and shank meet at the knee, the foot keeps 
   check.operator()<gen::amru5_dependent>();
 }
 
-TEST_CASE("amru5's dependent parameters are models.md's alpha_k and beta_k", "[models]") {
+TEST_CASE("amru5's dependent parameters are docs/models.md's alpha_k and beta_k", "[models]") {
   using G = gen::amru5_dependent;
   const double a = 0.3, b = 0.25;
   std::mt19937 rng(8);
@@ -230,7 +230,7 @@ TEST_CASE("amru5's dependent parameters are models.md's alpha_k and beta_k", "[m
   }
 }
 
-TEST_CASE("hexapod_tree matches models.md", "[models]") {
+TEST_CASE("hexapod_tree matches docs/models.md", "[models]") {
   using G = gen::hexapod_tree;
   InertiaTable table = hexapod_main_body;
   table.insert({{"coxa", {1.0, 0.002, 0.002, 0.002}},
@@ -255,7 +255,7 @@ TEST_CASE("hexapod_tree matches models.md", "[models]") {
   }
 }
 
-TEST_CASE("chain_N matches models.md", "[models]") {
+TEST_CASE("chain_N matches docs/models.md", "[models]") {
   auto check = [&]<class G>(int n) {
     check_sizes<G>(n, n, 0);
     check_gravity<G>(0, 0, -9.81);

@@ -270,7 +270,7 @@ TEST_CASE("Penalty contact of a sphere with a plane", "[runtime][forces]") {
   CHECK(sys.loads().F.col(0).norm() == 0.0);
 }
 
-TEST_CASE("Simple tyre of models.md on a cambered, steered, spinning wheel", "[runtime][forces]") {
+TEST_CASE("Simple tyre of docs/models.md on a cambered, steered, spinning wheel", "[runtime][forces]") {
   MultibodySystem sys(Model::from<fx::rigid_body>());
   SimpleTyreProperties t;  // the trike's: R 0.3, k 2e5, c 500, mu 0.9, eps 0.05
   auto tyre = sys.add<SimpleTyre>("front", 0, t);

@@ -29,7 +29,7 @@ inline State make_state(double t, const Vector& q, const Vector& qd, const Vecto
   return State{t, Vector(q), Vector(qd), Vector(y)};
 }
 
-// Double pendulum of models.md (l = m = 1, Izz = 1/12, g = 9.81 along -y):
+// Double pendulum of docs/models.md (l = m = 1, Izz = 1/12, g = 9.81 along -y):
 // Lagrange's M(q) and h(q, qd) with a = l1, b = l2/2, c = l1/2.
 struct Lagrange {
   Matrix M = Matrix(2, 2);

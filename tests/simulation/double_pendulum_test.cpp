@@ -1,4 +1,4 @@
-// The generated double pendulum (models.md 1) against a hand-written residual,
+// The generated double pendulum (docs/models.md 1) against a hand-written residual,
 // energy conservation, the small-oscillation frequencies and a static
 // equilibrium, each against a closed form or an independent computation.
 
@@ -26,7 +26,7 @@ using symdyn::runtime::test::double_pendulum_lagrange;
 namespace gen = symdyn_generated;
 
 constexpr double g = 9.81;
-constexpr double Izz = 0.083333333333333333;  // each rod about its G, as in models.md
+constexpr double Izz = 0.083333333333333333;  // each rod about its G, as in docs/models.md
 
 // Lagrange's equations M(q) qdd + h(q, qd) = 0, written by hand
 // (tests/runtime/test_util.hpp), as a residual DynamicSystem.

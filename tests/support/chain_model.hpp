@@ -1,5 +1,5 @@
 #pragma once
-// The chain_N model of /work/shared/spec/models.md, "absolute" variant, as
+// The chain_N model of docs/models.md, "absolute" variant, as
 // 4x4 homogeneous transforms over any scalar: double (the numerical
 // reference), symbolic::Expr, or GiNaC::ex (the benchmark's baseline). The
 // engine knows no mechanics; tests and benchmarks build this model themselves.
