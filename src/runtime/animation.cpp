@@ -1,0 +1,43 @@
+#include <symdyn/runtime/animation.hpp>
+
+#include <fmt/format.h>
+
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/model.hpp>
+
+namespace symdyn::runtime {
+
+Animation::Animation(const Model& model)
+    : model_(model), nbody_(model.nbody()), k_(model.make_kinematics()) {}
+
+void Animation::record(const State& s) {
+  if (!times_.empty() && !(s.t > times_.back())) {
+    throw OptionError(fmt::format("animation: frame at t = {} after t = {}: times must increase", s.t,
+                                  times_.back()));
+  }
+  model_.positions(s.t, s.q.data(), k_);
+  for (int i = 0; i < nbody_; ++i) {
+    Eigen::Quaterniond q(Mat3(k_.R(i)));
+    q.normalize();
+    if (frames() > 0 && q.coeffs().dot(rotation(frames() - 1, i).coeffs()) < 0) q.coeffs() = -q.coeffs();
+    const Vec3 x = k_.x(i);
+    if (!q.coeffs().allFinite() || !x.allFinite()) {
+      throw NumericError(fmt::format("animation: t = {}: the pose of body '{}' is not finite", s.t,
+                                     model_.body_names()[i]));
+    }
+    poses_.insert(poses_.end(), {q.x(), q.y(), q.z(), q.w(), x.x(), x.y(), x.z()});
+  }
+  times_.push_back(s.t);
+}
+
+Eigen::Quaterniond Animation::rotation(std::size_t frame, int body) const {
+  const double* p = pose(frame, body);
+  return Eigen::Quaterniond(p[3], p[0], p[1], p[2]);
+}
+
+Vec3 Animation::translation(std::size_t frame, int body) const {
+  const double* p = pose(frame, body);
+  return Vec3(p[4], p[5], p[6]);
+}
+
+}  // namespace symdyn::runtime

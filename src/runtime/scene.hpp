@@ -1,0 +1,96 @@
+#pragma once
+// What the viewers draw: shapes attached to the bodies of a model.
+//
+// A shape has a pose in its body's frame (origin at G, the inertia's axes) and a
+// colour. A body given no shape is drawn as the box of its own mass and inertia
+// (inertia_box): a box of uniform density with the same principal moments,
+//   a² = 6 (B + C - A)/m,  b² = 6 (A + C - B)/m,  c² = 6 (A + B - C)/m,
+// so that a glance at the scene checks the inertias too.
+//
+// Every shape becomes a triangle mesh (tessellate) in its body's frame; the
+// writers (gltf.hpp, easyanim.hpp) place it with the body's R and x from the
+// emitted positions() alone.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <symdyn/runtime/kinematics.hpp>
+
+namespace symdyn::runtime {
+
+class Model;
+
+struct Colour {
+  float r = 0.6f, g = 0.6f, b = 0.65f, a = 1.0f;  // each in [0, 1]
+};
+
+// Triangles with one normal per vertex (flat faces repeat their vertices).
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> positions;
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
+
+  std::size_t triangle_count() const { return indices.size() / 3; }
+  // Appends another mesh, its vertices moved by pose.
+  void append(const TriangleMesh& other, const Eigen::Isometry3d& pose);
+};
+
+// A triangle mesh read from a Wavefront OBJ or an STL (ASCII or binary) file,
+// chosen by the extension; ModelError naming the file and line on bad input.
+TriangleMesh read_mesh(const std::filesystem::path& file);
+
+struct Shape {
+  enum class Kind { box, sphere, cylinder, capsule, mesh };
+  Kind kind = Kind::box;
+  // box: edge lengths along x, y, z; sphere: (radius, -, -); cylinder and
+  // capsule: (radius, length, -), along the local z axis, length between the
+  // end faces (cylinder) or the centres of the end caps (capsule).
+  Vec3 size = Vec3::Ones();
+  std::shared_ptr<const TriangleMesh> mesh;       // Kind::mesh
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // in the body's frame
+  Colour colour;
+
+  static Shape box(double x, double y, double z);
+  static Shape sphere(double radius);
+  static Shape cylinder(double radius, double length);
+  static Shape capsule(double radius, double length);
+  static Shape triangles(std::shared_ptr<const TriangleMesh> mesh);
+
+  Shape& at(const Eigen::Isometry3d& p) { pose = p; return *this; }
+  Shape& with(Colour c) { colour = c; return *this; }
+};
+
+// The triangles of a shape in its body's frame (its pose applied); curved
+// surfaces with `segments` facets around.
+TriangleMesh tessellate(const Shape& shape, int segments = 24);
+
+// The box of uniform density with the mass and inertia (at G, body axes) given,
+// rotated onto the inertia's principal axes. A flat or slender body (a moment
+// sum that vanishes) keeps a thickness of 2 % of its largest edge, to be seen.
+Shape inertia_box(double mass, const Mat3& inertia);
+
+// The shapes of every body of a model: inertia boxes until set.
+class Scene {
+ public:
+  explicit Scene(const Model& model);
+
+  int nbody() const { return static_cast<int>(shapes_.size()); }
+  const std::string& body_name(int i) const { return names_[i]; }
+  const std::vector<Shape>& shapes(int body) const { return shapes_[body]; }
+  // Replaces the default shape of a body on the first call, then adds to it.
+  Scene& add(int body, Shape shape);
+  // The up direction of the scene, against gravity (z when there is none).
+  const Vec3& up() const { return up_; }
+
+ private:
+  std::vector<std::string> names_;
+  std::vector<std::vector<Shape>> shapes_;
+  std::vector<bool> customized_;
+  Vec3 up_;
+};
+
+}  // namespace symdyn::runtime

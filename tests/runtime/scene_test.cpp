@@ -1,0 +1,366 @@
+// Shapes, the animation writers and the mesh readers, each checked by another
+// route: volumes and inertias of the tessellated shapes by the divergence
+// theorem, glTF files read back by an independent reader (tinygltf), poses
+// against the double pendulum's closed-form kinematics.
+#include <fmt/format.h>
+#include <tiny_gltf.h>
+
+#include <catch2/catch.hpp>
+#include <cstring>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "fixtures/double_pendulum.hpp"
+#include <symdyn/runtime/easyanim.hpp>
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/gltf.hpp>
+#include <symdyn/runtime/linearization.hpp>
+#include <symdyn/runtime/model.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+#include <symdyn/runtime/scene.hpp>
+
+using namespace symdyn::runtime;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// Volume, centroid and inertia about the centroid of a closed mesh of uniform
+// density 1, summed over the tetrahedra (origin, a, b, c) of its triangles:
+// covariance (det/120)·(Σ v vᵀ + s sᵀ), s = a + b + c, det = a·(b×c).
+struct MassProperties {
+  double volume = 0;
+  Vec3 centroid = Vec3::Zero();
+  Mat3 inertia = Mat3::Zero();
+};
+
+MassProperties mass_properties(const TriangleMesh& m) {
+  MassProperties p;
+  Mat3 covariance = Mat3::Zero();
+  for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+    const Vec3 a = m.positions[m.indices[3 * t]].cast<double>();
+    const Vec3 b = m.positions[m.indices[3 * t + 1]].cast<double>();
+    const Vec3 c = m.positions[m.indices[3 * t + 2]].cast<double>();
+    const double det = a.dot(b.cross(c));
+    const Vec3 s = a + b + c;
+    p.volume += det / 6;
+    p.centroid += det / 24 * s;
+    covariance += det / 120 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+  }
+  p.centroid /= p.volume;
+  covariance -= p.volume * p.centroid * p.centroid.transpose();  // about the centroid
+  p.inertia = covariance.trace() * Mat3::Identity() - covariance;
+  return p;
+}
+
+// Every vertex normal on the outer side of its triangle.
+bool normals_point_out(const TriangleMesh& m) {
+  for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+    const auto& a = m.positions[m.indices[3 * t]];
+    const Eigen::Vector3f face = (m.positions[m.indices[3 * t + 1]] - a).cross(m.positions[m.indices[3 * t + 2]] - a);
+    for (int k = 0; k < 3; ++k) {
+      if (face.dot(m.normals[m.indices[3 * t + k]]) <= 0) return false;
+    }
+  }
+  return true;
+}
+
+std::filesystem::path temp_file(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / "symdyn_scene_test";
+  std::filesystem::create_directories(dir);
+  return dir / name;
+}
+
+void write_text(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream(file, std::ios::binary) << text;
+}
+
+// The double pendulum's poses in closed form: rod1 at angle q0, rod2 at q0 + q1.
+Vec3 rod2_centre(double q0, double q1) {
+  return Vec3(std::cos(q0) + 0.5 * std::cos(q0 + q1), std::sin(q0) + 0.5 * std::sin(q0 + q1), 0);
+}
+
+State pendulum_state(double t) {
+  State s;
+  s.t = t;
+  s.q = Vector::Zero(2);
+  s.q << 0.3 + 2.0 * t, -1.1 + 5.0 * t;  // several turns over the frames
+  s.qd = Vector::Zero(2);
+  return s;
+}
+
+// The floats of a glTF accessor, read through its buffer view.
+std::vector<float> floats(const tinygltf::Model& g, int accessor) {
+  const auto& a = g.accessors[accessor];
+  const auto& v = g.bufferViews[a.bufferView];
+  const int n = tinygltf::GetNumComponentsInType(a.type);
+  std::vector<float> out(a.count * n);
+  std::memcpy(out.data(), g.buffers[v.buffer].data.data() + v.byteOffset + a.byteOffset, out.size() * 4);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Tessellated shapes are closed, face outwards and converge to their volumes", "[runtime][scene]") {
+  const double r = 0.2, L = 0.7, pi = std::numbers::pi;
+  CHECK(mass_properties(tessellate(Shape::box(0.3, 0.5, 0.7))).volume == Approx(0.105).epsilon(1e-6));
+  struct Case {
+    Shape shape;
+    double volume;
+  };
+  for (const auto& [shape, volume] : {Case{Shape::sphere(r), 4 * pi * r * r * r / 3},
+                                      Case{Shape::cylinder(r, L), pi * r * r * L},
+                                      Case{Shape::capsule(r, L), pi * r * r * L + 4 * pi * r * r * r / 3}}) {
+    double previous_error = 1.0;
+    for (const int segments : {8, 32, 128}) {
+      const TriangleMesh m = tessellate(shape, segments);
+      CHECK(normals_point_out(m));
+      const double error = std::abs(mass_properties(m).volume / volume - 1);
+      CHECK(error < previous_error);  // an inscribed polyhedron, refined
+      previous_error = error;
+    }
+    CHECK(previous_error < 2e-3);
+  }
+}
+
+TEST_CASE("A shape's pose moves its mesh and its centroid", "[runtime][scene]") {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translate(Vec3(1, -2, 0.5)).rotate(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+  const MassProperties p = mass_properties(tessellate(Shape::box(0.1, 0.2, 0.3).at(pose)));
+  CHECK((p.centroid - Vec3(1, -2, 0.5)).norm() < 1e-6);
+  CHECK(p.volume == Approx(0.006).epsilon(1e-5));
+}
+
+TEST_CASE("The inertia box has the body's mass, inertia and principal axes", "[runtime][scene]") {
+  // A full, positive definite tensor with distinct moments, turned off the body axes.
+  const Mat3 turn = Eigen::AngleAxisd(0.9, Vec3(0.3, -1, 2).normalized()).toRotationMatrix();
+  const Mat3 I = turn * Vec3(0.04, 0.05, 0.07).asDiagonal() * turn.transpose();
+  const double mass = 3.0;
+  const MassProperties p = mass_properties(tessellate(inertia_box(mass, I)));
+  const Mat3 box_inertia = mass / p.volume * p.inertia;  // density mass / volume
+  CHECK((box_inertia - I).norm() / I.norm() < 1e-5);
+  CHECK(p.centroid.norm() < 1e-6);
+}
+
+TEST_CASE("A slender body's inertia box keeps a visible thickness", "[runtime][scene]") {
+  // A thin rod along x: its moment about x vanishes, so would two edges.
+  const Shape box = inertia_box(1.0, Vec3(0.0, 1.0 / 12, 1.0 / 12).asDiagonal());
+  const Vec3 edges = box.size;
+  CHECK(edges.maxCoeff() == Approx(1.0).epsilon(1e-12));
+  CHECK(edges.minCoeff() == Approx(0.02).epsilon(1e-12));
+}
+
+TEST_CASE("Bad shapes are refused naming the dimension", "[runtime][scene]") {
+  CHECK_THROWS_WITH(Shape::sphere(-1), Contains("sphere radius") && Contains("-1"));
+  CHECK_THROWS_WITH(Shape::box(1, std::nan(""), 1), Contains("box edge y"));
+  CHECK_THROWS_WITH(Shape::cylinder(0.1, 0), Contains("cylinder length"));
+  CHECK_THROWS_AS(Shape::triangles(nullptr), ModelError);
+}
+
+TEST_CASE("OBJ and STL files are read as closed meshes", "[runtime][scene]") {
+  // A unit cube in OBJ, quads, one face with negative (relative) indices and texture references.
+  const auto obj = temp_file("cube.obj");
+  write_text(obj,
+             "# cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+             "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2/1 3/1 7/1 6/1\nf 3 4 8 7\nf -4 -8 -5 -1\n");
+  const TriangleMesh cube = read_mesh(obj);
+  CHECK(cube.triangle_count() == 12);
+  CHECK(mass_properties(cube).volume == Approx(1.0).epsilon(1e-6));
+
+  // The tetrahedron (0, e1, e2, e3), binary and ASCII STL.
+  const Eigen::Vector3f v[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::string binary(80, ' ');
+  std::string ascii = "solid tetra\n";
+  const std::uint32_t count = 4;
+  binary.append(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& f : faces) {
+    const float zero[3] = {0, 0, 0};
+    binary.append(reinterpret_cast<const char*>(zero), 12);
+    ascii += "facet normal 0 0 0\nouter loop\n";
+    for (const int k : f) {
+      binary.append(reinterpret_cast<const char*>(v[k].data()), 12);
+      ascii += fmt::format("vertex {} {} {}\n", v[k].x(), v[k].y(), v[k].z());
+    }
+    binary.append(2, '\0');
+    ascii += "endloop\nendfacet\n";
+  }
+  write_text(temp_file("tetra.stl"), binary);
+  write_text(temp_file("tetra_ascii.STL"), ascii + "endsolid tetra\n");
+  for (const char* name : {"tetra.stl", "tetra_ascii.STL"}) {
+    const TriangleMesh m = read_mesh(temp_file(name));
+    CHECK(m.triangle_count() == 4);
+    CHECK(mass_properties(m).volume == Approx(1.0 / 6).epsilon(1e-6));
+    CHECK(normals_point_out(m));
+  }
+}
+
+TEST_CASE("Bad mesh files are refused naming the file and the line", "[runtime][scene]") {
+  const auto obj = temp_file("bad.obj");
+  write_text(obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+  CHECK_THROWS_WITH(read_mesh(obj), Contains("bad.obj") && Contains("line 4") && Contains("vertex 4 does not exist"));
+  write_text(obj, "v 0 0 nan\n");
+  CHECK_THROWS_WITH(read_mesh(obj), Contains("line 1"));
+  write_text(obj, "v 0 0 0\n");
+  CHECK_THROWS_WITH(read_mesh(obj), Contains("has no triangle"));
+  const auto stl = temp_file("short.stl");
+  write_text(stl, std::string(90, 'x'));
+  CHECK_THROWS_WITH(read_mesh(stl), Contains("short.stl") && Contains("bytes"));
+  CHECK_THROWS_WITH(read_mesh(temp_file("mesh.ply")), Contains("mesh.ply"));
+}
+
+TEST_CASE("glTF: nodes, times and poses read back by tinygltf match the kinematics", "[runtime][scene]") {
+  const Model model = Model::from<symdyn_fixtures::double_pendulum_absolute>();
+  Scene scene(model);
+  scene.add(1, Shape::cylinder(0.02, 1.0).with({0.8f, 0.2f, 0.1f, 1.0f}));
+  scene.add(1, Shape::sphere(0.05));
+  Animation animation(model);
+  const std::vector<double> times = {0.5, 0.6, 0.75, 1.0};
+  for (const double t : times) animation.record(pendulum_state(t));
+  const auto file = temp_file("pendulum.glb");
+  write_glb(file, scene, animation);
+
+  tinygltf::Model g;
+  tinygltf::TinyGLTF loader;
+  std::string error, warning;
+  REQUIRE(loader.LoadBinaryFromFile(&g, &error, &warning, file.string()));
+  CHECK(error.empty());
+  CHECK(warning.empty());
+  REQUIRE(g.nodes.size() == 3);  // world, rod1, rod2
+  CHECK(g.nodes[0].name == "world");
+  CHECK(g.nodes[0].children == std::vector<int>{1, 2});
+  CHECK(g.nodes[1].name == "rod1");
+  CHECK(g.nodes[2].name == "rod2");
+  CHECK(g.meshes[g.nodes[2].mesh].primitives.size() == 2);  // the two shapes added
+  // Gravity along -y: up is already glTF's +Y.
+  CHECK(Eigen::Quaterniond(g.nodes[0].rotation[3], g.nodes[0].rotation[0], g.nodes[0].rotation[1],
+                           g.nodes[0].rotation[2]).angularDistance(Eigen::Quaterniond::Identity()) < 1e-12);
+
+  REQUIRE(g.animations.size() == 1);
+  for (const auto& channel : g.animations[0].channels) {
+    const auto& sampler = g.animations[0].samplers[channel.sampler];
+    const std::vector<float> input = floats(g, sampler.input);
+    const std::vector<float> output = floats(g, sampler.output);
+    REQUIRE(input.size() == times.size());
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      CHECK(input[k] == Approx(times[k] - times[0]).margin(1e-6));
+      if (channel.target_node != 2) continue;
+      const State s = pendulum_state(times[k]);
+      if (channel.target_path == "translation") {
+        const Vec3 x(output[3 * k], output[3 * k + 1], output[3 * k + 2]);
+        CHECK((x - rod2_centre(s.q[0], s.q[1])).norm() < 1e-6);
+      } else {
+        const Eigen::Quaterniond q(output[4 * k + 3], output[4 * k], output[4 * k + 1], output[4 * k + 2]);
+        const Eigen::Quaterniond expected(Eigen::AngleAxisd(s.q[0] + s.q[1], Vec3::UnitZ()));
+        CHECK(q.angularDistance(expected) < 1e-6);
+        if (k > 0) {  // the short way between frames
+          const Eigen::Vector4f a(&output[4 * k]), b(&output[4 * (k - 1)]);
+          CHECK(a.dot(b) >= 0);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("glTF of a z-up model turns z onto glTF's +Y", "[runtime][scene]") {
+  using Pendulum = symdyn_fixtures::double_pendulum_absolute;
+  ModelDescription d;  // the pendulum's kinematics under gravity along -z
+  d.model = "z_up";
+  d.nq = d.nbody = 2;
+  d.q_names = {"q0", "q1"};
+  d.body_names = {"rod1", "rod2"};
+  d.q_initial = d.qd_initial = {0.0, 0.0};
+  d.reference_body = {-1, -1};
+  d.gravity = Vec3(0, 0, -9.81);
+  d.inertia = &Pendulum::inertia;
+  d.positions = &Pendulum::positions;
+  const Model model(d);
+  Scene scene(model);
+  Animation animation(model);
+  animation.record(pendulum_state(0));
+  std::ostringstream out;
+  write_glb(out, scene, animation);
+  tinygltf::Model g;
+  tinygltf::TinyGLTF loader;
+  std::string error, warning;
+  const std::string bytes = out.str();
+  REQUIRE(loader.LoadBinaryFromMemory(&g, &error, &warning, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                      static_cast<unsigned>(bytes.size())));
+  const auto& r = g.nodes[0].rotation;
+  const Eigen::Quaterniond world(r[3], r[0], r[1], r[2]);
+  CHECK((world * Vec3::UnitZ() - Vec3::UnitY()).norm() < 1e-12);
+  CHECK(g.animations.empty());  // one frame: a still scene
+}
+
+TEST_CASE("Animation refuses frames out of order", "[runtime][scene]") {
+  const Model model = Model::from<symdyn_fixtures::double_pendulum_absolute>();
+  Animation animation(model);
+  animation.record(pendulum_state(1.0));
+  CHECK_THROWS_WITH(animation.record(pendulum_state(0.5)), Contains("t = 0.5") && Contains("increase"));
+  std::ostringstream out;
+  CHECK_THROWS_AS(write_glb(out, Scene(model), Animation(model)), OptionError);
+}
+
+TEST_CASE("EasyAnim: every node of .van follows its body", "[runtime][scene]") {
+  const Model model = Model::from<symdyn_fixtures::double_pendulum_absolute>();
+  Scene scene(model);
+  Animation animation(model);
+  const std::vector<double> times = {0.0, 0.3, 0.9};
+  for (const double t : times) animation.record(pendulum_state(t));
+  const auto stem = temp_file("pendulum");
+  write_easyanim(stem, scene, animation, "double pendulum");
+
+  std::ifstream vol(stem.string() + ".vol");
+  std::string title;
+  std::getline(vol, title);
+  CHECK(title == "double pendulum");
+  std::size_t nodes = 0;
+  vol >> nodes;
+  REQUIRE(nodes == 16);  // two boxes of 8 corners
+  std::vector<Vec3> first(nodes);
+  for (std::size_t i = 0; i < nodes; ++i) {
+    std::size_t name = 0;
+    vol >> name >> first[i].x() >> first[i].y() >> first[i].z();
+    CHECK(name == i);
+  }
+  std::size_t edges = 1, faces = 0;
+  vol >> edges >> faces;
+  CHECK(edges == 0);
+  CHECK(faces == 24);
+
+  std::ifstream van(stem.string() + ".van");
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    const State s = pendulum_state(times[k]), s0 = pendulum_state(times[0]);
+    for (std::size_t i = 0; i < nodes; ++i) {
+      Vec3 p;
+      van >> p.x() >> p.y() >> p.z();
+      // Node i of rod2 (the last 8): its offset from G turns with q0 + q1.
+      if (i < 8) continue;
+      const Eigen::AngleAxisd turn(s.q[0] + s.q[1] - s0.q[0] - s0.q[1], Vec3::UnitZ());
+      const Vec3 expected = rod2_centre(s.q[0], s.q[1]) + turn * (first[i] - rod2_centre(s0.q[0], s0.q[1]));
+      CHECK((p - expected).norm() < 1e-6);
+    }
+  }
+  double extra;
+  CHECK_FALSE(van >> extra);
+}
+
+TEST_CASE("EasyAnim modes: the pole, then the scene displaced by each part of the shape", "[runtime][scene]") {
+  MultibodySystem system(Model::from<symdyn_fixtures::double_pendulum_absolute>());
+  State hanging = system.initial_state();
+  hanging.q << -std::numbers::pi / 2, 0;
+  const Linearization lin = linearize(system, hanging);
+  const std::vector<Mode> m = modes(lin);
+  const auto stem = temp_file("pendulum_modes");
+  write_easyanim_modes(stem, Scene(system.model()), system.model(), hanging, lin, m, 0.1, "modes");
+  std::ifstream vmo(stem.string() + ".vmo");
+  std::vector<double> numbers;
+  for (double v; vmo >> v;) numbers.push_back(v);
+  const std::size_t nodes = 16;
+  REQUIRE(numbers.size() == m.size() * (4 + 2 * 3 * nodes));
+  CHECK(numbers[0] == Approx(m[0].pole.real()).margin(1e-12));
+  CHECK(numbers[1] == Approx(m[0].pole.imag()));
+  CHECK(numbers[2] == Approx(m[0].natural_frequency_hz));
+}
