@@ -5,6 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/setup.sh
 symdyn_require_packages "${symdyn_base_packages[@]}"
+symdyn_require_command npm npm            # bundles the HTML viewer
+symdyn_require_command chromium chromium  # opens it in the viewer test
 
 jobs=$(nproc)
 run_preset() {

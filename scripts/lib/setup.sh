@@ -28,3 +28,9 @@ symdyn_require_packages() {
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null ||
     { echo "error: apt-get install ${missing[*]} failed" >&2; exit 1; }
 }
+
+# symdyn_require_command <command> <package>: installs the package only when the
+# command is missing (npm may come with a Node.js that is not Debian's).
+symdyn_require_command() {
+  command -v "$1" >/dev/null 2>&1 || symdyn_require_packages "$2"
+}

@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <complex>
+#include <numbers>
+
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/model.hpp>
 
@@ -38,6 +42,26 @@ Eigen::Quaterniond Animation::rotation(std::size_t frame, int body) const {
 Vec3 Animation::translation(std::size_t frame, int body) const {
   const double* p = pose(frame, body);
   return Vec3(p[4], p[5], p[6]);
+}
+
+Animation mode_animation(const Model& model, const State& reference, const Linearization& lin,
+                         const Mode& mode, double amplitude, int frames) {
+  const double omega = std::abs(mode.pole.imag());
+  const double period = omega > 0 ? 2 * std::numbers::pi / omega : 1.0;
+  const double largest = mode.shape.cwiseAbs().maxCoeff();
+  const double scale = largest > 0 ? amplitude / largest : 0.0;
+  Animation animation(model);
+  for (int k = 0; k <= frames; ++k) {
+    const double t = period * k / frames;
+    const std::complex<double> phase = std::polar(1.0, 2 * std::numbers::pi * k / frames);
+    State s = reference;
+    s.t = reference.t + t;
+    for (std::size_t j = 0; j < lin.kept.size(); ++j) {
+      s.q[lin.kept[j]] += scale * (mode.shape[static_cast<Eigen::Index>(j)] * phase).real();
+    }
+    animation.record(s);
+  }
+  return animation;
 }
 
 }  // namespace symdyn::runtime

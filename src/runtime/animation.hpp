@@ -8,6 +8,7 @@
 
 #include <symdyn/runtime/dynamic_system.hpp>
 #include <symdyn/runtime/kinematics.hpp>
+#include <symdyn/runtime/linearization.hpp>
 
 namespace symdyn::runtime {
 
@@ -40,5 +41,12 @@ class Animation {
   std::vector<double> times_;
   std::vector<double> poses_;  // per frame and body: qx, qy, qz, qw, x, y, z
 };
+
+// One period of a mode of a linearization about `reference`, as EasyDyn's .vmo
+// files showed it: q(t) = q_ref + a·Re(psi·e^(i·omega·t)), damping left out, the
+// shape scaled so that its largest coordinate moves by `amplitude`; a mode
+// that does not oscillate (omega = 0) swings as cos over one second.
+Animation mode_animation(const Model& model, const State& reference, const Linearization& lin,
+                         const Mode& mode, double amplitude, int frames = 48);
 
 }  // namespace symdyn::runtime

@@ -117,7 +117,8 @@ json body_mesh(GlbBuilder& glb, const Scene& scene, int body) {
   return {{"name", scene.body_name(body)}, {"primitives", primitives}};
 }
 
-void add_channels(GlbBuilder& glb, const Animation& animation, int body, int node, int input) {
+void add_channels(GlbBuilder& glb, json& anim, const Animation& animation, int body, int node,
+                  int input) {
   std::vector<float> translation, rotation;
   for (std::size_t k = 0; k < animation.frames(); ++k) {
     const Vec3 x = animation.translation(k, body);
@@ -125,7 +126,6 @@ void add_channels(GlbBuilder& glb, const Animation& animation, int body, int nod
     translation.insert(translation.end(), {float(x.x()), float(x.y()), float(x.z())});
     rotation.insert(rotation.end(), {float(q.x()), float(q.y()), float(q.z()), float(q.w())});
   }
-  json& anim = glb.doc["animations"][0];
   for (const auto& [path, values, n, type] :
        {std::tuple{"translation", &translation, 3, "VEC3"}, std::tuple{"rotation", &rotation, 4, "VEC4"}}) {
     anim["samplers"].push_back(
@@ -135,30 +135,44 @@ void add_channels(GlbBuilder& glb, const Animation& animation, int body, int nod
   }
 }
 
+// A glTF animation of every body node (nodes 1 ... nbody) from a clip; none
+// for a single frame, a still scene.
+void add_animation(GlbBuilder& glb, const Clip& clip) {
+  const Animation& a = *clip.animation;
+  if (a.frames() < 2) return;
+  std::vector<float> times;  // from 0, as viewers expect
+  for (std::size_t k = 0; k < a.frames(); ++k) times.push_back(float(a.time(k) - a.time(0)));
+  json anim = {{"name", clip.name}};
+  const int input = glb.floats(times, 1, "SCALAR");
+  for (int i = 0; i < a.nbody(); ++i) add_channels(glb, anim, a, i, i + 1, input);
+  glb.doc["animations"].push_back(anim);
+}
+
+void check_clip(const Scene& scene, const Clip& clip) {
+  if (!clip.animation || clip.animation->frames() == 0) {
+    throw OptionError(fmt::format("glTF: the animation '{}' has no frame", clip.name));
+  }
+  if (clip.animation->nbody() != scene.nbody()) {
+    throw OptionError(fmt::format("glTF: the scene has {} bodies, the animation '{}' {}", scene.nbody(),
+                                  clip.name, clip.animation->nbody()));
+  }
+}
+
 }  // namespace
 
-void write_glb(std::ostream& out, const Scene& scene, const Animation& animation) {
-  if (animation.frames() == 0) throw OptionError("glTF: the animation has no frame");
-  if (animation.nbody() != scene.nbody()) {
-    throw OptionError(fmt::format("glTF: the scene has {} bodies, the animation {}", scene.nbody(),
-                                  animation.nbody()));
-  }
+void write_glb(std::ostream& out, const Scene& scene, const std::vector<Clip>& clips) {
+  if (clips.empty()) throw OptionError("glTF: no animation to write");
+  for (const Clip& clip : clips) check_clip(scene, clip);
   GlbBuilder glb;
   glb.doc["asset"] = {{"version", "2.0"}, {"generator", "symdyn"}};
   const Eigen::Quaterniond up = Eigen::Quaterniond::FromTwoVectors(scene.up(), Vec3::UnitY());
   glb.doc["nodes"].push_back({{"name", "world"}, {"rotation", {up.x(), up.y(), up.z(), up.w()}}});
   glb.doc["scenes"] = json::array({{{"nodes", {0}}}});
   glb.doc["scene"] = 0;
-  std::vector<float> times;  // from 0, as viewers expect
-  for (std::size_t k = 0; k < animation.frames(); ++k) {
-    times.push_back(float(animation.time(k) - animation.time(0)));
-  }
-  const bool animated = animation.frames() > 1;
-  if (animated) glb.doc["animations"] = json::array({{{"name", "motion"}}});
-  const int input = animated ? glb.floats(times, 1, "SCALAR") : -1;
+  const Animation& first = *clips.front().animation;
   for (int i = 0; i < scene.nbody(); ++i) {
-    const Vec3 x = animation.translation(0, i);
-    const Eigen::Quaterniond q = animation.rotation(0, i);
+    const Vec3 x = first.translation(0, i);
+    const Eigen::Quaterniond q = first.rotation(0, i);
     json node = {{"name", scene.body_name(i)}, {"translation", {x.x(), x.y(), x.z()}},
                  {"rotation", {q.x(), q.y(), q.z(), q.w()}}};
     if (json mesh = body_mesh(glb, scene, i); !mesh.is_null()) {
@@ -166,11 +180,14 @@ void write_glb(std::ostream& out, const Scene& scene, const Animation& animation
       node["mesh"] = glb.doc["meshes"].size() - 1;
     }
     glb.doc["nodes"].push_back(node);
-    const int index = static_cast<int>(glb.doc["nodes"].size()) - 1;
-    glb.doc["nodes"][0]["children"].push_back(index);
-    if (animated) add_channels(glb, animation, i, index, input);
+    glb.doc["nodes"][0]["children"].push_back(i + 1);
   }
+  for (const Clip& clip : clips) add_animation(glb, clip);
   glb.write(out);
+}
+
+void write_glb(std::ostream& out, const Scene& scene, const Animation& animation) {
+  write_glb(out, scene, {Clip{"motion", &animation}});
 }
 
 void write_glb(const std::filesystem::path& file, const Scene& scene, const Animation& animation) {

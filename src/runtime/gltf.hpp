@@ -11,14 +11,25 @@
 
 #include <filesystem>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include <symdyn/runtime/animation.hpp>
 #include <symdyn/runtime/scene.hpp>
 
 namespace symdyn::runtime {
 
-// Writes the scene animated by the frames recorded (at least one); OptionError
-// when there is none or the scene and the animation differ in bodies.
+// A named animation: the motion, or a mode shape (animation.hpp's mode_animation).
+struct Clip {
+  std::string name;
+  const Animation* animation;
+};
+
+// Writes the scene animated by each clip (a glTF animation each, in order); the
+// nodes start in the first clip's first pose. OptionError when a clip has no
+// frame or the scene and a clip differ in bodies.
+void write_glb(std::ostream& out, const Scene& scene, const std::vector<Clip>& clips);
+// One clip, "motion".
 void write_glb(std::ostream& out, const Scene& scene, const Animation& animation);
 void write_glb(const std::filesystem::path& file, const Scene& scene, const Animation& animation);
 

@@ -1,0 +1,34 @@
+#pragma once
+// A self-contained HTML file to watch a simulation in any browser: the scene
+// and its clips as embedded glTF (the motion, then e.g. each mode), the time
+// histories plotted beside it with a cursor at the current time, and the
+// viewer itself (three.js, bundled into the runtime at build time from
+// viewer/). Play/pause, a time slider, speed, orbit/zoom/pan with the mouse,
+// body names on hover. Nothing is fetched: the file opens offline.
+//
+// The URL's hash chooses where it starts: file.html#t=1.5 (paused there),
+// #clip=1 (the second clip), #paused.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <symdyn/runtime/gltf.hpp>
+
+namespace symdyn::runtime {
+
+// Time histories: names[0] is the time, columns[k] the values of names[k].
+struct TimeSeries {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns;
+};
+
+// Whether this runtime was built with the viewer (npm was found at build time).
+bool html_viewer_available();
+
+// Writes the viewer; OptionError if the runtime was built without it, or for
+// bad clips (write_glb) or series of unequal lengths.
+void write_html(const std::filesystem::path& file, const std::string& title, const Scene& scene,
+                const std::vector<Clip>& clips, const TimeSeries& series = {});
+
+}  // namespace symdyn::runtime
