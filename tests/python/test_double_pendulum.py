@@ -129,6 +129,17 @@ class Simulation(unittest.TestCase):
         self.assertLess(drift, 1e-7)
         self.assertGreater(np.max(r.energies.kinetic), 10.0)
 
+    def test_output_times_and_an_implicit_integrator(self):
+        system = double_pendulum_absolute.System()
+        start = dict(q0=[-1.2, 0.3], qd0=[0.0, 0.0])
+        reference = system.simulate(1.0, integrator="dop853", rtol=1e-12, atol=1e-12, times=[0.5, 1.0], **start)
+        newmark = system.simulate(1.0, integrator="newmark", rtol=1e-8, atol=1e-8, times=[0.5, 1.0], **start)
+        np.testing.assert_array_equal(newmark.t, [0.0, 0.5, 1.0])
+        np.testing.assert_array_equal(newmark.q[0], [-1.2, 0.3])
+        np.testing.assert_allclose(newmark.q, reference.q, atol=1e-5)
+        self.assertEqual(newmark.integrator, "newmark")
+        self.assertGreater(newmark.statistics.jacobian_evaluations, 0)
+
     def test_damping_dissipates(self):
         system = double_pendulum_absolute.System()
         friction = double_pendulum_absolute.CoordinateSpringDamper("q1", stiffness=0.0, damping=0.5)
