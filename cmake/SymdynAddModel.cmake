@@ -1,5 +1,6 @@
 # symdyn_add_model(<target> <model.cpp> [MODEL <name>] [VARIANT <v>]
-#                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM] [PART_SIZE n])
+#                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM] [PART_SIZE n]
+#                  [PYTHON])
 #
 # Builds the model's generator (the model file linked with symdyn's generator
 # main; one per model file, shared by every variant), runs it at build time
@@ -14,8 +15,11 @@
 # Every target with equations of motion (no NO_EOM) is appended to the global
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
+# PYTHON also builds the Python module <target> (cmake/SymdynPython.cmake).
+include(SymdynPython)
+
 function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM" "MODEL;VARIANT;PARTIALS;PART_SIZE" "" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;PYTHON" "MODEL;VARIANT;PARTIALS;PART_SIZE" "" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
   get_filename_component(model_path ${model_source} ABSOLUTE)
   set(generator symdyn_generator_${model_name})
@@ -55,5 +59,8 @@ function(symdyn_add_model target model_source)
   symdyn_set_compile_options(${target})
   if(NOT ARG_NO_EOM)
     set_property(GLOBAL APPEND PROPERTY SYMDYN_MODELS ${target})
+  endif()
+  if(ARG_PYTHON)
+    symdyn_python_module(${target})
   endif()
 endfunction()

@@ -4,7 +4,8 @@
 # prints the exact apt-get line to run and exits non-zero.
 
 symdyn_base_packages=(g++ cmake ninja-build pkg-config libeigen3-dev libfmt-dev catch2 libcli11-dev
-  nlohmann-json3-dev libbenchmark-dev librapidcheck-dev libsundials-dev libtinygltf-dev)
+  nlohmann-json3-dev libbenchmark-dev librapidcheck-dev libsundials-dev libtinygltf-dev
+  python3-dev python3-numpy pybind11-dev)
 
 symdyn_require_packages() {
   local missing=()
