@@ -8,12 +8,14 @@
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <cmath>
+#include <complex>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
 
 #include "fixtures/double_pendulum.hpp"
+#include <symdyn/runtime/animation.hpp>
 #include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/gltf.hpp>
@@ -363,4 +365,23 @@ TEST_CASE("EasyAnim modes: the pole, then the scene displaced by each part of th
   CHECK(numbers[0] == Approx(m[0].pole.real()).margin(1e-12));
   CHECK(numbers[1] == Approx(m[0].pole.imag()));
   CHECK(numbers[2] == Approx(m[0].natural_frequency_hz));
+}
+
+TEST_CASE("A mode's animation swings about the reference by its shape over one period", "[runtime][scene]") {
+  MultibodySystem system(Model::from<symdyn_fixtures::double_pendulum_absolute>());
+  State hanging = system.initial_state();
+  hanging.q << -std::numbers::pi / 2, 0;
+  const Linearization lin = linearize(system, hanging);
+  const Mode mode = modes(lin).front();
+  const Animation a = mode_animation(system.model(), hanging, lin, mode, 0.1, 8);
+  REQUIRE(a.frames() == 9);
+  CHECK(a.time(8) - a.time(0) == Approx(2 * std::numbers::pi / mode.pole.imag()));
+  // Frame 2 is a quarter period: q = q_ref + a·Re(psi·i), psi scaled to 0.1 at its largest.
+  const Eigen::VectorXcd psi = mode.shape / mode.shape.cwiseAbs().maxCoeff() * 0.1;
+  for (const auto& [frame, phase] : {std::pair{0, std::complex<double>(1, 0)}, std::pair{2, std::complex<double>(0, 1)}}) {
+    const double q0 = hanging.q[0] + (psi[0] * phase).real(), q1 = hanging.q[1] + (psi[1] * phase).real();
+    CHECK((a.translation(frame, 1) - rod2_centre(q0, q1)).norm() < 1e-12);
+    CHECK(a.rotation(frame, 1).angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(q0 + q1, Vec3::UnitZ()))) < 1e-12);
+  }
+  CHECK((a.translation(8, 1) - a.translation(0, 1)).norm() < 1e-12);  // one whole period
 }
