@@ -13,9 +13,12 @@ symdyn_require_command chromium chromium  # opens it in the viewer test
 
 # ccache serves the debug build and the package tests (which rebuild symdyn's
 # libraries as a consumer would) from the objects already compiled.
+# Its keys hold paths relative to the sources (base_dir), so that the package
+# tests' own builds of the libraries find this build's objects.
 launcher=()
 if command -v ccache >/dev/null 2>&1; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
 fi
 
 jobs=$(nproc)
