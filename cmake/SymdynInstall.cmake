@@ -7,8 +7,9 @@ include(CMakePackageConfigHelpers)
 set(symdyn_exported_parts symbolic model codegen runtime generator_main)
 set(symdyn_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/symdyn)
 
+# Not src/python: Python modules need symdyn built with the project (cmake/SymdynPython.cmake).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/symdyn
-  FILES_MATCHING PATTERN "*.hpp")
+  FILES_MATCHING PATTERN "*.hpp" PATTERN python EXCLUDE)
 
 list(TRANSFORM symdyn_exported_parts PREPEND symdyn_ OUTPUT_VARIABLE symdyn_exported_targets)
 install(TARGETS ${symdyn_exported_targets} EXPORT symdynTargets
@@ -24,5 +25,6 @@ install(FILES
   ${PROJECT_BINARY_DIR}/symdynConfig.cmake
   ${PROJECT_BINARY_DIR}/symdynConfigVersion.cmake
   ${CMAKE_CURRENT_LIST_DIR}/SymdynAddModel.cmake
+  ${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake
   ${CMAKE_CURRENT_LIST_DIR}/SymdynCompileOptions.cmake
   DESTINATION ${symdyn_cmake_dir})
