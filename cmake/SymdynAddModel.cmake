@@ -16,7 +16,7 @@
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
 # PYTHON also builds the Python module <target> (cmake/SymdynPython.cmake).
-include(SymdynPython)
+include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 
 function(symdyn_add_model target model_source)
   cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;PYTHON" "MODEL;VARIANT;PARTIALS;PART_SIZE" "" ${ARGN})

@@ -13,6 +13,8 @@
 # SYMDYN_PYTHON=OFF ignores the PYTHON keyword. A sanitized build makes no module:
 # an interpreter without the sanitizer runtime could not load it.
 option(SYMDYN_PYTHON "Build the Python modules of models added with PYTHON" ON)
+# The binding code, from symdyn's sources whichever project calls symdyn_add_model.
+set(SYMDYN_PYTHON_SOURCE ${CMAKE_CURRENT_LIST_DIR}/../src/python/model_module.cpp)
 set(SYMDYN_PYTHON_EXECUTABLE /usr/bin/python3 CACHE FILEPATH
   "Interpreter the Python modules are built for and tested with")
 set(SYMDYN_PYTHON_DIR ${PROJECT_BINARY_DIR}/python CACHE INTERNAL
@@ -36,12 +38,8 @@ function(symdyn_python_prepare)
       "-DSYMDYN_PYTHON=OFF")
   endif()
   set(Python3_SOABI ${Python3_SOABI} CACHE INTERNAL "")
-  # A shared module links the runtime: its code must be position-independent.
-  # Without semantic interposition the compiler still inlines across functions
-  # as it does in an executable, so simulations lose nothing.
-  set_target_properties(symdyn_runtime PROPERTIES POSITION_INDEPENDENT_CODE ON)
-  target_compile_options(symdyn_runtime PRIVATE -fno-semantic-interposition)
-  add_library(symdyn_python STATIC ${PROJECT_SOURCE_DIR}/src/python/model_module.cpp)
+  # A shared module links the runtime, position-independent (src/runtime/CMakeLists.txt).
+  add_library(symdyn_python STATIC ${SYMDYN_PYTHON_SOURCE})
   target_link_libraries(symdyn_python PUBLIC symdyn::runtime pybind11::headers Python3::Module)
   set_target_properties(symdyn_python PROPERTIES POSITION_INDEPENDENT_CODE ON
     CXX_VISIBILITY_PRESET hidden)
@@ -51,6 +49,10 @@ endfunction()
 function(symdyn_python_module target)
   if(NOT SYMDYN_PYTHON OR SYMDYN_SANITIZE)
     return()
+  endif()
+  if(NOT TARGET symdyn_runtime)
+    message(FATAL_ERROR "symdyn_add_model(${target} ... PYTHON): Python modules need symdyn "
+      "built with the project (add_subdirectory or FetchContent); an installed symdyn has none")
   endif()
   symdyn_python_prepare()
   set(source ${CMAKE_CURRENT_BINARY_DIR}/generated/${target}/${target}_python.cpp)
