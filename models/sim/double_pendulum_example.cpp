@@ -1,6 +1,6 @@
-// The smallest simulation on generated code, quoted in README.md ("Writing a
-// simulation"): the double pendulum of models.md, free for 10 s, as symdyn-sim
-// runs it (same model, integrator and tolerance), CSV on stdout.
+// The smallest simulation on generated code, quoted in README.md: the double
+// pendulum of docs/models.md, free for 10 s, as symdyn-sim runs it (same model,
+// integrator and tolerance), CSV on stdout.
 #include <fmt/format.h>
 
 #include <iostream>

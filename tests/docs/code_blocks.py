@@ -1,0 +1,83 @@
+#!/usr/bin/env python3
+"""Keeps the code blocks of the user documentation true.
+
+  code_blocks.py check <repo> <page>...   every block of each page is one of:
+      ```<lang> file=<path>   the text of <path>, which the build compiles and the
+                              tests run: it must be that file, byte for byte;
+      ```sh run               commands the tutorial test runs (see `script`);
+      ```sh ci                commands .ci/run runs: each line must be in it;
+      ```text                 output shown, not code.
+  code_blocks.py script <repo> <page>     prints a bash script that does what the
+      page says, in order: each `file=` block written to its file name in the
+      current folder, each `sh run` block run.
+"""
+import re
+import sys
+from pathlib import Path
+
+FENCE = re.compile(r"^```(\S*)(.*)$")
+
+
+def blocks(page):
+    """(line number, language, attributes, text) of every fenced block."""
+    found, lines, at = [], page.read_text().splitlines(keepends=True), 0
+    while at < len(lines):
+        opening = FENCE.match(lines[at].rstrip("\n"))
+        if not opening:
+            at += 1
+            continue
+        start, body = at + 1, []
+        at += 1
+        while at < len(lines) and lines[at].rstrip("\n") != "```":
+            body.append(lines[at])
+            at += 1
+        if at == len(lines):
+            sys.exit(f"{page}:{start}: the code block never closes")
+        attributes = dict(a.split("=", 1) if "=" in a else (a, True) for a in opening.group(2).split())
+        found.append((start, opening.group(1), attributes, "".join(body)))
+        at += 1
+    return found
+
+
+def check(repo, pages):
+    ci = (repo / ".ci" / "run").read_text()
+    errors = []
+    for page in pages:
+        for line, lang, attributes, text in blocks(page):
+            where = f"{page.relative_to(repo)}:{line}"
+            if "file" in attributes:
+                source = repo / attributes["file"]
+                if not source.is_file():
+                    errors.append(f"{where}: {attributes['file']} does not exist")
+                elif source.read_text() != text:
+                    errors.append(f"{where}: differs from {attributes['file']}: copy the file into the page again")
+            elif lang == "sh" and attributes.get("ci"):
+                for command in filter(None, (c.split("#")[0].strip() for c in text.splitlines())):
+                    if command not in ci:
+                        errors.append(f"{where}: '{command}' is not run by .ci/run")
+            elif lang == "sh" and attributes.get("run"):
+                pass
+            elif lang != "text":
+                errors.append(f"{where}: a ```{lang} block that no test compiles or runs "
+                              "(quote a file with file=, or mark commands run/ci)")
+    for e in errors:
+        print(e, file=sys.stderr)
+    return 1 if errors else 0
+
+
+def script(page):
+    out = ["set -euo pipefail"]
+    for _, lang, attributes, text in blocks(page):
+        if "file" in attributes:
+            name = Path(attributes["file"]).name
+            out.append(f"cat > {name} <<'SYMDYN_DOC_EOF'\n{text}SYMDYN_DOC_EOF")
+        elif lang == "sh" and attributes.get("run"):
+            out.append(text.rstrip("\n"))
+    print("\n".join(out))
+    return 0
+
+
+if __name__ == "__main__":
+    command, repo = sys.argv[1], Path(sys.argv[2]).resolve()
+    pages = [repo / p for p in sys.argv[3:]]
+    sys.exit(check(repo, pages) if command == "check" else script(pages[0]))
