@@ -665,7 +665,7 @@ class Emitter {
     for (const auto& d : model_.dependents()) dependent_names.push_back(d.symbol.name());
     for (const model::DomainCheck& c : checks_) {
       functions.push_back(c.function);
-      owners.push_back(std::to_string(c.dependent));
+      owners.push_back(c.dependent);
     }
     for (const model::AngleSequence& a : sequences_) {
       bodies.push_back(std::to_string(a.body));
@@ -682,7 +682,7 @@ class Emitter {
         "  static constexpr const char* dependent_names[{ndep1}] = {dependent_names};  // (ndep)\n"
         "  // Operations of the dependent parameters with a restricted domain, innermost first.\n"
         "  static constexpr int ndomain = {ndomain};\n"
-        "  static constexpr int domain_dependent[{ndomain1}] = {owners};  // (ndomain) index of the dependent parameter\n"
+        "  static constexpr const char* domain_dependents[{ndomain1}] = {owners};  // (ndomain) whose operation\n"
         "  static constexpr const char* domain_functions[{ndomain1}] = {functions};  // (ndomain)\n"
         "  // Their arguments at (t, q): arguments (ndomain x 2), the base and exponent of pow, else (x, 0).\n"
         "  static void domain_arguments(double t, const double* q, const double* param, double* arguments);\n"
@@ -693,7 +693,7 @@ class Emitter {
         "  static constexpr int angle_sequence_q[{nseq3}] = {coordinates};  // (nangle_sequences x 3)\n"
         "  static constexpr const char* angle_sequence_axes[{nseq1}] = {axes};  // (nangle_sequences) \"zyx\"\n",
         fmt::arg("ndep1", at_least_one(ndep)), fmt::arg("dependent_names", string_array_literal(dependent_names)),
-        fmt::arg("ndomain", ndomain), fmt::arg("ndomain1", at_least_one(ndomain)), fmt::arg("owners", ints(owners)),
+        fmt::arg("ndomain", ndomain), fmt::arg("ndomain1", at_least_one(ndomain)), fmt::arg("owners", string_array_literal(owners)),
         fmt::arg("functions", string_array_literal(functions)), fmt::arg("nseq", nseq),
         fmt::arg("nseq1", at_least_one(nseq)), fmt::arg("bodies", ints(bodies)),
         fmt::arg("nseq3", at_least_one(3 * nseq)), fmt::arg("coordinates", ints(coordinates)),

@@ -74,16 +74,19 @@ std::optional<AngleSequence> first_sequence(const Model& model, const Transform&
 }  // namespace
 
 std::vector<DomainCheck> domain_checks(const Model& model) {
+  std::vector<std::pair<std::string, Expr>> named;  // declared, then inlined (a model has one kind or both)
+  for (const Dependent& d : model.dependents()) named.emplace_back(d.symbol.name(), d.expression);
+  for (const InlinedDependent& d : model.inlined_dependents()) named.emplace_back(d.name, d.expression);
   std::vector<DomainCheck> checks;
-  const auto& dependents = model.dependents();
-  for (std::size_t d = 0; d < dependents.size(); ++d) {
-    const Expr root = dependents[d].expression;
+  std::vector<Expr> seen;  // an inlined parameter's operations reappear in the later ones
+  for (const auto& [name, root] : named) {
     // postorder: innermost first, each distinct node once.
     for (Expr node : symbolic::postorder(std::span<const Expr>(&root, 1))) {
       const auto function = restricted_function(node);
-      if (!function) continue;
+      if (!function || std::find(seen.begin(), seen.end(), node) != seen.end()) continue;
+      seen.push_back(node);
       const bool power = node.kind() == Kind::Pow;
-      checks.push_back({static_cast<int>(d), *function, node.arg(0), power ? node.arg(1) : Expr(0)});
+      checks.push_back({name, *function, node.arg(0), power ? node.arg(1) : Expr(0)});
     }
   }
   return checks;

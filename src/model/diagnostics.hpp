@@ -5,8 +5,10 @@
 // Domain checks: every operation of a dependent parameter whose function has a
 // restricted real domain (asin, acos, sqrt, log, pow with an exponent that is not
 // a positive integer), innermost first, dependent parameters in declaration
-// order. Evaluated in that order, the first argument outside its domain is the
-// culprit of a non-finite value: "dependent parameter 'alpha': asin(1.2)".
+// order (inlined ones too: their names are kept), each operation with the first
+// dependent parameter that has it. Evaluated in that order, the first argument
+// outside its domain is the culprit of a non-finite value: "dependent parameter
+// 'alpha': asin(1.2)".
 //
 // Angle sequences: a body whose rotation (its own motion's steps) contains three
 // consecutive elementary rotations about x, y or z, each by a coordinate, the
@@ -24,13 +26,13 @@
 namespace symdyn::model {
 
 struct DomainCheck {
-  int dependent = 0;      // index into Model::dependents()
+  std::string dependent;  // the dependent parameter's name
   std::string function;   // "asin", "acos", "sqrt", "log" or "pow"
   Expr argument;          // the argument (pow: the base), as written, of q, t, parameters, dependents
   Expr exponent;          // pow: the exponent; otherwise 0
 };
 
-// In evaluation order (see above); each distinct operation once per dependent parameter.
+// In evaluation order (see above); each distinct operation once.
 std::vector<DomainCheck> domain_checks(const Model& model);
 
 struct AngleSequence {

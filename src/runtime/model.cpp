@@ -117,11 +117,9 @@ void Model::validate_diagnostics() const {
   if (!d_.dependent_names.empty() && d_.dependent_names.size() != static_cast<std::size_t>(d_.ndep)) {
     fail(fmt::format("dependent_names has {} entries, expected {}", d_.dependent_names.size(), d_.ndep));
   }
-  if (!d_.domain_checks.empty() && (d_.domain_arguments == nullptr || d_.dependent_names.empty())) {
-    fail("domain checks without domain_arguments or dependent_names");
-  }
+  if (!d_.domain_checks.empty() && d_.domain_arguments == nullptr) fail("domain checks without domain_arguments");
   for (const DomainCheck& c : d_.domain_checks) {
-    if (c.dependent < 0 || c.dependent >= d_.ndep) fail(fmt::format("domain check of dependent parameter {}", c.dependent));
+    if (c.dependent.empty()) fail("domain check of an unnamed dependent parameter");
     if (restricted_domain(c.function) == nullptr) fail(fmt::format("domain check of unknown function '{}'", c.function));
   }
   for (const AngleSequence& a : d_.angle_sequences) {
@@ -138,7 +136,7 @@ std::optional<std::string> Model::domain_error(double t, const double* q) const 
   d_.domain_arguments(t, q, param_.data(), args.data());
   const auto describe = [&](std::size_t k, const char* what) {
     const DomainCheck& c = d_.domain_checks[k];
-    return fmt::format("dependent parameter '{}': {} is {} [domain of {}: {}]", d_.dependent_names[c.dependent],
+    return fmt::format("dependent parameter '{}': {} is {} [domain of {}: {}]", c.dependent,
                        call(c.function, args[2 * k], args[2 * k + 1]), what, c.function,
                        restricted_domain(c.function)->domain);
   };

@@ -112,7 +112,7 @@ template <class G>
 concept has_domain_checks = requires(double t, const double* c, double* o) {
   { G::ndomain } -> std::convertible_to<int>;
   G::dependent_names[0];
-  G::domain_dependent[0];
+  G::domain_dependents[0];
   G::domain_functions[0];
   G::domain_arguments(t, c, c, o);
 };
@@ -146,7 +146,7 @@ concept generated_model = requires {
 // An operation of a dependent parameter with a restricted domain (asin, acos,
 // sqrt, log, pow), in the order the generator emitted them.
 struct DomainCheck {
-  int dependent = 0;     // index into ModelDescription::dependent_names
+  std::string dependent;  // the dependent parameter's name
   std::string function;
 };
 
@@ -338,7 +338,7 @@ Model Model::from() {
   }
   if constexpr (detail::has_domain_checks<G>) {
     for (int k = 0; k < G::ndep; ++k) d.dependent_names.emplace_back(G::dependent_names[k]);
-    for (int k = 0; k < G::ndomain; ++k) d.domain_checks.push_back({G::domain_dependent[k], G::domain_functions[k]});
+    for (int k = 0; k < G::ndomain; ++k) d.domain_checks.push_back({G::domain_dependents[k], G::domain_functions[k]});
     d.domain_arguments = &G::domain_arguments;
   }
   if constexpr (detail::has_angle_sequences<G>) {

@@ -179,7 +179,7 @@ TEST_CASE("bad input: malformed diagnostics in a description are named", "[runti
   d = one_body();
   d.ndep = 1;
   d.dependent_names = {"p"};
-  d.domain_checks = {{0, "tan"}};
+  d.domain_checks = {{"p", "tan"}};
   d.domain_arguments = [](double, const double*, const double*, double*) {};
   CHECK(message_of<ModelError>([&] { Model{d}; }) == "model 'toy': domain check of unknown function 'tan'");
 }
@@ -312,7 +312,7 @@ TEST_CASE("bad input: a dependent parameter at the edge of its domain is named a
   ModelDescription d = one_body();
   d.ndep = 1;
   d.dependent_names = {"beta"};
-  d.domain_checks = {{0, "acos"}};
+  d.domain_checks = {{"beta", "acos"}};
   d.domain_arguments = at_edge;
   const Model m(d);
   const double q = 0.0;
