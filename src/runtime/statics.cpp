@@ -29,13 +29,11 @@ double static_residual(DynamicSystem& sys, const State& s, const std::vector<boo
 
 // The residual at a trial point of the line search: a state the system refuses
 // (a dependent parameter out of its domain) counts as no decrease, so that a
-// shorter step is tried; `refusal` keeps why.
-double trial_residual(DynamicSystem& sys, const State& s, const std::vector<bool>& locked, Vector& f,
-                      std::string& refusal) {
+// shorter step is tried; the full step, taken when none decreases, says why.
+double trial_residual(DynamicSystem& sys, const State& s, const std::vector<bool>& locked, Vector& f) {
   try {
     return static_residual(sys, s, locked, f);
-  } catch (const NumericError& e) {
-    refusal = e.what();
+  } catch (const NumericError&) {
     return INFINITY;
   }
 }
@@ -90,12 +88,11 @@ StaticsReport solve_statics(DynamicSystem& sys, const State& start,
     double alpha = 1.0;
     State trial = r.state;
     trial.q = r.state.q + dq;
-    std::string refusal;
-    double tnorm = trial_residual(sys, trial, locked, ftrial, refusal);
+    double tnorm = trial_residual(sys, trial, locked, ftrial);
     for (int halving = 0; options.line_search && !(tnorm < fnorm) && halving < 30; ++halving) {
       alpha *= 0.5;
       trial.q = r.state.q + alpha * dq;
-      tnorm = trial_residual(sys, trial, locked, ftrial, refusal);
+      tnorm = trial_residual(sys, trial, locked, ftrial);
     }
     if (!(tnorm < fnorm)) {  // no decrease found: take the full step (EasyDyn); a refusal there stops
       alpha = 1.0;
