@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include <symdyn/model/diagnostics.hpp>
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/identifier.hpp>
 #include <symdyn/model/kinematics.hpp>
@@ -92,8 +93,15 @@ constexpr const char* kInputs[] = {"t", "q", "qd", "qdd", "param"};
 
 class Emitter {
  public:
-  Emitter(const model::Model& model, std::string_view variant, std::string_view basename, const Options& options)
-      : model_(model), variant_(variant), basename_(basename), options_(options) {
+  // `sequences` come from the model as written: sharing motions makes some relative.
+  Emitter(const model::Model& model, std::vector<model::AngleSequence> sequences, std::string_view variant,
+          std::string_view basename, const Options& options)
+      : model_(model),
+        variant_(variant),
+        basename_(basename),
+        options_(options),
+        checks_(model::domain_checks(model)),
+        sequences_(std::move(sequences)) {
     struct_name_ = std::string(basename);
     for (const char* in : kInputs) symbols_[in];
     const auto& coords = model.coordinates();
@@ -142,6 +150,7 @@ class Emitter {
         if (f.program) f.operations = f.program->operation_count();
       }
     }
+    code.source += domain_arguments_text();
     // The guard's name depends on everything emitted, so it is computed last.
     const std::string unique = fmt::format("symdyn_model_{}_{:016x}", struct_name_,
                                            fnv1a(code.source + emit_header(code.functions, {})));
@@ -630,6 +639,7 @@ class Emitter {
         "  static constexpr double gravity[3] = {gravity};\n"
         "  static constexpr int reference_body[{nbody}] = {{{refs}}};\n\n"
         "{declarations}"
+        "{diagnostics}"
         "}};\n\n"
         "{link_guard}"
         "}}  // namespace {ns}\n",
@@ -644,7 +654,73 @@ class Emitter {
         fmt::arg("param_defaults", array_literal(param_defaults)), fmt::arg("q0", array_literal(q0)),
         fmt::arg("qd0", array_literal(qd0)), fmt::arg("gravity", array_literal(gravity)),
         fmt::arg("refs", fmt::join(references, ", ")), fmt::arg("declarations", declarations),
-        fmt::arg("link_guard", link_guard));
+        fmt::arg("link_guard", link_guard), fmt::arg("diagnostics", diagnostics_declarations()));
+  }
+
+  // Cold diagnostics (docs/emitted_interface.md): the runtime calls
+  // domain_arguments only after it met a non-finite value, to name the dependent
+  // parameter and the function; the angle sequences only once M is singular.
+  std::string diagnostics_declarations() const {
+    std::vector<std::string> dependent_names, functions, owners, bodies, coordinates, axes;
+    for (const auto& d : model_.dependents()) dependent_names.push_back(d.symbol.name());
+    for (const model::DomainCheck& c : checks_) {
+      functions.push_back(c.function);
+      owners.push_back(c.dependent);
+    }
+    for (const model::AngleSequence& a : sequences_) {
+      bodies.push_back(std::to_string(a.body));
+      for (int q : a.coordinates) coordinates.push_back(std::to_string(q));
+      axes.push_back(std::string(a.axes.begin(), a.axes.end()));
+    }
+    const auto ints = [](std::vector<std::string> v) {
+      if (v.empty()) v.push_back("0");
+      return fmt::format("{{{}}}", fmt::join(v, ", "));
+    };
+    const std::size_t ndep = model_.dependents().size(), ndomain = checks_.size(), nseq = sequences_.size();
+    return fmt::format(
+        "\n  // Cold diagnostics, for error messages only (docs/emitted_interface.md).\n"
+        "  static constexpr const char* dependent_names[{ndep1}] = {dependent_names};  // (ndep)\n"
+        "  // Operations of the dependent parameters with a restricted domain, innermost first.\n"
+        "  static constexpr int ndomain = {ndomain};\n"
+        "  static constexpr const char* domain_dependents[{ndomain1}] = {owners};  // (ndomain) whose operation\n"
+        "  static constexpr const char* domain_functions[{ndomain1}] = {functions};  // (ndomain)\n"
+        "  // Their arguments at (t, q): arguments (ndomain x 2), the base and exponent of pow, else (x, 0).\n"
+        "  static void domain_arguments(double t, const double* q, const double* param, double* arguments);\n"
+        "  // Bodies rotated by three elementary rotations by coordinates, singular where the first and\n"
+        "  // third axes align.\n"
+        "  static constexpr int nangle_sequences = {nseq};\n"
+        "  static constexpr int angle_sequence_body[{nseq1}] = {bodies};  // (nangle_sequences)\n"
+        "  static constexpr int angle_sequence_q[{nseq3}] = {coordinates};  // (nangle_sequences x 3)\n"
+        "  static constexpr const char* angle_sequence_axes[{nseq1}] = {axes};  // (nangle_sequences) \"zyx\"\n",
+        fmt::arg("ndep1", at_least_one(ndep)), fmt::arg("dependent_names", string_array_literal(dependent_names)),
+        fmt::arg("ndomain", ndomain), fmt::arg("ndomain1", at_least_one(ndomain)), fmt::arg("owners", string_array_literal(owners)),
+        fmt::arg("functions", string_array_literal(functions)), fmt::arg("nseq", nseq),
+        fmt::arg("nseq1", at_least_one(nseq)), fmt::arg("bodies", ints(bodies)),
+        fmt::arg("nseq3", at_least_one(3 * nseq)), fmt::arg("coordinates", ints(coordinates)),
+        fmt::arg("axes", string_array_literal(axes)));
+  }
+
+  // The arguments of every domain check, from the dependent parameters as written.
+  std::string domain_arguments_text() const {
+    std::vector<Expr> inputs, outputs;
+    symbolic::CppNaming naming;
+    for (const char* in : {"t", "q", "param"}) {
+      const auto& syms = symbols_.at(in);
+      inputs.insert(inputs.end(), syms.begin(), syms.end());
+      for (std::size_t i = 0; i < syms.size(); ++i) naming.inputs.push_back(input_element(in, i));
+    }
+    for (const model::DomainCheck& c : checks_) {
+      outputs.push_back(c.argument);
+      outputs.push_back(c.exponent);
+    }
+    for (std::size_t i = 0; i < outputs.size(); ++i) naming.outputs.push_back(element("arguments", i));
+    std::vector<symbolic::Definition> definitions;
+    for (const auto& d : model_.dependents()) definitions.push_back({d.symbol, d.expression});
+    const symbolic::Program program = symbolic::compile_program(inputs, outputs, definitions);
+    return fmt::format("\n// Cold: only to name a domain error.\n[[gnu::cold]] void {}::domain_arguments([[maybe_unused]] "
+                       "double t, [[maybe_unused]] const double* q, [[maybe_unused]] const double* param, "
+                       "[[maybe_unused]] double* arguments) {{\n{}}}\n",
+                       struct_name_, symbolic::emit_cpp(program, naming));
   }
 
   const model::Model model_;
@@ -655,6 +731,8 @@ class Emitter {
   std::unordered_map<std::string, std::vector<Expr>> symbols_;
   std::vector<symbolic::Definition> definitions_;  // of the current derivation
   std::vector<EntryPoint> entries_;
+  std::vector<model::DomainCheck> checks_;
+  std::vector<model::AngleSequence> sequences_;
 };
 
 }  // namespace
@@ -678,7 +756,7 @@ GeneratedCode generate(const model::Model& model, std::string_view variant, std:
   check_options(variant, basename, options);
   model.validate();  // first, so that errors speak of the model as written
   try {
-    return Emitter(model.with_shared_motions_relative(), variant, basename, options).run();
+    return Emitter(model.with_shared_motions_relative(), model::angle_sequences(model), variant, basename, options).run();
   } catch (const symbolic::SymbolicError& e) {
     throw ModelError(fmt::format("model '{}' variant '{}': {}", model.name(), variant, e.what()));
   }

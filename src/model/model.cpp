@@ -171,7 +171,10 @@ Expr Model::parameter(std::string_view name, double value, bool runtime) {
 Expr Model::dependent(std::string_view name, Expr expression) {
   check_builder_name(name, "dependent parameter");
   check_declared(expression, fmt::format("dependent parameter '{}'", name));
-  if (inline_dependents_) return expression;
+  if (inline_dependents_) {
+    inlined_dependents_.push_back({std::string(name), expression});
+    return expression;
+  }
   const Expr s = declare(name, SymbolKind::Dependent);
   if (is_declared(s)) throw ModelError(fmt::format("dependent parameter '{}' is declared twice", name));
   auto [rate, acceleration] = derivative_names(name);

@@ -94,6 +94,13 @@ struct Coordinate {
   double initial_rate = 0.0;
 };
 
+// A dependent parameter substituted where it is used (inline_dependents): its
+// name and expression kept for the diagnostics alone (model/diagnostics.hpp).
+struct InlinedDependent {
+  std::string name;
+  Expr expression;
+};
+
 struct Parameter {
   Expr symbol;
   double value;
@@ -121,6 +128,7 @@ class Model {
 
   const std::vector<Coordinate>& coordinates() const { return coordinates_; }
   const std::vector<Dependent>& dependents() const { return dependents_; }
+  const std::vector<InlinedDependent>& inlined_dependents() const { return inlined_dependents_; }
   const std::vector<Parameter>& parameters() const { return parameters_; }
   const std::deque<Body>& bodies() const { return bodies_; }
   const Vec3& gravity() const { return gravity_; }
@@ -163,6 +171,7 @@ class Model {
   std::string name_;
   std::vector<Coordinate> coordinates_;
   std::vector<Dependent> dependents_;
+  std::vector<InlinedDependent> inlined_dependents_;
   std::vector<Parameter> parameters_;
   std::deque<Body> bodies_;  // stable references for body()
   Vec3 gravity_;

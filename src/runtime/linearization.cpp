@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
@@ -79,9 +80,12 @@ Linearization linearize(DynamicSystem& sys, const State& s, const LinearizationO
 
   SpdSolver solver(nk);
   if (nk > 0 && !solver.factor(lin.M)) {
+    // The model's reason (an angle sequence at its singular configuration) when it knows one.
+    const auto* mbs = dynamic_cast<const MultibodySystem*>(&sys);
+    const auto why = mbs != nullptr ? mbs->explain_singular(s, M) : std::nullopt;
     throw NumericError(fmt::format(
         "linearize: mass matrix is singular or indefinite at t = {}: {}", s.t,
-        mass_matrix_singularity(lin.M, [&](int r) { return sys.coordinate_name(lin.kept[r]); })));
+        why ? *why : mass_matrix_singularity(lin.M, [&](int r) { return sys.coordinate_name(lin.kept[r]); })));
   }
   const Eigen::LDLT<Matrix> ldlt(lin.M);
   lin.A = Matrix::Zero(2 * nk, 2 * nk);

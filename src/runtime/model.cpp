@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cctype>
+#include <numbers>
 
 namespace symdyn::runtime {
 
@@ -44,6 +47,42 @@ void validate_inertia(const std::string& body, double m, const Mat3& I) {
   }
 }
 
+// Where each function with a restricted domain is defined (x its argument, e
+// the exponent of pow), and its edge: defined, but with an infinite derivative,
+// so that a rate or an acceleration is not finite there.
+struct RestrictedDomain {
+  std::string_view function;
+  std::string_view domain;  // as a message says it
+  bool (*inside)(double x, double e);
+  bool (*edge)(double x, double e);
+};
+
+bool is_integer(double e) { return std::nearbyint(e) == e; }
+
+constexpr RestrictedDomain kRestrictedDomains[] = {
+    {"asin", "[-1, 1]", [](double x, double) { return std::abs(x) <= 1.0; },
+     [](double x, double) { return std::abs(x) == 1.0; }},
+    {"acos", "[-1, 1]", [](double x, double) { return std::abs(x) <= 1.0; },
+     [](double x, double) { return std::abs(x) == 1.0; }},
+    {"sqrt", "[0, inf)", [](double x, double) { return x >= 0.0; }, [](double x, double) { return x == 0.0; }},
+    {"log", "(0, inf)", [](double x, double) { return x > 0.0; }, [](double, double) { return false; }},
+    {"pow", "a base > 0, or 0 with an exponent > 0, or < 0 with an integer exponent",
+     [](double x, double e) { return x > 0.0 || (x == 0.0 && e > 0.0) || (x < 0.0 && is_integer(e)); },
+     [](double x, double e) { return x == 0.0 && e > 0.0 && e < 1.0; }},
+};
+
+const RestrictedDomain* restricted_domain(std::string_view function) {
+  for (const RestrictedDomain& r : kRestrictedDomains) {
+    if (r.function == function) return &r;
+  }
+  return nullptr;
+}
+
+// "asin(1.2)", "pow(-0.5, 0.3)".
+std::string call(std::string_view function, double x, double e) {
+  return function == "pow" ? fmt::format("pow({}, {})", x, e) : fmt::format("{}({})", function, x);
+}
+
 }  // namespace
 
 Model::Model(ModelDescription d) : d_(std::move(d)) {
@@ -64,10 +103,88 @@ Model::Model(ModelDescription d) : d_(std::move(d)) {
   check_size(d_.param_names.size(), d_.nparam, "param_names");
   check_size(d_.param_defaults.size(), d_.nparam, "param_defaults");
   if (d_.inertia == nullptr) missing("inertia");
+  validate_diagnostics();
   zeros_.assign(std::max(d_.nq, 1), 0.0);
   param_ = d_.param_defaults;
   if (param_.empty()) param_.push_back(0.0);
   evaluate_inertia(param_, mass_, inertia_);
+}
+
+void Model::validate_diagnostics() const {
+  const auto fail = [&](const std::string& what) {
+    throw ModelError(fmt::format("model '{}': {}", d_.model, what));
+  };
+  if (!d_.dependent_names.empty() && d_.dependent_names.size() != static_cast<std::size_t>(d_.ndep)) {
+    fail(fmt::format("dependent_names has {} entries, expected {}", d_.dependent_names.size(), d_.ndep));
+  }
+  if (!d_.domain_checks.empty() && d_.domain_arguments == nullptr) fail("domain checks without domain_arguments");
+  for (const DomainCheck& c : d_.domain_checks) {
+    if (c.dependent.empty()) fail("domain check of an unnamed dependent parameter");
+    if (restricted_domain(c.function) == nullptr) fail(fmt::format("domain check of unknown function '{}'", c.function));
+  }
+  for (const AngleSequence& a : d_.angle_sequences) {
+    const bool indices = a.body >= 0 && a.body < d_.nbody &&
+                         std::all_of(a.coordinates.begin(), a.coordinates.end(), [&](int j) { return j >= 0 && j < d_.nq; });
+    if (!indices || a.axes.size() != 3) fail(fmt::format("angle sequence '{}' of body {} is malformed", a.axes, a.body));
+  }
+}
+
+std::optional<std::string> Model::domain_error(double t, const double* q) const {
+  const std::size_t n = d_.domain_checks.size();
+  if (n == 0) return std::nullopt;
+  std::vector<double> args(2 * n);
+  d_.domain_arguments(t, q, param_.data(), args.data());
+  const auto describe = [&](std::size_t k, const char* what) {
+    const DomainCheck& c = d_.domain_checks[k];
+    return fmt::format("dependent parameter '{}': {} is {} [domain of {}: {}]", c.dependent,
+                       call(c.function, args[2 * k], args[2 * k + 1]), what, c.function,
+                       restricted_domain(c.function)->domain);
+  };
+  // Outside first, in evaluation order (an inner failure makes the outer arguments NaN: skipped).
+  for (std::size_t k = 0; k < n; ++k) {
+    const double x = args[2 * k], e = args[2 * k + 1];
+    if (std::isfinite(x) && std::isfinite(e) && !restricted_domain(d_.domain_checks[k].function)->inside(x, e)) {
+      return describe(k, "outside its function's domain");
+    }
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (restricted_domain(d_.domain_checks[k].function)->edge(args[2 * k], args[2 * k + 1])) {
+      return describe(k, "at the edge of its function's domain, where its derivative is infinite");
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> Model::singular_angle_sequence(const double* q, const Matrix& M) const {
+  if (d_.angle_sequences.empty() || M.rows() != d_.nq || M.rows() == 0 || !M.allFinite()) return std::nullopt;
+  const Eigen::JacobiSVD<Matrix> svd(M, Eigen::ComputeFullV);
+  const Vector u = svd.matrixV().col(M.cols() - 1);  // the null direction (singular values decrease)
+  const AngleSequence* best = nullptr;
+  double best_share = 0.5;  // at least half of the null direction
+  for (const AngleSequence& a : d_.angle_sequences) {
+    const double b = q[a.coordinates[1]];
+    const bool proper = a.axes.front() == a.axes.back();
+    // The first and third axes align where cos b = 0 (Tait-Bryan) or sin b = 0 (proper Euler).
+    if (!((proper ? std::abs(std::sin(b)) : std::abs(std::cos(b))) < 1e-4)) continue;
+    double share = 0.0;
+    for (int j : a.coordinates) share += u(j) * u(j);
+    if (share >= best_share) {
+      best = &a;
+      best_share = share;
+    }
+  }
+  if (best == nullptr) return std::nullopt;
+  const int j = best->coordinates[1];
+  const double pi = std::numbers::pi, b = q[j];
+  const double offset = best->axes.front() == best->axes.back() ? 0.0 : pi / 2;
+  const double singular = offset + pi * std::nearbyint((b - offset) / pi);
+  std::string axes;
+  for (char c : best->axes) axes += fmt::format("{}{}", axes.empty() ? "" : "-", static_cast<char>(std::toupper(c)));
+  const auto& names = d_.q_names;
+  return fmt::format("coordinates '{}', '{}', '{}' of body '{}' form a {} angle sequence singular at {} = {} deg "
+                     "({} = {} rad = {:.9g} deg): its first and third axes are aligned",
+                     names[best->coordinates[0]], names[j], names[best->coordinates[2]], d_.body_names[best->body],
+                     axes, names[j], std::round(singular * 180.0 / pi), names[j], b, b * 180.0 / pi);
 }
 
 void Model::evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,

@@ -13,7 +13,9 @@
 //   mass > 0; inertia symmetric (to 1e-9 relative); positive definite;
 //   principal moments satisfying the triangle inequalities A + B >= C.
 
+#include <array>
 #include <concepts>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -44,6 +46,9 @@ using DependentParametersFn = void (*)(double t, const double* q, const double* 
 using MassMatrixFn = void (*)(double t, const double* q, const double* param, double* M);
 using BiasForcesFn = void (*)(double t, const double* q, const double* qd, const double* param,
                               double* h);
+// Cold diagnostics: the arguments of the dependent parameters' restricted
+// operations, (ndomain x 2) (docs/emitted_interface.md).
+using DomainArgumentsFn = void (*)(double t, const double* q, const double* param, double* arguments);
 // M and h in one call, alone or with the kinematics force elements read.
 using DynamicsFn = void (*)(double t, const double* q, const double* qd, const double* param,
                             double* M, double* h);
@@ -104,6 +109,21 @@ concept has_dynamics_velocities = requires(double t, const double* c, double* o)
   G::dynamics_velocities(t, c, c, c, o, o, o, o, o, o, o, o);
 };
 template <class G>
+concept has_domain_checks = requires(double t, const double* c, double* o) {
+  { G::ndomain } -> std::convertible_to<int>;
+  G::dependent_names[0];
+  G::domain_dependents[0];
+  G::domain_functions[0];
+  G::domain_arguments(t, c, c, o);
+};
+template <class G>
+concept has_angle_sequences = requires {
+  { G::nangle_sequences } -> std::convertible_to<int>;
+  G::angle_sequence_body[0];
+  G::angle_sequence_q[0];
+  G::angle_sequence_axes[0];
+};
+template <class G>
 concept generated_model = requires {
   { G::model } -> std::convertible_to<const char*>;
   { G::nq } -> std::convertible_to<int>;
@@ -122,6 +142,20 @@ concept generated_model = requires {
              static_cast<double*>(nullptr));
 };
 }  // namespace detail
+
+// An operation of a dependent parameter with a restricted domain (asin, acos,
+// sqrt, log, pow), in the order the generator emitted them.
+struct DomainCheck {
+  std::string dependent;  // the dependent parameter's name
+  std::string function;
+};
+
+// Three elementary rotations by coordinates of one body (model/diagnostics.hpp).
+struct AngleSequence {
+  int body = 0;
+  std::array<int, 3> coordinates{};
+  std::string axes;  // "zyx": Tait-Bryan when the first and last differ, else proper Euler
+};
 
 // The static facts and entry points of a generated model, as data.
 struct ModelDescription {
@@ -144,6 +178,11 @@ struct ModelDescription {
   DynamicsFn dynamics = nullptr;
   DynamicsPositionsFn dynamics_positions = nullptr;
   DynamicsVelocitiesFn dynamics_velocities = nullptr;
+  // Cold diagnostics; empty or null for code emitted before them.
+  std::vector<std::string> dependent_names;  // (ndep)
+  std::vector<DomainCheck> domain_checks;
+  DomainArgumentsFn domain_arguments = nullptr;
+  std::vector<AngleSequence> angle_sequences;
 };
 
 class Model {
@@ -230,10 +269,26 @@ class Model {
   void dynamics(double t, const double* q, const double* qd, KinematicsLevel level, double* M,
                 double* h, Kinematics& k) const;
 
+  // Cold diagnostics (error paths only; they allocate).
+  // The first operation of a dependent parameter whose argument at (t, q) is
+  // outside its function's domain, or at its edge where the derivative is
+  // infinite: "dependent parameter 'alpha': asin(1.2) is outside its domain
+  // [-1, 1]". Nothing when all are inside, or the model was emitted without checks.
+  std::optional<std::string> domain_error(double t, const double* q) const;
+  // The angle sequence at its singular configuration (|cos b| or |sin b| of
+  // its middle angle below 1e-4) that carries most of the null direction of M
+  // (n x n, singular), if that is at least half of it: "coordinates 'yaw',
+  // 'pitch', 'roll' of body 'frame' form a Z-Y-X angle sequence singular at
+  // pitch = 90 deg (pitch = 1.5707963 rad)".
+  std::optional<std::string> singular_angle_sequence(const double* q, const Matrix& M) const;
+  const std::vector<std::string>& dependent_names() const { return d_.dependent_names; }
+  const std::vector<AngleSequence>& angle_sequences() const { return d_.angle_sequences; }
+
  private:
   void evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
                         std::vector<Mat3>& inertia) const;
   [[noreturn]] void missing(const char* entry) const;
+  void validate_diagnostics() const;
   // dynamics() from the separate entry points (a model without the fused ones).
   [[gnu::noinline]] void dynamics_separately(double t, const double* q, const double* qd,
                                              KinematicsLevel level, double* M, double* h,
@@ -280,6 +335,19 @@ Model Model::from() {
   }
   if constexpr (detail::has_dependent_parameters<G>) {
     d.dependent_parameters = &G::dependent_parameters;
+  }
+  if constexpr (detail::has_domain_checks<G>) {
+    for (int k = 0; k < G::ndep; ++k) d.dependent_names.emplace_back(G::dependent_names[k]);
+    for (int k = 0; k < G::ndomain; ++k) d.domain_checks.push_back({G::domain_dependents[k], G::domain_functions[k]});
+    d.domain_arguments = &G::domain_arguments;
+  }
+  if constexpr (detail::has_angle_sequences<G>) {
+    for (int k = 0; k < G::nangle_sequences; ++k) {
+      d.angle_sequences.push_back({G::angle_sequence_body[k],
+                                   {G::angle_sequence_q[3 * k], G::angle_sequence_q[3 * k + 1],
+                                    G::angle_sequence_q[3 * k + 2]},
+                                   G::angle_sequence_axes[k]});
+    }
   }
   // The flag says whether the generator emitted the equations of motion.
   bool eom = true;

@@ -158,6 +158,7 @@ void MultibodySystem::check_kinematics(const State& s, KinematicsLevel level,
     };
     for (const Quantity& q : qs) {
       if (!q.finite) {
+        throw_domain_error(s);
         throw NumericError(fmt::format("t = {}: body '{}': {} is not finite at {}", s.t,
                                        model_.body_names()[i], q.name, describe(s)));
       }
@@ -307,18 +308,36 @@ void MultibodySystem::evaluate_equations(const State& s) {
 }
 
 void MultibodySystem::solve_in_place(const State& s, Vector& x) {
-  if (!solver_.factor(M_)) {
-    if (!M_.allFinite()) explain_non_finite(s);
-    throw NumericError(fmt::format(
-        "t = {}: mass matrix is singular or indefinite: {} (pivot {:.3g} of its diagonal) at {}", s.t,
-        mass_matrix_singularity(M_, [this](int j) { return model_.q_names()[j]; }),
-        solver_.smallest_pivot_ratio(), describe(s)));
-  }
+  if (!solver_.factor(M_)) singular_mass_matrix(s);
   solver_.solve_in_place(x);
   if (!all_finite(x.data(), x.size())) explain_non_finite(s);
 }
 
-void MultibodySystem::explain_non_finite(const State& s) const {
+void MultibodySystem::singular_mass_matrix(const State& s) const {
+  if (!M_.allFinite()) explain_non_finite(s);
+  const auto sequence = model_.singular_angle_sequence(s.q.data(), M_);
+  throw NumericError(fmt::format(
+      "t = {}: mass matrix is singular or indefinite: {} (pivot {:.3g} of its diagonal) at {}", s.t,
+      sequence ? *sequence : mass_matrix_singularity(M_, [this](int j) { return model_.q_names()[j]; }),
+      solver_.smallest_pivot_ratio(), describe(s)));
+}
+
+std::optional<std::string> MultibodySystem::explain_singular(const State& s, const Matrix& M) const {
+  if (s.q.size() != model_.nq()) return std::nullopt;
+  return model_.singular_angle_sequence(s.q.data(), M);
+}
+
+// A dependent parameter out of its domain is the first suspect: it makes
+// everything after it NaN (rotations, M, h), which would otherwise be named.
+void MultibodySystem::throw_domain_error(const State& s) const {
+  if (const auto what = model_.domain_error(s.t, s.q.data())) {
+    throw NumericError(fmt::format("t = {}: {} at {}", s.t, *what, describe(s)));
+  }
+}
+
+void MultibodySystem::explain_non_finite(const State& s, const char* result) const {
+  throw_domain_error(s);
+  if (source_ == EquationsSource::assembled) check_kinematics(s, KinematicsLevel::velocities, true);
   if (!M_.allFinite()) {
     throw NumericError(fmt::format("t = {}: mass matrix is not finite at {}", s.t, describe(s)));
   }
@@ -329,7 +348,7 @@ void MultibodySystem::explain_non_finite(const State& s) const {
     }
   }
   check_kinematics(s, level_, false);
-  throw NumericError(fmt::format("t = {}: accelerations are not finite at {}", s.t, describe(s)));
+  throw NumericError(fmt::format("t = {}: {} not finite at {}", s.t, result, describe(s)));
 }
 
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
@@ -372,6 +391,7 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
     f += h_;
     if (!elements_.empty()) f -= Qa_;
   }
+  if (!all_finite(f.data(), f.size())) explain_non_finite(s, "residual is");  // cold: names the culprit
   g.resize(num_extra_states());
   if (extra_) {
     extra_(s, k_, g);

@@ -117,6 +117,12 @@ class MultibodySystem : public DynamicSystem {
   const Kinematics& kinematics() const { return k_; }
   const Loads& loads() const { return loads_; }
 
+  // Cold: the model's reason why M (n x n, an iteration matrix built on it
+  // too) is singular at s, when it knows one: an angle sequence at its
+  // singular configuration (Model::singular_angle_sequence). For statics and
+  // linearization, which meet M through DynamicSystem.
+  std::optional<std::string> explain_singular(const State& s, const Matrix& M) const;
+
   // Evaluates velocity-level kinematics and partial velocities at s into
   // kinematics() (checked for finite values).
   const Kinematics& evaluate_kinematics(const State& s);
@@ -141,7 +147,12 @@ class MultibodySystem : public DynamicSystem {
   void assemble_mass_matrix(Matrix& M);
   // x := M_⁻¹·x, naming what is not finite or singular.
   void solve_in_place(const State& s, Vector& x);
-  [[noreturn, gnu::cold, gnu::noinline]] void explain_non_finite(const State& s) const;
+  // Names why `result` (the accelerations or the residual) is not finite.
+  [[noreturn, gnu::cold, gnu::noinline]] void explain_non_finite(const State& s,
+                                                                 const char* result = "accelerations are") const;
+  [[noreturn, gnu::cold, gnu::noinline]] void singular_mass_matrix(const State& s) const;
+  // Throws naming the dependent parameter out of its domain at s, if any.
+  [[gnu::cold, gnu::noinline]] void throw_domain_error(const State& s) const;
   std::string describe(const State& s) const;
 
   Model model_;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
@@ -24,6 +25,26 @@ double static_residual(DynamicSystem& sys, const State& s, const std::vector<boo
     if (locked[j]) f(j) = 0.0;
   }
   return f.norm();
+}
+
+// The residual at a trial point of the line search: a state the system refuses
+// (a dependent parameter out of its domain) counts as no decrease, so that a
+// shorter step is tried; the full step, taken when none decreases, says why.
+double trial_residual(DynamicSystem& sys, const State& s, const std::vector<bool>& locked, Vector& f) {
+  try {
+    return static_residual(sys, s, locked, f);
+  } catch (const NumericError&) {
+    return INFINITY;
+  }
+}
+
+// Why the iteration matrix is singular: the model's reason (an angle sequence
+// at its singular configuration) when it knows one, else its null direction.
+std::string singular_because(DynamicSystem& sys, const State& s, const Matrix& A) {
+  if (const auto* mbs = dynamic_cast<const MultibodySystem*>(&sys)) {
+    if (auto why = mbs->explain_singular(s, A)) return *why;
+  }
+  return "along " + null_direction(A, [&](int j) { return sys.coordinate_name(j); });
 }
 
 }  // namespace
@@ -59,23 +80,21 @@ StaticsReport solve_statics(DynamicSystem& sys, const State& start,
     }
     const Eigen::FullPivLU<Matrix> lu(A);
     if (!lu.isInvertible()) {
-      throw NumericError(fmt::format(
-          "statics: iteration matrix {}·M + K is singular at iteration {} (|f| = {:.3e}) along {}",
-          options.mass_weight, r.iterations, fnorm,
-          null_direction(A, [&](int j) { return sys.coordinate_name(j); })));
+      throw NumericError(fmt::format("statics: iteration matrix {}·M + K is singular at iteration {} (|f| = {:.3e}): {}",
+                                     options.mass_weight, r.iterations, fnorm, singular_because(sys, r.state, A)));
     }
     const Vector dq = -lu.solve(f);
     // Backtracking on |f|: halve while the residual does not decrease.
     double alpha = 1.0;
     State trial = r.state;
     trial.q = r.state.q + dq;
-    double tnorm = static_residual(sys, trial, locked, ftrial);
+    double tnorm = trial_residual(sys, trial, locked, ftrial);
     for (int halving = 0; options.line_search && !(tnorm < fnorm) && halving < 30; ++halving) {
       alpha *= 0.5;
       trial.q = r.state.q + alpha * dq;
-      tnorm = static_residual(sys, trial, locked, ftrial);
+      tnorm = trial_residual(sys, trial, locked, ftrial);
     }
-    if (!(tnorm < fnorm)) {  // no decrease found: take the full step (EasyDyn)
+    if (!(tnorm < fnorm)) {  // no decrease found: take the full step (EasyDyn); a refusal there stops
       alpha = 1.0;
       trial.q = r.state.q + dq;
       tnorm = static_residual(sys, trial, locked, ftrial);

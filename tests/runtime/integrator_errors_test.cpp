@@ -2,12 +2,20 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <cstdio>
+#include <optional>
 #include <regex>
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+#include "long_crank_asin.hpp"
+#include "long_crank_sqrt.hpp"
 #include "runtime/test_systems.hpp"
 
 namespace {
@@ -207,4 +215,163 @@ TEST_CASE("work is bounded: max_steps, and a fixed step below min_step or too ma
   many.on_output = [&](const State&, const Vector&, const Vector&) { ++outputs; };
   make_integrator("dopri5", many)->integrate(osc, initial_state(1.0, 0.0), 1e-6);
   CHECK(outputs == 1001);
+}
+
+namespace {
+
+// T = qd²/(2(1 - q)), no force: the mass 1/(1 - q) grows without bound as q -> 1
+// and the model is undefined beyond (a sqrt of 1 - q, NaN for q > 1, as an
+// emitted dependent parameter is). The exact motion from q = 0, qd = 1 is the
+// parabola q = t - t²/4: it touches q = 1 at t = 2 with qd = 0 and comes back,
+// with the energy E = qd²/(2(1 - q)) = 1/2 all along. Near t = 2 the
+// acceleration qdd = -qd²/(2(1 - q)) is a quotient of two vanishing numbers:
+// an integrator may resolve it or stop, never carry on past q = 1 with a wrong
+// energy.
+class BoundaryTouch : public DynamicSystem {
+ public:
+  int num_coordinates() const override { return 1; }
+  std::string coordinate_name(int) const override { return "crank"; }
+  void accelerations(const State& s, Vector& qdd, Vector& yd) override {
+    qdd.resize(1);
+    yd.resize(0);
+    qdd[0] = -s.qd[0] * s.qd[0] / (2.0 * room(s));
+  }
+  void residual(const State& s, const Vector& qdd, const Vector&, Vector& f, Vector& g) override {
+    f.resize(1);
+    g.resize(0);
+    const double u = room(s);
+    f[0] = qdd[0] / u + s.qd[0] * s.qd[0] / (2.0 * u * u);  // M·qdd + h
+  }
+  static double energy(const State& s) { return s.qd[0] * s.qd[0] / (2.0 * (1.0 - s.q[0])); }
+
+ private:
+  // 1 - q through its square root, as emitted code computes it: NaN beyond q = 1.
+  static double room(const State& s) {
+    const double r = std::sqrt(1.0 - s.q[0]);
+    return r * r;
+  }
+};
+
+// The outcome of a run that may stop: the final state, or the message.
+struct Outcome {
+  std::optional<State> end;
+  std::string error;
+};
+
+template <typename Run>
+Outcome outcome_of(Run&& run) {
+  Outcome o;
+  try {
+    o.end = run();
+  } catch (const NumericError& e) {
+    o.error = e.what();
+  }
+  return o;
+}
+
+IntegratorOptions tight_options(const std::string& name) {
+  IntegratorOptions o;
+  o.relative_tolerance = o.absolute_tolerance = 1e-8;
+  if (name == "rk4" || name == "midpoint") o.initial_step = 1e-3;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("a solution touching its domain's boundary: resolved with the right energy, or stopped naming it",
+          "[integrator][errors]") {
+  for (const auto& name : integrator_names()) {
+    // rk4 has no error estimate: through the touch it is as wrong as its step
+    // makes it (q = -9.5e4 at t = 4 for steps of 1e-3 to 1e-5), finite all along.
+    if (name == "rk4") continue;
+    CAPTURE(name);
+    BoundaryTouch sys;
+    const Outcome o = outcome_of([&] { return make_integrator(name, tight_options(name))->integrate(sys, initial_state(0.0, 1.0), 4.0); });
+    CAPTURE(o.error);
+    if (o.end) {
+      // Resolved: the parabola q = t - t²/4 at t = 4, with its energy.
+      CHECK(o.end->q[0] == Approx(0.0).margin(1e-3));
+      CHECK(o.end->qd[0] == Approx(-1.0).margin(1e-3));
+      CHECK(BoundaryTouch::energy(*o.end) == Approx(0.5).epsilon(1e-3));
+    } else {
+      CHECK(o.error.find("coordinate 'crank'") != std::string::npos);
+      const std::vector<double> t = times_named(o.error);
+      REQUIRE(!t.empty());
+      CHECK(t.front() == Approx(2.0).margin(0.1));
+    }
+  }
+}
+
+namespace {
+
+// The slider-crank with a crank of 0.4 on a rod of 0.3 (models/error_models.cpp)
+// and a light rod and slider: the crank turns at about 10 rad/s towards the dead
+// point sin(q0) = 0.75, where the rod's angle leaves its function's domain.
+// Gravity is normal to the plane: the kinetic energy is conserved.
+MultibodySystem light_long_crank(Model model) {
+  model.set_parameters({0.4, 0.3, 1e-3, 1e-3});
+  return MultibodySystem(std::move(model));
+}
+
+double kinetic_energy(MultibodySystem& sys, const State& s) { return sys.energies(s).kinetic; }
+
+// Every integrator either carries the crank back from the dead point with its
+// energy, or stops naming the dependent parameter and the function.
+template <typename Generated>
+void crank_runs_into_its_domain(const char* dependent, const char* function) {
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    MultibodySystem sys = light_long_crank(Model::from<Generated>());
+    const State start = sys.initial_state();
+    const double energy = kinetic_energy(sys, start);
+    IntegratorOptions o = tight_options(name);
+    if (name == "rk4" || name == "midpoint") o.initial_step = 1e-4;
+    const Outcome out = outcome_of([&] { return make_integrator(name, o)->integrate(sys, start, 0.5); });
+    CAPTURE(out.error);
+    if (out.end) {
+      CHECK(kinetic_energy(sys, *out.end) == Approx(energy).epsilon(1e-3));
+    } else {
+      CHECK(out.error.find(fmt::format("dependent parameter '{}': {}(", dependent, function)) != std::string::npos);
+      CHECK(out.error.rfind("t = ", 0) == 0);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a slider-crank whose crank is longer than its rod: every integrator names alpha and asin, or conserves energy",
+          "[integrator][errors][domain]") {
+  crank_runs_into_its_domain<symdyn_generated::long_crank_asin>("alpha", "asin");
+}
+
+TEST_CASE("the same with the rod's length through a sqrt: every integrator names s and sqrt, or conserves energy",
+          "[integrator][errors][domain]") {
+  crank_runs_into_its_domain<symdyn_generated::long_crank_sqrt>("s", "sqrt");
+}
+
+// Not run by default: how often each adaptive integrator passes the touch of
+// BoundaryTouch with a wrong energy (|E/E0 - 1| > 100·rtol) and no error, over
+// 40 initial speeds, by tolerance. Figures: bench/results/boundary_touch.md.
+TEST_CASE("boundary touch sweep", "[.boundary_sweep]") {
+  for (const char* name : {"newmark", "generalized-alpha", "dopri5", "dop853", "cvode", "arkode"}) {
+    for (double rtol : {1e-4, 1e-6, 1e-8}) {
+      int silent = 0, stopped = 0, resolved = 0;
+      for (int k = 0; k < 40; ++k) {
+        const double v = 0.1 * std::pow(1.15, k), energy = v * v / 2;
+        BoundaryTouch sys;
+        IntegratorOptions o;
+        o.relative_tolerance = rtol;
+        o.absolute_tolerance = rtol * 1e-2;
+        const Outcome out = outcome_of([&] { return make_integrator(name, o)->integrate(sys, initial_state(0.0, v), 4 / v); });
+        if (!out.end) {
+          ++stopped;
+        } else if (std::abs(BoundaryTouch::energy(*out.end) / energy - 1.0) > 100 * rtol) {
+          ++silent;
+        } else {
+          ++resolved;
+        }
+      }
+      std::printf("| %s | %g | %d | %d | %d |\n", name, rtol, resolved, stopped, silent);
+    }
+  }
 }

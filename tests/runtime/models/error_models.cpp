@@ -1,0 +1,59 @@
+// Models whose runs fail in the model's own terms, for the runtime's error tests
+// (bad_input_test.cpp, integrator_errors_test.cpp): each is valid at its initial
+// configuration, and leaves its domain or locks only where a test sends it.
+#include <symdyn/model/model.hpp>
+
+namespace {
+
+using namespace symdyn::model;
+
+// A slider-crank whose crank l1 and rod l2 are run-time parameters: with
+// l1 > l2 the rod cannot follow the crank past sin(q0) = l2 / l1.
+//   asin: alpha = asin(l1 sin(q0) / l2), x = l1 cos(q0) + l2 cos(alpha);
+//   sqrt: s = sqrt(l2² - (l1 sin(q0))²), x = l1 cos(q0) + s, alpha = atan2(l1 sin(q0), s).
+// The rod and slider are light (rod_mass, slider_mass), so that the crank reaches
+// the dead point with most of its speed.
+void long_crank(Model& m, std::string_view variant) {
+  const Expr q0 = m.coordinate("q0");
+  const Expr l1 = m.parameter("l1", 0.1, true), l2 = m.parameter("l2", 0.3, true);
+  const Expr rod_mass = m.parameter("rod_mass", 0.5, true), slider_mass = m.parameter("slider_mass", 0.3, true);
+  Expr alpha, x;
+  if (variant == "asin") {
+    alpha = m.dependent("alpha", asin(l1 * sin(q0) / l2));
+    x = m.dependent("x", l1 * cos(q0) + l2 * cos(alpha));
+  } else {
+    const Expr s = m.dependent("s", sqrt(l2 * l2 - pow(l1 * sin(q0), 2)));
+    alpha = m.dependent("alpha", atan2(l1 * sin(q0), s));
+    x = m.dependent("x", l1 * cos(q0) + s);
+  }
+  m.body("crank").mass(1.0).inertia(1e-4, 8.3e-4, 8.3e-4).motion(Trotz(q0) * Tdisp(l1 / 2, 0, 0));
+  m.body("rod").mass(rod_mass).inertia(1e-4 * rod_mass, 7.5e-3 * rod_mass, 7.5e-3 * rod_mass)
+      .motion(Tdisp(x, 0, 0) * Trotz(-alpha) * Tdisp(-l2 / 2, 0, 0));
+  m.body("slider").mass(slider_mass).inertia(3e-4 * slider_mass, 3e-4 * slider_mass, 3e-4 * slider_mass)
+      .motion(Tdisp(x, 0, 0));
+  m.gravity(0, 0, -9.81);
+  m.initial(q0, 0.0, 10.0);
+}
+
+// A free body whose attitude is three angles: Z-Y-X (yaw, pitch, roll; Tait-Bryan,
+// locked at pitch = ±90 deg) with a translation, or Z-X-Z (precession, nutation,
+// spin; proper Euler, locked at nutation = 0 or 180 deg).
+void gimbal(Model& m, std::string_view variant) {
+  Body& frame = m.body("frame").mass(2.0).inertia(0.1, 0.2, 0.25);
+  if (variant == "zyx") {
+    const Expr x = m.coordinate("x"), y = m.coordinate("y"), z = m.coordinate("z");
+    const Expr yaw = m.coordinate("yaw"), pitch = m.coordinate("pitch"), roll = m.coordinate("roll");
+    frame.motion(Tdisp(x, y, z) * Trotz(yaw) * Troty(pitch) * Trotx(roll));
+  } else {
+    const Expr precession = m.coordinate("precession"), nutation = m.coordinate("nutation"),
+               spin = m.coordinate("spin");
+    frame.motion(Trotz(precession) * Trotx(nutation) * Trotz(spin));
+    m.initial(nutation, 0.5);
+  }
+  m.gravity(0, 0, -9.81);
+}
+
+const Registration crank({"long_crank", {"asin", "sqrt"}, long_crank});
+const Registration gimbals({"gimbal", {"zyx", "zxz"}, gimbal});
+
+}  // namespace
