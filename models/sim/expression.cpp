@@ -186,7 +186,17 @@ class Parser {
       ops_.push_back({.kind = Expression::Op::Kind::number, .number = std::numbers::pi});
     } else {
       if (!resolver_.symbol) fail(fmt::format("unknown name '{}'", id));
-      push_symbol(resolver_.symbol(id), start, id);
+      push_symbol(resolved([&] { return resolver_.symbol(id); }, start), start, id);
+    }
+  }
+  // What the resolver says, its refusal with the column of the name.
+  template <class F>
+  int resolved(F&& resolve, std::size_t start) {
+    try {
+      return resolve();
+    } catch (const ExpressionError& e) {
+      pos_ = start;
+      fail(e.what());
     }
   }
   void push_symbol(int symbol, std::size_t, std::string_view) {
@@ -230,7 +240,7 @@ class Parser {
     }
     const std::size_t open = pos_;
     const auto args = argument_texts();
-    const int symbol = resolver_.call ? resolver_.call(id, args) : -1;
+    const int symbol = resolver_.call ? resolved([&] { return resolver_.call(id, args); }, start) : -1;
     if (symbol < 0) {
       pos_ = open;
       fail(fmt::format("unknown function '{}' (functions: {})", id, function_names()));

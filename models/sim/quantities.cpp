@@ -52,8 +52,8 @@ std::string valid_names(const Names& names, const Scope& scope) {
   return fmt::format("{}", fmt::join(groups, "; "));
 }
 
-[[noreturn]] void unknown(std::string_view what, std::string_view name, const std::string& valid) {
-  throw ExpressionError(fmt::format("unknown {} '{}' (valid: {})", what, name, valid));
+[[noreturn]] void unknown(const std::string& what, const std::string& valid) {
+  throw ExpressionError(fmt::format("unknown {} (valid: {})", what, valid));
 }
 
 int resolve_dotted(std::string_view name, const Names& names, const Scope& scope, SymbolTable& table) {
@@ -62,7 +62,7 @@ int resolve_dotted(std::string_view name, const Names& names, const Scope& scope
   const auto& bodies = names.model->body_names();
   if (const int body = index_of(bodies, owner); body >= 0 && scope.state) {
     const int a = index_of(kBodyAttributes, attribute);
-    if (a < 0) unknown(fmt::format("quantity of body '{}'", owner), attribute, joined(kBodyAttributes));
+    if (a < 0) unknown(fmt::format("quantity '{}' of body '{}'", attribute, owner), joined(kBodyAttributes));
     return table.add({.source = Source::body, .a = body, .b = a});
   }
   if (scope.system) {
@@ -70,11 +70,13 @@ int resolve_dotted(std::string_view name, const Names& names, const Scope& scope
     for (std::size_t e = 0; e < elements.size(); ++e) {
       if (elements[e]->id() != owner) continue;
       const int q = index_of(elements[e]->quantity_names(), attribute);
-      if (q < 0) unknown(fmt::format("quantity of force element '{}'", owner), attribute, joined(elements[e]->quantity_names()));
+      if (q < 0) {
+        unknown(fmt::format("quantity '{}' of force element '{}'", attribute, owner), joined(elements[e]->quantity_names()));
+      }
       return table.add({.source = Source::element, .a = static_cast<int>(e), .b = q});
     }
   }
-  unknown("name", name, valid_names(names, scope));
+  unknown(fmt::format("name '{}'", name), valid_names(names, scope));
 }
 
 // A coordinate, its rate or its acceleration.
@@ -138,7 +140,7 @@ int resolve_name(std::string_view name, const Names& names, const Scope& scope, 
       if (name == constant) return table.add({.source = Source::constant, .constant = value});
     }
   }
-  unknown("name", name, valid_names(names, scope));
+  unknown(fmt::format("name '{}'", name), valid_names(names, scope));
 }
 
 Resolver make_resolver(const Names& names, const Scope& scope, SymbolTable& table) {

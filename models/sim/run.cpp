@@ -364,6 +364,18 @@ struct Simulation::Impl {
   // Statistic calls become symbols whose values the accumulators keep.
   Resolver check_resolver() {
     Resolver r = make_resolver(names, {.time = false, .state = false, .run_constants = true}, table);
+    // A quantity that varies during the run, read outside a statistic: say how to read it.
+    r.symbol = [this, constants = r.symbol](std::string_view name) {
+      try {
+        return constants(name);
+      } catch (const ExpressionError&) {
+        SymbolTable scratch;
+        resolve_name(name, names, sample_scope(), scratch);  // unknown anywhere: says so, listing the names
+        throw ExpressionError(fmt::format("'{}' varies during the run: a check reads it through start(), end(), "
+                                          "maximum(), minimum(), drift(), max_rise() or at()",
+                                          name));
+      }
+    };
     r.call = [this](std::string_view function, const std::vector<std::string_view>& args) -> int {
       const auto row = std::find_if(std::begin(kStatistics), std::end(kStatistics),
                                     [&](const auto& s) { return function == s.first; });
