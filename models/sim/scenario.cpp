@@ -173,11 +173,12 @@ Scenario parse_scenario(std::string_view text, std::string origin, std::filesyst
   s.directory = std::move(directory);
   try {
     s.document = nlohmann::json::parse(text.begin(), text.end());
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
     // e.what() reads "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
+    // (or out_of_range.406 for a number too large for a double)
     std::string what = e.what();
-    const auto at = what.find("parse error");
-    throw ScenarioError(fmt::format("{}: not JSON: {}", s.origin, at == std::string::npos ? what : what.substr(at)));
+    const auto at = what.find("] ");
+    throw ScenarioError(fmt::format("{}: not JSON: {}", s.origin, at == std::string::npos ? what : what.substr(at + 2)));
   }
   const Node root = s.root();
   root.allow_only({"$schema", "description", "model", "parameters", "initial", "variables", "forces", "events",
