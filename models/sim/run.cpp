@@ -538,7 +538,7 @@ std::string summary(const RunResult& run) {
   out += fmt::format("  energy: initial {:.9g} J, final {:.9g} J, max |E - E0| = {:.3g} J ({:.3g} of {:.4g} J)\n",
                      run.energy.initial, run.energy.final, run.energy.absolute, run.energy.relative(), run.energy.scale);
   for (const auto& c : run.checks) {
-    out += fmt::format("  {}: {:.6g} {} (expected {:g} .. {:g}) {}\n", c.name, c.value, c.unit, c.low, c.high,
+    out += fmt::format("  {}: {:.6g}{} (expected {:g} .. {:g}) {}\n", c.name, c.value, c.unit.empty() ? "" : " " + c.unit, c.low, c.high,
                        c.ok() ? "ok" : "OUT OF RANGE");
   }
   return out;
