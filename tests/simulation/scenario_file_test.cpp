@@ -252,3 +252,24 @@ TEST_CASE("symdyn-sim runs a scenario file, a module relative to it", "[scenario
   std::filesystem::remove_all(dir);
 }
 
+
+TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks", "[scenario][module]") {
+  const std::string doc = testing::read_text(SYMDYN_DOCS "/scenarios.md");
+  const auto begin = doc.find("```json\n{"), end = doc.find("\n```", begin + 8);
+  REQUIRE(begin != std::string::npos);
+  std::string text = doc.substr(begin + 8, end - begin - 8);
+  const std::string module = "build/double_pendulum_absolute_module.so";
+  REQUIRE(text.find(module) != std::string::npos);
+  text.replace(text.find(module), module.size(), MODULE_DOUBLE_PENDULUM);
+  const sim::RunResult r = sim::run_scenario(parse(text));
+  CHECK(r.segments == 3);
+  CHECK(r.rows == 501);
+  CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "q0_ddot", "q1_ddot",
+                                              "kinetic_energy", "gravitational_energy", "elastic_energy",
+                                              "total_energy", "rod2.x", "rod2.y", "rod2.z", "spring.length", "tip_x"});
+  REQUIRE(r.checks.size() == 2);
+  for (const auto& c : r.checks) {
+    INFO(c.name << " = " << c.value);
+    CHECK(c.ok());
+  }
+}
