@@ -18,6 +18,7 @@
 #include "allocation_count.hpp"
 #include "codegen/run_command.hpp"
 #include "run.hpp"
+#include <symdyn/runtime/breakpoints.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
@@ -272,4 +273,40 @@ TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks", 
     INFO(c.name << " = " << c.value);
     CHECK(c.ok());
   }
+}
+
+TEST_CASE("integrate_with_breakpoints: each instant once, the callback at each breakpoint, bad lists refused",
+          "[scenario]") {
+  runtime::MultibodySystem system(sim::make_model(sim::find_builtin("slider_crank")));
+  runtime::IntegratorOptions o;
+  o.output_interval = 0.1;
+  std::vector<double> times;
+  o.on_output = [&](const runtime::State& s, const runtime::Vector&, const runtime::Vector&) { times.push_back(s.t); };
+  auto integrator = runtime::make_integrator("dopri5", o);
+  std::vector<double> seen;
+  // The crank stopped dead at 0.25 s: the state the next segment starts from is changed too.
+  const auto stop = [&](std::size_t, runtime::State& s) {
+    seen.push_back(s.t);
+    s.qd.setZero();
+  };
+  runtime::State start = system.initial_state();
+  start.qd(0) = 5.0;
+  const auto run = runtime::integrate_with_breakpoints(*integrator, system, start, {0.25, 0.5}, 1.0, stop);
+  CHECK(run.segments == 3);
+  CHECK(seen == std::vector<double>{0.25, 0.5});
+  // 0 .. 0.2, 0.25 (the first segment's end), 0.35, 0.45, 0.5, 0.6 .. 1.0: every instant once.
+  REQUIRE(times.size() == 12);
+  CHECK(times[3] == 0.25);
+  CHECK(times[6] == 0.5);
+  for (std::size_t k = 1; k < times.size(); ++k) CHECK(times[k] > times[k - 1]);
+  CHECK(run.final.t == 1.0);
+  CHECK(run.statistics.steps > 0);
+  // The callback's output is restored: a plain run after it sees every instant.
+  times.clear();
+  integrator->integrate(system, start, 0.2);
+  CHECK(times.size() == 3);
+  CHECK_THROWS_WITH(runtime::integrate_with_breakpoints(*integrator, system, start, {0.5, 0.25}, 1.0, stop),
+                    "breakpoint 1 at t = 0.25: breakpoints must increase strictly inside (0, 1)");
+  CHECK_THROWS_WITH(runtime::integrate_with_breakpoints(*integrator, system, start, {1.0}, 1.0, stop),
+                    "breakpoint 0 at t = 1: breakpoints must increase strictly inside (0, 1)");
 }
