@@ -1,24 +1,29 @@
 #pragma once
-// Running a scenario: the model of the chosen variant, its force elements,
-// the chosen integrator, outputs at a fixed interval (kept in memory and
-// optionally written as CSV), then the scenario's headline numbers.
+// Running a scenario (scenario.hpp): the model, its force elements, events
+// (the integration stops exactly at each and restarts), the chosen
+// integrator, rows written as they are produced (CSV), and the checks,
+// computed by accumulators as the run goes: memory does not grow with the
+// run's length.
 //
-//   const Scenario& s = find_scenario("double_pendulum");
-//   RunResult r = run_scenario(s, {.t_end = 2.0});
+//   Simulation sim(find_builtin("double_pendulum"), {.t_end = 2.0});  // every name resolved here
+//   RunResult r = sim.run();
 //   fmt::print("{}", summary(r));
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include <symdyn/runtime/integrator.hpp>
 
 #include "scenario.hpp"
 
 namespace symdyn::sim {
 
 struct RunOptions {
-  std::string variant;                    // empty: the scenario's first
+  std::string variant;                    // empty: the scenario's, else the model's first
   std::optional<double> t_end;            // default: the scenario's
   std::string integrator;                 // empty: the scenario's
   std::optional<double> tolerance;        // relative and absolute; default: the scenario's
@@ -29,47 +34,71 @@ struct RunOptions {
   // Emitted M and h when the model has them, else assembled from the kinematics.
   bool assembled = false;
   std::ostream* csv = nullptr;  // CSV of every output instant, if given
-  // Called with every output sample as it is produced (a failed run has
-  // delivered those before the failure).
-  std::function<void(const Sample&)> on_sample;
-  bool progress = false;        // progress bar on stderr (only drawn on a terminal)
+  // Called with every output instant as it is produced (a failed run has
+  // delivered those before the failure), qdd (nq) included.
+  std::function<void(const runtime::State& s, const runtime::Vector& qdd)> on_sample;
+  bool progress = false;  // progress bar on stderr (only drawn on a terminal)
+};
+
+// A number that characterizes a run, and the band [low, high] it should be in.
+struct Check {
+  std::string name;
+  double value = 0.0;
+  std::string unit;
+  double low = 0.0, high = 0.0;
+  bool ok() const { return value >= low && value <= high; }
+};
+
+// Energy bookkeeping of a run: drift = max_t |E(t) - E(0)|,
+// scale = max(|E(0)|, max_t T(t)), so that a run starting at E = 0 (the double
+// pendulum) still has a scale.
+struct EnergyDrift {
+  double initial = 0.0, final = 0.0;  // J
+  double absolute = 0.0;              // J
+  double scale = 0.0;                 // J
+  double relative() const { return scale > 0.0 ? absolute / scale : absolute; }
 };
 
 struct RunResult {
   std::string model, variant, integrator, equations;
   double t_end = 0.0, tolerance = 0.0;  // tolerance: the relative one
   double absolute_tolerance = 0.0;
-  std::vector<std::string> columns;  // of the CSV
-  std::vector<Sample> samples;       // every output instant, t = 0 .. t_end
-  runtime::Statistics statistics;
+  std::vector<std::string> columns;      // of the CSV
+  std::vector<std::string> coordinates;  // the model's q names
+  long rows = 0;                     // output instants, t = 0 .. t_end, each once
+  int segments = 0;                  // integrations: 1 + the event times
+  runtime::State initial, final;
+  EnergyDrift energy;
+  runtime::Statistics statistics;  // summed over the segments
   double wall_seconds = 0.0;
-  std::vector<Headline> headlines;
-
-  const Sample& initial() const { return samples.front(); }
-  const Sample& final() const { return samples.back(); }
+  std::vector<Check> checks;
 };
 
-// Throws OptionError (unknown variant or integrator, bad option), ModelError,
-// NumericError (from the integrator, naming the time and the culprit).
+class Simulation {
+ public:
+  // Builds the run: every name of the scenario is resolved and every option
+  // checked here (ScenarioError, OptionError naming the culprit), before a
+  // row is written.
+  Simulation(const Scenario& scenario, const RunOptions& options = {});
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // Rows the run will write: t_end / interval, plus one per event time.
+  double expected_rows() const;
+  const std::vector<std::string>& columns() const;
+  // Throws NumericError (from the integrator, naming the time and the culprit).
+  RunResult run();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options = {});
 
-// Energy bookkeeping of a run, over its samples:
-//   drift = max_t |E(t) - E(0)|, scale = max(|E(0)|, max_t T(t)),
-// so that a run starting at E = 0 (the double pendulum) still has a scale.
-struct EnergyDrift {
-  double absolute = 0.0;  // J
-  double scale = 0.0;     // J
-  double relative() const { return scale > 0.0 ? absolute / scale : absolute; }
-};
-EnergyDrift energy_drift(const RunResult& run);
-
-// The energy drift a conservative run may show at its relative tolerance: errors
-// of order tolerance per step add up over thousands of steps, hence 1e4 times
-// the tolerance, and never less than 1e-6.
-double energy_drift_bound(const RunResult& run);
-
 // A few lines for the terminal: the run, the integrator's counters, the final
-// state, the energy and the headline numbers with their bands.
+// state, the energy and the checks with their bands.
 std::string summary(const RunResult& run);
 
 }  // namespace symdyn::sim

@@ -1,87 +1,112 @@
 #pragma once
-// Scenarios: what symdyn-sim runs for each reference model of models.md.
-//
-// A scenario is data: the model's name, the generated variants it can run
-// (each a factory of runtime::Model from a generated struct), the default end
-// time, integrator, tolerance and output interval, the initial state when it
-// differs from the model's, and three small functions:
-//   configure  adds the force elements to the system and returns the extra
-//              CSV channels (called once per run, before integration);
-//   headline   turns a finished run into the few numbers that say whether it
-//              behaved (each with the band it is expected in).
-// One file per model (models/sim/<model>_scenario.cpp) registers its scenario
-// with a static Registration; symdyn-sim and the tests find it by name.
+// Scenario files (docs/scenarios.md, docs/scenario.schema.json): what
+// symdyn-sim runs, as data. A scenario names a model (built in, or a model
+// module next to the file), its parameters and initial state, force elements,
+// events, the integrator, outputs and checks. Loading reads the document and
+// the fields needed before the model exists (model, integrator, times);
+// Simulation (run.hpp) resolves every name against the model. Every error is
+// a ScenarioError naming the file, the JSON path of the culprit and what was
+// expected:
+//   double_pendulum.json: /forces/0/body: unknown body 'rod3' (bodies: rod1, rod2)
 
-#include <functional>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include <symdyn/runtime/csv.hpp>
-#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/model.hpp>
-#include <symdyn/runtime/multibody_system.hpp>
 
 namespace symdyn::sim {
 
-// One generated variant: its name and how to make the runtime model.
-struct Variant {
-  std::string name;
-  runtime::Model (*make)();
+// A bad scenario: the run is refused before any file is touched (exit 2).
+class ScenarioError : public runtime::OptionError {
+ public:
+  using runtime::OptionError::OptionError;
 };
 
-// A CSV column computed from the state (the system is evaluated as needed).
-struct Channel {
-  std::string name;
-  runtime::CsvRecorder::Channel value;
-};
+// A value of the document with its JSON path, so that every message names
+// the culprit. Accessors check the type and throw ScenarioError.
+class Node {
+ public:
+  Node(const nlohmann::json& value, std::string origin, std::string path = "")
+      : value_(&value), origin_(std::move(origin)), path_(std::move(path)) {}
 
-// One output instant of a run.
-struct Sample {
-  runtime::State state;
-  runtime::Energies energies;
-};
+  const nlohmann::json& json() const { return *value_; }
+  const std::string& path() const { return path_; }
+  std::string where() const { return origin_ + ": " + (path_.empty() ? "/" : path_); }
+  [[noreturn]] void fail(const std::string& what) const;
 
-// A number that characterizes a run, and the band [low, high] it should be in.
-struct Headline {
-  std::string name;
-  double value = 0.0;
-  std::string unit;
-  double low = 0.0, high = 0.0;
-  bool ok() const { return value >= low && value <= high; }
-};
+  // Object members: the keys allowed here (others are refused, listing these).
+  void allow_only(std::initializer_list<std::string_view> keys) const;
+  bool has(std::string_view key) const;
+  Node operator[](std::string_view key) const;  // required member
+  std::optional<Node> optional(std::string_view key) const;
+  std::vector<std::pair<std::string, Node>> members() const;  // of an object, in file order
+  std::vector<Node> elements() const;                         // of an array
 
-struct RunResult;
+  bool is_string() const { return value_->is_string(); }
+  bool is_number() const { return value_->is_number(); }
+  bool is_object() const { return value_->is_object(); }
+  std::string string() const;
+  double number() const;              // finite
+  double positive() const;            // finite and > 0
+  bool boolean() const;
+  std::vector<double> numbers(std::size_t n) const;  // an array of n finite numbers
+
+  // Member shortcuts with a default when absent.
+  double number_or(std::string_view key, double fallback) const;
+  std::string string_or(std::string_view key, std::string fallback) const;
+
+ private:
+  const nlohmann::json* value_;
+  std::string origin_;
+  std::string path_;
+};
 
 struct Scenario {
-  std::string model;        // the model's name in models.md
-  std::string description;  // one line, for --list
-  std::vector<Variant> variants;  // the first is the default
+  std::string name;         // the file's stem, or the built-in model's name
+  std::string origin;       // the file, for messages
+  std::filesystem::path directory;  // a module path is relative to it
+  nlohmann::json document;
 
+  // Read when loaded (the rest is read by Simulation, against the model).
+  std::string description;
+  std::string model;    // the model's name (a module's must match it, if given)
+  std::string variant;  // empty: a built-in model's first built variant
+  std::string module;   // the module's path as written, empty for a built-in model
   double t_end = 1.0;
+  double output_interval = 0.01;
   std::string integrator = "dopri5";
-  double tolerance = 1e-8;        // relative and absolute
-  double output_interval = 0.01;  // s
+  double rtol = 1e-8, atol = 1e-8;
+  std::optional<double> step;
+  std::vector<double> event_times;  // sorted, for the row estimate
 
-  // Initial q and qd (nq each); empty: the model's own initial state.
-  std::vector<double> q0, qd0;
-
-  std::function<std::vector<Channel>(runtime::MultibodySystem& system)> configure;
-  std::function<std::vector<Headline>(const RunResult& run, runtime::MultibodySystem& system)>
-      headline;
-
-  // The variant called name; OptionError naming the valid ones if unknown.
-  const Variant& variant(std::string_view name) const;
+  Node root() const { return Node(document, origin); }
 };
 
-// Registers a scenario at static initialization (one per scenario file).
-struct Registration {
-  explicit Registration(Scenario s);
-};
+// Throws ScenarioError (unreadable file, not JSON, bad structure).
+Scenario load_scenario(const std::filesystem::path& file);
+Scenario parse_scenario(std::string_view text, std::string origin, std::filesystem::path directory = {});
 
-// Every registered scenario, sorted by model name.
-std::vector<const Scenario*> scenarios();
-// The scenario of a model; OptionError naming the known models if absent.
-const Scenario& find_scenario(std::string_view model);
+// The reference models built into symdyn-sim, each generated variant a factory.
+struct BuiltinModel {
+  std::string model, variant;
+  runtime::Model (*make)();
+};
+const std::vector<BuiltinModel>& builtin_models();
+
+// The scenarios of models/scenarios/*.json whose model has a built variant,
+// sorted by name; find_builtin throws ScenarioError naming the known ones.
+const std::vector<Scenario>& builtin_scenarios();
+const Scenario& find_builtin(std::string_view name);
+
+// The model a scenario names: a module (relative to the scenario's
+// directory) or a built-in model; `variant` overrides the scenario's.
+runtime::Model make_model(const Scenario& scenario, std::string_view variant = {});
 
 }  // namespace symdyn::sim

@@ -1,15 +1,16 @@
 #include <symdyn/runtime/csv.hpp>
 
-#include <fmt/format.h>
-
+#include <iterator>
 #include <utility>
 
 #include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
 
-CsvRecorder::CsvRecorder(std::ostream& out, MultibodySystem& system)
-    : out_(out), system_(system) {}
+CsvRecorder::CsvRecorder(std::ostream& out, MultibodySystem& system) : CsvRecorder(out, system, Columns{}) {}
+
+CsvRecorder::CsvRecorder(std::ostream& out, MultibodySystem& system, Columns columns)
+    : out_(out), system_(system), groups_(columns) {}
 
 void CsvRecorder::add_channel(std::string name, Channel channel) {
   if (header_written_) {
@@ -22,31 +23,65 @@ void CsvRecorder::add_channel(std::string name, Channel channel) {
 std::vector<std::string> CsvRecorder::columns() const {
   std::vector<std::string> c{"t"};
   const int n = system_.num_coordinates();
-  for (int j = 0; j < n; ++j) c.push_back(system_.coordinate_name(j));
-  for (int j = 0; j < n; ++j) c.push_back(system_.coordinate_name(j) + "_dot");
-  for (int j = 0; j < system_.num_extra_states(); ++j) c.push_back(system_.extra_state_name(j));
-  for (const char* e : {"kinetic_energy", "gravitational_energy", "elastic_energy", "total_energy"}) {
-    c.emplace_back(e);
+  const auto coordinates = [&](bool on, const char* suffix) {
+    if (!on) return;
+    for (int j = 0; j < n; ++j) c.push_back(system_.coordinate_name(j) + suffix);
+  };
+  coordinates(groups_.coordinates, "");
+  coordinates(groups_.rates, "_dot");
+  coordinates(groups_.accelerations, "_ddot");
+  if (groups_.extra_states) {
+    for (int j = 0; j < system_.num_extra_states(); ++j) c.push_back(system_.extra_state_name(j));
+  }
+  if (groups_.energies) {
+    for (const char* e : {"kinetic_energy", "gravitational_energy", "elastic_energy", "total_energy"}) {
+      c.emplace_back(e);
+    }
   }
   c.insert(c.end(), names_.begin(), names_.end());
   return c;
 }
 
+void CsvRecorder::write_header() {
+  const auto c = columns();
+  for (std::size_t i = 0; i < c.size(); ++i) out_ << (i ? "," : "") << c[i];
+  out_ << '\n';
+  header_written_ = true;
+}
+
 void CsvRecorder::write(const State& s) {
-  if (!header_written_) {
-    const auto c = columns();
-    for (std::size_t i = 0; i < c.size(); ++i) out_ << (i ? "," : "") << c[i];
-    out_ << '\n';
-    header_written_ = true;
+  if (groups_.accelerations) {
+    qdd_.resize(s.q.size());
+    yd_.resize(s.y.size());
+    system_.accelerations(s, qdd_, yd_);
   }
-  const Energies e = system_.energies(s);
-  std::string line = fmt::format("{}", s.t);
-  for (Eigen::Index j = 0; j < s.q.size(); ++j) line += fmt::format(",{}", s.q(j));
-  for (Eigen::Index j = 0; j < s.qd.size(); ++j) line += fmt::format(",{}", s.qd(j));
-  for (Eigen::Index j = 0; j < s.y.size(); ++j) line += fmt::format(",{}", s.y(j));
-  line += fmt::format(",{},{},{},{}", e.kinetic, e.gravitational, e.elastic, e.total());
-  for (const auto& ch : channels_) line += fmt::format(",{}", ch(s));
-  out_ << line << '\n';
+  write(s, qdd_);
+}
+
+void CsvRecorder::write(const State& s, const Vector& qdd) {
+  if (!header_written_) write_header();
+  line_.clear();
+  auto out = std::back_inserter(line_);
+  fmt::format_to(out, "{}", s.t);
+  const auto values = [&](bool on, const Vector& v) {
+    if (!on) return;
+    for (Eigen::Index j = 0; j < v.size(); ++j) fmt::format_to(out, ",{}", v(j));
+  };
+  values(groups_.coordinates, s.q);
+  values(groups_.rates, s.qd);
+  if (groups_.accelerations && qdd.size() != s.q.size()) {
+    throw ModelError(fmt::format("CSV row at t = {}: qdd has {} entries, the system {} coordinates", s.t, qdd.size(),
+                                 s.q.size()));
+  }
+  values(groups_.accelerations, qdd);
+  values(groups_.extra_states, s.y);
+  if (groups_.energies) {
+    const Energies e = system_.energies(s);
+    fmt::format_to(out, ",{},{},{},{}", e.kinetic, e.gravitational, e.elastic, e.total());
+  }
+  for (const auto& ch : channels_) fmt::format_to(out, ",{}", ch(s));
+  line_.push_back('\n');
+  out_.write(line_.data(), static_cast<std::streamsize>(line_.size()));
 }
 
 }  // namespace symdyn::runtime

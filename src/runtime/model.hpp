@@ -191,6 +191,10 @@ class Model {
   // inertia of a body is not physical.
   template <detail::generated_model G>
   static Model from();
+  // The description from<G>() builds the model from: header-only, so that a
+  // model module (model_module.hpp) hands it over without linking the runtime.
+  template <detail::generated_model G>
+  static ModelDescription describe();
 
   // Builds from a description (what from<G>() fills); validates it.
   explicit Model(ModelDescription d);
@@ -303,6 +307,11 @@ class Model {
 
 template <detail::generated_model G>
 Model Model::from() {
+  return Model(describe<G>());
+}
+
+template <detail::generated_model G>
+ModelDescription Model::describe() {
   ModelDescription d;
   d.model = G::model;
   if constexpr (requires { G::variant; }) d.variant = G::variant;
@@ -361,7 +370,7 @@ Model Model::from() {
       if constexpr (detail::has_dynamics_velocities<G>) d.dynamics_velocities = &G::dynamics_velocities;
     }
   }
-  return Model(std::move(d));
+  return d;
 }
 
 }  // namespace symdyn::runtime

@@ -5,6 +5,7 @@
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/cardan.hpp>
 #include <symdyn/runtime/contact.hpp>
+#include <symdyn/runtime/breakpoints.hpp>
 #include <symdyn/runtime/csv.hpp>
 #include <symdyn/runtime/dynamic_system.hpp>
 #include <symdyn/runtime/energy.hpp>

@@ -49,3 +49,28 @@ TEST_CASE("CSV time histories name every column", "[runtime][csv]") {
   for (std::size_t i = 0; i < values.size(); ++i) CHECK(values[i] == Approx(expected[i]).epsilon(1e-14));
   CHECK(row0.rfind("0,1.5,0,0.25,0,", 0) == 0);
 }
+
+TEST_CASE("CSV accelerations: given, or computed from the state", "[runtime][csv]") {
+  // spring_mass: q'' = -(2 pi)² (q - 1), so at q = 1.25, qdd = -(2 pi)² / 4.
+  const double k = 4.0 * std::numbers::pi * std::numbers::pi;
+  MultibodySystem sm(Model::from<fx::spring_mass>());
+  sm.add<PointSpringDamper>("spring", BodyPoint{ground, Vec3::Zero()}, BodyPoint{0, Vec3::Zero()}, k, 2.0);
+  std::ostringstream out;
+  CsvRecorder csv(out, sm, {.coordinates = true, .rates = false, .accelerations = true, .extra_states = false,
+                            .energies = false});
+  CHECK(csv.columns() == std::vector<std::string>{"t", "s", "s_ddot"});
+  State s = sm.initial_state();
+  s.q(0) = 1.25;
+  csv.write(s);
+  csv.write(s, Vector::Constant(1, 3.5));
+  CHECK_THROWS_AS(csv.write(s, Vector::Zero(2)), ModelError);
+  std::istringstream lines(out.str());
+  std::string header, computed, given;
+  std::getline(lines, header);
+  std::getline(lines, computed);
+  std::getline(lines, given);
+  CHECK(header == "t,s,s_ddot");
+  REQUIRE(computed.rfind("0,1.25,", 0) == 0);
+  CHECK(std::stod(computed.substr(7)) == Approx(-k / 4.0).epsilon(1e-12));
+  CHECK(given == "0,1.25,3.5");
+}

@@ -1,6 +1,6 @@
-// The scenarios of symdyn-sim (models/sim): every registered one runs with its
-// defaults and its headline numbers fall in their bands; the double pendulum's
-// and the slider-crank's runs are also checked against closed forms.
+// The built-in scenarios of symdyn-sim (models/scenarios/*.json): every one
+// runs with its defaults and its checks fall in their bands; the double
+// pendulum's and the slider-crank's runs are also checked against closed forms.
 
 #include <catch2/catch.hpp>
 
@@ -19,14 +19,22 @@ using Catch::Matchers::Contains;
 
 constexpr double two_pi = 2.0 * std::numbers::pi;
 
+// Every output instant of a run, through the sample callback.
+std::vector<runtime::State> states_of(const sim::Scenario& s, sim::RunOptions o = {}) {
+  std::vector<runtime::State> states;
+  o.on_sample = [&](const runtime::State& st, const runtime::Vector&) { states.push_back(st); };
+  sim::run_scenario(s, o);
+  return states;
+}
+
 // qd0 where q0 passes target (mod 2 pi), from the parabola through the three
 // samples around each passage (q0 increasing; samples 0.05 rad apart).
-std::vector<double> speeds_at(const sim::RunResult& r, double target) {
+std::vector<double> speeds_at(const std::vector<runtime::State>& samples, double target) {
   std::vector<double> out;
-  for (std::size_t k = 1; k + 1 < r.samples.size(); ++k) {
-    const auto& a = r.samples[k - 1].state;
-    const auto& b = r.samples[k].state;
-    const auto& c = r.samples[k + 1].state;
+  for (std::size_t k = 1; k + 1 < samples.size(); ++k) {
+    const auto& a = samples[k - 1];
+    const auto& b = samples[k];
+    const auto& c = samples[k + 1];
     const double ub = std::floor((b.q(0) - target) / two_pi), uc = std::floor((c.q(0) - target) / two_pi);
     if (ub == uc) continue;
     const double x = target + uc * two_pi;
@@ -40,18 +48,19 @@ std::vector<double> speeds_at(const sim::RunResult& r, double target) {
 
 }  // namespace
 
-TEST_CASE("every scenario runs with its defaults and its headline numbers are in their bands",
+TEST_CASE("every built-in scenario runs with its defaults and its checks are in their bands",
           "[models][scenario]") {
-  REQUIRE(sim::scenarios().size() >= 2);
-  for (const sim::Scenario* s : sim::scenarios()) {
-    CAPTURE(s->model);
-    const sim::RunResult r = sim::run_scenario(*s);
-    CHECK(r.final().state.t == s->t_end);
+  REQUIRE(sim::builtin_scenarios().size() >= 4);
+  for (const sim::Scenario& s : sim::builtin_scenarios()) {
+    CAPTURE(s.name);
+    const sim::RunResult r = sim::run_scenario(s);
+    CHECK(r.final.t == s.t_end);
+    CHECK(r.rows == std::lround(s.t_end / s.output_interval) + 1);
     CHECK(r.statistics.steps > 0);
-    REQUIRE_FALSE(r.headlines.empty());
-    for (const auto& h : r.headlines) {
-      INFO(h.name << " = " << h.value << " " << h.unit << ", expected " << h.low << " .. " << h.high);
-      CHECK(h.ok());
+    REQUIRE_FALSE(r.checks.empty());
+    for (const auto& c : r.checks) {
+      INFO(c.name << " = " << c.value << " " << c.unit << ", expected " << c.low << " .. " << c.high);
+      CHECK(c.ok());
     }
   }
 }
@@ -62,11 +71,11 @@ TEST_CASE("double pendulum scenario: CSV columns, rows, and the tip from the coo
   sim::RunOptions o;
   o.csv = &csv;
   o.t_end = 2.0;
-  const sim::RunResult r = sim::run_scenario(sim::find_scenario("double_pendulum"), o);
+  const sim::RunResult r = sim::run_scenario(sim::find_builtin("double_pendulum"), o);
   CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "kinetic_energy",
                                               "gravitational_energy", "elastic_energy", "total_energy",
                                               "tip_x", "tip_y"});
-  REQUIRE(r.samples.size() == 201);
+  REQUIRE(r.rows == 201);
   std::istringstream in(csv.str());
   std::string line, last;
   int lines = 0;
@@ -76,7 +85,7 @@ TEST_CASE("double pendulum scenario: CSV columns, rows, and the tip from the coo
   }
   CHECK(lines == 202);  // header and 201 instants
   // The tip of rod 2: (cos q0 + cos(q0 + q1), sin q0 + sin(q0 + q1)) for l1 = l2 = 1.
-  const auto& q = r.final().state.q;
+  const auto& q = r.final.q;
   std::vector<double> values;
   std::istringstream fields(last);
   for (std::string f; std::getline(fields, f, ',');) values.push_back(std::stod(f));
@@ -99,14 +108,14 @@ TEST_CASE("slider-crank scenario: crank speed where energy conservation gives it
   const double M90 = 8.3333333333333333e-4 + 0.0025 + 0.8 * 0.01;
   const double E = 0.5 * M0 * 50.0 * 50.0, V90 = 9.81 * 0.075;
   const double at_90 = std::sqrt(2.0 * (E - V90) / M90), at_270 = std::sqrt(2.0 * (E + V90) / M90);
-  const sim::Scenario& s = sim::find_scenario("slider_crank");
-  std::vector<sim::RunResult> runs;
-  for (const auto& v : s.variants) {
+  const sim::Scenario& s = sim::find_builtin("slider_crank");
+  std::vector<std::vector<runtime::State>> runs;
+  for (const char* variant : {"inline", "dependent"}) {
     sim::RunOptions o;
-    o.variant = v.name;
-    runs.push_back(sim::run_scenario(s, o));
-    const sim::RunResult& r = runs.back();
-    CAPTURE(v.name);
+    o.variant = variant;
+    runs.push_back(states_of(s, o));
+    const auto& r = runs.back();
+    CAPTURE(variant);
     const auto w0 = speeds_at(r, 0.0), w90 = speeds_at(r, std::numbers::pi / 2), w270 = speeds_at(r, 1.5 * std::numbers::pi);
     REQUIRE(w0.size() >= 5);
     REQUIRE(w90.size() >= 5);
@@ -117,18 +126,18 @@ TEST_CASE("slider-crank scenario: crank speed where energy conservation gives it
   }
   // Inline and dependent variants: the same motion.
   REQUIRE(runs.size() == 2);
-  REQUIRE(runs[0].samples.size() == runs[1].samples.size());
-  for (std::size_t k = 0; k < runs[0].samples.size(); ++k) {
-    CHECK(std::abs(runs[0].samples[k].state.q(0) - runs[1].samples[k].state.q(0)) < 1e-7);
-  }
+  REQUIRE(runs[0].size() == runs[1].size());
+  for (std::size_t k = 0; k < runs[0].size(); ++k) CHECK(std::abs(runs[0][k].q(0) - runs[1][k].q(0)) < 1e-7);
 }
 
 TEST_CASE("scenario errors name the culprit", "[models][scenario]") {
-  CHECK_THROWS_WITH(sim::find_scenario("pendulum"), Contains("no scenario for model 'pendulum'") &&
-                                                        Contains("double_pendulum"));
-  CHECK_THROWS_WITH(sim::find_scenario("double_pendulum").variant("inline"),
+  CHECK_THROWS_WITH(sim::find_builtin("pendulum"), Contains("no scenario for model 'pendulum'") &&
+                                                       Contains("double_pendulum"));
+  sim::RunOptions inline_variant;
+  inline_variant.variant = "inline";
+  CHECK_THROWS_WITH(sim::Simulation(sim::find_builtin("double_pendulum"), inline_variant),
                     Contains("no variant 'inline'") && Contains("absolute, relative"));
   sim::RunOptions o;
   o.integrator = "euler";
-  CHECK_THROWS_AS(sim::run_scenario(sim::find_scenario("double_pendulum"), o), runtime::OptionError);
+  CHECK_THROWS_AS(sim::run_scenario(sim::find_builtin("double_pendulum"), o), runtime::OptionError);
 }

@@ -88,3 +88,34 @@ TEST_CASE("symdyn-sim: a run that fails keeps its rows and says how far it got",
   CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("symdyn-sim: a bad scenario file is refused with its culprit, the earlier results kept", "[bad_input][sim]") {
+  struct Case {
+    std::string scenario, culprit;
+    int exit_code;
+  };
+  const Case cases[] = {
+      {"", "error: cannot read scenario file 'missing.json'", 2},
+      {R"j({"model": "double_pendulum", "forces": [{"type": "plane_contact", "name": "c", "body": "rod3", "stiffness": 1}]})j",
+       "error: scenario.json: /forces/0/body: unknown body 'rod3' (bodies: rod1, rod2, or ground)", 2},
+      {R"j({"model": "double_pendulum", "t_end": 1e9})j",
+       "error: the run would write 1e+11 rows (t-end / interval), over --max-rows 1e+07", 2},
+      {R"j({"model": {"name": "double_pendulum", "module": "pendulum.so"}})j",
+       "error: model module 'pendulum.so' not found", 2},
+      // A check out of its band: the run is complete, its CSV written, the exit code says so.
+      {R"j({"model": "double_pendulum", "checks": [{"name": "still", "value": "drift(q0)", "band": [0, 0.1]}]})j",
+       "still: 2.77851 (expected 0 .. 0.1) OUT OF RANGE", 1},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.scenario);
+    const auto dir = with_earlier_results();
+    const std::string file = c.scenario.empty() ? "missing.json" : "scenario.json";
+    if (!c.scenario.empty()) std::ofstream(dir / file) << c.scenario;
+    const CommandResult r = run_command({kSim, file, "--out", "results.csv"}, 120, dir);
+    CHECK(r.exit_code == c.exit_code);
+    CHECK_THAT(r.exit_code == 2 ? r.err : r.out, Contains(c.culprit));
+    if (c.exit_code == 2) CHECK(read(dir / "results.csv") == "earlier results\n");
+    CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
+    std::filesystem::remove_all(dir);
+  }
+}

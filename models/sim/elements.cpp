@@ -1,0 +1,453 @@
+#include "elements.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include <symdyn/runtime/bushing.hpp>
+#include <symdyn/runtime/contact.hpp>
+#include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/gim_tyre.hpp>
+#include <symdyn/runtime/point_forces.hpp>
+
+namespace symdyn::sim {
+
+using runtime::Kinematics;
+using runtime::KinematicsLevel;
+using runtime::Loads;
+using runtime::State;
+using runtime::Vec3;
+
+Expression read_expression(const Node& node, const Resolver& resolver) {
+  if (node.is_number()) return Expression::constant(node.number());
+  const std::string text = node.string();
+  try {
+    return Expression::parse(text, resolver);
+  } catch (const ExpressionError& e) {
+    node.fail(e.what());
+  }
+}
+
+namespace {
+
+// Reads the members of one element's object, resolving names against the model.
+class Reader {
+ public:
+  Reader(const Node& node, const ElementContext& c) : node_(node), c_(c) {}
+
+  const Node& node() const { return node_; }
+  double number(std::string_view key, double fallback) const { return node_.number_or(key, fallback); }
+  double number(std::string_view key) const { return node_[key].number(); }
+  double positive(std::string_view key, double fallback) const {
+    const auto n = node_.optional(key);
+    return n ? n->positive() : fallback;
+  }
+  Vec3 vec3(const Node& n) const {
+    const auto v = n.numbers(3);
+    return Vec3(v[0], v[1], v[2]);
+  }
+  Vec3 vec3(std::string_view key, const Vec3& fallback) const {
+    const auto n = node_.optional(key);
+    return n ? vec3(*n) : fallback;
+  }
+  int body(const Node& n) const {
+    const std::string name = n.string();
+    if (name == "ground") return runtime::ground;
+    const auto& bodies = c_.names.model->body_names();
+    const auto it = std::find(bodies.begin(), bodies.end(), name);
+    if (it == bodies.end()) n.fail(fmt::format("unknown body '{}' (bodies: {}, or ground)", name, fmt::join(bodies, ", ")));
+    return static_cast<int>(it - bodies.begin());
+  }
+  int body(std::string_view key) const { return body(node_[key]); }
+  int coordinate(const Node& n) const {
+    const std::string name = n.string();
+    const auto& q = c_.names.model->q_names();
+    const auto it = std::find(q.begin(), q.end(), name);
+    if (it == q.end()) n.fail(fmt::format("unknown coordinate '{}' (coordinates: {})", name, fmt::join(q, ", ")));
+    return static_cast<int>(it - q.begin());
+  }
+  int coordinate(std::string_view key) const { return coordinate(node_[key]); }
+  // {"body", "point"}: a body point.
+  runtime::BodyPoint body_point(std::string_view key) const {
+    const Node p = node_[key];
+    p.allow_only({"body", "point"});
+    return {body(p["body"]), p.has("point") ? vec3(p["point"]) : Vec3::Zero()};
+  }
+  // {"point", "normal"}: a plane (default: z = 0, normal +z).
+  runtime::Plane plane(std::string_view key) const {
+    runtime::Plane plane;
+    const auto n = node_.optional(key);
+    if (!n) return plane;
+    n->allow_only({"point", "normal"});
+    if (n->has("point")) plane.point = vec3((*n)["point"]);
+    if (n->has("normal")) {
+      const Node normal = (*n)["normal"];
+      plane.normal = vec3(normal);
+      if (!(plane.normal.norm() > 0.0)) normal.fail("expected a non-zero normal");
+      plane.normal.normalize();
+    }
+    return plane;
+  }
+  Expression expression(std::string_view key, const Scope& scope) const {
+    return read_expression(node_[key], make_resolver(c_.names, scope, c_.table));
+  }
+  const ElementContext& context() const { return c_; }
+
+ private:
+  const Node& node_;
+  const ElementContext& c_;
+};
+
+// Reads the kinematics up to the level the symbols of its laws need.
+KinematicsLevel level_of(const std::vector<const Expression*>& laws, const SymbolTable& table) {
+  for (const Expression* e : laws) {
+    for (int s : e->symbols()) {
+      if (table[s].source == Source::body) return KinematicsLevel::velocities;
+    }
+  }
+  return KinematicsLevel::none;
+}
+
+// A generalized force given by an expression, on one or more coordinates.
+class ExpressionForce : public runtime::ForceElement {
+ public:
+  ExpressionForce(std::string name, std::vector<int> coordinates, Expression law, const SymbolTable& table,
+                  const std::vector<double>& variables)
+      : name_(std::move(name)), coordinates_(std::move(coordinates)), law_(std::move(law)), env_(table, variables),
+        level_(level_of({&law_}, table)) {}
+  std::string name() const override { return "coordinate force '" + name_ + "'"; }
+  KinematicsLevel reads() const override { return level_; }
+  void apply(const State& s, const Kinematics& k, Loads& loads) const override {
+    env_.set(s, k);
+    const double Q = law_.evaluate(env_);
+    for (int j : coordinates_) loads.add_generalized(j, Q);
+  }
+
+ private:
+  std::string name_;
+  std::vector<int> coordinates_;
+  Expression law_;
+  mutable LawEnvironment env_;
+  KinematicsLevel level_;
+};
+
+// The loads an element applies at a state, into a buffer of its own.
+class LoadProbe {
+ public:
+  LoadProbe(const runtime::ForceElement& e, const runtime::Model& m) : e_(e), loads_(m.nq(), m.nbody()) {}
+  const Loads& at(const State& s, const Kinematics& k) const {
+    loads_.clear();
+    e_.apply(s, k, loads_);
+    return loads_;
+  }
+
+ private:
+  const runtime::ForceElement& e_;
+  mutable Loads loads_;
+};
+
+// fx, fy, fz: the force the element exerts on `body` (global axes).
+void add_force_quantities(ScenarioElement& e, int body, int other, const runtime::Model& m) {
+  auto probe = std::make_shared<LoadProbe>(e.inner(), m);
+  for (int axis = 0; axis < 3; ++axis) {
+    e.add_quantity(std::string("f") + "xyz"[axis], [probe, body, other, axis](const State& s, const Kinematics& k) {
+      const Loads& l = probe->at(s, k);
+      return body != runtime::ground ? l.F(axis, body) : other != runtime::ground ? -l.F(axis, other) : 0.0;
+    });
+  }
+}
+
+// Q: the generalized force on coordinate j.
+void add_generalized_quantity(ScenarioElement& e, int j, const runtime::Model& m) {
+  auto probe = std::make_shared<LoadProbe>(e.inner(), m);
+  e.add_quantity("Q", [probe, j](const State& s, const Kinematics& k) { return probe->at(s, k).Q(j); });
+}
+
+template <class E>
+std::shared_ptr<ScenarioElement> wrap(const Reader& r, std::shared_ptr<E> inner) {
+  return std::make_shared<ScenarioElement>(r.node()["name"].string(), std::move(inner),
+                                           r.node().has("enabled") ? r.node()["enabled"].boolean() : true);
+}
+
+std::shared_ptr<ScenarioElement> coordinate_spring_damper(const Reader& r) {
+  const int j = r.coordinate("coordinate");
+  auto e = wrap(r, std::make_shared<runtime::CoordinateSpringDamper>(
+                       r.node()["name"].string(), j, r.number("stiffness"), r.number("damping", 0.0),
+                       r.number("free_value", 0.0)));
+  add_generalized_quantity(*e, j, *r.context().names.model);
+  return e;
+}
+
+std::shared_ptr<ScenarioElement> coordinate_force(const Reader& r) {
+  std::vector<int> coordinates;
+  const Node c = r.node()["coordinates"];
+  if (c.is_string()) {
+    coordinates.push_back(r.coordinate(c));
+  } else {
+    for (const Node& n : c.elements()) coordinates.push_back(r.coordinate(n));
+    if (coordinates.empty()) c.fail("expected at least one coordinate");
+  }
+  auto e = wrap(r, std::make_shared<ExpressionForce>(r.node()["name"].string(), coordinates,
+                                                     r.expression("value", Scope{}), r.context().table,
+                                                     r.context().variables));
+  add_generalized_quantity(*e, coordinates.front(), *r.context().names.model);
+  return e;
+}
+
+std::shared_ptr<ScenarioElement> coordinate_tracking(const Reader& r) {
+  const int j = r.coordinate("coordinate");
+  // References are functions of time (and the variables): the runtime's
+  // element calls them with t alone.
+  const Scope time_only{.time = true, .state = false};
+  auto env = std::make_shared<LawEnvironment>(r.context().table, r.context().variables);
+  auto stub = std::make_shared<State>();
+  auto kin = std::make_shared<Kinematics>();
+  const auto function = [&](std::string_view key) -> runtime::CoordinateTracking::Reference {
+    if (!r.node().has(key)) return nullptr;
+    auto e = std::make_shared<Expression>(r.expression(key, time_only));
+    return [e, env, stub, kin](double t) {
+      stub->t = t;
+      env->set(*stub, *kin);
+      return e->evaluate(*env);
+    };
+  };
+  auto reference = function("reference");
+  auto e = wrap(r, std::make_shared<runtime::CoordinateTracking>(r.node()["name"].string(), j, r.number("kp"),
+                                                                 r.number("kd", 0.0), reference,
+                                                                 function("reference_rate")));
+  add_generalized_quantity(*e, j, *r.context().names.model);
+  e->add_quantity("reference", [reference](const State& s, const Kinematics&) { return reference(s.t); });
+  return e;
+}
+
+std::shared_ptr<ScenarioElement> point_spring_damper(const Reader& r) {
+  const auto a = r.body_point("a"), b = r.body_point("b");
+  auto spring = std::make_shared<runtime::PointSpringDamper>(r.node()["name"].string(), a, b, r.number("stiffness"),
+                                                             r.number("free_length"), r.number("damping", 0.0));
+  auto e = wrap(r, spring);
+  e->add_quantity("length", [spring](const State&, const Kinematics& k) { return spring->length(k); });
+  add_force_quantities(*e, b.body, a.body, *r.context().names.model);
+  return e;
+}
+
+std::shared_ptr<ScenarioElement> point_load(const Reader& r) {
+  const auto at = r.body_point("at");
+  const Scope law_scope{};
+  std::vector<std::shared_ptr<Expression>> parts;
+  for (const char* key : {"force", "torque"}) {
+    const auto n = r.node().optional(key);
+    if (n && (!n->json().is_array() || n->json().size() != 3)) n->fail("expected an array of 3 numbers or expressions");
+    for (int i = 0; i < 3; ++i) {
+      parts.push_back(std::make_shared<Expression>(
+          n ? read_expression(n->elements()[static_cast<std::size_t>(i)],
+                              make_resolver(r.context().names, law_scope, r.context().table))
+            : Expression::constant(0.0)));
+    }
+  }
+  auto env = std::make_shared<LawEnvironment>(r.context().table, r.context().variables);
+  auto load = std::make_shared<runtime::PointLoad>(
+      r.node()["name"].string(), at, [parts, env](const State& s, const Kinematics& k, Vec3& force, Vec3& torque) {
+        env->set(s, k);
+        for (int i = 0; i < 3; ++i) {
+          force(i) = parts[static_cast<std::size_t>(i)]->evaluate(*env);
+          torque(i) = parts[static_cast<std::size_t>(3 + i)]->evaluate(*env);
+        }
+      });
+  auto e = wrap(r, load);
+  add_force_quantities(*e, at.body, runtime::ground, *r.context().names.model);
+  return e;
+}
+
+runtime::BodyFrame body_frame(const Reader& r, std::string_view key) {
+  const Node f = r.node()[key];
+  f.allow_only({"body", "origin", "axes"});
+  runtime::BodyFrame frame;
+  frame.body = r.body(f["body"]);
+  if (f.has("origin")) frame.origin = r.vec3(f["origin"]);
+  if (f.has("axes")) {
+    const Node axes = f["axes"];
+    const auto rows = axes.elements();
+    if (rows.size() != 3) axes.fail("expected 3 axes (the columns of the frame, in body axes)");
+    for (int c = 0; c < 3; ++c) frame.axes.col(c) = r.vec3(rows[static_cast<std::size_t>(c)]);
+  }
+  return frame;
+}
+
+std::shared_ptr<ScenarioElement> bushing(const Reader& r) {
+  runtime::BushingProperties p;
+  p.stiffness = r.vec3("stiffness", p.stiffness);
+  p.damping = r.vec3("damping", p.damping);
+  p.rotational_stiffness = r.vec3("rotational_stiffness", p.rotational_stiffness);
+  p.rotational_damping = r.vec3("rotational_damping", p.rotational_damping);
+  p.preload_force = r.vec3("preload_force", p.preload_force);
+  p.preload_torque = r.vec3("preload_torque", p.preload_torque);
+  const auto a = body_frame(r, "a"), b = body_frame(r, "b");
+  std::shared_ptr<runtime::Bushing> inner;
+  try {
+    inner = std::make_shared<runtime::Bushing>(r.node()["name"].string(), a, b, p,
+                                               r.node().string_or("order", "xyz"));
+  } catch (const runtime::ModelError& e) {
+    r.node()["order"].fail(e.what());
+  }
+  auto e = wrap(r, inner);
+  for (int i = 0; i < 3; ++i) {
+    e->add_quantity(std::string("d") + "xyz"[i], [inner, i](const State&, const Kinematics& k) { return inner->deflection(k).d(i); });
+  }
+  for (int i = 0; i < 3; ++i) {
+    e->add_quantity(std::string("angle_") + "abc"[i],
+                    [inner, i](const State&, const Kinematics& k) { return inner->deflection(k).theta(i); });
+  }
+  add_force_quantities(*e, b.body, a.body, *r.context().names.model);
+  return e;
+}
+
+std::shared_ptr<ScenarioElement> plane_contact(const Reader& r) {
+  runtime::ContactProperties p;
+  p.stiffness = r.number("stiffness");
+  p.stiffness_exponent = r.number("stiffness_exponent", p.stiffness_exponent);
+  p.damping = r.number("damping", p.damping);
+  p.damping_exponent = r.number("damping_exponent", p.damping_exponent);
+  p.friction = r.number("friction", p.friction);
+  p.slip_speed = r.positive("slip_speed", p.slip_speed);
+  if (const auto reg = r.node().optional("regularization")) {
+    const std::string name = reg->string();
+    if (name != "linear" && name != "smooth") reg->fail(fmt::format("expected linear or smooth, found '{}'", name));
+    p.regularization = name == "smooth" ? runtime::FrictionRegularization::smooth : runtime::FrictionRegularization::linear;
+  }
+  auto contact = std::make_shared<runtime::PlaneContact>(r.node()["name"].string(), r.body("body"),
+                                                         r.vec3("point", Vec3::Zero()), r.number("radius", 0.0),
+                                                         r.plane("plane"), p);
+  auto e = wrap(r, contact);
+  e->add_quantity("normal_force", [contact](const State&, const Kinematics& k) { return contact->evaluate(k).normal_force; });
+  e->add_quantity("penetration", [contact](const State&, const Kinematics& k) { return contact->evaluate(k).penetration; });
+  for (int i = 0; i < 3; ++i) {
+    e->add_quantity(std::string("f") + "xyz"[i], [contact, i](const State&, const Kinematics& k) { return contact->evaluate(k).force(i); });
+  }
+  return e;
+}
+
+std::shared_ptr<ScenarioElement> simple_tyre(const Reader& r) {
+  runtime::SimpleTyreProperties p;
+  p.radius = r.positive("radius", p.radius);
+  p.stiffness = r.number("stiffness", p.stiffness);
+  p.damping = r.number("damping", p.damping);
+  p.friction = r.number("friction", p.friction);
+  p.epsilon = r.positive("epsilon", p.epsilon);
+  p.axis = r.vec3("axis", p.axis);
+  p.centre = r.vec3("centre", p.centre);
+  auto tyre = std::make_shared<runtime::SimpleTyre>(r.node()["name"].string(), r.body("body"), p, r.plane("ground"));
+  auto e = wrap(r, tyre);
+  e->add_quantity("normal_force", [tyre](const State&, const Kinematics& k) { return tyre->evaluate(k).normal_force; });
+  e->add_quantity("penetration", [tyre](const State&, const Kinematics& k) { return tyre->evaluate(k).penetration; });
+  for (int i = 0; i < 3; ++i) {
+    e->add_quantity(std::string("f") + "xyz"[i], [tyre, i](const State&, const Kinematics& k) { return tyre->evaluate(k).force(i); });
+  }
+  return e;
+}
+
+std::shared_ptr<ScenarioElement> gim_tyre(const Reader& r) {
+  runtime::GimTyreProperties p;
+  p.r1 = r.positive("r1", p.r1);
+  p.r2 = r.positive("r2", p.r2);
+  p.Kz = r.number("Kz", p.Kz);
+  p.Cz = r.number("Cz", p.Cz);
+  p.Fznom = r.positive("Fznom", p.Fznom);
+  p.Clongnom = r.number("Clongnom", p.Clongnom);
+  p.nlong = r.number("nlong", p.nlong);
+  p.Clatnom = r.number("Clatnom", p.Clatnom);
+  p.nlat = r.number("nlat", p.nlat);
+  p.Ccambernom = r.number("Ccambernom", p.Ccambernom);
+  p.ncamber = r.number("ncamber", p.ncamber);
+  p.mu_static = r.number("mu_static", p.mu_static);
+  p.mu_dynamic = r.number("mu_dynamic", p.mu_dynamic);
+  p.axis = r.vec3("axis", p.axis);
+  p.centre = r.vec3("centre", p.centre);
+  auto tyre = std::make_shared<runtime::GimTyre>(r.node()["name"].string(), r.body("body"), p, r.plane("ground"));
+  auto e = wrap(r, tyre);
+  using Result = runtime::GimTyre::Result;
+  const std::pair<const char*, double (*)(const Result&)> quantities[] = {
+      {"normal_force", [](const Result& x) { return x.Fz; }},
+      {"penetration", [](const Result& x) { return x.penetration; }},
+      {"slip_long", [](const Result& x) { return x.slip_long; }},
+      {"slip_lat", [](const Result& x) { return x.slip_lat; }},
+      {"camber", [](const Result& x) { return x.camber; }},
+      {"fx", [](const Result& x) { return x.force(0); }},
+      {"fy", [](const Result& x) { return x.force(1); }},
+      {"fz", [](const Result& x) { return x.force(2); }},
+      {"mz", [](const Result& x) { return x.moment(2); }},
+  };
+  for (const auto& [name, read] : quantities) {
+    e->add_quantity(name, [tyre, read = read](const State&, const Kinematics& k) { return read(tyre->evaluate(k)); });
+  }
+  return e;
+}
+
+// One row per element type: its name, the keys it takes besides type, name
+// and enabled, and its builder.
+struct ElementType {
+  const char* type;
+  std::initializer_list<std::string_view> keys;
+  std::shared_ptr<ScenarioElement> (*make)(const Reader& r);
+};
+
+const ElementType kElementTypes[] = {
+    {"coordinate_spring_damper", {"coordinate", "stiffness", "damping", "free_value"}, coordinate_spring_damper},
+    {"coordinate_force", {"coordinates", "value"}, coordinate_force},
+    {"coordinate_tracking", {"coordinate", "kp", "kd", "reference", "reference_rate"}, coordinate_tracking},
+    {"point_spring_damper", {"a", "b", "stiffness", "free_length", "damping"}, point_spring_damper},
+    {"point_load", {"at", "force", "torque"}, point_load},
+    {"bushing",
+     {"a", "b", "order", "stiffness", "damping", "rotational_stiffness", "rotational_damping", "preload_force",
+      "preload_torque"},
+     bushing},
+    {"plane_contact",
+     {"body", "point", "radius", "plane", "stiffness", "stiffness_exponent", "damping", "damping_exponent", "friction",
+      "slip_speed", "regularization"},
+     plane_contact},
+    {"simple_tyre", {"body", "radius", "stiffness", "damping", "friction", "epsilon", "axis", "centre", "ground"},
+     simple_tyre},
+    {"gim_tyre",
+     {"body", "r1", "r2", "Kz", "Cz", "Fznom", "Clongnom", "nlong", "Clatnom", "nlat", "Ccambernom", "ncamber",
+      "mu_static", "mu_dynamic", "axis", "centre", "ground"},
+     gim_tyre},
+};
+
+bool identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+}  // namespace
+
+std::vector<std::string> element_types() {
+  std::vector<std::string> out;
+  for (const auto& t : kElementTypes) out.emplace_back(t.type);
+  return out;
+}
+
+std::shared_ptr<ScenarioElement> make_element(const Node& node, const ElementContext& context) {
+  const Node type = node["type"];
+  const std::string name = type.string();
+  const auto row = std::find_if(std::begin(kElementTypes), std::end(kElementTypes),
+                                [&](const ElementType& t) { return name == t.type; });
+  if (row == std::end(kElementTypes)) {
+    type.fail(fmt::format("unknown force element type '{}' (types: {})", name, fmt::join(element_types(), ", ")));
+  }
+  std::vector<std::string_view> keys{"type", "name", "enabled"};
+  keys.insert(keys.end(), row->keys.begin(), row->keys.end());
+  // allow_only takes an initializer list: check by hand with the same message.
+  for (const auto& [key, member] : node.members()) {
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      member.fail(fmt::format("unknown key '{}' for a {} (expected: {})", key, name, fmt::join(keys, ", ")));
+    }
+  }
+  const Node id = node["name"];
+  if (!identifier(id.string())) id.fail(fmt::format("'{}' is not a name expressions can use (letters, digits, _)", id.string()));
+  try {
+    return row->make(Reader(node, context));
+  } catch (const runtime::ModelError& e) {
+    node.fail(e.what());  // what the runtime's constructor refused
+  }
+}
+
+}  // namespace symdyn::sim

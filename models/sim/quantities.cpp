@@ -1,0 +1,223 @@
+#include "quantities.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+
+namespace symdyn::sim {
+
+using runtime::Kinematics;
+using runtime::State;
+
+namespace {
+
+// Body attributes, in the order body_quantity() reads them.
+constexpr std::array<const char*, 21> kBodyAttributes = {
+    "x",  "y",  "z",  "vx", "vy", "vz", "wx", "wy", "wz", "ux", "uy", "uz",
+    "R00", "R01", "R02", "R10", "R11", "R12", "R20", "R21", "R22"};
+constexpr std::array<const char*, 4> kEnergies = {"kinetic_energy", "gravitational_energy", "elastic_energy",
+                                                  "total_energy"};
+constexpr std::array<const char*, 6> kMomenta = {"momentum_x",         "momentum_y",         "momentum_z",
+                                                 "angular_momentum_x", "angular_momentum_y", "angular_momentum_z"};
+
+template <class List>
+int index_of(const List& list, std::string_view name) {
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    if (name == list[i]) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::string joined(const auto& list) { return fmt::format("{}", fmt::join(list, ", ")); }
+
+// The names valid in a scope, for the message of an unknown one.
+std::string valid_names(const Names& names, const Scope& scope) {
+  std::vector<std::string> groups;
+  if (scope.time) groups.emplace_back("t");
+  if (scope.state) {
+    groups.push_back(fmt::format("coordinates {} (rates <q>_dot{})", joined(names.model->q_names()),
+                                 scope.accelerations ? ", accelerations <q>_ddot" : ""));
+    groups.push_back(fmt::format("bodies {} as <body>.<{}>", joined(names.model->body_names()),
+                                 joined(kBodyAttributes)));
+  }
+  if (scope.system) {
+    groups.push_back(joined(kEnergies) + ", " + joined(kMomenta));
+    std::vector<std::string> elements;
+    for (const auto& e : *names.elements) elements.push_back(e->id());
+    if (!elements.empty()) groups.push_back(fmt::format("force elements {} as <element>.<quantity>", joined(elements)));
+  }
+  if (!names.variables.empty()) groups.push_back(fmt::format("variables {}", joined(names.variables)));
+  if (scope.run_constants) groups.emplace_back("rtol, atol, t_end");
+  return fmt::format("{}", fmt::join(groups, "; "));
+}
+
+[[noreturn]] void unknown(const std::string& what, const std::string& valid) {
+  throw ExpressionError(fmt::format("unknown {} (valid: {})", what, valid));
+}
+
+int resolve_dotted(std::string_view name, const Names& names, const Scope& scope, SymbolTable& table) {
+  const auto dot = name.find('.');
+  const std::string_view owner = name.substr(0, dot), attribute = name.substr(dot + 1);
+  const auto& bodies = names.model->body_names();
+  if (const int body = index_of(bodies, owner); body >= 0 && scope.state) {
+    const int a = index_of(kBodyAttributes, attribute);
+    if (a < 0) unknown(fmt::format("quantity '{}' of body '{}'", attribute, owner), joined(kBodyAttributes));
+    return table.add({.source = Source::body, .a = body, .b = a});
+  }
+  if (scope.system) {
+    const auto& elements = *names.elements;
+    for (std::size_t e = 0; e < elements.size(); ++e) {
+      if (elements[e]->id() != owner) continue;
+      const int q = index_of(elements[e]->quantity_names(), attribute);
+      if (q < 0) {
+        unknown(fmt::format("quantity '{}' of force element '{}'", attribute, owner), joined(elements[e]->quantity_names()));
+      }
+      return table.add({.source = Source::element, .a = static_cast<int>(e), .b = q});
+    }
+  }
+  unknown(fmt::format("name '{}'", name), valid_names(names, scope));
+}
+
+// A coordinate, its rate or its acceleration.
+int resolve_coordinate(std::string_view name, const Names& names, const Scope& scope, SymbolTable& table) {
+  const auto& q = names.model->q_names();
+  if (const int j = index_of(q, name); j >= 0) return table.add({.source = Source::q, .a = j});
+  for (const auto& [suffix, source] : {std::pair{std::string_view("_dot"), Source::qd}, {"_ddot", Source::qdd}}) {
+    if (name.size() <= suffix.size() || name.substr(name.size() - suffix.size()) != suffix) continue;
+    const int j = index_of(q, name.substr(0, name.size() - suffix.size()));
+    if (j < 0) continue;
+    if (source == Source::qdd && !scope.accelerations) {
+      throw ExpressionError(fmt::format("'{}': accelerations are not known here (outputs and checks read them)", name));
+    }
+    return table.add({.source = source, .a = j});
+  }
+  return -1;
+}
+
+}  // namespace
+
+ScenarioElement::ScenarioElement(std::string name, std::shared_ptr<const runtime::ForceElement> inner, bool enabled)
+    : id_(std::move(name)), inner_(std::move(inner)), enabled_(enabled) {}
+
+void ScenarioElement::apply(const State& s, const Kinematics& k, runtime::Loads& loads) const {
+  if (enabled_) inner_->apply(s, k, loads);
+}
+
+double ScenarioElement::potential_energy(const State& s, const Kinematics& k) const {
+  return enabled_ ? inner_->potential_energy(s, k) : 0.0;
+}
+
+void ScenarioElement::add_quantity(std::string name, Quantity q) {
+  quantity_names_.push_back(std::move(name));
+  quantities_.push_back(std::move(q));
+}
+
+double ScenarioElement::quantity(int which, const State& s, const Kinematics& k) const {
+  return enabled_ ? quantities_[static_cast<std::size_t>(which)](s, k) : 0.0;
+}
+
+int SymbolTable::add(const Symbol& s) {
+  const auto it = std::find(symbols_.begin(), symbols_.end(), s);
+  if (it != symbols_.end()) return static_cast<int>(it - symbols_.begin());
+  symbols_.push_back(s);
+  return static_cast<int>(symbols_.size() - 1);
+}
+
+int resolve_name(std::string_view name, const Names& names, const Scope& scope, SymbolTable& table) {
+  if (const int v = index_of(names.variables, name); v >= 0) return table.add({.source = Source::variable, .a = v});
+  if (scope.time && name == "t") return table.add({.source = Source::time});
+  if (scope.state) {
+    if (const int c = resolve_coordinate(name, names, scope, table); c >= 0) return c;
+  }
+  if (name.find('.') != std::string_view::npos) return resolve_dotted(name, names, scope, table);
+  if (scope.system) {
+    if (const int e = index_of(kEnergies, name); e >= 0) return table.add({.source = Source::energy, .a = e});
+    if (const int m = index_of(kMomenta, name); m >= 0) return table.add({.source = Source::momentum, .a = m});
+  }
+  if (scope.run_constants) {
+    for (const auto& [constant, value] : {std::pair{"rtol", names.rtol}, {"atol", names.atol}, {"t_end", names.t_end}}) {
+      if (name == constant) return table.add({.source = Source::constant, .constant = value});
+    }
+  }
+  unknown(fmt::format("name '{}'", name), valid_names(names, scope));
+}
+
+Resolver make_resolver(const Names& names, const Scope& scope, SymbolTable& table) {
+  Resolver r;
+  r.symbol = [&names, scope, &table](std::string_view name) { return resolve_name(name, names, scope, table); };
+  return r;
+}
+
+double body_quantity(const Kinematics& k, int body, int attribute) {
+  if (attribute < 3) return k.x(body)(attribute);
+  if (attribute < 6) return k.v(body)(attribute - 3);
+  if (attribute < 9) return k.w(body)(attribute - 6);
+  if (attribute < 12) return k.R(body).col(attribute - 9).dot(k.v(body));  // (R^T v)_i
+  const int r = attribute - 12;
+  return k.R(body)(r / 3, r % 3);
+}
+
+SampleEnvironment::SampleEnvironment(runtime::MultibodySystem& system, const SymbolTable& table,
+                                     const std::vector<std::shared_ptr<ScenarioElement>>& elements,
+                                     const std::vector<double>& variables, const std::vector<double>& statistics)
+    : system_(system), table_(table), elements_(elements), variables_(variables), statistics_(statistics) {}
+
+void SampleEnvironment::set(const State& s, const runtime::Vector& qdd) {
+  s_ = &s;
+  qdd_ = &qdd;
+  have_kinematics_ = have_energies_ = have_momentum_ = false;
+}
+
+const Kinematics& SampleEnvironment::kinematics() const {
+  // energies() and momentum() evaluate the system's kinematics too: the
+  // buffer holds this instant's whenever one of them has run.
+  if (!have_kinematics_) system_.evaluate_kinematics(*s_);
+  have_kinematics_ = true;
+  return system_.kinematics();
+}
+
+double SampleEnvironment::value(int symbol) const {
+  const Symbol& sym = table_[symbol];
+  switch (sym.source) {
+    case Source::time: return s_->t;
+    case Source::q: return s_->q(sym.a);
+    case Source::qd: return s_->qd(sym.a);
+    case Source::qdd: return qdd_->size() > sym.a ? (*qdd_)(sym.a) : 0.0;
+    case Source::body: return body_quantity(kinematics(), sym.a, sym.b);
+    case Source::energy: {
+      if (!have_energies_) energies_ = system_.energies(*s_);
+      have_energies_ = true;
+      have_kinematics_ = false;
+      const double e[] = {energies_.kinetic, energies_.gravitational, energies_.elastic, energies_.total()};
+      return e[sym.a];
+    }
+    case Source::momentum: {
+      if (!have_momentum_) momentum_ = system_.momentum(*s_);
+      have_momentum_ = true;
+      have_kinematics_ = false;
+      return sym.a < 3 ? momentum_.linear(sym.a) : momentum_.angular(sym.a - 3);
+    }
+    case Source::element:
+      return elements_[static_cast<std::size_t>(sym.a)]->quantity(sym.b, *s_, kinematics());
+    case Source::variable: return variables_[static_cast<std::size_t>(sym.a)];
+    case Source::constant: return sym.constant;
+    case Source::statistic: return statistics_[static_cast<std::size_t>(sym.a)];
+  }
+  return 0.0;
+}
+
+double LawEnvironment::value(int symbol) const {
+  const Symbol& sym = table_[symbol];
+  switch (sym.source) {
+    case Source::time: return s_->t;
+    case Source::q: return s_->q(sym.a);
+    case Source::qd: return s_->qd(sym.a);
+    case Source::body: return body_quantity(*k_, sym.a, sym.b);
+    case Source::variable: return variables_[static_cast<std::size_t>(sym.a)];
+    case Source::constant: return sym.constant;
+    default: return 0.0;  // refused by the law's scope when parsed
+  }
+}
+
+}  // namespace symdyn::sim

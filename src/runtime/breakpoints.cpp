@@ -1,0 +1,71 @@
+#include <symdyn/runtime/breakpoints.hpp>
+
+#include <fmt/format.h>
+
+#include <utility>
+
+#include <symdyn/runtime/errors.hpp>
+
+namespace symdyn::runtime {
+
+namespace {
+
+void check_breakpoints(const std::vector<double>& breakpoints, double t_begin, double t_end) {
+  double previous = t_begin;
+  for (std::size_t k = 0; k < breakpoints.size(); ++k) {
+    const double t = breakpoints[k];
+    if (!(t > previous && t < t_end)) {
+      throw OptionError(fmt::format("breakpoint {} at t = {}: breakpoints must increase strictly inside ({}, {})", k,
+                                    t, t_begin, t_end));
+    }
+    previous = t;
+  }
+}
+
+void add(Statistics& sum, const Statistics& s) {
+  sum.steps += s.steps;
+  sum.rejected_steps += s.rejected_steps;
+  sum.rhs_evaluations += s.rhs_evaluations;
+  sum.residual_evaluations += s.residual_evaluations;
+  sum.jacobian_evaluations += s.jacobian_evaluations;
+  sum.newton_iterations += s.newton_iterations;
+}
+
+}  // namespace
+
+SegmentedRun integrate_with_breakpoints(Integrator& integrator, DynamicSystem& system, const State& initial,
+                                        const std::vector<double>& breakpoints, double t_end,
+                                        const BreakpointCallback& at_breakpoint) {
+  check_breakpoints(breakpoints, initial.t, t_end);
+  // Each segment but the first starts by delivering its initial state: drop it.
+  const OutputCallback user = integrator.options().on_output;
+  bool skip_first = false;
+  if (user) {
+    integrator.options().on_output = [&](const State& s, const Vector& qdd, const Vector& yd) {
+      if (std::exchange(skip_first, false)) return;
+      user(s, qdd, yd);
+    };
+  }
+  SegmentedRun run;
+  run.final = initial;
+  try {
+    for (std::size_t k = 0; k <= breakpoints.size(); ++k) {
+      const double t_stop = k < breakpoints.size() ? breakpoints[k] : t_end;
+      skip_first = k > 0;
+      run.final = integrator.integrate(system, run.final, t_stop);
+      add(run.statistics, integrator.statistics());
+      ++run.segments;
+      if (k < breakpoints.size()) {
+        run.final.t = t_stop;  // exactly, whatever the last step's rounding
+        if (at_breakpoint) at_breakpoint(k, run.final);
+      }
+    }
+  } catch (...) {
+    integrator.options().on_output = user;
+    throw;
+  }
+  integrator.options().on_output = user;
+  return run;
+}
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,312 @@
+// Scenario files (models/sim/scenario.hpp, docs/scenarios.md): every bad input
+// names its culprit by JSON path; events stop the integration exactly at their
+// time (checked against the work of a constant torque); chained segments
+// write each instant once; qdd in the CSV against finite differences of qd;
+// memory does not grow with the run's length; model modules load, and the
+// wrong ones are refused.
+#include <catch2/catch.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <streambuf>
+#include <string>
+#include <vector>
+
+#include "allocation_count.hpp"
+#include "codegen/run_command.hpp"
+#include "run.hpp"
+#include <symdyn/runtime/breakpoints.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+
+namespace {
+
+using namespace symdyn;
+using Catch::Matchers::Contains;
+
+sim::Scenario parse(const std::string& text) { return sim::parse_scenario(text, "test.json"); }
+
+// What loading and building the scenario throws, "" if nothing.
+std::string error_of(const std::string& text) {
+  try {
+    sim::Simulation simulation(parse(text));
+  } catch (const sim::ScenarioError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::vector<runtime::State> states_of(const sim::Scenario& s, sim::RunOptions o, sim::RunResult* result = nullptr) {
+  std::vector<runtime::State> states;
+  o.on_sample = [&](const runtime::State& st, const runtime::Vector&) { states.push_back(st); };
+  sim::RunResult r = sim::run_scenario(s, o);
+  if (result != nullptr) *result = r;
+  return states;
+}
+
+// A stream that drops what it is given, without allocating.
+class NullBuffer : public std::streambuf {
+ protected:
+  int_type overflow(int_type c) override { return c; }
+  std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
+};
+
+}  // namespace
+
+TEST_CASE("scenario files: each bad input names its culprit by JSON path", "[scenario][bad_input]") {
+  struct Case {
+    std::string text, culprit;
+  };
+  const std::string dp = R"j("model": "double_pendulum")j";
+  const Case cases[] = {
+      {"{" + dp + ",}", "test.json: not JSON: parse error at line 1, column 29"},
+      {"[1]", "test.json: /: expected an object, found an array"},
+      {"{}", "test.json: /: missing key 'model'"},
+      {"{" + dp + R"j(, "t_ned": 1})j", "test.json: /t_ned: unknown key 't_ned' (expected: $schema, description, model,"},
+      {"{" + dp + R"j(, "t_end": -1})j", "test.json: /t_end: expected a number > 0, found -1"},
+      {"{" + dp + R"j(, "t_end": "10"})j", "test.json: /t_end: expected a number, found a string"},
+      {R"j({"model": "pendulum"})j", "test.json: /model: no built-in model 'pendulum' (built in: double_pendulum,"},
+      {R"j({"model": {"name": "double_pendulum", "varient": "absolute"}})j",
+       "test.json: /model/varient: unknown key 'varient' (expected: name, variant, module)"},
+      {"{" + dp + R"j(, "integrator": {"name": "dopri5", "rtol": 0}})j",
+       "test.json: /integrator/rtol: expected a number > 0, found 0"},
+      {"{" + dp + R"j(, "parameters": {"m1": 2}})j",
+       "test.json: /parameters/m1: unknown parameter 'm1' (the model has no run-time parameters)"},
+      {"{" + dp + R"j(, "initial": {"q": {"q7": 1}}})j",
+       "test.json: /initial/q/q7: unknown coordinate 'q7' (coordinates: q0, q1)"},
+      {"{" + dp + R"j(, "forces": [{"type": "spring", "name": "s"}]})j",
+       "test.json: /forces/0/type: unknown force element type 'spring' (types: coordinate_spring_damper, "
+       "coordinate_force, coordinate_tracking, point_spring_damper, point_load, bushing, plane_contact, simple_tyre, "
+       "gim_tyre)"},
+      {"{" + dp + R"j(, "forces": [{"type": "coordinate_spring_damper", "name": "s", "coordinate": "q0", "stifness": 1}]})j",
+       "test.json: /forces/0/stifness: unknown key 'stifness' for a coordinate_spring_damper (expected: type, name, "
+       "enabled, coordinate, stiffness, damping, free_value)"},
+      {"{" + dp + R"j(, "forces": [{"type": "plane_contact", "name": "c", "body": "rod3", "stiffness": 1}]})j",
+       "test.json: /forces/0/body: unknown body 'rod3' (bodies: rod1, rod2, or ground)"},
+      {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "rod1", "coordinates": "q0", "value": 1}]})j",
+       "test.json: /forces/0/name: 'rod1' is a body's name: name the element otherwise"},
+      {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "2 * (q0"}]})j",
+       "test.json: /forces/0/value: in '2 * (q0' at column 8: expected ')' at the end"},
+      {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "q0_ddot"}]})j",
+       "test.json: /forces/0/value: in 'q0_ddot' at column 1: 'q0_ddot': accelerations are not known here"},
+      {"{" + dp + R"j(, "outputs": [{"name": "tip", "value": "rod2.xx"}]})j",
+       "test.json: /outputs/0/value: in 'rod2.xx' at column 1: unknown quantity 'xx' of body 'rod2' (valid: x, y, z,"},
+      {"{" + dp + R"j(, "outputs": ["qddd"]})j",
+       "test.json: /outputs/0: unknown output 'qddd' (expected q, qd, qdd, energies, or an object)"},
+      {"{" + dp + R"j(, "events": [{"time": 3, "disable": "motor"}], "t_end": 2})j",
+       "test.json: /events/0/time: expected a time inside (0, t_end = 2), found 3"},
+      {"{" + dp + R"j(, "t_end": 2, "events": [{"time": 1, "disable": "motor"}]})j",
+       "test.json: /events/0/disable: unknown force element 'motor' (elements: none)"},
+      {"{" + dp + R"j(, "t_end": 2, "events": [{"time": 1, "set": {"tau": 0}}]})j",
+       "test.json: /events/0/set/tau: unknown variable 'tau' (variables: none)"},
+      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "q0", "band": [0, 1]}]})j",
+       "test.json: /checks/0/value: in 'q0' at column 1: 'q0' varies during the run: a check reads it through"},
+      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "mean(q0)", "band": [0, 1]}]})j",
+       "test.json: /checks/0/value: in 'mean(q0)' at column 1: unknown function 'mean' (statistics: start, end,"},
+      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "end(q0)", "band": [0]}]})j",
+       "test.json: /checks/0/band: expected [low, high], found 1 entries"},
+      {R"j({"model": {"name": "double_pendulum", "module": "nowhere/double_pendulum.so"}})j",
+       "model module 'nowhere/double_pendulum.so' not found"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.text);
+    CHECK_THAT(error_of(c.text), Contains(c.culprit));
+  }
+}
+
+TEST_CASE("events: a torque switched off stops the integration exactly there", "[scenario]") {
+  // A constant torque tau on q0 from rest until t = 1, then free motion. Its
+  // work is tau (q0(1) - q0(0)), so E(1) = E(0) + tau Δq0; after it, E is constant.
+  const double tau = 3.0;
+  for (const char* how : {R"j("disable": "motor")j", R"j("set": {"tau": 0})j"}) {
+    CAPTURE(how);
+    const std::string text = fmt::format(R"j({{
+      "model": "double_pendulum", "t_end": 2, "output_interval": 0.01,
+      "integrator": {{"name": "dopri5", "tolerance": 1e-11}},
+      "variables": {{"tau": {}}},
+      "forces": [{{"type": "coordinate_force", "name": "motor", "coordinates": "q0", "value": "tau"}}],
+      "events": [{{"time": 1, {}}}],
+      "outputs": ["q", "qd", "qdd", "energies", {{"name": "torque", "value": "motor.Q"}}]
+    }})j", tau, how);
+    sim::RunResult r;
+    const auto states = states_of(parse(text), {}, &r);
+    CHECK(r.segments == 2);
+    REQUIRE(states.size() == 201);  // the instant t = 1 once, though both segments deliver it
+    for (std::size_t k = 1; k < states.size(); ++k) CHECK(states[k].t > states[k - 1].t);
+    CHECK(states[100].t == 1.0);
+    // The CSV of the same run: energies, qdd, the torque.
+    std::ostringstream csv;
+    sim::RunOptions with_csv;
+    with_csv.csv = &csv;
+    sim::run_scenario(parse(text), with_csv);
+    std::istringstream lines(csv.str());
+    std::string line;
+    std::getline(lines, line);
+    CHECK(line == "t,q0,q1,q0_dot,q1_dot,q0_ddot,q1_ddot,kinetic_energy,gravitational_energy,elastic_energy,"
+                  "total_energy,torque");
+    std::vector<std::vector<double>> rows;
+    while (std::getline(lines, line)) {
+      std::vector<double> v;
+      std::istringstream fields(line);
+      for (std::string f; std::getline(fields, f, ',');) v.push_back(std::stod(f));
+      rows.push_back(v);
+    }
+    REQUIRE(rows.size() == 201);
+    const double E0 = rows[0][10], dq = rows[100][1] - rows[0][1];
+    CHECK(rows[100][10] == Approx(E0 + tau * dq).margin(1e-7));
+    for (std::size_t k = 100; k < rows.size(); ++k) CHECK(rows[k][10] == Approx(rows[100][10]).margin(1e-7));
+    CHECK(rows[100][11] == tau);  // the row at the event: before the change
+    CHECK(rows[101][11] == 0.0);
+    // qdd against the five-point difference of qd (error of order h^4 qd^(5), h = 0.01 s).
+    for (std::size_t k = 120; k < 190; k += 17) {
+      for (std::size_t j = 3; j < 5; ++j) {
+        const double fd = (rows[k - 2][j] - 8.0 * rows[k - 1][j] + 8.0 * rows[k + 1][j] - rows[k + 2][j]) / (12.0 * 0.01);
+        CHECK(rows[k][j + 2] == Approx(fd).epsilon(1e-3).margin(1e-3));
+      }
+    }
+  }
+}
+
+// The integrator's own output path (dense output) is not the scenario's: the
+// allocations of a bare integration with the same outputs are subtracted.
+TEST_CASE("a run's memory does not grow with its length", "[scenario]") {
+  if (!symdyn_test::allocation_count()) {
+    WARN("allocations cannot be counted here (sanitizer build)");
+    return;
+  }
+  NullBuffer sink;
+  std::ostream out(&sink);
+  const sim::Scenario& scenario = sim::find_builtin("double_pendulum");
+  const auto count = [] { return *symdyn_test::allocation_count(); };
+  const auto integrator_alone = [&](double t_end) {
+    runtime::MultibodySystem system(sim::make_model(scenario));
+    runtime::IntegratorOptions o;
+    o.relative_tolerance = o.absolute_tolerance = scenario.rtol;
+    o.output_interval = scenario.output_interval;
+    o.on_output = [](const runtime::State&, const runtime::Vector&, const runtime::Vector&) {};
+    auto integrator = runtime::make_integrator(scenario.integrator, o);
+    const std::size_t before = count();
+    integrator->integrate(system, system.initial_state(), t_end);
+    return count() - before;
+  };
+  const auto scenario_run = [&](double t_end) {
+    sim::RunOptions o;
+    o.t_end = t_end;
+    o.csv = &out;
+    sim::Simulation simulation(scenario, o);
+    const std::size_t before = count();
+    const sim::RunResult r = simulation.run();
+    return count() - before;
+  };
+  // 101 and 1001 rows, with the checks' statistics and the CSV's channels.
+  const std::size_t short_run = scenario_run(1.0) - integrator_alone(1.0);
+  const std::size_t long_run = scenario_run(10.0) - integrator_alone(10.0);
+  CAPTURE(short_run, long_run);
+  CHECK(long_run <= short_run + 4);
+}
+
+TEST_CASE("model modules: a module runs as the built-in model, the wrong ones are refused", "[scenario][module]") {
+  const std::string text = fmt::format(R"j({{"model": {{"name": "double_pendulum", "module": "{}"}}, "t_end": 1,
+                                          "integrator": {{"name": "dopri5", "tolerance": 1e-10}}}})j",
+                                       MODULE_DOUBLE_PENDULUM);
+  sim::RunResult from_module, built_in;
+  states_of(parse(text), {}, &from_module);
+  sim::RunOptions one_second;
+  one_second.t_end = 1.0;
+  states_of(sim::find_builtin("double_pendulum"), one_second, &built_in);
+  CHECK(from_module.model == "double_pendulum");
+  CHECK(from_module.final.q == built_in.final.q);
+  CHECK(from_module.final.qd == built_in.final.qd);
+
+  const auto module_error = [](const std::string& path) {
+    return error_of(fmt::format(R"j({{"model": {{"name": "double_pendulum", "module": "{}"}}}})j", path));
+  };
+  CHECK_THAT(module_error(MODULE_CHAIN_2),
+             Contains(fmt::format("model module '{}' holds model 'chain_2', the scenario names 'double_pendulum'",
+                                  MODULE_CHAIN_2)));
+  CHECK_THAT(module_error(MODULE_OTHER_ABI),
+             Contains(fmt::format("model module '{}' was built for module interface 2, this symdyn-sim reads 1",
+                                  MODULE_OTHER_ABI)));
+  const auto dir = testing::scratch_directory("module");
+  std::ofstream(dir / "text.so") << "not a library\n";
+  CHECK_THAT(module_error((dir / "text.so").string()),
+             Contains(fmt::format("model module '{}' cannot be loaded", (dir / "text.so").string())));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("symdyn-sim runs a scenario file, a module relative to it", "[scenario][module][sim]") {
+  const auto dir = testing::scratch_directory("scenario_file");
+  std::filesystem::copy_file(MODULE_DOUBLE_PENDULUM, dir / "pendulum.so");
+  std::ofstream(dir / "swing.json") << R"j({
+    "model": {"name": "double_pendulum", "module": "pendulum.so"},
+    "initial": {"q": {"q0": -0.5}},
+    "t_end": 2,
+    "checks": [{"name": "start q0", "value": "start(q0)", "unit": "rad", "band": [-0.6, -0.4]}]
+  })j";
+  const auto r = testing::run_command({SYMDYN_SIM, "swing.json", "--out", "swing.csv"}, 120, dir);
+  CHECK(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("(201 rows of 9 columns"));
+  CHECK_THAT(r.out, Contains("start q0: -0.5 rad (expected -0.6 .. -0.4) ok"));
+  CHECK(std::filesystem::exists(dir / "swing.csv"));
+  std::filesystem::remove_all(dir);
+}
+
+
+TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks", "[scenario][module]") {
+  const std::string doc = testing::read_text(SYMDYN_DOCS "/scenarios.md");
+  const auto begin = doc.find("```json\n{"), end = doc.find("\n```", begin + 8);
+  REQUIRE(begin != std::string::npos);
+  std::string text = doc.substr(begin + 8, end - begin - 8);
+  const std::string module = "build/double_pendulum_absolute_module.so";
+  REQUIRE(text.find(module) != std::string::npos);
+  text.replace(text.find(module), module.size(), MODULE_DOUBLE_PENDULUM);
+  const sim::RunResult r = sim::run_scenario(parse(text));
+  CHECK(r.segments == 3);
+  CHECK(r.rows == 501);
+  CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "q0_ddot", "q1_ddot",
+                                              "kinetic_energy", "gravitational_energy", "elastic_energy",
+                                              "total_energy", "rod2.x", "rod2.y", "rod2.z", "spring.length", "tip_x"});
+  REQUIRE(r.checks.size() == 2);
+  for (const auto& c : r.checks) {
+    INFO(c.name << " = " << c.value);
+    CHECK(c.ok());
+  }
+}
+
+TEST_CASE("integrate_with_breakpoints: each instant once, the callback at each breakpoint, bad lists refused",
+          "[scenario]") {
+  runtime::MultibodySystem system(sim::make_model(sim::find_builtin("slider_crank")));
+  runtime::IntegratorOptions o;
+  o.output_interval = 0.1;
+  std::vector<double> times;
+  o.on_output = [&](const runtime::State& s, const runtime::Vector&, const runtime::Vector&) { times.push_back(s.t); };
+  auto integrator = runtime::make_integrator("dopri5", o);
+  std::vector<double> seen;
+  // The crank stopped dead at 0.25 s: the state the next segment starts from is changed too.
+  const auto stop = [&](std::size_t, runtime::State& s) {
+    seen.push_back(s.t);
+    s.qd.setZero();
+  };
+  runtime::State start = system.initial_state();
+  start.qd(0) = 5.0;
+  const auto run = runtime::integrate_with_breakpoints(*integrator, system, start, {0.25, 0.5}, 1.0, stop);
+  CHECK(run.segments == 3);
+  CHECK(seen == std::vector<double>{0.25, 0.5});
+  // 0 .. 0.2, 0.25 (the first segment's end), 0.35, 0.45, 0.5, 0.6 .. 1.0: every instant once.
+  REQUIRE(times.size() == 12);
+  CHECK(times[3] == 0.25);
+  CHECK(times[6] == 0.5);
+  for (std::size_t k = 1; k < times.size(); ++k) CHECK(times[k] > times[k - 1]);
+  CHECK(run.final.t == 1.0);
+  CHECK(run.statistics.steps > 0);
+  // The callback's output is restored: a plain run after it sees every instant.
+  times.clear();
+  integrator->integrate(system, start, 0.2);
+  CHECK(times.size() == 3);
+  CHECK_THROWS_WITH(runtime::integrate_with_breakpoints(*integrator, system, start, {0.5, 0.25}, 1.0, stop),
+                    "breakpoint 1 at t = 0.25: breakpoints must increase strictly inside (0, 1)");
+  CHECK_THROWS_WITH(runtime::integrate_with_breakpoints(*integrator, system, start, {1.0}, 1.0, stop),
+                    "breakpoint 0 at t = 1: breakpoints must increase strictly inside (0, 1)");
+}
