@@ -229,6 +229,9 @@ class Model {
   // entry points.
   void dynamics(double t, const double* q, const double* qd, KinematicsLevel level, double* M,
                 double* h, Kinematics& k) const;
+  // The emitted dynamics entry point of level none (M and h only), or null: for a
+  // caller that dispatches once (MultibodySystem's hot path) with parameters().data().
+  DynamicsFn emitted_dynamics() const { return d_.dynamics; }
 
  private:
   void evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
