@@ -187,7 +187,20 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
     options_.relative_tolerance = user.relative_tolerance * scale;
     options_.absolute_tolerance = user.absolute_tolerance * scale;
     outputs.clear();
-    State end = run_once(system, initial, t_end);
+    State end;
+    try {
+      end = run_once(system, initial, t_end);
+    } catch (const NumericError& e) {
+      if (k == 0) throw;
+      stats_ = total;
+      const std::string estimate =
+          k < 2 ? std::string()
+                : fmt::format("; the run at {:g} was estimated {:g} off", total.last_relative_tolerance,
+                              total.global_error_estimate);
+      throw NumericError(fmt::format("integrator '{}': global_tolerance {:g} not reached: the run at a local "
+                                     "tolerance of {:g} failed{}: {}",
+                                     name(), user.global_tolerance, options_.relative_tolerance, estimate, e.what()));
+    }
     add(total, stats_);
     ++total.runs;
     total.last_relative_tolerance = options_.relative_tolerance;

@@ -100,7 +100,7 @@ struct IntegratorOptions {
   // tolerances divided by 100 until the estimated error of the last run is below it
   // (docs/integrators.md, "The error at t_end"). Costs 2 or more runs; outputs are held
   // and only the last run's are delivered. A NumericError when a local tolerance of
-  // 1e-14 does not get there.
+  // 1e-14 does not get there or a tighter run fails.
   double global_tolerance = 0.0;
 
   double initial_step = 0.0;  // 0: the integrator chooses (rk4 requires it > 0)

@@ -461,3 +461,12 @@ TEST_CASE("global_tolerance bounds the error at every output of 20 periods", "[i
   bad.global_tolerance = -1.0;
   CHECK_THROWS_AS(make_integrator("dopri5", bad)->integrate(osc, initial_state(1.0, 0.0), 1.0), OptionError);
 }
+
+TEST_CASE("a global_tolerance out of reach is refused, naming it", "[integrator][global]") {
+  Oscillator osc;
+  IntegratorOptions o = tight("dopri5", 1e-6, 0.0);
+  o.global_tolerance = 1e-17;  // below rounding: no local tolerance gets there
+  Statistics stats;
+  CHECK_THROWS_WITH(run("dopri5", o, osc, initial_state(1.0, 0.0), 2.0, &stats),
+                    Catch::Matchers::Contains("global_tolerance 1e-17 not reached"));
+}
