@@ -457,6 +457,16 @@ TEST_CASE("global_tolerance bounds the error at every output of 20 periods", "[i
     CHECK(global.runs >= 2);
     CHECK(global.steps > local.steps);  // every run's work counted
   }
+  // An output at every step: the last run's steps, once, in order.
+  IntegratorOptions every = tight("dopri5", 1e-5, 0.0);
+  every.global_tolerance = 1e-6;
+  const auto steps = run("dopri5", every, osc, initial_state(1.0, 0.0), 20.0);
+  REQUIRE(steps.size() > 2);
+  CHECK(steps.front().s.t == 0.0);
+  CHECK(steps.back().s.t == 20.0);
+  const auto not_after = [](const Sample& a, const Sample& b) { return !(b.s.t > a.s.t); };
+  CHECK(std::adjacent_find(steps.begin(), steps.end(), not_after) == steps.end());
+  CHECK(worst_error(steps) < 1e-6);
   IntegratorOptions bad = tight("dopri5", 1e-6, 0.1);
   bad.global_tolerance = -1.0;
   CHECK_THROWS_AS(make_integrator("dopri5", bad)->integrate(osc, initial_state(1.0, 0.0), 1.0), OptionError);
