@@ -26,6 +26,7 @@ const detail::SundialsSolver arkode{
     .set_user_data = ARKStepSetUserData,
     .set_weights = ARKStepWFtolerances,
     .set_linear_solver = ARKStepSetLinearSolver,
+    .set_jacobian = ARKStepSetJacFn,
     .set_max_steps = ARKStepSetMaxNumSteps,
     .set_stop_time = ARKStepSetStopTime,
     .set_min_step = ARKStepSetMinStep,

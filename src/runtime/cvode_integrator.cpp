@@ -1,6 +1,7 @@
 #include <symdyn/runtime/cvode_integrator.hpp>
 
 #include <cvode/cvode.h>
+#include <cvode/cvode_ls.h>
 
 #include <symdyn/runtime/sundials_integrator.hpp>
 #include <symdyn/runtime/sundials_support.hpp>
@@ -23,6 +24,7 @@ const detail::SundialsSolver cvode{
     .set_user_data = CVodeSetUserData,
     .set_weights = CVodeWFtolerances,
     .set_linear_solver = CVodeSetLinearSolver,
+    .set_jacobian = CVodeSetJacFn,
     .set_max_steps = CVodeSetMaxNumSteps,
     .set_stop_time = CVodeSetStopTime,
     .set_min_step = CVodeSetMinStep,

@@ -49,6 +49,12 @@ class Midpoint final : public detail::SteppingIntegrator {
   Eigen::PartialPivLU<Matrix> newton_lu_;  // of I - dG/dz, (2n+m x 2n+m)
   State probe_;                  // scratch state for the residuals
   Vector f0_, f1_, g_, zero_n_, zero_m_, Mv_plus_, Mv_minus_;
+  // Workspaces sized once, so that a step allocates nothing.
+  Vector amplified_, unit_, shifted_q_;  // (n) λ·x, λ·e_j, q ± d·v
+  Vector qdd1_, yd1_;                    // (n), (m) at the end of the step being solved
+  Vector z_, Gz_, dz_, newton_rhs_;      // (2n + m) the iteration's unknown, map, update
+  Vector z_probe_, Gz_probe_;            // (2n + m) the difference Jacobian's probes
+  Matrix newton_matrix_;                 // (2n + m x 2n + m) I - dG/dz
 };
 
 // The power of two nearest to 1e6·max(1, |f0|)/|x|: M·x = (f(λ·x) - f0)/λ with λ·x
@@ -72,7 +78,8 @@ void Midpoint::mass_times(double t, const Vector& q, const Vector& y, const Vect
     return;
   }
   const double lambda = amplification(f0_, size);
-  residual(probe_, lambda * x, zero_m_, f1_, g_);
+  amplified_ = lambda * x;
+  residual(probe_, amplified_, zero_m_, f1_, g_);
   Mx = (f1_ - f0_) / lambda;
 }
 
@@ -85,12 +92,12 @@ void Midpoint::mass_matrix(double t, const Vector& q, const Vector& y, Matrix& M
   residual(probe_, zero_n_, zero_m_, f0_, g_);
   const double lambda = amplification(f0_, 1.0);
   M.resize(n_, n_);
-  Vector e = zero_n_;
+  unit_.setZero(n_);
   for (int j = 0; j < n_; ++j) {
-    e[j] = lambda;
-    residual(probe_, e, zero_m_, f1_, g_);
+    unit_[j] = lambda;
+    residual(probe_, unit_, zero_m_, f1_, g_);
     M.col(j) = (f1_ - f0_) / lambda;
-    e[j] = 0.0;
+    unit_[j] = 0.0;
   }
 }
 
@@ -99,12 +106,14 @@ void Midpoint::mass_matrix(double t, const Vector& q, const Vector& y, Matrix& M
 // scale of q, not |q|: M varies with an angle over a radian however far it has wound.
 void Midpoint::momentum_rate(double t, const Vector& q, const Vector& v, const Vector& y,
                              const Vector& qdd, const Matrix& M, Vector& pdot) {
-  pdot = M * qdd;
+  pdot.noalias() = M * qdd;
   const double speed = v.cwiseQuotient(q_scale_).lpNorm<Eigen::Infinity>();
   if (speed == 0.0) return;
   const double d = std::cbrt(eps) / speed;
-  mass_times(t, q + d * v, y, v, Mv_plus_);
-  mass_times(t, q - d * v, y, v, Mv_minus_);
+  shifted_q_ = q + d * v;
+  mass_times(t, shifted_q_, y, v, Mv_plus_);
+  shifted_q_ = q - d * v;
+  mass_times(t, shifted_q_, y, v, Mv_minus_);
   pdot += (Mv_plus_ - Mv_minus_) / (2.0 * d);
 }
 
@@ -119,9 +128,14 @@ void Midpoint::start(const State& initial) {
   }
   current_ = initial;
   mass_matrix(initial.t, initial.q, initial.y, M_);
-  p_ = M_ * initial.qd;
+  p_.resize(n_);
+  p_.noalias() = M_ * initial.qd;
   qdd_.resize(n_);
   yd_.resize(m_);
+  qdd1_.resize(n_);
+  yd1_.resize(m_);
+  qdd_m_.resize(n_);
+  yd_m_.resize(m_);
   accelerations(current_, qdd_, yd_);
   const std::string bad = detail::non_finite_value(*system_, current_, qdd_, yd_);
   if (!bad.empty()) throw NumericError(detail::at_time(initial.t, bad));
@@ -136,13 +150,12 @@ std::string Midpoint::end_of_step(double t1) {
   probe_.q = q1_;
   probe_.qd = lu_.solve(p1_);
   probe_.y = y1_;
-  Vector qdd(n_), yd(m_);
-  accelerations(probe_, qdd, yd);
-  std::string bad = detail::non_finite_value(*system_, probe_, qdd, yd);
+  accelerations(probe_, qdd1_, yd1_);
+  std::string bad = detail::non_finite_value(*system_, probe_, qdd1_, yd1_);
   if (!bad.empty()) return detail::at_time(t1, bad);
   current_ = probe_;
-  qdd_ = qdd;
-  yd_ = yd;
+  qdd_ = qdd1_;
+  yd_ = yd1_;
   p_ = p1_;
   return {};
 }
@@ -161,8 +174,6 @@ std::string Midpoint::map(double h, const Vector& z, Vector& Gz) {
   probe_.q = qm_;
   probe_.qd = vm_;
   probe_.y = ym_;
-  qdd_m_.resize(n_);
-  yd_m_.resize(m_);
   try {
     accelerations(probe_, qdd_m_, yd_m_);
   } catch (const NumericError& e) {
@@ -190,18 +201,18 @@ double Midpoint::change(const Vector& dz, const Vector& z) const {
 // (I - dG/dz) by forward differences at z, factored for Newton's updates.
 std::string Midpoint::factor_newton_matrix(double h, const Vector& z, const Vector& Gz) {
   const Eigen::Index size = z.size();
-  Matrix A = Matrix::Identity(size, size);
-  Vector zp = z, Gp;
+  newton_matrix_.setIdentity(size, size);
+  z_probe_ = z;
   for (Eigen::Index j = 0; j < size; ++j) {
     const double scale = j < n_ ? q_scale_[j] : std::max(1.0, std::abs(z[j]));
     const double d = std::sqrt(eps) * std::max(scale, std::abs(z[j]));
-    zp[j] = z[j] + d;
-    const std::string bad = map(h, zp, Gp);
+    z_probe_[j] = z[j] + d;
+    const std::string bad = map(h, z_probe_, Gz_probe_);
     if (!bad.empty()) return bad;
-    A.col(j) -= (Gp - Gz) / (zp[j] - z[j]);
-    zp[j] = z[j];
+    newton_matrix_.col(j) -= (Gz_probe_ - Gz) / (z_probe_[j] - z[j]);
+    z_probe_[j] = z[j];
   }
-  newton_lu_.compute(A);
+  newton_lu_.compute(newton_matrix_);
   return {};
 }
 
@@ -211,14 +222,22 @@ std::string Midpoint::factor_newton_matrix(double h, const Vector& z, const Vect
 detail::StepOutcome Midpoint::attempt(double h, bool) {
   const double t1 = current_.t + h;
   // Guess: q advanced by Taylor, p and y by the last rates.
-  Vector z(2 * n_ + m_), Gz, dz;
+  Vector& z = z_;
+  Vector& Gz = Gz_;
+  Vector& dz = dz_;
+  z.resize(2 * n_ + m_);
   z << current_.q + h * current_.qd + (0.5 * h * h) * qdd_, p_ + h * pdot_, current_.y + h * yd_;
   bool newton = false;
   double previous_change = std::numeric_limits<double>::infinity();
   for (int k = 1; k <= options_.max_newton_iterations; ++k) {
     std::string bad = map(h, z, Gz);
     if (!bad.empty()) return {false, h, bad};
-    dz = newton ? Vector(newton_lu_.solve(Gz - z)) : Vector(Gz - z);
+    if (newton) {
+      newton_rhs_ = Gz - z;
+      dz = newton_lu_.solve(newton_rhs_);
+    } else {
+      dz = Gz - z;
+    }
     z += dz;
     ++stats_.newton_iterations;
     const double c = change(dz, z);

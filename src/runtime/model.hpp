@@ -272,6 +272,9 @@ class Model {
   // entry points.
   void dynamics(double t, const double* q, const double* qd, KinematicsLevel level, double* M,
                 double* h, Kinematics& k) const;
+  // The emitted dynamics entry point of level none (M and h only), or null: for a
+  // caller that dispatches once (MultibodySystem's hot path) with parameters().data().
+  DynamicsFn emitted_dynamics() const { return d_.dynamics; }
 
   // Cold diagnostics (error paths only; they allocate).
   // The first operation of a dependent parameter whose argument at (t, q) is

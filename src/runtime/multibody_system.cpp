@@ -26,6 +26,7 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
     }
   }
   set_source(source_);
+  update_level();
   const int nq = model_.nq();
   k_ = model_.make_kinematics();
   loads_ = Loads(nq, model_.nbody());
@@ -56,6 +57,7 @@ void MultibodySystem::add(std::shared_ptr<const ForceElement> element) {
 void MultibodySystem::update_level() {
   level_ = extra_reads_;
   for (const auto& e : elements_) level_ = std::max(level_, e->reads());
+  dynamics_ = level_ == KinematicsLevel::none ? model_.emitted_dynamics() : nullptr;
 }
 
 void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vector& initial,
@@ -96,6 +98,15 @@ namespace {
 bool all_finite(const double* x, Eigen::Index n) {
   double zero = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) zero += x[i] * 0.0;
+  return zero == 0.0;
+}
+
+// The state's values and the accelerations r (nq, as s.q) in one pass.
+bool all_finite(const State& s, const Vector& r) {
+  double zero = s.t * 0.0;
+  const double *q = s.q.data(), *qd = s.qd.data(), *x = r.data();
+  for (Eigen::Index j = 0; j < r.size(); ++j) zero += (q[j] * 0.0 + qd[j] * 0.0) + x[j] * 0.0;
+  for (Eigen::Index j = 0; j < s.y.size(); ++j) zero += s.y[j] * 0.0;
   return zero == 0.0;
 }
 
@@ -307,19 +318,19 @@ void MultibodySystem::evaluate_equations(const State& s) {
   project_loads(Qa_);
 }
 
-void MultibodySystem::solve_in_place(const State& s, Vector& x) {
-  if (!solver_.factor(M_)) singular_mass_matrix(s);
-  solver_.solve_in_place(x);
-  if (!all_finite(x.data(), x.size())) explain_non_finite(s);
-}
-
-void MultibodySystem::singular_mass_matrix(const State& s) const {
+void MultibodySystem::mass_matrix_refused(const State& s) const {
+  check_state(s);  // a non-finite state first: it is the cause
   if (!M_.allFinite()) explain_non_finite(s);
   const auto sequence = model_.singular_angle_sequence(s.q.data(), M_);
   throw NumericError(fmt::format(
       "t = {}: mass matrix is singular or indefinite: {} (pivot {:.3g} of its diagonal) at {}", s.t,
       sequence ? *sequence : mass_matrix_singularity(M_, [this](int j) { return model_.q_names()[j]; }),
       solver_.smallest_pivot_ratio(), describe(s)));
+}
+
+void MultibodySystem::accelerations_not_finite(const State& s) const {
+  check_state(s);  // a non-finite state first: it is the cause
+  explain_non_finite(s);
 }
 
 std::optional<std::string> MultibodySystem::explain_singular(const State& s, const Matrix& M) const {
@@ -352,7 +363,34 @@ void MultibodySystem::explain_non_finite(const State& s, const char* result) con
 }
 
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
-  check_state(s);
+  const Eigen::Index nq = h_.size();
+  if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != extra_initial_.size()) state_error(s);
+  if (source_ == EquationsSource::emitted && elements_.empty()) {
+    // M qdd = -h. No code of the user's sees the state before its values are checked,
+    // with the result's (below): a NaN in the state only propagates through the
+    // emitted code, to a refused M or a non-finite qdd, whose reports name the state first.
+    if (dynamics_ != nullptr) {
+      dynamics_(s.t, s.q.data(), s.qd.data(), model_.parameters().data(), M_.data(), h_.data());
+    } else {
+      model_.dynamics(s.t, s.q.data(), s.qd.data(), level_, M_.data(), h_.data(), k_);
+    }
+    if (!solver_.factor(M_)) mass_matrix_refused(s);
+    qdd.resize(nq);
+    solver_.solve_negated(h_, qdd);
+  } else {
+    check_state(s);
+    accelerations_rhs(s, qdd);
+    if (!solver_.factor(M_)) mass_matrix_refused(s);
+    solver_.solve_in_place(qdd);
+  }
+  if (!all_finite(s, qdd)) accelerations_not_finite(s);
+  yd.resize(extra_initial_.size());
+  if (extra_) extra_(s, k_, yd);
+}
+
+// The right-hand side of M qdd = rhs of a checked state, M in M_: the assembled
+// equations, or the emitted ones with force elements.
+void MultibodySystem::accelerations_rhs(const State& s, Vector& qdd) {
   if (source_ == EquationsSource::assembled) {
     // M qdd = -f(qdd = 0)
     model_.accelerations(s.t, s.q.data(), s.qd.data(), zero_.data(), k_);
@@ -365,13 +403,8 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   } else {
     // M qdd = Q - h
     evaluate_equations(s);
-    qdd.resize(h_.size());
-    for (Eigen::Index j = 0; j < h_.size(); ++j) qdd[j] = -h_[j];
-    if (!elements_.empty()) qdd += Qa_;
+    qdd = Qa_ - h_;
   }
-  solve_in_place(s, qdd);
-  yd.resize(static_cast<Eigen::Index>(extra_names_.size()));
-  if (extra_) extra_(s, k_, yd);
 }
 
 void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,

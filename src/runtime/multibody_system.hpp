@@ -145,12 +145,16 @@ class MultibodySystem : public DynamicSystem {
   // loads; with_gravity adds the weights to the applied forces.
   void assemble_residual(Vector& f, bool with_gravity, bool with_loads) const;
   void assemble_mass_matrix(Matrix& M);
-  // x := M_⁻¹·x, naming what is not finite or singular.
-  void solve_in_place(const State& s, Vector& x);
+  // The right-hand side of M qdd = rhs (M in M_) of a checked state, but for the
+  // emitted equations without force elements (accelerations() inline).
+  void accelerations_rhs(const State& s, Vector& qdd);
+  // Out of the hot path: what is wrong when M_ was refused or the accelerations are
+  // not finite, the state first.
+  [[noreturn, gnu::cold, gnu::noinline]] void mass_matrix_refused(const State& s) const;
+  [[noreturn, gnu::cold, gnu::noinline]] void accelerations_not_finite(const State& s) const;
   // Names why `result` (the accelerations or the residual) is not finite.
   [[noreturn, gnu::cold, gnu::noinline]] void explain_non_finite(const State& s,
                                                                  const char* result = "accelerations are") const;
-  [[noreturn, gnu::cold, gnu::noinline]] void singular_mass_matrix(const State& s) const;
   // Throws naming the dependent parameter out of its domain at s, if any.
   [[gnu::cold, gnu::noinline]] void throw_domain_error(const State& s) const;
   std::string describe(const State& s) const;
@@ -163,6 +167,7 @@ class MultibodySystem : public DynamicSystem {
   ExtraEquations extra_;
   KinematicsLevel extra_reads_ = KinematicsLevel::none;
   KinematicsLevel level_ = KinematicsLevel::none;
+  DynamicsFn dynamics_ = nullptr;  // the emitted dynamics() when level_ is none: no dispatch per call
 
   // Workspace: sized at construction, reused by every evaluation.
   Kinematics k_;

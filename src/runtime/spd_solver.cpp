@@ -58,18 +58,29 @@ bool SpdSolver::factor_blocked(const Matrix& M) {
 }
 
 // L·y = b forward, then Lᵀ·x = y backward.
-void SpdSolver::solve_in_place(Vector& b) const {
+void SpdSolver::solve_in_place(Vector& b) const { solve<false>(b.data(), b); }
+
+void SpdSolver::solve_negated(const Vector& b, Vector& x) const { solve<true>(b.data(), x); }
+
+// x := ±M⁻¹·b; b may be x's own storage.
+template <bool negate>
+[[gnu::always_inline]] inline void SpdSolver::solve(const double* b, Vector& out) const {
   const Eigen::Index n = L_.rows();
   if (n > kLoopUpTo) {
+    if constexpr (negate) {
+      out = -Eigen::Map<const Vector>(b, n);
+    } else if (b != out.data()) {
+      out = Eigen::Map<const Vector>(b, n);
+    }
     const auto L = L_.triangularView<Eigen::Lower>();
-    L.solveInPlace(b);
-    L.adjoint().solveInPlace(b);
+    L.solveInPlace(out);
+    L.adjoint().solveInPlace(out);
     return;
   }
   const double* l = L_.data();
-  double* x = b.data();
+  double* x = out.data();
   for (Eigen::Index i = 0; i < n; ++i) {
-    double sum = x[i];
+    double sum = negate ? -b[i] : b[i];
     for (Eigen::Index k = 0; k < i; ++k) sum -= l[i + k * n] * x[k];
     x[i] = sum / l[i + i * n];
   }

@@ -39,6 +39,10 @@ class SpdSolver {
   // b := M⁻¹·b (n).
   void solve_in_place(Vector& b) const;
 
+  // x := -M⁻¹·b (n, x sized): the negation folded into the forward substitution
+  // (M·qdd = -h without a pass to negate h).
+  void solve_negated(const Vector& b, Vector& x) const;
+
   // min_k D_k / M_kk of the last factorization: the share of its own
   // inertia the worst coordinate has left (<= 0: M is not positive definite).
   double smallest_pivot_ratio() const { return smallest_ratio_; }
@@ -51,6 +55,8 @@ class SpdSolver {
  private:
   bool factor_by_columns(const Matrix& M);
   bool factor_blocked(const Matrix& M);
+  template <bool negate>
+  void solve(const double* b, Vector& out) const;
 
   Matrix L_;  // (n x n) its lower triangle is L
   double smallest_ratio_ = 0.0;

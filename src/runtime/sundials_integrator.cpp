@@ -91,6 +91,7 @@ void SundialsIntegrator::setup(Sundials& sun, CallbackData& data, const State& i
   check(solver_.set_user_data(mem, &data), "SetUserData", data);
   check(solver_.set_weights(mem, error_weights), "WFtolerances", data);
   check(solver_.set_linear_solver(mem, sun.linear_solver, sun.A), "SetLinearSolver", data);
+  check(solver_.set_jacobian(mem, jacobian), "SetJacFn", data);
   check(solver_.set_max_steps(mem, 1000000000L), "SetMaxNumSteps", data);
   check(solver_.set_stop_time(mem, t_end), "SetStopTime", data);
   check(solver_.set_min_step(mem, options_.min_step), "SetMinStep", data);
@@ -142,6 +143,11 @@ State SundialsIntegrator::run(DynamicSystem& system, const State& initial, doubl
   if (2 * data.n + data.m == 0) throw ModelError(fmt::format("integrator '{}': the system has no state", name()));
   ErrorWeights weights(options_, name(), data.n, data.m);
   data.weights = &weights;
+  data.scale = Vector::Ones(2 * data.n + data.m);
+  for (std::size_t i = 0; i < options_.q_scale.size(); ++i) data.scale[static_cast<Eigen::Index>(i)] = options_.q_scale[i];
+  data.x.resize(2 * data.n + data.m);
+  data.qdd.resize(data.n);
+  data.yd.resize(data.m);
   Sundials sun(solver_);
   setup(sun, data, initial, t_end);
 

@@ -36,6 +36,9 @@ struct SundialsSolver {
   int (*set_user_data)(void* mem, void* data);
   int (*set_weights)(void* mem, int (*)(N_Vector, N_Vector, void*));
   int (*set_linear_solver)(void* mem, SUNLinearSolver solver, SUNMatrix A);
+  // The Jacobian callback (CVodeSetJacFn): ours, jacobian() in sundials_support.hpp.
+  int (*set_jacobian)(void* mem, int (*)(double t, N_Vector x, N_Vector fx, SUNMatrix J, void* data, N_Vector,
+                                         N_Vector, N_Vector));
   int (*set_max_steps)(void* mem, long steps);
   int (*set_stop_time)(void* mem, double t);
   int (*set_min_step)(void* mem, double h);

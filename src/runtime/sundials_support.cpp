@@ -1,12 +1,16 @@
 #include <symdyn/runtime/sundials_support.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include <fmt/format.h>
+#include <sunmatrix/sunmatrix_dense.h>
 
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime::detail {
-
 
 void unpack(CallbackData& d, double t, N_Vector x) {
   const Eigen::Map<const Vector> xv(N_VGetArrayPointer(x), 2 * d.n + d.m);
@@ -42,11 +46,47 @@ int right_hand_side(realtype t, N_Vector x, N_Vector dx, void* user) {
   }
 }
 
+int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector) {
+  auto& d = *static_cast<CallbackData*>(user);
+  const int n = d.n, m = d.m, size = 2 * n + m;
+  Eigen::Map<Matrix> jac(SUNDenseMatrix_Data(J), size, size);  // column-major, as SUNDIALS' dense matrices
+  const Eigen::Map<const Vector> f0(N_VGetArrayPointer(fx), size);
+  try {
+    unpack(d, t, x);
+    jac.setZero();
+    jac.block(0, n, n, n).setIdentity();
+    for (int j = 0; j < size; ++j) {
+      double& xj = j < n ? d.s.q[j] : j < 2 * n ? d.s.qd[j - n] : d.s.y[j - 2 * n];
+      const double saved = xj;
+      xj = saved + std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(std::abs(saved), d.scale[j]);
+      const double step = xj - saved;  // the step as represented
+      ++d.evaluations;
+      d.system->accelerations(d.s, d.qdd, d.yd);
+      const std::string bad = non_finite_value(*d.system, d.s, d.qdd, d.yd);
+      xj = saved;
+      if (!bad.empty()) {
+        d.last_failure = at_time(t, bad);
+        return 1;
+      }
+      jac.col(j).segment(n, n) = (d.qdd - f0.segment(n, n)) / step;
+      jac.col(j).tail(m) = (d.yd - f0.tail(m)) / step;
+    }
+    return 0;
+  } catch (const NumericError& e) {
+    d.last_failure = at_time(t, e.what());
+    return 1;
+  } catch (...) {
+    d.error = std::current_exception();
+    return -1;
+  }
+}
+
 // ewt = 1/w (SUNDIALS multiplies by its weights).
 int error_weights(N_Vector x, N_Vector ewt, void* user) {
   auto& d = *static_cast<CallbackData*>(user);
   const Eigen::Map<const Vector> xv(N_VGetArrayPointer(x), 2 * d.n + d.m);
-  const Vector& w = d.weights->update(xv, xv);
+  d.x = xv;
+  const Vector& w = d.weights->update(d.x, d.x);
   Eigen::Map<Vector>(N_VGetArrayPointer(ewt), w.size()) = w.cwiseInverse();
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include <nvector/nvector_serial.h>
+#include <sundials/sundials_matrix.h>
 
 #include <symdyn/runtime/integrator.hpp>
 
@@ -18,6 +19,8 @@ struct CallbackData {
   int m = 0;
   State s;
   Vector qdd, yd;
+  Vector x;      // (2n + m) the solver's state for the error weights, copied: no allocation per step
+  Vector scale;  // (2n + m) the size below which a difference step does not shrink: q_scale, else 1
   long evaluations = 0;
   std::string last_failure;     // last non-finite value or NumericError, with its time
   std::string solver_message;   // the solver's own message of its last error
@@ -31,6 +34,12 @@ void unpack(CallbackData& d, double t, N_Vector x);
 // dx = (qd, qdd, yd). Returns 0, 1 (recoverable: the solver retries with a smaller
 // step) or -1 (unrecoverable: the exception is kept and rethrown).
 int right_hand_side(realtype t, N_Vector x, N_Vector dx, void* user);
+
+// J = d(qd, qdd, yd)/d(q, qd, y) (2n + m square): the rows of qd exactly (0, I, 0),
+// the others by forward differences of the accelerations, a step of sqrt(eps)·max(|x_j|,
+// scale_j). Ours rather than the solver's difference Jacobian, which allocates at each
+// call and differences the rows it could know. Returns as right_hand_side.
+int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector);
 
 // The solver's error weights are the inverses of ours (ErrorWeights), at the current x.
 int error_weights(N_Vector x, N_Vector ewt, void* user);

@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
 #include "runtime/test_systems.hpp"
 
@@ -423,3 +425,58 @@ TEST_CASE("a larger q_scale loosens the position error test", "[integrator][weig
 }
 
 }  // namespace
+
+// global_tolerance bounds the error of every output, not of each step: the run is
+// repeated at tighter tolerances, and only the last run's outputs are delivered.
+TEST_CASE("global_tolerance bounds the error at every output of 20 periods", "[integrator][global]") {
+  Oscillator osc;
+  // |q - cos 2 pi t| and |qd + 2 pi sin 2 pi t| over the outputs.
+  const auto worst_error = [](const std::vector<Sample>& out) {
+    double worst = 0.0;
+    for (const Sample& o : out) {
+      const double t = o.s.t;
+      worst = std::max({worst, std::abs(o.s.q[0] - std::cos(two_pi * t)),
+                        std::abs(o.s.qd[0] + two_pi * std::sin(two_pi * t))});
+    }
+    return worst;
+  };
+  for (const std::string name : {"dopri5", "dop853", "cvode"}) {
+    CAPTURE(name);
+    IntegratorOptions o = tight(name, 1e-5, 0.1);
+    Statistics local, global;
+    const double local_error = worst_error(run(name, o, osc, initial_state(1.0, 0.0), 20.0, &local));
+    o.global_tolerance = 1e-6;
+    const auto out = run(name, o, osc, initial_state(1.0, 0.0), 20.0, &global);
+    INFO("error " << local_error << " in " << local.steps << " steps; with global_tolerance "
+                  << worst_error(out) << " (estimated " << global.global_error_estimate << ") in "
+                  << global.runs << " runs, the last at " << global.last_relative_tolerance);
+    CHECK(local_error > 1e-6);  // the step tolerance alone does not hold it
+    REQUIRE(out.size() == 201);  // one run's outputs
+    CHECK(worst_error(out) < 1e-6);
+    CHECK(global.global_error_estimate <= 1e-6);
+    CHECK(global.runs >= 2);
+    CHECK(global.steps > local.steps);  // every run's work counted
+  }
+  // An output at every step: the last run's steps, once, in order.
+  IntegratorOptions every = tight("dopri5", 1e-5, 0.0);
+  every.global_tolerance = 1e-6;
+  const auto steps = run("dopri5", every, osc, initial_state(1.0, 0.0), 20.0);
+  REQUIRE(steps.size() > 2);
+  CHECK(steps.front().s.t == 0.0);
+  CHECK(steps.back().s.t == 20.0);
+  const auto not_after = [](const Sample& a, const Sample& b) { return !(b.s.t > a.s.t); };
+  CHECK(std::adjacent_find(steps.begin(), steps.end(), not_after) == steps.end());
+  CHECK(worst_error(steps) < 1e-6);
+  IntegratorOptions bad = tight("dopri5", 1e-6, 0.1);
+  bad.global_tolerance = -1.0;
+  CHECK_THROWS_AS(make_integrator("dopri5", bad)->integrate(osc, initial_state(1.0, 0.0), 1.0), OptionError);
+}
+
+TEST_CASE("a global_tolerance out of reach is refused, naming it", "[integrator][global]") {
+  Oscillator osc;
+  IntegratorOptions o = tight("dopri5", 1e-6, 0.0);
+  o.global_tolerance = 1e-17;  // below rounding: no local tolerance gets there
+  Statistics stats;
+  CHECK_THROWS_WITH(run("dopri5", o, osc, initial_state(1.0, 0.0), 2.0, &stats),
+                    Catch::Matchers::Contains("global_tolerance 1e-17 not reached"));
+}

@@ -62,12 +62,14 @@ inline std::vector<Problem> problems() {
   return out;
 }
 
-// The final state of `integrator` at rtol = atol = tol, outputs only at t_end.
+// The final state of `integrator` at rtol = atol = tol, outputs only at t_end
+// (global: IntegratorOptions::global_tolerance).
 inline State solve(Problem& p, const std::string& integrator, double tol, Statistics* stats = nullptr,
-                   double step = 0.0) {
+                   double step = 0.0, double global = 0.0) {
   IntegratorOptions o;
   o.relative_tolerance = tol;
   o.absolute_tolerance = tol;
+  o.global_tolerance = global;
   o.output_times = {p.t_end};
   o.initial_step = step;
   auto integ = symdyn::runtime::make_integrator(integrator, o);
