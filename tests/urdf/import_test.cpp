@@ -1,0 +1,301 @@
+// URDF robots imported (model/urdf.hpp) against the same robots written by hand
+// with the builder, body by body (R, x, v, w, a, dw, partial velocities) and
+// through the equations of motion (M, h) at random states; and the imported
+// positions against a direct product of the URDF's 4x4 transforms, written
+// here from the file's numbers (Eigen, angle-axis rotations).
+#include <catch2/catch.hpp>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include <symdyn/model/urdf.hpp>
+#include "support/equations_checks.hpp"
+
+using namespace symdyn;
+using namespace symdyn::testing;
+using model::Expr;
+using model::Transform;
+
+namespace {
+
+constexpr double kTolerance = 1e-12;
+constexpr double kHalfPi = 1.5707963267948966;
+
+std::string robot_path(const std::string& file) { return std::string(SYMDYN_URDF_DIR) + "/" + file; }
+
+model::Mat3 tensor(double xx, double xy, double xz, double yy, double yz, double zz) {
+  return {Expr(xx), Expr(xy), Expr(xz), Expr(xy), Expr(yy), Expr(yz), Expr(xz), Expr(yz), Expr(zz)};
+}
+
+// A URDF <origin>, as a user of the builder writes it: xyz, then Rz(yaw)·Ry(pitch)·Rx(roll).
+Transform origin(double x, double y, double z, double roll = 0, double pitch = 0, double yaw = 0) {
+  return model::Tdisp(x, y, z) * model::Trotz(yaw) * model::Troty(pitch) * model::Trotx(roll);
+}
+
+// ---- The same robots by hand, absolute motions from the ground. ----
+
+model::Model two_link_arm_by_hand() {
+  using namespace model;
+  Model m("two_link_arm");
+  const Expr q1 = m.coordinate("shoulder"), q2 = m.coordinate("elbow");
+  m.body("upper_arm").mass(1.5).inertia(0.001, 0.0315, 0.0315).motion(Troty(q1) * Tdisp(0.25, 0, 0));
+  m.body("forearm").mass(0.8).inertia(0.0005, 0.011, 0.011)
+      .motion(Troty(q1) * Tdisp(0.5, 0, 0) * Troty(q2) * Tdisp(0.2, 0, 0));
+  m.gravity(0, 0, -9.81);
+  return m;
+}
+
+// The arm on a free base: x, y, z, then yaw, pitch, roll of the base link.
+model::Model floating_two_link_arm_by_hand() {
+  using namespace model;
+  Model m("two_link_arm");
+  std::vector<Expr> b;
+  for (const char* s : {"base_link_x", "base_link_y", "base_link_z", "base_link_yaw", "base_link_pitch", "base_link_roll"}) {
+    b.push_back(m.coordinate(s));
+  }
+  const Expr q1 = m.coordinate("shoulder"), q2 = m.coordinate("elbow");
+  const Transform base = Tdisp(b[0], b[1], b[2]) * Trotz(b[3]) * Troty(b[4]) * Trotx(b[5]);
+  m.body("upper_arm").mass(1.5).inertia(0.001, 0.0315, 0.0315).motion(base * Troty(q1) * Tdisp(0.25, 0, 0));
+  m.body("forearm").mass(0.8).inertia(0.0005, 0.011, 0.011)
+      .motion(base * Troty(q1) * Tdisp(0.5, 0, 0) * Troty(q2) * Tdisp(0.2, 0, 0));
+  m.gravity(0, 0, -9.81);
+  return m;
+}
+
+model::Model mobile_base_by_hand() {
+  using namespace model;
+  Model m("mobile_base");
+  const Expr x = m.coordinate("base_x"), y = m.coordinate("base_y"), yaw = m.coordinate("base_yaw");
+  const Expr left = m.coordinate("wheel_left"), right = m.coordinate("wheel_right");
+  const Transform chassis_frame = Tdisp(x, y, 0.1) * Trotz(yaw);
+  m.body("chassis").mass(12).inertia(tensor(0.3, 0.01, -0.02, 0.5, 0.005, 0.7))
+      .motion(chassis_frame * origin(-0.05, 0, 0.05, 0, 0, 0.3));
+  m.body("caster").mass(0.2).inertia(0.0001, 0.0001, 0.0001).motion(chassis_frame * Tdisp(-0.25, 0, -0.05));
+  m.body("left_wheel").mass(0.5).inertia(0.0015, 0.0015, 0.0025)
+      .motion(chassis_frame * origin(0.1, 0.2, 0, -kHalfPi) * Trotz(left));
+  m.body("right_wheel").mass(0.5).inertia(0.0015, 0.0025, 0.0015).motion(chassis_frame * Tdisp(0.1, -0.2, 0) * Troty(right));
+  m.gravity(0, 0, -9.81);
+  return m;
+}
+
+model::Model six_dof_arm_by_hand() {
+  using namespace model;
+  Model m("six_dof_arm");
+  std::vector<Expr> q;
+  for (const char* s : {"joint1", "joint2", "joint3", "joint4", "joint5", "joint6"}) q.push_back(m.coordinate(s));
+  const Transform base = origin(0.1, -0.2, 0.05, 0, 0, 0.4);
+  const Transform l1 = base * Tdisp(0, 0, 0.1) * Trotz(q[0]);
+  const Transform l2 = l1 * origin(0, 0, 0.2, 0, 0, 0.5) * Troty(q[1]);
+  const Transform l3 = l2 * origin(0.4, 0, 0, 0.2) * Trot({Expr(0), Expr(0.6), Expr(0.8)}, q[2]);
+  const Transform l4 = l3 * origin(0.3, 0, 0, 0, 0, -0.3) * Trotx(-q[3]);
+  const Transform l5 = l4 * origin(0.05, 0, 0, 0.5, 0.1) * Trotz(q[4]);
+  const double s = std::sqrt(0.5);
+  const Transform l6 = l5 * Tdisp(0.08, 0, 0) * Trot({Expr(s), Expr(s), Expr(0)}, q[5]);
+  const Transform grip = l6 * origin(0.05, 0, 0, 0, kHalfPi);
+  m.body("base_link").mass(4).inertia(0.02, 0.02, 0.03).motion(base * Tdisp(0, 0, 0.05));
+  m.body("link1").mass(3).inertia(tensor(0.02, 0.001, -0.002, 0.03, 0.0015, 0.025))
+      .motion(l1 * origin(0, 0.01, 0.1, 0.1, 0.2, 0.3));
+  m.body("link2").mass(2.5).inertia(tensor(0.004, -0.0005, 0.0003, 0.04, 0.0002, 0.041))
+      .motion(l2 * origin(0.2, 0, 0.02, 0.3, -0.2, 0.1));
+  m.body("link3").mass(1.5).inertia(tensor(0.002, 0.0001, 0, 0.012, -0.0003, 0.0125))
+      .motion(l3 * origin(0.15, 0.01, 0, 0, 0.25));
+  m.body("link5").mass(0.8).inertia(tensor(0.0008, 0.00005, -0.00002, 0.001, 0.00003, 0.0009))
+      .motion(l5 * origin(0.04, 0, 0.01, -0.2, 0, 0.4));
+  m.body("link6").mass(0.3).inertia(tensor(0.0002, 0, 0.00001, 0.00025, 0, 0.0003))
+      .motion(l6 * origin(0.02, 0.01, 0, 0, 0, 0.7));
+  m.body("gripper").mass(0.4).inertia(0.0003, 0.0003, 0.0002).motion(grip * Tdisp(0, 0, 0.03));
+  m.gravity(0, 0, -9.81);
+  return m;
+}
+
+// ---- The URDF transforms as numbers: 4x4 products, independent of the builder. ----
+
+using Pose = Eigen::Matrix4d;
+
+Pose pose(double x, double y, double z, double roll = 0, double pitch = 0, double yaw = 0) {
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  Pose T = Pose::Identity();
+  T.block<3, 3>(0, 0) = R;
+  T.block<3, 1>(0, 3) = Eigen::Vector3d(x, y, z);
+  return T;
+}
+
+Pose revolute(Eigen::Vector3d axis, double q) {
+  Pose T = Pose::Identity();
+  T.block<3, 3>(0, 0) = Eigen::AngleAxisd(q, axis.normalized()).toRotationMatrix();
+  return T;
+}
+
+Pose prismatic(Eigen::Vector3d axis, double q) {
+  Pose T = Pose::Identity();
+  T.block<3, 1>(0, 3) = q * axis.normalized();
+  return T;
+}
+
+// Each body's T0G at the coordinates q, in the model's body order.
+using DirectPoses = std::function<std::vector<Pose>(const std::vector<double>&)>;
+
+std::vector<Pose> two_link_arm_poses(const std::vector<double>& q) {
+  const Pose l1 = revolute({0, 1, 0}, q[0]);
+  const Pose l2 = l1 * pose(0.5, 0, 0) * revolute({0, 1, 0}, q[1]);
+  return {l1 * pose(0.25, 0, 0), l2 * pose(0.2, 0, 0)};
+}
+
+std::vector<Pose> mobile_base_poses(const std::vector<double>& q) {
+  const Pose chassis = prismatic({1, 0, 0}, q[0]) * prismatic({0, 1, 0}, q[1]) * pose(0, 0, 0.1) * revolute({0, 0, 1}, q[2]);
+  return {chassis * pose(-0.05, 0, 0.05, 0, 0, 0.3), chassis * pose(-0.25, 0, -0.05),
+          chassis * pose(0.1, 0.2, 0, -kHalfPi) * revolute({0, 0, 1}, q[3]),
+          chassis * pose(0.1, -0.2, 0) * revolute({0, 1, 0}, q[4])};
+}
+
+std::vector<Pose> six_dof_arm_poses(const std::vector<double>& q) {
+  const Pose base = pose(0.1, -0.2, 0.05, 0, 0, 0.4);
+  const Pose l1 = base * pose(0, 0, 0.1) * revolute({0, 0, 1}, q[0]);
+  const Pose l2 = l1 * pose(0, 0, 0.2, 0, 0, 0.5) * revolute({0, 1, 0}, q[1]);
+  const Pose l3 = l2 * pose(0.4, 0, 0, 0.2) * revolute({0, 3, 4}, q[2]);
+  const Pose l4 = l3 * pose(0.3, 0, 0, 0, 0, -0.3) * revolute({-1, 0, 0}, q[3]);
+  const Pose l5 = l4 * pose(0.05, 0, 0, 0.5, 0.1) * revolute({0, 0, 1}, q[4]);
+  const Pose l6 = l5 * pose(0.08, 0, 0) * revolute({1, 1, 0}, q[5]);
+  const Pose gripper = l6 * pose(0.05, 0, 0, 0, kHalfPi);
+  return {base * pose(0, 0, 0.05),
+          l1 * pose(0, 0.01, 0.1, 0.1, 0.2, 0.3),
+          l2 * pose(0.2, 0, 0.02, 0.3, -0.2, 0.1),
+          l3 * pose(0.15, 0.01, 0, 0, 0.25),
+          l5 * pose(0.04, 0, 0.01, -0.2, 0, 0.4),
+          l6 * pose(0.02, 0.01, 0, 0, 0, 0.7),
+          gripper * pose(0, 0, 0.03)};
+}
+
+// ---- The comparisons. ----
+
+std::vector<std::string> coordinate_names(const model::Model& m) {
+  std::vector<std::string> names;
+  for (const auto& c : m.coordinates()) names.push_back(c.q.name());
+  return names;
+}
+
+std::vector<std::string> body_names(const model::Model& m) {
+  std::vector<std::string> names;
+  for (const auto& b : m.bodies()) names.push_back(b.name());
+  return names;
+}
+
+States random_states(std::size_t nq, unsigned seed) {
+  std::mt19937 rng(seed);
+  States states;
+  for (int k = 0; k < 8; ++k) states.push_back(random_state(rng, nq));
+  return states;
+}
+
+void check_against_hand_written(const model::Model& imported, const model::Model& by_hand) {
+  REQUIRE(coordinate_names(imported) == coordinate_names(by_hand));
+  REQUIRE(body_names(imported) == body_names(by_hand));
+  const model::Kinematics ki = derive_for_test(imported, false, true), kh = derive_for_test(by_hand, false, true);
+  const model::Dynamics di = model::derive_dynamics(imported, ki), dh = model::derive_dynamics(by_hand, kh);
+  const States states = random_states(imported.coordinates().size(), 7);
+  check_kinematics_agree(imported, ki, by_hand, kh, states, kTolerance);
+  Gap gap;
+  for (const auto& s : states) {
+    const Equations a = derived_equations(imported, ki, di, s), b = derived_equations(by_hand, kh, dh, s);
+    gap.add(relative_gap(a.M, b.M), "M");
+    gap.add(relative_gap(a.h, b.h), "h");
+  }
+  check_gap(gap, kTolerance);
+  // and the imported equations against the direct sums over its bodies
+  check_gap(equations_gap(imported, ki, di, states), kTolerance);
+}
+
+void check_against_direct_poses(const model::Model& imported, const DirectPoses& direct) {
+  const model::Kinematics k = derive_for_test(imported, false, false);
+  Gap gap;
+  for (const auto& s : random_states(imported.coordinates().size(), 11)) {
+    const auto b = bind_state(imported, k, s);
+    symbolic::Evaluator<double> eval(b);
+    const std::vector<Pose> T = direct(s.q);
+    REQUIRE(T.size() == k.bodies.size());
+    for (std::size_t i = 0; i < T.size(); ++i) {
+      gap.add(relative_gap(eval33(k.bodies[i].R, eval), T[i].block<3, 3>(0, 0)), body_place(imported, i, "R"));
+      gap.add(relative_gap(eval3(k.bodies[i].x, eval), T[i].block<3, 1>(0, 3)), body_place(imported, i, "x"));
+    }
+  }
+  check_gap(gap, kTolerance);
+}
+
+}  // namespace
+
+TEST_CASE("URDF two-link arm: the hand-written model and the 4x4 products", "[urdf]") {
+  const model::UrdfRobot robot = model::import_urdf_file(robot_path("two_link_arm.urdf"));
+  CHECK(robot.model.name() == "two_link_arm");
+  check_against_hand_written(robot.model, two_link_arm_by_hand());
+  check_against_direct_poses(robot.model, two_link_arm_poses);
+}
+
+TEST_CASE("URDF two-link arm on a floating base (UrdfOptions::floating_base)", "[urdf]") {
+  model::UrdfOptions options;
+  options.floating_base = true;
+  const model::UrdfRobot robot = model::import_urdf_file(robot_path("two_link_arm.urdf"), options);
+  check_against_hand_written(robot.model, floating_two_link_arm_by_hand());
+  REQUIRE(robot.joints.size() == 3);
+  CHECK(robot.joints[0].name == "base_link");
+  CHECK(robot.joints[0].type == "floating");
+  CHECK(robot.joints[0].coordinates.size() == 6);
+}
+
+TEST_CASE("URDF mobile base: prismatic and yaw joints through massless links, wheels, a fixed caster", "[urdf]") {
+  const model::UrdfRobot robot = model::import_urdf_file(robot_path("mobile_base.urdf"));
+  check_against_hand_written(robot.model, mobile_base_by_hand());
+  check_against_direct_poses(robot.model, mobile_base_poses);
+}
+
+TEST_CASE("URDF 6-DOF arm: oblique axes, rotated origins, massless and fixed links", "[urdf]") {
+  const model::UrdfRobot robot = model::import_urdf_file(robot_path("six_dof_arm.urdf"));
+  check_against_hand_written(robot.model, six_dof_arm_by_hand());
+  check_against_direct_poses(robot.model, six_dof_arm_poses);
+}
+
+TEST_CASE("URDF joint limits are kept as data, the initial configuration within them", "[urdf]") {
+  const model::UrdfRobot robot = model::import_urdf_file(robot_path("six_dof_arm.urdf"));
+  std::vector<std::string> names;
+  for (const auto& j : robot.joints) names.push_back(j.name);
+  // every joint, fixed ones included, depth-first with children in the order of their joints' names
+  CHECK(names == std::vector<std::string>{"mount", "joint1", "joint2", "joint3", "joint4", "joint5", "camera_mount",
+                                          "joint6", "gripper_mount", "tool_mount"});
+  const model::UrdfJoint& j3 = robot.joints[3];
+  CHECK(j3.type == "revolute");
+  CHECK(j3.coordinates == std::vector<std::string>{"joint3"});
+  REQUIRE(j3.limits);
+  CHECK(j3.limits->lower == -2.5);
+  CHECK(j3.limits->upper == 2.5);
+  CHECK(j3.limits->velocity == 3.0);
+  CHECK(j3.limits->effort == 80.0);
+  const model::UrdfJoint& j6 = robot.joints[7];
+  CHECK(j6.type == "continuous");
+  REQUIRE(j6.limits);
+  CHECK(j6.limits->velocity == 6.0);
+  CHECK(robot.joints[0].type == "fixed");
+  CHECK(robot.joints[0].coordinates.empty());
+  CHECK_FALSE(robot.joints[0].limits);
+
+  // a coordinate whose range excludes 0 starts at its nearest limit
+  const std::string lifted = R"(<robot name="lift"><link name="a"/>
+    <joint name="lift" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+      <limit lower="0.2" upper="0.5" velocity="1" effort="100"/></joint>
+    <link name="b"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    </robot>)";
+  CHECK(model::import_urdf(lifted).model.coordinates()[0].initial == 0.2);
+}
+
+TEST_CASE("URDF gravity is (0, 0, -9.81) unless set", "[urdf]") {
+  const auto path = robot_path("two_link_arm.urdf");
+  CHECK(model::import_urdf_file(path).model.gravity()[2].number().to_double() == -9.81);
+  model::UrdfOptions options;
+  options.gravity[0] = 1.0;
+  options.gravity[2] = -1.62;
+  const model::Model moon = model::import_urdf_file(path, options).model;
+  CHECK(moon.gravity()[0].number().to_double() == 1.0);
+  CHECK(moon.gravity()[2].number().to_double() == -1.62);
+}
