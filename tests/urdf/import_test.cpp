@@ -299,3 +299,47 @@ TEST_CASE("URDF gravity is (0, 0, -9.81) unless set", "[urdf]") {
   CHECK(moon.gravity()[0].number().to_double() == 1.0);
   CHECK(moon.gravity()[2].number().to_double() == -1.62);
 }
+
+TEST_CASE("URDF: the pendulum of docs/urdf.md is the builder model the page says", "[urdf]") {
+  const std::string xml = R"(<?xml version="1.0"?>
+<robot name="pendulum">
+  <link name="world"/>
+  <joint name="hinge" type="continuous">
+    <parent link="world"/>
+    <child link="rod"/>
+    <origin xyz="0 0 1" rpy="0 0 0"/>
+    <axis xyz="0 1 0"/>
+  </joint>
+  <link name="rod">
+    <inertial>
+      <origin xyz="0 0 -0.5"/>
+      <mass value="1"/>
+      <inertia ixx="0.0833" ixy="0" ixz="0" iyy="0.0833" iyz="0" izz="0.001"/>
+    </inertial>
+  </link>
+</robot>)";
+  model::Model by_hand("pendulum");
+  const Expr q = by_hand.coordinate("hinge");
+  by_hand.body("rod").mass(1).inertia(0.0833, 0.0833, 0.001)
+      .motion(model::Tdisp(0, 0, 1) * model::Troty(q) * model::Tdisp(0, 0, -0.5));
+  by_hand.gravity(0, 0, -9.81);
+  check_against_hand_written(model::import_urdf(xml).model, by_hand);
+}
+
+TEST_CASE("URDF: a floating joint gives six coordinates named after it", "[urdf]") {
+  const std::string xml = R"(<robot name="drone"><link name="world"/>
+    <joint name="free" type="floating"><parent link="world"/><child link="body"/><origin xyz="0 0 1"/></joint>
+    <link name="body"><inertial><origin xyz="0.1 0 0" rpy="0 0 0.2"/><mass value="2"/>
+      <inertia ixx="0.01" iyy="0.02" izz="0.025" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)";
+  const model::UrdfRobot robot = model::import_urdf(xml);
+  CHECK(coordinate_names(robot.model) ==
+        std::vector<std::string>{"free_x", "free_y", "free_z", "free_yaw", "free_pitch", "free_roll"});
+  model::Model by_hand("drone");
+  std::vector<Expr> f;
+  for (const auto& n : coordinate_names(robot.model)) f.push_back(by_hand.coordinate(n));
+  by_hand.body("body").mass(2).inertia(0.01, 0.02, 0.025)
+      .motion(model::Tdisp(0, 0, 1) * model::Tdisp(f[0], f[1], f[2]) * model::Trotz(f[3]) * model::Troty(f[4]) *
+              model::Trotx(f[5]) * origin(0.1, 0, 0, 0, 0, 0.2));
+  by_hand.gravity(0, 0, -9.81);
+  check_against_hand_written(robot.model, by_hand);
+}
