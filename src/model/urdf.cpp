@@ -54,7 +54,8 @@ std::string identifier_shaped(const std::string& name) {
   return out;
 }
 
-bool is_massive(const urdf::Link& link) { return link.inertial && link.inertial->mass > 0.0; }
+// Zero mass makes a frame; any other mass a body, a negative or NaN one refused by the builder's checks naming it.
+bool is_massive(const urdf::Link& link) { return link.inertial && link.inertial->mass != 0.0; }
 
 // Translation by xyz, then rotation Rz(yaw)·Ry(pitch)·Rx(roll); factors that do nothing are left out.
 Transform pose_transform(const urdf::Pose& pose) {

@@ -6,10 +6,10 @@
 //   for (const model::UrdfJoint& j : robot.joints) ... j.limits ...
 //
 // Mapping:
-//   link with <inertial> and mass > 0   a body, its frame at the centre of mass
+//   link with <inertial> and a mass     a body, its frame at the centre of mass
 //                                       with the axes of the <inertial> origin,
 //                                       its full inertia tensor as given;
-//   link without mass                   a frame: its children hang on its
+//   link without mass (or of mass 0)    a frame: its children hang on its
 //                                       nearest massive ancestor;
 //   body motion                         relative to the nearest massive ancestor
 //                                       (or the ground): inverse of that
@@ -33,7 +33,9 @@
 // Errors (ModelError, naming the file, link or joint): unreadable file, urdfdom's
 // parse errors, unsupported joints, an axis of zero length, a coordinate that
 // moves no body (a movable joint with no mass beyond it), closed loops; the
-// builder's own checks name the body of a non-physical inertia.
+// builder's own checks name the body of a non-physical mass or inertia.
+// urdfdom reports its errors through console_bridge's global output handler,
+// which the importer takes over while parsing: import from one thread at a time.
 
 #include <optional>
 #include <string>

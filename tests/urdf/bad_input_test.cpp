@@ -70,6 +70,13 @@ TEST_CASE("URDF: a non-physical inertia is refused by the builder's checks, nami
   CHECK_THROWS_WITH(robot.model.validate(), Contains("body 'flat'"));
 }
 
+TEST_CASE("URDF: a negative mass is refused by the builder's checks, naming the body", "[urdf][errors]") {
+  const std::string xml = R"(<robot name="r"><link name="a"/><link name="ghost">
+    <inertial><mass value="-1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    <joint name="j" type="continuous"><parent link="a"/><child link="ghost"/></joint></robot>)";
+  CHECK_THROWS_WITH(model::import_urdf(xml).model.validate(), Contains("body 'ghost'"));
+}
+
 TEST_CASE("URDF: closed loops are refused", "[urdf][errors]") {
   const std::string xml = R"(<robot name="r"><link name="a"/><link name="b">)" + std::string(kLink) +
                           R"(</link><link name="c">)" + kLink + R"(</link>
