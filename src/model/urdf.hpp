@@ -1,5 +1,6 @@
 #pragma once
-// A robot described in URDF, imported as a symdyn model (docs/urdf.md).
+// A robot described in URDF, imported as a symdyn model (docs/urdf.md); the
+// library symdyn::urdf, which alone needs urdfdom.
 //
 //   const model::UrdfRobot robot = model::import_urdf_file("arm.urdf");
 //   codegen::generate(robot.model, "default", "arm");
