@@ -34,14 +34,34 @@ class CollectedMessages : public console_bridge::OutputHandler {
   std::vector<std::string> errors_;
 };
 
-urdf::ModelInterfaceSharedPtr parse(std::string_view xml) {
+// urdfdom's model, freed whole: links own their children through shared
+// pointers, so a closed loop (which urdfdom lets through) would never be freed.
+class ParsedRobot {
+ public:
+  explicit ParsedRobot(urdf::ModelInterfaceSharedPtr robot) : robot_(std::move(robot)) {}
+  ~ParsedRobot() {
+    for (auto& [name, link] : robot_->links_) {
+      link->child_links.clear();
+      link->child_joints.clear();
+    }
+  }
+  ParsedRobot(const ParsedRobot&) = delete;
+  ParsedRobot& operator=(const ParsedRobot&) = delete;
+  const urdf::ModelInterface& operator*() const { return *robot_; }
+  const urdf::ModelInterface* operator->() const { return robot_.get(); }
+
+ private:
+  urdf::ModelInterfaceSharedPtr robot_;
+};
+
+ParsedRobot parse(std::string_view xml) {
   CollectedMessages messages;
   urdf::ModelInterfaceSharedPtr robot = urdf::parseURDF(std::string(xml));
   if (!robot) {
     const std::string why = messages.errors().empty() ? "not a URDF robot" : fmt::format("{}", fmt::join(messages.errors(), "; "));
     throw ModelError(fmt::format("URDF: {}", why));
   }
-  return robot;
+  return ParsedRobot(std::move(robot));
 }
 
 // A URDF name as a symdyn name: every character that cannot be in an identifier becomes '_'.
@@ -237,14 +257,14 @@ class Importer {
 }  // namespace
 
 std::vector<UrdfJoint> add_urdf(Model& model, std::string_view urdf_xml, const UrdfOptions& options) {
-  const urdf::ModelInterfaceSharedPtr robot = parse(urdf_xml);
+  const ParsedRobot robot = parse(urdf_xml);
   return Importer(model, *robot, options).run();
 }
 
 std::string urdf_robot_name(std::string_view urdf_xml) { return identifier_shaped(parse(urdf_xml)->getName()); }
 
 UrdfRobot import_urdf(std::string_view urdf_xml, const UrdfOptions& options) {
-  const urdf::ModelInterfaceSharedPtr robot = parse(urdf_xml);
+  const ParsedRobot robot = parse(urdf_xml);
   UrdfRobot out{Model(options.name.empty() ? identifier_shaped(robot->getName()) : options.name), {}};
   out.joints = Importer(out.model, *robot, options).run();
   return out;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "urdf_arm_with_payload.hpp"
 #include "urdf_six_dof_arm.hpp"
 #include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
@@ -38,4 +39,16 @@ TEST_CASE("the generated URDF arm keeps its energy in a free swing", "[urdf][sim
   INFO("largest energy error " << largest_error << " J, largest kinetic energy " << largest_kinetic << " J");
   CHECK(largest_kinetic > 1.0);  // it swung
   CHECK(largest_error < 1e-7 * largest_kinetic);
+}
+
+TEST_CASE("a model file extends an imported URDF robot with the builder", "[urdf][simulation]") {
+  const Model model = Model::from<symdyn_generated::urdf_arm_with_payload>();
+  CHECK(model.q_names() == std::vector<std::string>{"shoulder", "elbow"});
+  CHECK(model.body_names() == std::vector<std::string>{"upper_arm", "forearm", "payload"});
+  // at rest, arm horizontal: the shoulder torque is the moment of the weights about the shoulder
+  MultibodySystem arm(model, EquationsSource::emitted);
+  Vector h;
+  arm.bias_forces_emitted(arm.initial_state(), h);
+  const double weights = 9.81 * (1.5 * 0.25 + 0.8 * 0.7 + 2.0 * 1.0);  // payload 0.3 beyond the forearm's G
+  CHECK(std::abs(std::abs(h(0)) - weights) < 1e-12 * weights);
 }
