@@ -1,0 +1,207 @@
+#include <symdyn/codegen/generator_cli.hpp>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/errors.hpp>
+#include <symdyn/model/identifier.hpp>
+#include <symdyn/symbolic/errors.hpp>
+
+namespace {
+
+using namespace symdyn;
+
+constexpr int kExitModel = 1;
+constexpr int kExitCommandLine = 2;
+
+using codegen::CommandLineError;
+
+struct Arguments {
+  std::string out = ".";
+  std::string variant;
+  std::string basename;
+  std::string partials = "symbolic";
+  std::string model;
+  // Signed, so that a negative count is refused rather than wrapped around.
+  std::int64_t part_size = static_cast<std::int64_t>(codegen::kDefaultPartInstructions);
+  std::int64_t split_above = static_cast<std::int64_t>(codegen::kSplitAbove);
+  bool no_simplify = false;
+  bool no_eom = false;
+  bool list = false;
+  bool stats = false;
+};
+
+// What to generate, every argument checked.
+struct Job {
+  const model::Definition* definition = nullptr;
+  std::string variant;
+  std::string basename;
+  codegen::Options options;
+};
+
+// Writes a file only when its content changes, so that builds stay incremental.
+void write_if_changed(const std::filesystem::path& path, const std::string& content) {
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (in) {
+      const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      if (old == content) return;
+    }
+  }
+  std::ofstream out(path, std::ios::binary);
+  out << content;
+  if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+}
+
+std::vector<std::string> model_names() {
+  std::vector<std::string> names;
+  for (const model::Definition& d : model::registry()) names.push_back(d.name);
+  return names;
+}
+
+const model::Definition& choose_model(const std::string& name) {
+  const auto& all = model::registry();
+  if (all.empty()) throw model::ModelError("no model is linked into this generator");
+  if (!name.empty()) {
+    const auto it = std::find_if(all.begin(), all.end(), [&](const model::Definition& d) { return d.name == name; });
+    if (it == all.end()) {
+      throw CommandLineError(fmt::format("--model: no model named '{}' (models: {})", name, fmt::join(model_names(), ", ")));
+    }
+    return *it;
+  }
+  if (all.size() == 1) return all.front();
+  throw CommandLineError(fmt::format("{} models are linked in: choose one with --model (models: {})", all.size(),
+                                     fmt::join(model_names(), ", ")));
+}
+
+std::size_t count(std::int64_t value, std::int64_t minimum, const char* option) {
+  if (value < minimum) {
+    throw CommandLineError(fmt::format("{}: {} is out of range (it must be at least {})", option, value, minimum));
+  }
+  return static_cast<std::size_t>(value);
+}
+
+Job check_arguments(const Arguments& args) {
+  Job job;
+  job.definition = &choose_model(args.model);
+  const auto& variants = job.definition->variants;
+  if (variants.empty()) throw model::ModelError(fmt::format("model '{}' declares no variant", job.definition->name));
+  job.variant = args.variant.empty() ? variants.front() : args.variant;
+  if (std::find(variants.begin(), variants.end(), job.variant) == variants.end()) {
+    throw CommandLineError(fmt::format("--variant: model '{}' has no variant '{}' (variants: {})",
+                                       job.definition->name, job.variant, fmt::join(variants, ", ")));
+  }
+  if (!args.basename.empty()) {
+    if (auto problem = model::identifier_problem(args.basename)) {
+      throw CommandLineError(fmt::format("--basename: '{}' {}", args.basename, *problem));
+    }
+  }
+  job.basename = args.basename.empty() ? fmt::format("{}_{}", job.definition->name, job.variant) : args.basename;
+  job.options.simplify = !args.no_simplify;
+  job.options.symbolic_partials = args.partials == "symbolic";
+  job.options.equations_of_motion = !args.no_eom;
+  job.options.part_instructions = count(args.part_size, 1, "--part-size");
+  job.options.split_above = count(args.split_above, 0, "--split-above");
+  if (args.out.empty()) throw CommandLineError("--out: the directory name is empty");
+  const std::filesystem::path out(args.out);
+  std::error_code ec;
+  if (std::filesystem::exists(out, ec) && !std::filesystem::is_directory(out, ec)) {
+    throw CommandLineError(fmt::format("--out: '{}' exists and is not a directory", args.out));
+  }
+  return job;
+}
+
+// Every model linked in (or the one --model names), with its variants.
+int list(const std::string& name) {
+  if (!name.empty()) {
+    const model::Definition& d = choose_model(name);
+    fmt::print("{}: variants {}\n", d.name, fmt::join(d.variants, ", "));
+    return 0;
+  }
+  if (model::registry().empty()) throw model::ModelError("no model is linked into this generator");
+  for (const model::Definition& d : model::registry()) fmt::print("{}: variants {}\n", d.name, fmt::join(d.variants, ", "));
+  return 0;
+}
+
+int generate(const Job& job, const Arguments& args) {
+  const auto start = std::chrono::steady_clock::now();
+  const model::Model m = job.definition->make(job.variant);
+  const codegen::GeneratedCode code = codegen::generate(m, job.variant, job.basename, job.options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::filesystem::create_directories(args.out);
+  write_if_changed(std::filesystem::path(args.out) / (job.basename + ".hpp"), code.header);
+  write_if_changed(std::filesystem::path(args.out) / (job.basename + ".cpp"), code.source);
+  if (args.stats) {
+    fmt::print("model {} variant {}: generated in {:.4f} s, {} bytes ({} header + {} source)\n", job.definition->name,
+               job.variant, seconds, code.header.size() + code.source.size(), code.header.size(), code.source.size());
+    for (const auto& e : code.functions) {
+      fmt::print("  {:<22} {:>7} operations  {}\n", e.name, e.operations.total(), e.operations.str());
+    }
+  }
+  return 0;
+}
+
+int run(const Arguments& args, const codegen::GeneratorHooks& hooks) {
+  try {
+    if (hooks.prepare) hooks.prepare();
+    if (args.list) return list(args.model);
+    return generate(check_arguments(args), args);
+  } catch (const CommandLineError& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return kExitCommandLine;
+  } catch (const model::ModelError& e) {
+    std::cerr << "error: " << e.what() << '\n';
+  } catch (const symbolic::SymbolicError& e) {
+    std::cerr << "error: " << e.what() << '\n';
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << '\n';
+  }
+  return kExitModel;
+}
+
+}  // namespace
+
+namespace symdyn::codegen {
+
+int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
+  Arguments args;
+  CLI::App app{hooks.description.empty()
+                   ? "symdyn generator: derives the model's kinematics and equations of motion and emits C++"
+                   : hooks.description};
+  app.add_option("--out", args.out, "directory for <basename>.hpp and <basename>.cpp")->capture_default_str();
+  app.add_option("--variant", args.variant, "model variant (default: the model's first)");
+  app.add_option("--basename", args.basename,
+                 "file and struct name, a C++ identifier (default: <model>_<variant>)");
+  app.add_option("--model", args.model, "model name, when several are linked in");
+  app.add_flag("--no-simplify", args.no_simplify, "skip trigonometric simplification");
+  app.add_option("--partials", args.partials, "partial velocities")
+      ->check(CLI::IsMember({"numeric", "symbolic"}))
+      ->capture_default_str();
+  app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix and bias forces");
+  app.add_option("--part-size", args.part_size,
+                 "emit long entry points as shared functions of at most N statements each (N >= 1)")
+      ->capture_default_str();
+  app.add_option("--split-above", args.split_above,
+                 "share functions only if all entry points together are longer than N statements (N >= 0)")
+      ->capture_default_str();
+  app.add_flag("--list", args.list, "list the models linked in and their variants, generate nothing");
+  app.add_flag("--stats", args.stats, "print generation time, size and operation counts");
+  if (hooks.add_options) hooks.add_options(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : kExitCommandLine;
+  }
+  return run(args, hooks);
+}
+
+}  // namespace symdyn::codegen

@@ -1,0 +1,39 @@
+// symdyn-urdf's command line: it generates a URDF robot's code, and its exit
+// codes and messages are those of every generator (1: the robot, 2: the command line).
+#include <catch2/catch.hpp>
+
+#include "codegen/run_command.hpp"
+
+using namespace symdyn::testing;
+using Catch::Matchers::Contains;
+
+namespace {
+
+const std::string kGenerator = SYMDYN_URDF_GENERATOR;
+const std::string kArm = std::string(SYMDYN_URDF_DIR) + "/two_link_arm.urdf";
+
+}  // namespace
+
+TEST_CASE("symdyn-urdf writes <robot>_default.hpp and .cpp, or the --basename", "[urdf][cli]") {
+  const auto out = scratch_directory("urdf_cli");
+  const CommandResult named = run_command({kGenerator, "--urdf", kArm, "--out", out.string()});
+  CHECK(named.exit_code == 0);
+  CHECK(std::filesystem::exists(out / "two_link_arm_default.hpp"));
+  const CommandResult chosen =
+      run_command({kGenerator, "--urdf", kArm, "--out", out.string(), "--basename", "arm", "--floating-base", "--stats"});
+  CHECK(chosen.exit_code == 0);
+  CHECK_THAT(chosen.out, Contains("mass_matrix"));
+  // the floating base's coordinates are in the code
+  CHECK_THAT(read_text(out / "arm.hpp"), Contains("base_link_yaw"));
+  std::filesystem::remove_all(out);
+}
+
+TEST_CASE("symdyn-urdf: a missing file exits with 1 naming it, a missing --urdf with 2", "[urdf][cli][errors]") {
+  const auto out = scratch_directory("urdf_cli");
+  const CommandResult missing = run_command({kGenerator, "--urdf", "/nonexistent/arm.urdf", "--out", out.string()});
+  CHECK(missing.exit_code == 1);
+  CHECK_THAT(missing.err, Contains("'/nonexistent/arm.urdf'"));
+  CHECK(run_command({kGenerator, "--out", out.string()}).exit_code == 2);
+  CHECK(run_command({kGenerator, "--urdf", kArm, "--gravity", "0", "0"}).exit_code == 2);
+  std::filesystem::remove_all(out);
+}
