@@ -1,0 +1,124 @@
+// The quick stress cases of bench/stress/stress.cpp (bench/results/stress.md), each
+// checked against something independent of the integrator under test: a second
+// integrator, a conservation law, or the expected failure message.
+//
+//   chaos  the double pendulum from its horizontal release: dop853 and dopri5 at
+//          1e-13 agree within 1e-6 over the first 8 s (they part by 1e-6 near 12 s),
+//          and, the motion being chaotic, by more than 1e-2 before 40 s;
+//   spin   robot3d with its wrist at 1e4 rad/s: energy and the angular momentum
+//          about the turret axis (z; gravity has no moment about it) stay;
+//   trike  the stiff tyres: rk4 at h = 1/30 s fails naming the time and the wheel,
+//          cvode at 1e-6 follows dop853 at 1e-11.
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "robot3d_absolute.hpp"
+#include "scenario.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+
+namespace {
+
+using namespace symdyn::runtime;
+
+struct ScenarioSystem {
+  std::unique_ptr<MultibodySystem> system;
+  State initial;
+};
+
+// The scenario's system with its force elements and initial state, as symdyn-sim runs it.
+ScenarioSystem scenario_system(const std::string& model) {
+  const symdyn::sim::Scenario& scenario = symdyn::sim::find_scenario(model);
+  ScenarioSystem s{std::make_unique<MultibodySystem>(scenario.variants.front().make(), EquationsSource::emitted), {}};
+  scenario.configure(*s.system);
+  s.initial = s.system->initial_state();
+  for (std::size_t j = 0; j < scenario.q0.size(); ++j) s.initial.q(static_cast<Eigen::Index>(j)) = scenario.q0[j];
+  for (std::size_t j = 0; j < scenario.qd0.size(); ++j) s.initial.qd(static_cast<Eigen::Index>(j)) = scenario.qd0[j];
+  return s;
+}
+
+IntegratorOptions tolerance(double tol) {
+  IntegratorOptions o;
+  o.relative_tolerance = o.absolute_tolerance = tol;
+  return o;
+}
+
+double max_difference(const State& a, const State& b) {
+  return std::max((a.q - b.q).cwiseAbs().maxCoeff(), (a.qd - b.qd).cwiseAbs().maxCoeff());
+}
+
+std::vector<State> trajectory(ScenarioSystem& s, const char* integrator, double tol, double t_end) {
+  std::vector<State> out;
+  IntegratorOptions o = tolerance(tol);
+  o.output_interval = 0.01;
+  o.on_output = [&](const State& x, const Vector&, const Vector&) { out.push_back(x); };
+  make_integrator(integrator, o)->integrate(*s.system, s.initial, t_end);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("chaotic double pendulum: two tight integrators agree, then part", "[stress]") {
+  ScenarioSystem s = scenario_system("double_pendulum");
+  const std::vector<State> a = trajectory(s, "dop853", 1e-13, 40.0), b = trajectory(s, "dopri5", 1e-13, 40.0);
+  REQUIRE(a.size() == b.size());
+  double parted = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const double d = max_difference(a[k], b[k]);
+    INFO(fmt::format("t = {}: dop853 and dopri5 at 1e-13 differ by {:.3g}", a[k].t, d));
+    if (a[k].t <= 8.0) REQUIRE(d < 1e-6);
+    parted = std::max(parted, d);
+  }
+  CHECK(parted > 1e-2);
+}
+
+TEST_CASE("robot3d spun at 1e4 rad/s keeps its energy and its angular momentum about z", "[stress]") {
+  MultibodySystem sys(Model::from<symdyn_generated::robot3d_absolute>(), EquationsSource::emitted);
+  State x0 = sys.initial_state();
+  x0.q << 0.0, 0.3, 0.6, 0.0, 0.2;
+  x0.qd << 1.0, 0.0, 0.0, 1e4, 0.0;  // the wrist spins
+  const double e0 = sys.energies(x0).total(), lz0 = sys.momentum(x0).angular.z();
+  const double l_scale = sys.momentum(x0).angular.norm();
+  double de = 0.0, dl = 0.0;
+  IntegratorOptions o = tolerance(1e-12);
+  o.output_interval = 1e-3;
+  o.on_output = [&](const State& x, const Vector&, const Vector&) {
+    de = std::max(de, std::abs(sys.energies(x).total() - e0) / std::abs(e0));
+    dl = std::max(dl, std::abs(sys.momentum(x).angular.z() - lz0) / l_scale);
+  };
+  make_integrator("dop853", o)->integrate(sys, x0, 0.2);
+  INFO(fmt::format("relative energy error {:.3g}, L_z error / |L0| {:.3g}", de, dl));
+  CHECK(de < 1e-9);
+  CHECK(dl < 1e-7);
+}
+
+TEST_CASE("trike's stiff tyres: rk4 at a large step fails naming time and wheel, cvode follows dop853", "[stress]") {
+  ScenarioSystem s = scenario_system("trike");
+  IntegratorOptions big = tolerance(1e-6);
+  big.initial_step = 1.0 / 30.0;
+  try {
+    make_integrator("rk4", big)->integrate(*s.system, s.initial, 1.0);
+    FAIL("rk4 at h = 1/30 s crossed the tyres' stability limit without an error");
+  } catch (const NumericError& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(what.find("t = ") != std::string::npos);
+    CHECK(what.find("wheel") != std::string::npos);
+  }
+  IntegratorOptions at_end = tolerance(1e-6);
+  at_end.output_times = {2.0};
+  const State cvode = make_integrator("cvode", at_end)->integrate(*s.system, s.initial, 2.0);
+  at_end = tolerance(1e-11);
+  at_end.output_times = {2.0};
+  const State ref = make_integrator("dop853", at_end)->integrate(*s.system, s.initial, 2.0);
+  CHECK(max_difference(cvode, ref) < 1e-3);
+}
