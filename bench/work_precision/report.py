@@ -45,8 +45,12 @@ def plot(problem, rows, outdir):
             for r in sorted(rs, key=lambda r: r["ms"]):
                 out.write(f'{r["error"]:.6e} {r["ms"]:.6e}\n')
             out.write("\n\n")
-    plots = ", ".join(f'"{data}" index {i} using 1:2 with linespoints title columnheader(1)'
-                      for i in range(len(series)))
+    # A colour per method; the peers dashed.
+    colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf",
+               "#7f7f7f", "#bcbd22", "#000000", "#393b79", "#ad494a"]
+    plots = ", ".join(f'"{data}" index {i} using 1:2 with linespoints lw 1.5 pt {i % 13 + 1} '
+                      f'lc rgb "{colours[i % len(colours)]}" dt {1 if " " not in name else 2} title columnheader(1)'
+                      for i, name in enumerate(series))
     for term, ext in (("pngcairo size 1000,700", "png"), ("svg size 1000,700", "svg")):
         script = f"""
 set terminal {term}
@@ -54,7 +58,7 @@ set output "{os.path.join(outdir, f'work_precision_{problem}.{ext}')}"
 set logscale xy
 set format x "10^{{%T}}"
 set format y "10^{{%T}}"
-set xlabel "final error (max |q - q_ref|, |qd - qd_ref|)"
+set xlabel "final error: max |q - q_{{ref}}|, |qd - qd_{{ref}}|"
 set ylabel "CPU time per run (ms, median)"
 set title "{problem.replace('_', ' ')}: work against precision"
 set key outside right
