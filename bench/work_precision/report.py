@@ -118,6 +118,9 @@ def main():
                f"{method(fastest)} at {fastest['kind']}={fastest['setting']}, error {fastest['error']:.2e} in "
                f"{fastest['ms']:.3g} ms. Cheapest run of each method reaching it:", "",
                "| method | setting | error | CPU ms |", "|---|---|---:|---:|"] + lines + [""]
+    findings = os.path.join(os.path.dirname(os.path.abspath(__file__)), "findings.md")
+    if os.path.exists(findings):
+        md += [open(findings).read().rstrip("\n"), ""]
     md += ["## Peer checks", "", "| library | integrator | finest setting | error at 0.5 s | error at 1 s | verdict |",
            "|---|---|---:|---:|---:|---|"]
     for c in checks:
