@@ -10,7 +10,9 @@
 # after a run of more than S s of CPU (1); --problem: only these problems.
 set -euo pipefail
 cd "$(git -C "$(dirname "$0")" rev-parse --show-toplevel)"
-command -v gnuplot >/dev/null || { echo "run.sh: gnuplot is needed (apt-get install gnuplot-nox)" >&2; exit 1; }
+# shellcheck source=../../scripts/lib/setup.sh
+source scripts/lib/setup.sh
+symdyn_require_command gnuplot gnuplot-nox
 cmake --build --preset release -j2 --target symdyn_bench_work_precision
 results=bench/results
 commit=$(git rev-parse --short HEAD)
