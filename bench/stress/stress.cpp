@@ -26,7 +26,9 @@
 
 #include <fmt/format.h>
 
+#include "../work_precision/problems.hpp"
 #include "robot3d_absolute.hpp"
+#include "run.hpp"
 #include "scenario.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
@@ -46,23 +48,11 @@ double cpu_seconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-struct System {
-  std::unique_ptr<MultibodySystem> system;
-  State initial;
-};
+using System = symdyn::bench::ProblemSystem;
 
-// The scenario's system, force elements and initial state, as symdyn-sim runs it.
 System scenario_system(const std::string& model) {
-  const symdyn::sim::Scenario& scenario = symdyn::sim::find_scenario(model);
-  symdyn::runtime::Model m = scenario.variants.front().make();
-  const auto source = m.has_equations_of_motion() ? symdyn::runtime::EquationsSource::emitted
-                                                  : symdyn::runtime::EquationsSource::assembled;
-  System s{std::make_unique<MultibodySystem>(std::move(m), source), {}};
-  scenario.configure(*s.system);
-  s.initial = s.system->initial_state();
-  for (std::size_t j = 0; j < scenario.q0.size(); ++j) s.initial.q(static_cast<Eigen::Index>(j)) = scenario.q0[j];
-  for (std::size_t j = 0; j < scenario.qd0.size(); ++j) s.initial.qd(static_cast<Eigen::Index>(j)) = scenario.qd0[j];
-  return s;
+  if (model == "double_pendulum") return symdyn::bench::double_pendulum_problem();
+  return symdyn::bench::slider_crank_problem();
 }
 
 // One integrator setting: a tolerance (rtol = atol), or a fixed step for rk4 and midpoint.
@@ -218,28 +208,34 @@ void spin() {
   fmt::print("\n");
 }
 
+// The trike's scenario (models/scenarios/trike.json) run with `set` over 5 s.
+symdyn::sim::RunResult run_trike(const Setting& set) {
+  symdyn::sim::RunOptions ro;
+  ro.t_end = 5.0;
+  ro.integrator = set.integrator;
+  ro.output_interval = 5.0;
+  if (set.fixed()) ro.step = set.value; else ro.tolerance = set.value;
+  symdyn::sim::Simulation sim(symdyn::sim::find_builtin("trike"), ro);
+  return sim.run();
+}
+
 void trike() {
   fmt::print("## trike: its scenario (tyres 2e5 N/m, suspensions, steering, drive), 5 s\n\n");
-  System ref_system = scenario_system("trike");
-  IntegratorOptions ro = options({"dop853", 1e-12});
-  ro.output_times = {5.0};
-  const State ref = symdyn::runtime::make_integrator("dop853", ro)->integrate(*ref_system.system, ref_system.initial, 5.0);
+  const State ref = run_trike({"dop853", 1e-12}).final;
   fmt::print("Reference: dop853 at 1e-12.\n\n| setting | outcome | final error | steps | rejected | accelerations | Jacobians | CPU ms |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
   for (const Setting& set : std::vector<Setting>{{"dopri5", 1e-6}, {"dop853", 1e-6}, {"cvode", 1e-6}, {"arkode", 1e-6},
                                                  {"newmark", 1e-6}, {"generalized-alpha", 1e-6}, {"rk4", 1e-2},
                                                  {"rk4", 1.0 / 30}, {"midpoint", 1e-2}, {"midpoint", 1e-3}}) {
-    System s = scenario_system("trike");
-    IntegratorOptions o = options(set);
-    o.output_times = {5.0};
-    auto integ = symdyn::runtime::make_integrator(set.integrator, o);
     const double t0 = cpu_seconds();
     std::string outcome = "completes", error = "";
+    Statistics st;
     try {
-      error = fmt::format("{:.2e}", max_difference(integ->integrate(*s.system, s.initial, 5.0), ref));
+      const symdyn::sim::RunResult r = run_trike(set);
+      st = r.statistics;
+      error = fmt::format("{:.2e}", max_difference(r.final, ref));
     } catch (const std::exception& e) {
       outcome = fmt::format("fails: {}", e.what());
     }
-    const Statistics& st = integ->statistics();
     fmt::print("| {} | {} | {} | {} | {} | {} | {} | {:.3g} |\n", set.text(), outcome, error, st.steps, st.rejected_steps,
                st.rhs_evaluations, st.jacobian_evaluations, 1e3 * (cpu_seconds() - t0));
     std::fflush(stdout);

@@ -2,7 +2,8 @@
 // make_integrator's table on the reference models (their symdyn-sim scenarios,
 // force elements included), over a range of tolerances (steps for rk4 and
 // midpoint); on the double pendulum over 1 s also MuJoCo's and Simbody's
-// integrators on the same mechanism (bench/peers/mechanism.hpp).
+// integrators on the same mechanism (bench/peers/mechanism.hpp). The problems are
+// those of models/scenarios (problems.hpp).
 //
 //   symdyn_bench_work_precision [--reps N] [--budget S] [--problem NAME]...
 //   (bench/work_precision/run.sh runs it and writes bench/results/work_precision.*)
@@ -33,6 +34,8 @@
 
 #include "../peers/mechanism.hpp"
 #include "peer_integration.hpp"
+#include "problems.hpp"
+#include "run.hpp"
 #include "scenario.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
@@ -68,26 +71,34 @@ const std::vector<double> steps_per_second = {30, 100, 300, 1e3, 3e3, 1e4, 3e4, 
 
 bool fixed_step(const std::string& integrator) { return integrator == "rk4" || integrator == "midpoint"; }
 
+// A problem's system and initial state; the trike (expressions in its scenario) runs
+// through symdyn::sim::Simulation instead, built at each run (a small part of its cost).
 struct System {
   std::unique_ptr<MultibodySystem> system;
   State initial;
+  std::string scenario;  // non-empty: run the built-in scenario of that name
 };
 
-// The scenario's system with its force elements and its initial state (as symdyn-sim runs it).
 System make_system(const std::string& model) {
-  const symdyn::sim::Scenario& scenario = symdyn::sim::find_scenario(model);
-  symdyn::runtime::Model m = scenario.variants.front().make();
-  const auto source = m.has_equations_of_motion() ? symdyn::runtime::EquationsSource::emitted
-                                                  : symdyn::runtime::EquationsSource::assembled;
-  System s{std::make_unique<MultibodySystem>(std::move(m), source), {}};
-  scenario.configure(*s.system);
-  s.initial = s.system->initial_state();
-  for (std::size_t j = 0; j < scenario.q0.size(); ++j) s.initial.q(static_cast<Eigen::Index>(j)) = scenario.q0[j];
-  for (std::size_t j = 0; j < scenario.qd0.size(); ++j) s.initial.qd(static_cast<Eigen::Index>(j)) = scenario.qd0[j];
-  return s;
+  const auto from = [](symdyn::bench::ProblemSystem p) { return System{std::move(p.system), p.initial, ""}; };
+  if (model == "double_pendulum") return from(symdyn::bench::double_pendulum_problem());
+  if (model == "slider_crank") return from(symdyn::bench::slider_crank_problem());
+  if (model == "robot3d") return from(symdyn::bench::robot3d_problem());
+  return System{nullptr, {}, model};
 }
 
 State solve(System& s, const std::string& integrator, double setting, double t_end, Statistics* stats = nullptr) {
+  if (!s.scenario.empty()) {
+    symdyn::sim::RunOptions ro;
+    ro.t_end = t_end;
+    ro.integrator = integrator;
+    ro.output_interval = t_end;
+    if (fixed_step(integrator)) ro.step = setting; else ro.tolerance = setting;
+    symdyn::sim::Simulation sim(symdyn::sim::find_builtin(s.scenario), ro);
+    const symdyn::sim::RunResult r = sim.run();
+    if (stats != nullptr) *stats = r.statistics;
+    return r.final;
+  }
   IntegratorOptions o;
   o.relative_tolerance = o.absolute_tolerance = fixed_step(integrator) ? 1e-6 : setting;
   if (fixed_step(integrator)) o.initial_step = setting;

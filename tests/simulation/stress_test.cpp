@@ -20,7 +20,9 @@
 
 #include <fmt/format.h>
 
+#include "../../bench/work_precision/problems.hpp"
 #include "robot3d_absolute.hpp"
+#include "run.hpp"
 #include "scenario.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
@@ -30,21 +32,7 @@ namespace {
 
 using namespace symdyn::runtime;
 
-struct ScenarioSystem {
-  std::unique_ptr<MultibodySystem> system;
-  State initial;
-};
-
-// The scenario's system with its force elements and initial state, as symdyn-sim runs it.
-ScenarioSystem scenario_system(const std::string& model) {
-  const symdyn::sim::Scenario& scenario = symdyn::sim::find_scenario(model);
-  ScenarioSystem s{std::make_unique<MultibodySystem>(scenario.variants.front().make(), EquationsSource::emitted), {}};
-  scenario.configure(*s.system);
-  s.initial = s.system->initial_state();
-  for (std::size_t j = 0; j < scenario.q0.size(); ++j) s.initial.q(static_cast<Eigen::Index>(j)) = scenario.q0[j];
-  for (std::size_t j = 0; j < scenario.qd0.size(); ++j) s.initial.qd(static_cast<Eigen::Index>(j)) = scenario.qd0[j];
-  return s;
-}
+using ScenarioSystem = symdyn::bench::ProblemSystem;
 
 IntegratorOptions tolerance(double tol) {
   IntegratorOptions o;
@@ -68,7 +56,7 @@ std::vector<State> trajectory(ScenarioSystem& s, const char* integrator, double 
 }  // namespace
 
 TEST_CASE("chaotic double pendulum: two tight integrators agree, then part", "[stress]") {
-  ScenarioSystem s = scenario_system("double_pendulum");
+  ScenarioSystem s = symdyn::bench::double_pendulum_problem();
   const std::vector<State> a = trajectory(s, "dop853", 1e-13, 40.0), b = trajectory(s, "dopri5", 1e-13, 40.0);
   REQUIRE(a.size() == b.size());
   double parted = 0.0;
@@ -102,11 +90,17 @@ TEST_CASE("robot3d spun at 1e4 rad/s keeps its energy and its angular momentum a
 }
 
 TEST_CASE("trike's stiff tyres: rk4 at a large step fails naming time and wheel, cvode follows dop853", "[stress]") {
-  ScenarioSystem s = scenario_system("trike");
-  IntegratorOptions big = tolerance(1e-6);
-  big.initial_step = 1.0 / 30.0;
+  const auto run_trike = [](const char* integrator, double tolerance, double step, double t_end) {
+    symdyn::sim::RunOptions o;
+    o.t_end = t_end;
+    o.integrator = integrator;
+    o.output_interval = t_end;
+    if (step > 0.0) o.step = step; else o.tolerance = tolerance;
+    symdyn::sim::Simulation sim(symdyn::sim::find_builtin("trike"), o);
+    return sim.run().final;
+  };
   try {
-    make_integrator("rk4", big)->integrate(*s.system, s.initial, 1.0);
+    run_trike("rk4", 0.0, 1.0 / 30.0, 1.0);
     FAIL("rk4 at h = 1/30 s crossed the tyres' stability limit without an error");
   } catch (const NumericError& e) {
     const std::string what = e.what();
@@ -114,11 +108,5 @@ TEST_CASE("trike's stiff tyres: rk4 at a large step fails naming time and wheel,
     CHECK(what.find("t = ") != std::string::npos);
     CHECK(what.find("wheel") != std::string::npos);
   }
-  IntegratorOptions at_end = tolerance(1e-6);
-  at_end.output_times = {2.0};
-  const State cvode = make_integrator("cvode", at_end)->integrate(*s.system, s.initial, 2.0);
-  at_end = tolerance(1e-11);
-  at_end.output_times = {2.0};
-  const State ref = make_integrator("dop853", at_end)->integrate(*s.system, s.initial, 2.0);
-  CHECK(max_difference(cvode, ref) < 1e-3);
+  CHECK(max_difference(run_trike("cvode", 1e-6, 0.0, 2.0), run_trike("dop853", 1e-11, 0.0, 2.0)) < 1e-3);
 }
