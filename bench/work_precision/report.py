@@ -93,7 +93,7 @@ def main():
            f"Commit measured: `{meta.get('commit', '?')}`. Load average {meta.get('load', '?')} before, "
            f"{meta.get('load_after', '?')} after (a machine shared by other builds: CPU times, "
            "not wall times, are reported; differences under ~20 % are noise).",
-           *[f"Measured separately: {k}: {v}." for k, v in meta.items()
+           *[f"Note: {v}." if k == "note" else f"Measured separately: {k}: {v}." for k, v in meta.items()
              if k not in ("commit", "machine", "cpu", "compiler", "mujoco", "simbody", "load", "load_after")],
            f"Peers: MuJoCo {meta.get('mujoco', '?')}, Simbody {meta.get('simbody', '?')} (Debian packages).",
            "", "```sh", "bench/work_precision/run.sh          # builds, runs, writes this file, the .tsv and the diagrams",
