@@ -7,9 +7,8 @@ include(CMakePackageConfigHelpers)
 set(symdyn_exported_parts symbolic model codegen runtime generator_main)
 set(symdyn_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/symdyn)
 
-# Not src/python: Python modules need symdyn built with the project (cmake/SymdynPython.cmake).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/symdyn
-  FILES_MATCHING PATTERN "*.hpp" PATTERN python EXCLUDE)
+  FILES_MATCHING PATTERN "*.hpp")
 
 list(TRANSFORM symdyn_exported_parts PREPEND symdyn_ OUTPUT_VARIABLE symdyn_exported_targets)
 install(TARGETS ${symdyn_exported_targets} EXPORT symdynTargets
@@ -28,3 +27,5 @@ install(FILES
   ${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake
   ${CMAKE_CURRENT_LIST_DIR}/SymdynCompileOptions.cmake
   DESTINATION ${symdyn_cmake_dir})
+# The Python binding code, compiled by the consuming project for its PYTHON models.
+install(FILES ${PROJECT_SOURCE_DIR}/src/python/model_module.cpp DESTINATION ${symdyn_cmake_dir}/python)

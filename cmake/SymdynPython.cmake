@@ -10,11 +10,16 @@
 # The interpreter is Debian's /usr/bin/python3 (SYMDYN_PYTHON_EXECUTABLE), not
 # the first python3 in PATH: FindPython3 is given it as Python3_EXECUTABLE, so
 # a pyenv or virtualenv shim cannot supply headers of another version.
+# Installed or built along alike: the runtime is position-independent either way.
 # SYMDYN_PYTHON=OFF ignores the PYTHON keyword. A sanitized build makes no module:
 # an interpreter without the sanitizer runtime could not load it.
 option(SYMDYN_PYTHON "Build the Python modules of models added with PYTHON" ON)
-# The binding code, from symdyn's sources whichever project calls symdyn_add_model.
-set(SYMDYN_PYTHON_SOURCE ${CMAKE_CURRENT_LIST_DIR}/../src/python/model_module.cpp)
+# The binding code: in symdyn's sources (built along), or installed beside this file.
+if(EXISTS ${CMAKE_CURRENT_LIST_DIR}/../src/python/model_module.cpp)
+  set(SYMDYN_PYTHON_SOURCE ${CMAKE_CURRENT_LIST_DIR}/../src/python/model_module.cpp)
+else()
+  set(SYMDYN_PYTHON_SOURCE ${CMAKE_CURRENT_LIST_DIR}/python/model_module.cpp)
+endif()
 set(SYMDYN_PYTHON_EXECUTABLE /usr/bin/python3 CACHE FILEPATH
   "Interpreter the Python modules are built for and tested with")
 set(SYMDYN_PYTHON_DIR ${PROJECT_BINARY_DIR}/python CACHE INTERNAL
@@ -49,10 +54,6 @@ endfunction()
 function(symdyn_python_module target)
   if(NOT SYMDYN_PYTHON OR SYMDYN_SANITIZE)
     return()
-  endif()
-  if(NOT TARGET symdyn_runtime)
-    message(FATAL_ERROR "symdyn_add_model(${target} ... PYTHON): Python modules need symdyn "
-      "built with the project (add_subdirectory or FetchContent); an installed symdyn has none")
   endif()
   symdyn_python_prepare()
   set(source ${CMAKE_CURRENT_BINARY_DIR}/generated/${target}/${target}_python.cpp)

@@ -93,15 +93,13 @@ void SteppingIntegrator::deliver(double t_previous, std::size_t& next_output) {
     return;
   }
   const auto& instants = output_instants();
-  State s;
-  Vector qdd, yd;
   while (next_output < instants.size() && instants[next_output] <= current_.t) {
     const double ti = instants[next_output++];
     if (ti == current_.t) {
       emit(*system_, current_, qdd_, yd_);
     } else if (ti > t_previous) {
-      interpolate(ti, s, qdd, yd);
-      emit(*system_, s, qdd, yd);
+      interpolate(ti, dense_, dense_qdd_, dense_yd_);
+      emit(*system_, dense_, dense_qdd_, dense_yd_);
     }
   }
 }

@@ -103,6 +103,9 @@ class SteppingIntegrator : public Integrator {
   State run(DynamicSystem& system, const State& initial, double t_end) final;
   void deliver(double t_previous, std::size_t& next_output);
   double initial_step(double t_end);
+
+  State dense_;  // an interpolated output instant, kept: outputs allocate nothing
+  Vector dense_qdd_, dense_yd_;
 };
 
 }  // namespace symdyn::runtime::detail
