@@ -5,11 +5,14 @@
 #   2. runs the model's generator with --stats (time, operation counts) and
 #      shows a few lines of the emitted C++;
 #   3. simulates 10 s with symdyn-sim on that code, CSV in out/double_pendulum.csv;
-#   4. prints the summary and plots q0 and q1 in the terminal (gnuplot, dumb).
+#   4. prints the summary and plots q0 and q1 in the terminal (gnuplot, dumb);
+#   5. runs the trike's scenario and writes its animation (HTML viewer, glTF)
+#      and a plot of its coordinates (PNG) in out/, saying how to open each.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/setup.sh
 symdyn_require_packages "${symdyn_base_packages[@]}" gnuplot-nox
+symdyn_require_command npm npm  # bundles the HTML viewer
 
 build=build/release
 generator=$build/models/symdyn_generator_double_pendulum
@@ -38,3 +41,10 @@ gnuplot -e "set terminal dumb size 100,24; set datafile separator ','; set key b
   set xlabel 't (s)'; set ylabel 'rad';
   plot 'out/double_pendulum.csv' using 1:2 with lines title 'q0',
        '' using 1:3 with lines title 'q1'"
+
+echo
+echo "== the trike settles on its tyres, then turns: animation and plot"
+"$sim" trike --out out/trike.csv --html out/trike.html --glb out/trike.glb --plot out/trike.png | tail -n 4
+echo
+echo "Open out/trike.html in a browser (play, scrub, orbit with the mouse; no network needed),"
+echo "out/trike.glb in Blender or any glTF viewer, out/trike.png in an image viewer."

@@ -97,7 +97,6 @@ struct Simulation::Impl {
   std::vector<CheckSpec> checks;
   std::vector<std::pair<std::string, Expression>> channels;
   runtime::CsvRecorder::Columns groups;
-  std::vector<std::string> columns;
   std::vector<Event> events;
   State initial;
   std::string integrator;
@@ -498,15 +497,7 @@ Simulation::~Simulation() = default;
 
 double Simulation::expected_rows() const { return impl_->expected_rows(); }
 
-const std::vector<std::string>& Simulation::columns() const {
-  if (impl_->columns.empty()) {
-    std::ostringstream unused;
-    runtime::CsvRecorder csv(unused, *impl_->system, impl_->groups);
-    for (const auto& [name, e] : impl_->channels) csv.add_channel(name, nullptr);
-    impl_->columns = csv.columns();
-  }
-  return impl_->columns;
-}
+runtime::MultibodySystem& Simulation::system() { return *impl_->system; }
 
 RunResult Simulation::run() { return impl_->run(); }
 

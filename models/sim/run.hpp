@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 
 #include "scenario.hpp"
 
@@ -86,7 +87,8 @@ class Simulation {
 
   // Rows the run will write: t_end / interval, plus one per event time.
   double expected_rows() const;
-  const std::vector<std::string>& columns() const;
+  // The system the run integrates (its model draws an animation's scene).
+  runtime::MultibodySystem& system();
   // Throws NumericError (from the integrator, naming the time and the culprit).
   RunResult run();
 

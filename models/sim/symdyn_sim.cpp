@@ -3,7 +3,12 @@
 //
 //   symdyn-sim <scenario.json | model> [--variant V] [--t-end T] [--integrator I] [--tolerance X]
 //              [--rtol R] [--atol A] [--interval DT] [--step H] [--assembled] [--out FILE] [--max-rows N]
+//              [--html FILE] [--glb FILE] [--plot FILE.png|FILE.svg]
 //   symdyn-sim --list
+//
+// --html writes the HTML viewer of the run (the bodies as their inertia boxes,
+// the coordinates plotted beside them), --glb the animation as glTF, --plot the
+// coordinates against time with gnuplot (PNG or SVG by the extension).
 //
 // A scenario file names its model: built in, or a model module (a shared
 // library from symdyn_add_model(... SIM_MODULE)) next to it. A bare model name
@@ -21,12 +26,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include "run.hpp"
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/html_viewer.hpp>
 #include <symdyn/runtime/integrator.hpp>
 
 namespace {
@@ -36,6 +45,7 @@ using namespace symdyn;
 struct Arguments {
   std::string scenario;
   std::string out;
+  std::string html, glb, plot;  // pictures of the run, if asked
   double max_rows = 1e7;  // about 1 GB of CSV
   bool list = false;
   sim::RunOptions run;
@@ -68,6 +78,58 @@ void check_rows(const sim::Simulation& simulation, double max_rows) {
   }
 }
 
+// The animation of a run (--html, --glb): every output instant's poses, and
+// the coordinates' histories for the viewer's plot.
+struct Pictures {
+  runtime::Scene scene;
+  runtime::Animation animation;
+  runtime::TimeSeries series;
+
+  explicit Pictures(const runtime::Model& model) : scene(model), animation(model) {
+    series.names.push_back("t");
+    for (const std::string& q : model.q_names()) series.names.push_back(q);
+    series.columns.resize(series.names.size());
+  }
+  void record(const runtime::State& s) {
+    animation.record(s);
+    series.columns[0].push_back(s.t);
+    for (Eigen::Index j = 0; j < s.q.size(); ++j) series.columns[j + 1].push_back(s.q[j]);
+  }
+  void write(const Arguments& args, const std::string& title) const {
+    if (!args.glb.empty()) runtime::write_glb(std::filesystem::path(args.glb), scene, animation);
+    if (!args.html.empty()) runtime::write_html(args.html, title, scene, {{"motion", &animation}}, series);
+  }
+};
+
+// Pictures are refused before the run when they cannot be made.
+void check_pictures(const Arguments& args) {
+  if (!args.html.empty() && !runtime::html_viewer_available()) {
+    throw runtime::OptionError("--html: this symdyn was built without the HTML viewer (npm was not found)");
+  }
+  if (args.plot.empty()) return;
+  const std::string ext = std::filesystem::path(args.plot).extension().string();
+  if (ext != ".png" && ext != ".svg") {
+    throw runtime::OptionError(fmt::format("--plot {}: the file must end in .png or .svg", args.plot));
+  }
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    throw runtime::OptionError("--plot: gnuplot is not installed (Debian: apt-get install gnuplot-nox)");
+  }
+}
+
+// The coordinates (columns 2 .. nq + 1 of the CSV) against time, by gnuplot.
+void plot(const std::filesystem::path& csv, const std::string& file, std::size_t nq, const std::string& title) {
+  const bool svg = std::filesystem::path(file).extension() == ".svg";
+  const std::string script = fmt::format(
+      "set terminal {} size 1000,600\nset output '{}'\nset datafile separator ','\n"
+      "set key autotitle columnhead outside\nset grid\nset title '{}'\nset xlabel 't (s)'\n"
+      "plot for [i=2:{}] '{}' using 1:i with lines\n",
+      svg ? "svg" : "pngcairo", file, title, nq + 1, csv.string());
+  FILE* gnuplot = popen("gnuplot", "w");
+  if (gnuplot == nullptr) throw std::runtime_error("--plot: cannot start gnuplot");
+  std::fputs(script.c_str(), gnuplot);
+  if (pclose(gnuplot) != 0) throw std::runtime_error(fmt::format("--plot: gnuplot failed to write '{}'", file));
+}
+
 int simulate(Arguments& args) {
   const sim::Scenario scenario =
       is_file(args.scenario) ? sim::load_scenario(args.scenario) : sim::find_builtin(args.scenario);
@@ -80,12 +142,16 @@ int simulate(Arguments& args) {
   args.run.progress = true;
   long rows = 0;
   double last_t = 0.0;
+  std::optional<Pictures> pictures;
   args.run.on_sample = [&](const runtime::State& s, const runtime::Vector&) {
     ++rows;
     last_t = s.t;
+    if (pictures) pictures->record(s);
   };
   sim::Simulation simulation(scenario, args.run);
   check_rows(simulation, args.max_rows);
+  check_pictures(args);
+  if (!args.html.empty() || !args.glb.empty()) pictures.emplace(simulation.system().model());
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   csv.open(partial);
   if (!csv) throw std::runtime_error(fmt::format("cannot write '{}'", partial.string()));
@@ -112,6 +178,11 @@ int simulate(Arguments& args) {
   fmt::print("{}", sim::summary(r));
   fmt::print("  CSV: {} ({} rows of {} columns: {})\n", path.string(), r.rows, r.columns.size(),
              fmt::join(r.columns, ", "));
+  if (pictures) pictures->write(args, scenario.name);
+  if (!args.plot.empty()) plot(path, args.plot, r.coordinates.size(), scenario.name);
+  for (const std::string* file : {&args.html, &args.glb, &args.plot}) {
+    if (!file->empty()) fmt::print("  wrote {}\n", *file);
+  }
   const bool ok = std::all_of(r.checks.begin(), r.checks.end(), [](const sim::Check& c) { return c.ok(); });
   return ok ? 0 : 1;
 }
@@ -134,6 +205,9 @@ int main(int argc, char** argv) {
   app.add_option("--step", args.run.step, "initial step in s (rk4: the fixed step)")->check(CLI::PositiveNumber);
   app.add_flag("--assembled", args.run.assembled, "assemble M and h from the kinematics instead of the emitted ones");
   app.add_option("--out", args.out, "CSV file (default: <scenario>.csv)");
+  app.add_option("--html", args.html, "write the HTML viewer of the run (open it in a browser)");
+  app.add_option("--glb", args.glb, "write the animation as glTF binary (Blender, glTF viewers)");
+  app.add_option("--plot", args.plot, "plot the coordinates against time with gnuplot (.png or .svg)");
   app.add_option("--max-rows", args.max_rows, "refuse a run that would write more CSV rows (default 1e7)")
       ->check(CLI::PositiveNumber);
   try {

@@ -2,20 +2,25 @@
 // symdyn::runtime, the multibody half: everything a simulation program needs
 // next to its generated model (docs/emitted_interface.md).
 
+#include <symdyn/runtime/animation.hpp>
+#include <symdyn/runtime/breakpoints.hpp>
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/cardan.hpp>
 #include <symdyn/runtime/contact.hpp>
-#include <symdyn/runtime/breakpoints.hpp>
 #include <symdyn/runtime/csv.hpp>
 #include <symdyn/runtime/dynamic_system.hpp>
+#include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/energy.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/force_element.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/gim_tyre.hpp>
+#include <symdyn/runtime/gltf.hpp>
+#include <symdyn/runtime/html_viewer.hpp>
 #include <symdyn/runtime/kinematics.hpp>
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/model.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
+#include <symdyn/runtime/scene.hpp>
 #include <symdyn/runtime/statics.hpp>

@@ -47,6 +47,7 @@ TEST_CASE("symdyn-sim: a typo leaves the earlier results alone", "[bad_input][si
       {{"--t-end", "1e6"}, "the run would write 1e+08 rows (t-end / interval), over --max-rows 1e+07"},
       {{"--integrator", "rk4", "--step", "1e-300"}, "integrator 'rk4': initial_step 1e-300 is below min_step 1e-12"},
       {{"--integrator", "rk4", "--step", "1e-9"}, "a fixed step of 1e-09 s from t = 0 to 10 takes 1e+10 steps, over max_steps 100000000"},
+      {{"--plot", "q.pdf"}, "--plot q.pdf: the file must end in .png or .svg"},
   };
   for (const Case& c : cases) {
     CAPTURE(c.culprit);
@@ -117,5 +118,25 @@ TEST_CASE("symdyn-sim: a bad scenario file is refused with its culprit, the earl
     if (c.exit_code == 2) CHECK(read(dir / "results.csv") == "earlier results\n");
     CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
     std::filesystem::remove_all(dir);
+  }
+}
+
+TEST_CASE("symdyn-sim: --glb, --html and --plot write the run's pictures", "[sim]") {
+  const auto dir = scratch_directory("sim_pictures");
+  const auto at = [&](const char* name) { return (dir / name).string(); };
+  std::vector<std::string> args{kSim, "double_pendulum", "--t-end", "1", "--out", at("run.csv"),
+                                "--glb", at("run.glb"), "--plot", at("run.svg")};
+  const bool viewer = run_command({kSim, "double_pendulum", "--t-end", "0.1", "--out", at("probe.csv"), "--html",
+                                   at("probe.html")}).exit_code == 0;
+  if (viewer) args.insert(args.end(), {"--html", at("run.html")});
+  const CommandResult r = run_command(args);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(read(dir / "run.glb").substr(0, 4) == "glTF");  // the binary glTF header
+  CHECK_THAT(read(dir / "run.svg"), Contains("<svg") && Contains("q0") && Contains("q1"));
+  if (viewer) {
+    const std::string html = read(dir / "run.html");
+    CHECK_THAT(html, Contains("<script id=\"symdyn-data\""));
+    CHECK_THAT(html, Contains("\"names\":[\"t\",\"q0\",\"q1\"]"));
   }
 }
