@@ -8,7 +8,8 @@
 //
 // --html writes the HTML viewer of the run (the bodies as their inertia boxes,
 // the coordinates plotted beside them), --glb the animation as glTF, --plot the
-// coordinates against time with gnuplot (PNG or SVG by the extension).
+// coordinates and the energies against time with gnuplot (PNG or SVG by the
+// extension).
 //
 // A scenario file names its model: built in, or a model module (a shared
 // library from symdyn_add_model(... SIM_MODULE)) next to it. A bare model name
@@ -116,14 +117,25 @@ void check_pictures(const Arguments& args) {
   }
 }
 
-// The coordinates (columns 2 .. nq + 1 of the CSV) against time, by gnuplot.
-void plot(const std::filesystem::path& csv, const std::string& file, std::size_t nq, const std::string& title) {
+// The coordinates (columns 2 .. nq + 1 of the CSV) against time, by gnuplot,
+// and below them the energies when the CSV has them.
+void plot(const std::filesystem::path& csv, const std::string& file, const sim::RunResult& r,
+          const std::string& title) {
   const bool svg = std::filesystem::path(file).extension() == ".svg";
-  const std::string script = fmt::format(
-      "set terminal {} size 1000,600\nset output '{}'\nset datafile separator ','\n"
-      "set key autotitle columnhead outside\nset grid\nset title '{}'\nset xlabel 't (s)'\n"
-      "plot for [i=2:{}] '{}' using 1:i with lines\n",
-      svg ? "svg" : "pngcairo", file, title, nq + 1, csv.string());
+  const bool energies = std::find(r.columns.begin(), r.columns.end(), "total_energy") != r.columns.end();
+  std::string script = fmt::format(
+      "set terminal {} size 1000,{} noenhanced\nset output '{}'\nset datafile separator ','\n"
+      "set key autotitle columnhead outside\nset grid\nset xlabel 't (s)'\n",
+      svg ? "svg" : "pngcairo", energies ? 900 : 600, file);
+  if (energies) script += "set multiplot layout 2,1\n";
+  script += fmt::format("set title '{}: coordinates'\nplot for [i=2:{}] '{}' using 1:i with lines\n", title,
+                        r.coordinates.size() + 1, csv.string());
+  if (energies) {
+    script += fmt::format(
+        "set title '{}: energies (J)'\nplot for [c in 'kinetic_energy gravitational_energy elastic_energy "
+        "total_energy'] '{}' using 1:c with lines title c\nunset multiplot\n",
+        title, csv.string());
+  }
   FILE* gnuplot = popen("gnuplot", "w");
   if (gnuplot == nullptr) throw std::runtime_error("--plot: cannot start gnuplot");
   std::fputs(script.c_str(), gnuplot);
@@ -179,7 +191,7 @@ int simulate(Arguments& args) {
   fmt::print("  CSV: {} ({} rows of {} columns: {})\n", path.string(), r.rows, r.columns.size(),
              fmt::join(r.columns, ", "));
   if (pictures) pictures->write(args, scenario.name);
-  if (!args.plot.empty()) plot(path, args.plot, r.coordinates.size(), scenario.name);
+  if (!args.plot.empty()) plot(path, args.plot, r, scenario.name);
   for (const std::string* file : {&args.html, &args.glb, &args.plot}) {
     if (!file->empty()) fmt::print("  wrote {}\n", *file);
   }

@@ -133,7 +133,7 @@ TEST_CASE("symdyn-sim: --glb, --html and --plot write the run's pictures", "[sim
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(read(dir / "run.glb").substr(0, 4) == "glTF");  // the binary glTF header
-  CHECK_THAT(read(dir / "run.svg"), Contains("<svg") && Contains("q0") && Contains("q1"));
+  CHECK_THAT(read(dir / "run.svg"), Contains("<svg") && Contains("q0") && Contains("q1") && Contains("total_energy"));
   if (viewer) {
     const std::string html = read(dir / "run.html");
     CHECK_THAT(html, Contains("<script id=\"symdyn-data\""));
