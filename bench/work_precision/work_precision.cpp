@@ -182,8 +182,8 @@ bool survives(const std::function<void()>& run) {
 }
 
 // A peer's run at `setting`: its final error against the reference, and against the
-// reference at t_end/2 (the trajectory check).
-void sweep_peer(const Problem& p, System& s, const State& ref, const State& half, const std::string& library,
+// reference at t_end/2 (the trajectory check). Unused when no peer is built in.
+[[maybe_unused]] void sweep_peer(const Problem& p, System& s, const State& ref, const State& half, const std::string& library,
                 const std::string& integrator, const std::vector<double>& settings, const Options& opt,
                 const std::function<std::unique_ptr<wp::PeerIntegration>(double)>& make) {
   const bool fixed = library == "MuJoCo";
@@ -221,9 +221,9 @@ void sweep_peer(const Problem& p, System& s, const State& ref, const State& half
   std::fflush(stdout);
 }
 
-void peers_on(const Problem& p, System& s, const State& ref, const Options& opt) {
+void peers_on(const Problem& p, System& s, [[maybe_unused]] const State& ref, [[maybe_unused]] const Options& opt) {
   [[maybe_unused]] const symdyn::bench::peers::Mechanism mech = symdyn::bench::peers::double_pendulum();
-  State half = solve(s, "dop853", 1e-13, p.t_end / 2);
+  [[maybe_unused]] const State half = solve(s, "dop853", 1e-13, p.t_end / 2);
 #ifdef SYMDYN_HAVE_MUJOCO
   for (const std::string& integrator : wp::mujoco_integrators()) {
     sweep_peer(p, s, ref, half, "MuJoCo", integrator, steps_per_second, opt,
