@@ -661,7 +661,12 @@ TEST_CASE("emit_cpp_shared: each function's parts compute its outputs, and no ot
   Context ctx;
   Context::Scope scope(ctx);
   const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
-  for (unsigned seed = 0; seed < 200; ++seed) {
+#ifdef __SANITIZE_ADDRESS__
+  constexpr unsigned seeds = 40;  // the sanitizers make a seed 20 times slower
+#else
+  constexpr unsigned seeds = 200;
+#endif
+  for (unsigned seed = 0; seed < seeds; ++seed) {
     symdyn::testing::RandomExpr gen(seed, xs);
     // Outputs built on each other (the functions share work), a constant and an input.
     std::vector<Expr> outputs;
