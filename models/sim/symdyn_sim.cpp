@@ -3,13 +3,19 @@
 //
 //   symdyn-sim <scenario.json | model> [--variant V] [--t-end T] [--integrator I] [--tolerance X]
 //              [--rtol R] [--atol A] [--interval DT] [--step H] [--assembled] [--out FILE] [--max-rows N]
-//              [--html FILE] [--glb FILE] [--plot FILE.png|FILE.svg]
+//              [--html FILE] [--glb FILE] [--plot FILE.png|FILE.svg] [--easyanim STEM]
+//              [--modes FILE.csv] [--modes-about equilibrium|initial] [--mode-amplitude A]
 //   symdyn-sim --list
 //
 // --html writes the HTML viewer of the run (the bodies as their inertia boxes,
 // the coordinates plotted beside them), --glb the animation as glTF, --plot the
 // coordinates and the energies against time with gnuplot (PNG or SVG by the
-// extension).
+// extension), --easyanim EasyDyn's STEM.vol and STEM.van for EasyAnim.
+//
+// --modes linearizes the system (with its force elements at t = 0) about its
+// static equilibrium found from the initial state (or about the initial state
+// itself) and writes its modes as CSV; each mode is then also a clip of --html
+// and --glb, and with --easyanim, STEM_modes.vol and STEM_modes.vmo.
 //
 // A scenario file names its model: built in, or a model module (a shared
 // library from symdyn_add_model(... SIM_MODULE)) next to it. A bare model name
@@ -29,15 +35,18 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "run.hpp"
+#include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/html_viewer.hpp>
 #include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/linearization.hpp>
+#include <symdyn/runtime/statics.hpp>
 
 namespace {
 
@@ -47,6 +56,10 @@ struct Arguments {
   std::string scenario;
   std::string out;
   std::string html, glb, plot;  // pictures of the run, if asked
+  std::string easyanim;         // stem of EasyAnim's files
+  std::string modes;            // CSV of the modes, if asked
+  std::string modes_about = "equilibrium";
+  double mode_amplitude = 0.2;  // rad or m: the largest coordinate's swing in a mode's clip
   double max_rows = 1e7;  // about 1 GB of CSV
   bool list = false;
   sim::RunOptions run;
@@ -79,8 +92,40 @@ void check_rows(const sim::Simulation& simulation, double max_rows) {
   }
 }
 
-// The animation of a run (--html, --glb): every output instant's poses, and
-// the coordinates' histories for the viewer's plot.
+// The modes of the linearization about a reference state (--modes).
+struct ModeShapes {
+  runtime::State reference;
+  runtime::Linearization linearization;
+  std::vector<runtime::Mode> modes;
+  std::vector<runtime::Animation> clips;  // one period of each, for the pictures
+};
+
+// The system's static equilibrium from its initial state, or that state itself.
+ModeShapes find_modes(runtime::MultibodySystem& system, const Arguments& args) {
+  ModeShapes m;
+  m.reference = system.initial_state();
+  if (args.modes_about == "equilibrium") {
+    m.reference = runtime::solve_statics(system, m.reference).state;
+  } else {
+    m.reference.qd.setZero();
+  }
+  m.linearization = runtime::linearize(system, m.reference);
+  m.modes = runtime::modes(m.linearization);
+  m.clips.reserve(m.modes.size());
+  for (const runtime::Mode& mode : m.modes) {
+    m.clips.push_back(runtime::mode_animation(system.model(), m.reference, m.linearization, mode, args.mode_amplitude));
+  }
+  return m;
+}
+
+void write_modes(const ModeShapes& m, const std::string& file) {
+  std::ofstream out(file);
+  runtime::write_modes_csv(out, m.linearization, m.modes);
+  if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", file));
+}
+
+// The animation of a run (--html, --glb, --easyanim): every output instant's
+// poses, and the coordinates' histories for the viewer's plot.
 struct Pictures {
   runtime::Scene scene;
   runtime::Animation animation;
@@ -96,9 +141,28 @@ struct Pictures {
     series.columns[0].push_back(s.t);
     for (Eigen::Index j = 0; j < s.q.size(); ++j) series.columns[j + 1].push_back(s.q[j]);
   }
-  void write(const Arguments& args, const std::string& title) const {
-    if (!args.glb.empty()) runtime::write_glb(std::filesystem::path(args.glb), scene, animation);
-    if (!args.html.empty()) runtime::write_html(args.html, title, scene, {{"motion", &animation}}, series);
+  // The motion, then each mode named by its frequency and damping.
+  std::vector<runtime::Clip> clips(const ModeShapes* modes) const {
+    std::vector<runtime::Clip> all{{"motion", &animation}};
+    if (modes == nullptr) return all;
+    for (std::size_t k = 0; k < modes->modes.size(); ++k) {
+      const runtime::Mode& mode = modes->modes[k];
+      all.push_back({fmt::format("mode {}: {:.4g} Hz, damping ratio {:.3g}", k + 1, mode.natural_frequency_hz,
+                                 mode.damping_ratio),
+                     &modes->clips[k]});
+    }
+    return all;
+  }
+  void write(const Arguments& args, const std::string& title, const ModeShapes* modes,
+             const runtime::Model& model) const {
+    if (!args.glb.empty()) runtime::write_glb(std::filesystem::path(args.glb), scene, clips(modes));
+    if (!args.html.empty()) runtime::write_html(args.html, title, scene, clips(modes), series);
+    if (args.easyanim.empty()) return;
+    runtime::write_easyanim(args.easyanim, scene, animation, title);
+    if (modes != nullptr) {
+      runtime::write_easyanim_modes(args.easyanim + "_modes", scene, model, modes->reference, modes->linearization,
+                                    modes->modes, args.mode_amplitude, title + " modes");
+    }
   }
 };
 
@@ -163,7 +227,12 @@ int simulate(Arguments& args) {
   sim::Simulation simulation(scenario, args.run);
   check_rows(simulation, args.max_rows);
   check_pictures(args);
-  if (!args.html.empty() || !args.glb.empty()) pictures.emplace(simulation.system().model());
+  // The modes first: a failed equilibrium touches no file.
+  std::optional<ModeShapes> modes;
+  if (!args.modes.empty()) modes = find_modes(simulation.system(), args);
+  if (!args.html.empty() || !args.glb.empty() || !args.easyanim.empty()) {
+    pictures.emplace(simulation.system().model());
+  }
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   csv.open(partial);
   if (!csv) throw std::runtime_error(fmt::format("cannot write '{}'", partial.string()));
@@ -190,10 +259,22 @@ int simulate(Arguments& args) {
   fmt::print("{}", sim::summary(r));
   fmt::print("  CSV: {} ({} rows of {} columns: {})\n", path.string(), r.rows, r.columns.size(),
              fmt::join(r.columns, ", "));
-  if (pictures) pictures->write(args, scenario.name);
+  if (modes) {
+    write_modes(*modes, args.modes);
+    fmt::print("  modes about the {} (t = {}):\n", args.modes_about == "equilibrium" ? "static equilibrium" : "initial state",
+               modes->reference.t);
+    for (std::size_t k = 0; k < modes->modes.size(); ++k) {
+      fmt::print("    mode {}: {:.6g} Hz, damping ratio {:.4g}\n", k + 1, modes->modes[k].natural_frequency_hz,
+                 modes->modes[k].damping_ratio);
+    }
+  }
+  if (pictures) pictures->write(args, scenario.name, modes ? &*modes : nullptr, simulation.system().model());
   if (!args.plot.empty()) plot(path, args.plot, r, scenario.name);
-  for (const std::string* file : {&args.html, &args.glb, &args.plot}) {
+  for (const std::string* file : {&args.html, &args.glb, &args.plot, &args.modes}) {
     if (!file->empty()) fmt::print("  wrote {}\n", *file);
+  }
+  if (!args.easyanim.empty()) {
+    fmt::print("  wrote {0}.vol, {0}.van{1}\n", args.easyanim, modes ? fmt::format(", {0}_modes.vol, {0}_modes.vmo", args.easyanim) : "");
   }
   const bool ok = std::all_of(r.checks.begin(), r.checks.end(), [](const sim::Check& c) { return c.ok(); });
   return ok ? 0 : 1;
@@ -220,6 +301,15 @@ int main(int argc, char** argv) {
   app.add_option("--html", args.html, "write the HTML viewer of the run (open it in a browser)");
   app.add_option("--glb", args.glb, "write the animation as glTF binary (Blender, glTF viewers)");
   app.add_option("--plot", args.plot, "plot the coordinates against time with gnuplot (.png or .svg)");
+  app.add_option("--easyanim", args.easyanim, "write EasyDyn's STEM.vol and STEM.van of the run (EasyAnim)");
+  CLI::Option* modes =
+      app.add_option("--modes", args.modes, "write the modes of the linearization as CSV (also clips of --html, --glb)");
+  app.add_option("--modes-about", args.modes_about, "linearize about the static equilibrium (default) or the initial state")
+      ->check(CLI::IsMember({"equilibrium", "initial"}))
+      ->needs(modes);
+  app.add_option("--mode-amplitude", args.mode_amplitude, "largest coordinate's swing in a mode's clip (default 0.2)")
+      ->check(CLI::PositiveNumber)
+      ->needs(modes);
   app.add_option("--max-rows", args.max_rows, "refuse a run that would write more CSV rows (default 1e7)")
       ->check(CLI::PositiveNumber);
   try {

@@ -190,11 +190,15 @@ void write_glb(std::ostream& out, const Scene& scene, const Animation& animation
   write_glb(out, scene, {Clip{"motion", &animation}});
 }
 
-void write_glb(const std::filesystem::path& file, const Scene& scene, const Animation& animation) {
+void write_glb(const std::filesystem::path& file, const Scene& scene, const std::vector<Clip>& clips) {
   std::ofstream out(file, std::ios::binary);
   if (!out) throw OptionError(fmt::format("glTF: cannot write '{}'", file.string()));
-  write_glb(out, scene, animation);
+  write_glb(out, scene, clips);
   if (!out) throw OptionError(fmt::format("glTF: writing '{}' failed", file.string()));
+}
+
+void write_glb(const std::filesystem::path& file, const Scene& scene, const Animation& animation) {
+  write_glb(file, scene, {Clip{"motion", &animation}});
 }
 
 }  // namespace symdyn::runtime

@@ -5,10 +5,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "codegen/run_command.hpp"
 
@@ -138,5 +141,60 @@ TEST_CASE("symdyn-sim: --glb, --html and --plot write the run's pictures", "[sim
     const std::string html = read(dir / "run.html");
     CHECK_THAT(html, Contains("<script id=\"symdyn-data\""));
     CHECK_THAT(html, Contains("\"names\":[\"t\",\"q0\",\"q1\"]"));
+  }
+}
+
+namespace {
+
+// The natural frequencies (Hz) in a modes CSV (column natural_frequency_hz).
+std::vector<double> frequencies(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);  // the header
+  std::vector<double> f;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string field;
+    for (int k = 0; k < 4; ++k) std::getline(fields, field, ',');
+    f.push_back(std::stod(field));
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("symdyn-sim: --modes about the equilibrium, as clips and EasyAnim files", "[sim]") {
+  const auto dir = scratch_directory("sim_modes");
+  const auto at = [&](const char* name) { return (dir / name).string(); };
+  const CommandResult r = run_command({kSim, "double_pendulum", "--t-end", "0.2", "--out", at("run.csv"), "--modes",
+                                       at("modes.csv"), "--glb", at("run.glb"), "--easyanim", at("run")});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  // Two uniform rods (m = 1, L = 1) hanging from a hinge: M = [4/3 1/2; 1/2 1/3],
+  // K = g·[3/2 0; 0 1/2], so ω² = g·(3 ∓ 6/√7).
+  const double g = 9.81;
+  const std::vector<double> f = frequencies(read(dir / "modes.csv"));
+  REQUIRE(f.size() == 2);
+  CHECK(f[0] == Approx(std::sqrt(g * (3 - 6 / std::sqrt(7.0))) / (2 * std::numbers::pi)).epsilon(1e-9));
+  CHECK(f[1] == Approx(std::sqrt(g * (3 + 6 / std::sqrt(7.0))) / (2 * std::numbers::pi)).epsilon(1e-9));
+  CHECK_THAT(r.out, Contains("modes about the static equilibrium") && Contains("mode 1: 0.4265"));
+  // The glTF holds the motion and one clip per mode; EasyAnim's files are there.
+  CHECK_THAT(read(dir / "run.glb"), Contains("\"motion\"") && Contains("mode 1: ") && Contains("mode 2: "));
+  for (const char* file : {"run.vol", "run.van", "run_modes.vol", "run_modes.vmo"}) {
+    CAPTURE(file);
+    CHECK(std::filesystem::file_size(dir / file) > 0);
+  }
+}
+
+TEST_CASE("symdyn-sim: --modes-about and --mode-amplitude need --modes", "[bad_input][sim]") {
+  const auto dir = with_earlier_results();
+  for (const char* option : {"--modes-about", "--mode-amplitude"}) {
+    CAPTURE(option);
+    const std::string value = option == std::string("--modes-about") ? "initial" : "0.1";
+    const CommandResult r =
+        run_command({kSim, "double_pendulum", "--out", (dir / "results.csv").string(), option, value});
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(fmt::format("{} requires --modes", option)));
+    CHECK(read(dir / "results.csv") == "earlier results\n");
   }
 }
