@@ -88,6 +88,65 @@ Spatial to_reference(const Spatial& wrench, const Mat3& R, const Vec3& d) {
   return {R * wrench.angular + cross(d, f), f};
 }
 
+Mat3 transpose(const Mat3& A) { return {A[0], A[3], A[6], A[1], A[4], A[7], A[2], A[5], A[8]}; }
+
+Mat3 skew(const Vec3& d) { return {Expr(0), -d[2], d[1], d[2], Expr(0), -d[0], -d[1], d[0], Expr(0)}; }
+
+// A general symmetric spatial inertia, an articulated body's: the momentum of
+// a twist (ω, v) is (A·ω + B·v, Bᵀ·ω + C·v), A and C symmetric. A rigid body
+// about its G has A = K, B = 0, C = m·1.
+struct ArticulatedInertia {
+  Mat3 A, B, C;
+};
+
+ArticulatedInertia articulated(const SpatialInertia& I) {
+  const Expr m = I.mass;
+  return {I.rotational, skew(I.moment), {m, Expr(0), Expr(0), Expr(0), m, Expr(0), Expr(0), Expr(0), m}};
+}
+
+Spatial momentum(const ArticulatedInertia& I, const Spatial& s) {
+  return {I.A * s.angular + I.B * s.linear, transpose_times(I.B, s.angular) + I.C * s.linear};
+}
+
+// A child's articulated inertia in its reference's axes about the reference's
+// G, the child's G at d: Xᵀ·I·X with X the twist's transform, turned by R,
+// then moved (S = skew(d), P = B·S):
+//   A' = A - P - Pᵀ - S·C·S,   B' = B + S·C,   C' = C.
+ArticulatedInertia to_reference(const ArticulatedInertia& I, const Mat3& R, const Vec3& d) {
+  const Mat3 A = rotate_symmetric(R, I.A), B = R * I.B * transpose(R), C = rotate_symmetric(R, I.C);
+  const Mat3 S = skew(d);
+  const Mat3 SC = S * C, P = B * S, SCS = SC * S;
+  ArticulatedInertia out{A, B, C};
+  for (int i = 0; i < 9; ++i) out.B[i] = B[i] + SC[i];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      out.A[3 * i + j] = out.A[3 * j + i] = A[3 * i + j] - P[3 * i + j] - P[3 * j + i] - SCS[3 * i + j];
+    }
+  }
+  return out;
+}
+
+// I - y·yᵀ·s for a spatial y (s a scalar): the rank-one update of the articulated-body algorithm.
+ArticulatedInertia minus_outer(const ArticulatedInertia& I, const Spatial& y, Expr s) {
+  ArticulatedInertia out = I;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (j >= i) {
+        out.A[3 * i + j] = out.A[3 * j + i] = I.A[3 * i + j] - y.angular[i] * y.angular[j] * s;
+        out.C[3 * i + j] = out.C[3 * j + i] = I.C[3 * i + j] - y.linear[i] * y.linear[j] * s;
+      }
+      out.B[3 * i + j] = I.B[3 * i + j] - y.angular[i] * y.linear[j] * s;
+    }
+  }
+  return out;
+}
+
+// A reference's twist or acceleration seen by the body: (Rᵀ·ω, Rᵀ·v + (Rᵀ·ω)×r).
+Spatial to_body(const Spatial& s, const Mat3& R, const Vec3& r) {
+  const Vec3 w = transpose_times(R, s.angular);
+  return {w, transpose_times(R, s.linear) + cross(w, r)};
+}
+
 // A motion T = S_1·...·S_n seen from its last frame (the body's): r, the
 // body's G from the reference's in the body's axes, and the screws, the unit
 // twists at G of every varying angle or displacement component σ, with σ.
@@ -158,6 +217,9 @@ class EquationsOfMotion {
       d_.bias[k] = symbolic::add(terms);
       for (std::size_t j = 0; j <= k; ++j) d_.mass_matrix[j * nq_ + k] = d_.mass_matrix[k * nq_ + j] = mass_matrix_entry(j, k);
     }
+    d_.inverse = inverse_dynamics();
+    d_.why_not = articulated_body_obstacle();
+    if (d_.why_not.empty()) articulated_body_algorithm();
     std::vector<symbolic::Definition> gathered = names_.take_definitions();
     d_.definitions.insert(d_.definitions.end(), gathered.begin(), gathered.end());
     return std::move(d_);
@@ -185,8 +247,9 @@ class EquationsOfMotion {
     std::vector<Spatial> directions;        // of the local twists
     std::vector<LocalTwist> local;          // l_j = coefficient·direction, for every nonzero l_j
     std::vector<Spatial> momenta;           // F = I^C·direction, for each direction
-    SpatialInertia inertia;                 // of the body, then of its subtree
-    Spatial wrench;                         // of the body, then of its subtree (at qdd = 0)
+    Vec3 r;                                 // its G from its reference's, its axes
+    SpatialInertia inertia, own_inertia;    // of the body, then of its subtree; of the body
+    Spatial wrench, own_wrench;             // of the body, then of its subtree (at qdd = 0); of the body
     std::vector<std::optional<Spatial>> gathered, from_children;  // (nq) G_k and G'_k, where nonzero
   };
 
@@ -273,8 +336,9 @@ class EquationsOfMotion {
 
     const Mat3& J = body.inertia();
     const Vec3& w = out.twist.angular;
-    out.inertia = {body.mass(), zero3(), J};
-    out.wrench = {J * out.acceleration.angular + cross(w, J * w), body.mass() * out.acceleration.linear};
+    out.inertia = out.own_inertia = {body.mass(), zero3(), J};
+    out.wrench = out.own_wrench = {J * out.acceleration.angular + cross(w, J * w), body.mass() * out.acceleration.linear};
+    out.r = r;
   }
 
   // The local twists as coefficients times directions, a body's momentum being
@@ -435,6 +499,188 @@ class EquationsOfMotion {
 
   const Spatial& direction(const Mover& m) const { return bodies_[m.body].directions[m.direction]; }
 
+  // tau_j = h_j + Σ_a Σ_d c_dj·l_d·(I·α)^C_a, α the acceleration qdd adds
+  // (parents first), I·α gathered up (children first).
+  std::vector<Expr> inverse_dynamics() {
+    std::vector<Spatial> alpha(bodies_.size()), gathered(bodies_.size());
+    for (int i : order_) {
+      const Body& b = bodies_[i];
+      Spatial a = refs_[i] < 0 ? Spatial{} : to_body(alpha[refs_[i]], b.R, b.r);
+      for (const LocalTwist& l : b.local) a = a + (l.coefficient * model_.coordinates()[l.j].qdd) * b.directions[l.direction];
+      name(a, model_.bodies()[i].name() + ".qa");
+      alpha[i] = a;
+      gathered[i] = momentum(b.own_inertia, a);
+    }
+    for (auto i = order_.rbegin(); i != order_.rend(); ++i) {
+      name(gathered[*i], model_.bodies()[*i].name() + ".qf");
+      if (refs_[*i] >= 0) {
+        gathered[refs_[*i]] = gathered[refs_[*i]] + to_reference(gathered[*i], bodies_[*i].R, bodies_[*i].x);
+      }
+    }
+    std::vector<Expr> tau;
+    for (std::size_t k = 0; k < nq_; ++k) {
+      std::vector<Expr> terms{d_.bias[k]};
+      for (const Mover& m : movers_[k]) terms.push_back(m.coefficient * dot(direction(m), gathered[m.body]));
+      tau.push_back(symbolic::add(terms));
+    }
+    return tau;
+  }
+
+  // Why the articulated-body algorithm does not apply, or nothing: each
+  // coordinate must drive the local motion of exactly one body.
+  std::string articulated_body_obstacle() const {
+    for (std::size_t j = 0; j < nq_; ++j) {
+      std::vector<std::size_t> bodies;
+      for (const Mover& m : movers_[j]) {
+        if (std::find(bodies.begin(), bodies.end(), m.body) == bodies.end()) bodies.push_back(m.body);
+      }
+      const std::string& q = model_.coordinates()[j].q.name();
+      if (bodies.empty()) return fmt::format("coordinate '{}' drives no body's motion", q);
+      if (bodies.size() > 1) {
+        return fmt::format("coordinate '{}' drives the motions of bodies '{}' and '{}'", q,
+                           model_.bodies()[bodies[0]].name(), model_.bodies()[bodies[1]].name());
+      }
+    }
+    return {};
+  }
+
+  // What the articulated-body algorithm keeps of a body between its passes.
+  struct Articulated {
+    std::vector<std::size_t> coordinates;  // the k it drives, in order
+    std::vector<Spatial> S, Y;             // (k) local twist of each, Y = U·L⁻ᵀ
+    std::vector<Expr> z, inverse_pivot;    // (k) z = L⁻¹·u, 1/d
+    std::vector<std::vector<Expr>> L;      // (k x k) unit lower triangle of D = L·diag(d)·Lᵀ
+  };
+
+  void articulated_body_algorithm() {
+    std::vector<Articulated> a(bodies_.size());
+    std::vector<ArticulatedInertia> inertia(bodies_.size());
+    std::vector<Spatial> bias(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      inertia[i] = articulated(bodies_[i].own_inertia);
+      bias[i] = bodies_[i].own_wrench;
+    }
+    d_.forward.assign(nq_, Expr(0));
+    d_.pivots.assign(2 * nq_, Expr(0));
+    for (auto i = order_.rbegin(); i != order_.rend(); ++i) {
+      if (!articulate(*i, a[*i], inertia, bias)) {
+        d_.forward.clear();
+        d_.pivots.clear();
+        return;
+      }
+    }
+    std::vector<Spatial> alpha(bodies_.size());
+    for (int i : order_) accelerate(i, a[i], alpha);
+  }
+
+  // Children first: I^A and p^A complete, the body's coordinates eliminated
+  // (D factored, Y, z), I^a and p^a added to the reference's. False (why_not
+  // said) where a pivot is exactly zero: M is singular everywhere.
+  bool articulate(int i, Articulated& out, std::vector<ArticulatedInertia>& inertia, std::vector<Spatial>& bias) {
+    const Body& b = bodies_[i];
+    const std::string& n = model_.bodies()[i].name();
+    ArticulatedInertia& IA = inertia[i];
+    names_.name_all(IA.A, n + ".IAa");
+    names_.name_all(IA.B, n + ".IAb");
+    names_.name_all(IA.C, n + ".IAc");
+    name(bias[i], n + ".pA");
+    for (const LocalTwist& l : b.local) {
+      if (std::find(out.coordinates.begin(), out.coordinates.end(), l.j) == out.coordinates.end()) out.coordinates.push_back(l.j);
+    }
+    std::sort(out.coordinates.begin(), out.coordinates.end());
+    const std::size_t k = out.coordinates.size();
+    std::vector<Spatial> U;
+    for (std::size_t m = 0; m < k; ++m) {
+      Spatial s;
+      for (const LocalTwist& l : b.local) {
+        if (l.j == out.coordinates[m]) s = s + l.coefficient * b.directions[l.direction];
+      }
+      name(s, fmt::format("{}.S{}_", n, m));
+      out.S.push_back(s);
+      U.push_back(momentum(IA, s));
+      name(U.back(), fmt::format("{}.U{}_", n, m));
+    }
+    if (!factor(n, U, bias[i], out)) return false;
+    ArticulatedInertia Ia = IA;
+    Spatial pa = bias[i];
+    for (std::size_t m = 0; m < k; ++m) {
+      Ia = minus_outer(Ia, out.Y[m], out.inverse_pivot[m]);
+      pa = pa + (out.z[m] * out.inverse_pivot[m]) * out.Y[m];
+    }
+    if (refs_[i] < 0) return true;
+    names_.name_all(Ia.A, n + ".Iaa");
+    names_.name_all(Ia.B, n + ".Iab");
+    names_.name_all(Ia.C, n + ".Iac");
+    name(pa, n + ".pa");
+    const ArticulatedInertia moved = to_reference(Ia, b.R, b.x);
+    ArticulatedInertia& IB = inertia[refs_[i]];
+    for (int e = 0; e < 9; ++e) IB.A[e] += moved.A[e], IB.B[e] += moved.B[e], IB.C[e] += moved.C[e];
+    bias[refs_[i]] = bias[refs_[i]] + to_reference(pa, b.R, b.x);
+    return true;
+  }
+
+  // D = Sᵀ·U = L·diag(d)·Lᵀ unrolled (no square root), Y = U·L⁻ᵀ and
+  // z = L⁻¹·(tau - Sᵀ·p^A), with E_nm = L_nm·d_m:
+  //   E_nm = D_nm - Σ_{p<m} L_np·E_mp,   d_m = D_mm - Σ_{p<m} L_mp·E_mp.
+  bool factor(const std::string& n, const std::vector<Spatial>& U, const Spatial& pA, Articulated& out) {
+    const std::size_t k = U.size();
+    const std::vector<Expr> tau = generalized_force_symbols(model_);
+    out.L.assign(k, std::vector<Expr>(k, Expr(0)));
+    std::vector<std::vector<Expr>> E(k, std::vector<Expr>(k, Expr(0)));
+    for (std::size_t m = 0; m < k; ++m) {
+      const Expr diagonal = names_(dot(out.S[m], U[m]), fmt::format("{}.D{}_{}", n, m, m));
+      std::vector<Expr> pivot{diagonal};
+      for (std::size_t p = 0; p < m; ++p) pivot.push_back(-(out.L[m][p] * E[m][p]));
+      const Expr d = names_(symbolic::add(pivot), fmt::format("{}.d{}", n, m));
+      if (d.is_zero()) {
+        d_.why_not = fmt::format("the pivot of coordinate '{}' in body '{}' is zero whatever the state",
+                                 model_.coordinates()[out.coordinates[m]].q.name(), n);
+        return false;
+      }
+      out.inverse_pivot.push_back(Expr(1) / d);
+      d_.pivots[2 * out.coordinates[m]] = d;
+      d_.pivots[2 * out.coordinates[m] + 1] = diagonal;
+      for (std::size_t r = m + 1; r < k; ++r) {
+        std::vector<Expr> terms{dot(out.S[r], U[m])};
+        for (std::size_t p = 0; p < m; ++p) terms.push_back(-(out.L[r][p] * E[m][p]));
+        E[r][m] = names_(symbolic::add(terms), fmt::format("{}.E{}_{}", n, r, m));
+        out.L[r][m] = E[r][m] * out.inverse_pivot[m];
+      }
+      Spatial y = U[m];
+      Expr z = tau[out.coordinates[m]] - dot(out.S[m], pA);
+      for (std::size_t p = 0; p < m; ++p) {
+        y = y + (-out.L[m][p]) * out.Y[p];
+        z = z - out.L[m][p] * out.z[p];
+      }
+      name(y, fmt::format("{}.Y{}_", n, m));
+      out.Y.push_back(y);
+      out.z.push_back(names_(z, fmt::format("{}.z{}", n, m)));
+    }
+    return true;
+  }
+
+  // Parents first: α' = X·α_B, qdd = L⁻ᵀ·diag(d)⁻¹·(z - Yᵀ·α'), α = α' + S·qdd.
+  void accelerate(int i, const Articulated& a, std::vector<Spatial>& alpha) {
+    const Body& b = bodies_[i];
+    const std::string& n = model_.bodies()[i].name();
+    Spatial carried = refs_[i] < 0 ? Spatial{} : to_body(alpha[refs_[i]], b.R, b.r);
+    name(carried, n + ".ac");
+    const std::size_t k = a.coordinates.size();
+    std::vector<Expr> qdd(k);
+    for (std::size_t m = k; m-- > 0;) {
+      std::vector<Expr> terms{(a.z[m] - dot(a.Y[m], carried)) * a.inverse_pivot[m]};
+      for (std::size_t r = m + 1; r < k; ++r) terms.push_back(-(a.L[r][m] * qdd[r]));
+      qdd[m] = names_(symbolic::add(terms), fmt::format("{}.qdd{}", n, m));
+    }
+    Spatial total = carried;
+    for (std::size_t m = 0; m < k; ++m) {
+      total = total + qdd[m] * a.S[m];
+      d_.forward[a.coordinates[m]] = qdd[m];
+    }
+    name(total, n + ".aa");
+    alpha[i] = total;
+  }
+
   const Model& model_;
   const Kinematics& k_;
   const SimplifyFunction& simplify_;
@@ -450,6 +696,12 @@ class EquationsOfMotion {
 };
 
 }  // namespace
+
+std::vector<Expr> generalized_force_symbols(const Model& model) {
+  std::vector<Expr> tau;
+  for (const Coordinate& c : model.coordinates()) tau.push_back(symbolic::symbol("tau." + c.q.name(), symbolic::SymbolKind::Free));
+  return tau;
+}
 
 Dynamics derive_dynamics(const Model& model, const Kinematics& k, const SimplifyFunction& simplify) {
   return EquationsOfMotion(model, k, simplify).run();
