@@ -108,12 +108,58 @@ Spatial momentum(const ArticulatedInertia& I, const Spatial& s) {
   return {I.A * s.angular + I.B * s.linear, transpose_times(I.B, s.angular) + I.C * s.linear};
 }
 
-// A child's articulated inertia in its reference's axes about the reference's
-// G, the child's G at d: Xᵀ·I·X with X the twist's transform, turned by R,
-// then moved (S = skew(d), P = B·S):
+// An articulated inertia Xᵀ·I·X in other axes (R: from I's to the new) or
+// about another point, I's origin at d from it (S = skew(d), P = B·S):
 //   A' = A - P - Pᵀ - S·C·S,   B' = B + S·C,   C' = C.
-ArticulatedInertia to_reference(const ArticulatedInertia& I, const Mat3& R, const Vec3& d) {
-  const Mat3 A = rotate_symmetric(R, I.A), B = R * I.B * transpose(R), C = rotate_symmetric(R, I.C);
+// R·B·Rᵀ for a rotation R about axis k by an angle whose cosine and sine
+// are c and s, in the plane (i, j): the symmetric part of B's block there
+// turns by twice the angle and its antisymmetric part α stays,
+//   B'_ii = (B_ii + B_jj)/2 + h·cos 2θ - σ·sin 2θ,   B'_jj = B_ii + B_jj - B'_ii,
+//   B'_ij = h·sin 2θ + σ·cos 2θ ± α,   h = (B_ii - B_jj)/2, σ, α = (B_ij ± B_ji)/2,
+// fewer products than R·B·Rᵀ multiplied out.
+Mat3 turned_in_plane(const Mat3& B, int k, Expr c, Expr s, Expr c2, Expr s2) {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  const auto at = [](int r, int col) { return 3 * r + col; };
+  Mat3 out = B;
+  const Expr half = Expr(1) / Expr(2), sum = B[at(i, i)] + B[at(j, j)], h = half * (B[at(i, i)] - B[at(j, j)]);
+  const Expr sigma = half * (B[at(i, j)] + B[at(j, i)]), alpha = half * (B[at(i, j)] - B[at(j, i)]);
+  out[at(i, i)] = half * sum + h * c2 - sigma * s2;
+  out[at(j, j)] = sum - out[at(i, i)];
+  const Expr off = h * s2 + sigma * c2;
+  out[at(i, j)] = off + alpha;
+  out[at(j, i)] = off - alpha;
+  out[at(i, k)] = c * B[at(i, k)] - s * B[at(j, k)];
+  out[at(j, k)] = s * B[at(i, k)] + c * B[at(j, k)];
+  out[at(k, i)] = c * B[at(k, i)] - s * B[at(k, j)];
+  out[at(k, j)] = s * B[at(k, i)] + c * B[at(k, j)];
+  return out;
+}
+
+// The axis k of a rotation about a coordinate axis, R = [c -s; s c] in the
+// plane after it, or -1.
+int plane_rotation_axis(const Mat3& R) {
+  for (int k = 0; k < 3; ++k) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    if (R[4 * k].is_one() && R[3 * k + i].is_zero() && R[3 * k + j].is_zero() && R[3 * i + k].is_zero() &&
+        R[3 * j + k].is_zero() && R[3 * i + i] == R[3 * j + j] && R[3 * i + j] == -R[3 * j + i]) {
+      return k;
+    }
+  }
+  return -1;
+}
+
+ArticulatedInertia turned(const ArticulatedInertia& I, const Mat3& R) {
+  if (const int k = plane_rotation_axis(R); k >= 0) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const Expr c = R[4 * i], s = R[3 * j + i], c2 = c * c - s * s, s2 = Expr(2) * c * s;
+    return {turned_in_plane(I.A, k, c, s, c2, s2), turned_in_plane(I.B, k, c, s, c2, s2),
+            turned_in_plane(I.C, k, c, s, c2, s2)};
+  }
+  return {rotate_symmetric(R, I.A), R * I.B * transpose(R), rotate_symmetric(R, I.C)};
+}
+
+ArticulatedInertia moved(const ArticulatedInertia& I, const Vec3& d) {
+  const Mat3 &A = I.A, &B = I.B, &C = I.C;
   const Mat3 S = skew(d);
   const Mat3 SC = S * C, P = B * S, SCS = SC * S;
   ArticulatedInertia out{A, B, C};
@@ -145,6 +191,64 @@ ArticulatedInertia minus_outer(const ArticulatedInertia& I, const Spatial& y, Ex
 Spatial to_body(const Spatial& s, const Mat3& R, const Vec3& r) {
   const Vec3 w = transpose_times(R, s.angular);
   return {w, transpose_times(R, s.linear) + cross(w, r)};
+}
+
+// The steps of a motion as frame changes, x_outer = R·x_inner or x_inner + t:
+// a twist, a wrench or an articulated inertia carried outward through one
+// (up) or a twist inward (down, the inverse).
+using Step = Transform::Step;
+
+bool varies(const Step& s) {
+  if (s.is_rotation) return !s.angle.is_number();
+  return !(s.displacement[0].is_number() && s.displacement[1].is_number() && s.displacement[2].is_number());
+}
+
+Mat3 rotation(const Step& s) { return Transform::rotation_matrix(s.axis, s.angle); }
+
+Spatial twist_up(const Spatial& s, const Step& step) {
+  if (step.is_rotation) return {rotation(step) * s.angular, rotation(step) * s.linear};
+  return {s.angular, s.linear + cross(step.displacement, s.angular)};
+}
+
+Spatial twist_down(const Spatial& s, const Step& step) {
+  if (step.is_rotation) return {transpose_times(rotation(step), s.angular), transpose_times(rotation(step), s.linear)};
+  return {s.angular, s.linear - cross(step.displacement, s.angular)};
+}
+
+Spatial wrench_up(const Spatial& f, const Step& step) {
+  if (step.is_rotation) return {rotation(step) * f.angular, rotation(step) * f.linear};
+  return {f.angular + cross(step.displacement, f.linear), f.linear};
+}
+
+ArticulatedInertia inertia_up(const ArticulatedInertia& I, const Step& step) {
+  return step.is_rotation ? turned(I, rotation(step)) : moved(I, step.displacement);
+}
+
+// The steps to take one after the other, without those that change nothing,
+// adjacent displacements added into one (a child's last constant step and its
+// reference's first: one move instead of two).
+std::vector<Step> merged(const std::vector<Step>& steps) {
+  std::vector<Step> out;
+  for (const Step& s : steps) {
+    if (s.is_rotation ? s.angle.is_zero() : is_zero(s.displacement)) continue;
+    if (!s.is_rotation && !out.empty() && !out.back().is_rotation) {
+      out.back().displacement = out.back().displacement + s.displacement;
+      if (is_zero(out.back().displacement)) out.pop_back();
+      continue;
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<Step> reversed(std::vector<Step> steps) {
+  std::reverse(steps.begin(), steps.end());
+  return steps;
+}
+
+std::vector<Step> operator+(std::vector<Step> a, const std::vector<Step>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
 }
 
 // A motion T = S_1·...·S_n seen from its last frame (the body's): r, the
@@ -546,6 +650,10 @@ class EquationsOfMotion {
 
   // What the articulated-body algorithm keeps of a body between its passes.
   struct Articulated {
+    // The body's motion split after its last varying step (its joint): the
+    // frame F there is where its articulated quantities are taken, the steps
+    // after it being constant (G from F).
+    std::vector<Step> joint, constant;
     std::vector<std::size_t> coordinates;  // the k it drives, in order
     std::vector<Spatial> S, Y;             // (k) local twist of each, Y = U·L⁻ᵀ
     std::vector<Expr> z, inverse_pivot;    // (k) z = L⁻¹·u, 1/d
@@ -553,12 +661,19 @@ class EquationsOfMotion {
   };
 
   void articulated_body_algorithm() {
-    std::vector<Articulated> a(bodies_.size());
+    std::vector<Articulated>& a = articulated_;
+    a.assign(bodies_.size(), {});
     std::vector<ArticulatedInertia> inertia(bodies_.size());
     std::vector<Spatial> bias(bodies_.size());
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
-      inertia[i] = articulated(bodies_[i].own_inertia);
-      bias[i] = bodies_[i].own_wrench;
+      const std::vector<Step>& steps = model_.bodies()[i].motion().steps();
+      auto last = std::find_if(steps.rbegin(), steps.rend(), varies);
+      a[i].joint.assign(steps.begin(), last.base());
+      a[i].constant.assign(last.base(), steps.end());
+      const std::string& n = model_.bodies()[i].name();
+      const std::vector<Step> to_joint = merged(reversed(a[i].constant));
+      inertia[i] = carry(articulated(bodies_[i].own_inertia), to_joint, n + ".Io");
+      bias[i] = carry(bodies_[i].own_wrench, to_joint, wrench_up, n + ".po");
     }
     d_.forward.assign(nq_, Expr(0));
     d_.pivots.assign(2 * nq_, Expr(0));
@@ -590,11 +705,13 @@ class EquationsOfMotion {
     std::sort(out.coordinates.begin(), out.coordinates.end());
     const std::size_t k = out.coordinates.size();
     std::vector<Spatial> U;
+    const std::vector<Step> to_joint = merged(reversed(out.constant));
     for (std::size_t m = 0; m < k; ++m) {
       Spatial s;
       for (const LocalTwist& l : b.local) {
         if (l.j == out.coordinates[m]) s = s + l.coefficient * b.directions[l.direction];
       }
+      s = carry(s, to_joint, twist_up, fmt::format("{}.Sg{}_", n, m));
       name(s, fmt::format("{}.S{}_", n, m));
       out.S.push_back(s);
       U.push_back(momentum(IA, s));
@@ -612,11 +729,33 @@ class EquationsOfMotion {
     names_.name_all(Ia.B, n + ".Iab");
     names_.name_all(Ia.C, n + ".Iac");
     name(pa, n + ".pa");
-    const ArticulatedInertia moved = to_reference(Ia, b.R, b.x);
+    // Out through the body's joint steps, then in to the reference's F.
+    const std::vector<Step> up = merged(reversed(out.joint) + reversed(articulated_[refs_[i]].constant));
+    const ArticulatedInertia carried = carry(Ia, up, n + ".X");
     ArticulatedInertia& IB = inertia[refs_[i]];
-    for (int e = 0; e < 9; ++e) IB.A[e] += moved.A[e], IB.B[e] += moved.B[e], IB.C[e] += moved.C[e];
-    bias[refs_[i]] = bias[refs_[i]] + to_reference(pa, b.R, b.x);
+    for (int e = 0; e < 9; ++e) IB.A[e] += carried.A[e], IB.B[e] += carried.B[e], IB.C[e] += carried.C[e];
+    bias[refs_[i]] = bias[refs_[i]] + carry(pa, up, wrench_up, n + ".pc");
     return true;
+  }
+
+  // A twist or wrench through steps, named after each.
+  Spatial carry(Spatial s, const std::vector<Step>& steps, Spatial (*through)(const Spatial&, const Step&),
+                const std::string& prefix) {
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      s = through(s, steps[k]);
+      name(s, fmt::format("{}{}_", prefix, k));
+    }
+    return s;
+  }
+
+  ArticulatedInertia carry(ArticulatedInertia I, const std::vector<Step>& steps, const std::string& prefix) {
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      I = inertia_up(I, steps[k]);
+      names_.name_all(I.A, fmt::format("{}{}a", prefix, k));
+      names_.name_all(I.B, fmt::format("{}{}b", prefix, k));
+      names_.name_all(I.C, fmt::format("{}{}c", prefix, k));
+    }
+    return I;
   }
 
   // D = Sᵀ·U = L·diag(d)·Lᵀ unrolled (no square root), Y = U·L⁻ᵀ and
@@ -661,10 +800,10 @@ class EquationsOfMotion {
 
   // Parents first: α' = X·α_B, qdd = L⁻ᵀ·diag(d)⁻¹·(z - Yᵀ·α'), α = α' + S·qdd.
   void accelerate(int i, const Articulated& a, std::vector<Spatial>& alpha) {
-    const Body& b = bodies_[i];
     const std::string& n = model_.bodies()[i].name();
-    Spatial carried = refs_[i] < 0 ? Spatial{} : to_body(alpha[refs_[i]], b.R, b.r);
-    name(carried, n + ".ac");
+    // In from the reference's F: its constant steps, then the body's joint steps.
+    Spatial carried;
+    if (refs_[i] >= 0) carried = carry(alpha[refs_[i]], merged(articulated_[refs_[i]].constant + a.joint), twist_down, n + ".ac");
     const std::size_t k = a.coordinates.size();
     std::vector<Expr> qdd(k);
     for (std::size_t m = k; m-- > 0;) {
@@ -692,6 +831,7 @@ class EquationsOfMotion {
   IntermediateNames names_;
   std::vector<Body> bodies_;
   std::vector<std::vector<Mover>> movers_;  // (nq) the local twists of each coordinate
+  std::vector<Articulated> articulated_;    // (nbody)
   Dynamics d_;
 };
 

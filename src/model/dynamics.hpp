@@ -56,6 +56,10 @@
 //   I^a = I^A - Σ_m Y_m·Y_mᵀ/d_m,   p^a = p^A + Σ_m Y_m·z_m/d_m,
 //
 // then parents first, α' = X·α_B, qdd = L⁻ᵀ·diag(d)⁻¹·(z - Yᵀ·α'), α = α' + S·qdd.
+// These are taken in each body's joint frame F, after the last varying step
+// of its motion (a hinge's S is its axis there), and carried between frames
+// step by step of the motions, a child's constant steps merged with its
+// reference's: an elementary rotation and one displacement per body.
 
 #include <string>
 #include <vector>

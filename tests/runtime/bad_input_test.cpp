@@ -325,6 +325,7 @@ TEST_CASE("bad input: a dependent parameter at the edge of its domain is named a
 
 TEST_CASE("bad input: a Z-Y-X sequence at pitch = 90 deg is named as such", "[runtime][bad_input][gimbal]") {
   MultibodySystem sys(Model::from<gimbal_zyx>());
+  REQUIRE(sys.model().has_forward_dynamics());  // its failed pivot falls back to M, which names the culprit
   Vector qdd, yd;
   for (double pitch : {pi / 2, -pi / 2, 3 * pi / 2}) {
     const std::string m = message_of<NumericError>([&] {
@@ -344,6 +345,7 @@ TEST_CASE("bad input: a Z-Y-X sequence at pitch = 90 deg is named as such", "[ru
 
 TEST_CASE("bad input: a Z-X-Z (proper Euler) sequence at nutation = 0 is named", "[runtime][bad_input][gimbal]") {
   MultibodySystem sys(Model::from<gimbal_zxz>());
+  REQUIRE(sys.model().has_forward_dynamics());
   Vector qdd, yd;
   const std::string m =
       message_of<NumericError>([&] { sys.accelerations(state(0, {0.4, 0.0, 1.0}, {0, 0, 0}), qdd, yd); });
