@@ -221,7 +221,7 @@ void sweep_peer(const Problem& p, System& s, const State& ref, const State& half
   std::fflush(stdout);
 }
 
-void peers_on(const Problem& p, System& s, const State& ref, const Options& opt) {
+void peers_on(const Problem& p, System& s, [[maybe_unused]] const State& ref, [[maybe_unused]] const Options& opt) {
   [[maybe_unused]] const symdyn::bench::peers::Mechanism mech = symdyn::bench::peers::double_pendulum();
   State half = solve(s, "dop853", 1e-13, p.t_end / 2);
 #ifdef SYMDYN_HAVE_MUJOCO

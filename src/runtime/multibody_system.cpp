@@ -381,7 +381,7 @@ void MultibodySystem::evaluate_loads(const State& s) {
 
 bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
   const double* tau = zero_.data();
-  if (level_ != KinematicsLevel::none) {
+  if (level_ != KinematicsLevel::none || !elements_.empty()) {
     check_state(s);
     evaluate_loads(s);
     if (!elements_.empty()) tau = Qa_.data();
