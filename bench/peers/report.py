@@ -125,7 +125,8 @@ def main(work, out):
              "M⁻¹·(−h) whose error grows with cond(M) (largest cond(M) per model below): chain_64 "
              "reaches 4e-10 at cond(M) 1.6e8, still inside 1e-9, where a wrong axis, centre of mass or "
              "inertia shows as 1e-1 or worse. A library that disagrees is reported here and not timed. symdyn's own "
-             "`MultibodySystem::accelerations` is checked against the emitted code the same way.\n")
+             "`MultibodySystem` (`accelerations` and `residual`: its recursive forward and inverse dynamics where "
+             "emitted) is checked against the emitted M and h the same way.\n")
     o.append("| model | cond(M) max | library | total mass | M | qdd | tau | R | x | M at q = 0 | verdict |")
     o.append("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|")
     for m in models:
