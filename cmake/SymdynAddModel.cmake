@@ -1,5 +1,6 @@
 # symdyn_add_model(<target> <model.cpp> [MODEL <name>] [VARIANT <v>]
 #                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM] [PART_SIZE n]
+#                  [DYNAMICS auto|mass-matrix|recursive]
 #                  [PYTHON] [SIM_MODULE])
 #
 # Builds the model's generator (the model file linked with symdyn's generator
@@ -19,7 +20,7 @@
 include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 
 function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE" "" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
   get_filename_component(model_path ${model_source} ABSOLUTE)
   set(generator symdyn_generator_${model_name})
@@ -43,6 +44,9 @@ function(symdyn_add_model target model_source)
   endif()
   if(ARG_NO_EOM)
     list(APPEND flags --no-eom)
+  endif()
+  if(ARG_DYNAMICS)
+    list(APPEND flags --dynamics ${ARG_DYNAMICS})
   endif()
   if(DEFINED ARG_PART_SIZE)
     list(APPEND flags --part-size ${ARG_PART_SIZE} --split-above 0)

@@ -43,11 +43,21 @@ inline constexpr std::size_t kDefaultPartInstructions = 125;
 // compile fast whole.
 inline constexpr std::size_t kSplitAbove = 500;
 
+// How the accelerations are computed (docs/emitted_interface.md): by the
+// mass matrix and bias forces and a Cholesky factorization at run time, or by
+// the emitted recursive forward_dynamics() (the articulated-body algorithm);
+// automatic: the one of fewer operations, counting ~nq³/6 + nq² for the
+// factorization and solve.
+enum class DynamicsMethod { automatic, mass_matrix, recursive };
+
 struct Options {
   bool simplify = true;             // trigonometric simplification of the relative kinematics; the code
                                     // keeps the shorter of the simplified and plain programs (see run())
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
-  bool equations_of_motion = true;  // emit mass_matrix and bias_forces
+  bool equations_of_motion = true;  // emit mass_matrix, bias_forces and inverse_dynamics
+  // recursive: forward_dynamics where the articulated-body algorithm applies
+  // (else the mass matrix, GeneratedCode::dynamics says why).
+  DynamicsMethod dynamics = DynamicsMethod::automatic;
   std::string name_space = "symdyn_generated";
   // Entry points longer than split_above statements together are emitted as
   // internal functions of at most part_instructions statements each, shared
@@ -69,8 +79,17 @@ struct EmittedFunction {
   symbolic::OperationCount operations;
 };
 
+// Which way the accelerations go, and why.
+struct DynamicsChoice {
+  bool recursive = false;                 // forward_dynamics emitted
+  std::size_t recursive_operations = 0;   // of forward_dynamics (0: not derived)
+  std::size_t mass_matrix_operations = 0; // of dynamics() plus nq³/6 + nq² for Cholesky and solve
+  std::string reason;                     // one line for --stats and the header
+};
+
 struct GeneratedCode {
   std::string struct_name;  // the basename
+  DynamicsChoice dynamics;
   std::string header;       // <basename>.hpp
   std::string source;       // <basename>.cpp
   std::vector<EmittedFunction> functions;

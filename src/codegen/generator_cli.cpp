@@ -30,6 +30,7 @@ struct Arguments {
   std::string variant;
   std::string basename;
   std::string partials = "symbolic";
+  std::string dynamics = "auto";
   std::string model;
   // Signed, so that a negative count is refused rather than wrapped around.
   std::int64_t part_size = static_cast<std::int64_t>(codegen::kDefaultPartInstructions);
@@ -109,6 +110,9 @@ Job check_arguments(const Arguments& args) {
   job.options.simplify = !args.no_simplify;
   job.options.symbolic_partials = args.partials == "symbolic";
   job.options.equations_of_motion = !args.no_eom;
+  job.options.dynamics = args.dynamics == "recursive"     ? codegen::DynamicsMethod::recursive
+                         : args.dynamics == "mass-matrix" ? codegen::DynamicsMethod::mass_matrix
+                                                          : codegen::DynamicsMethod::automatic;
   job.options.part_instructions = count(args.part_size, 1, "--part-size");
   job.options.split_above = count(args.split_above, 0, "--split-above");
   if (args.out.empty()) throw CommandLineError("--out: the directory name is empty");
@@ -146,6 +150,7 @@ int generate(const Job& job, const Arguments& args) {
     for (const auto& e : code.functions) {
       fmt::print("  {:<22} {:>7} operations  {}\n", e.name, e.operations.total(), e.operations.str());
     }
+    if (job.options.equations_of_motion) fmt::print("  accelerations: {}\n", code.dynamics.reason);
   }
   return 0;
 }
@@ -186,7 +191,12 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
   app.add_option("--partials", args.partials, "partial velocities")
       ->check(CLI::IsMember({"numeric", "symbolic"}))
       ->capture_default_str();
-  app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix and bias forces");
+  app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix, bias forces and inverse dynamics");
+  app.add_option("--dynamics", args.dynamics,
+                 "accelerations by the mass matrix (Cholesky at run time) or the emitted recursive forward "
+                 "dynamics where it applies; auto: the one of fewer operations")
+      ->check(CLI::IsMember({"auto", "mass-matrix", "recursive"}))
+      ->capture_default_str();
   app.add_option("--part-size", args.part_size,
                  "emit long entry points as shared functions of at most N statements each (N >= 1)")
       ->capture_default_str();

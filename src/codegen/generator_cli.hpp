@@ -6,6 +6,7 @@
 //
 //   double_pendulum_generator --out DIR [--model M] [--variant V] [--no-simplify]
 //                             [--partials numeric|symbolic] [--no-eom] [--basename NAME]
+//                             [--dynamics auto|mass-matrix|recursive]
 //                             [--part-size N] [--split-above N] [--stats]
 //   double_pendulum_generator --list [--model M]
 //

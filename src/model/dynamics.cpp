@@ -6,6 +6,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include <symdyn/model/dynamics_terms.hpp>
 #include <symdyn/model/intermediates.hpp>
 #include <symdyn/symbolic/diff.hpp>
 #include <symdyn/symbolic/traversal.hpp>
@@ -13,80 +14,7 @@
 namespace symdyn::model {
 namespace {
 
-// The Vec3 and Mat3 operators, which those of Spatial below would hide.
-using model::operator+;
-using model::operator*;
-
-// A twist (angular velocity, velocity of G) or a wrench (moment about G,
-// force): their dot product is a power.
-struct Spatial {
-  Vec3 angular = zero3(), linear = zero3();
-};
-
-Expr dot(const Spatial& a, const Spatial& b) { return model::dot(a.angular, b.angular) + model::dot(a.linear, b.linear); }
-
-Spatial operator+(const Spatial& a, const Spatial& b) { return {a.angular + b.angular, a.linear + b.linear}; }
-
-Spatial operator*(Expr c, const Spatial& s) { return {c * s.angular, c * s.linear}; }
-
-Mat3 zero_matrix() { return {Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0)}; }
-
-// The inertia of a body or a subtree about a point: mass m, first moment h
-// (m times the centre of mass from the point) and rotational inertia K.
-struct SpatialInertia {
-  Expr mass{0};
-  Vec3 moment = zero3();
-  Mat3 rotational = zero_matrix();
-};
-
-SpatialInertia operator+(const SpatialInertia& a, const SpatialInertia& b) {
-  SpatialInertia sum{a.mass + b.mass, a.moment + b.moment, {}};
-  for (int i = 0; i < 9; ++i) sum.rotational[i] = a.rotational[i] + b.rotational[i];
-  return sum;
-}
-
-// The momentum a twist s gives: (K·ω + h×v, m·v + ω×h).
-Spatial momentum(const SpatialInertia& I, const Spatial& s) {
-  return {I.rotational * s.angular + cross(I.moment, s.linear), I.mass * s.linear + cross(s.angular, I.moment)};
-}
-
-// R·K·Rᵀ for a symmetric K: the upper triangle, mirrored.
-Mat3 rotate_symmetric(const Mat3& R, const Mat3& K) {
-  const Mat3 RK = R * K;
-  Mat3 out;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = i; j < 3; ++j) {
-      out[3 * i + j] = out[3 * j + i] = sum3(RK[3 * i] * R[3 * j], RK[3 * i + 1] * R[3 * j + 1], RK[3 * i + 2] * R[3 * j + 2]);
-    }
-  }
-  return out;
-}
-
-// A child's inertia (its axes, about its G) in its reference's axes about the
-// reference's G, the child's G being at d: turned by R, then moved,
-//   h' = h + m·d,   K' = K + m·(|d|²·1 - d·dᵀ) + 2·(d·h)·1 - d·hᵀ - h·dᵀ.
-SpatialInertia to_reference(const SpatialInertia& I, const Mat3& R, const Vec3& d) {
-  const Vec3 h = R * I.moment;
-  SpatialInertia out{I.mass, h + I.mass * d, rotate_symmetric(R, I.rotational)};
-  const Expr& m = I.mass;
-  for (int i = 0; i < 3; ++i) {
-    const int u = (i + 1) % 3, w = (i + 2) % 3;
-    out.rotational[4 * i] += m * (d[u] * d[u] + d[w] * d[w]) + Expr(2) * (d[u] * h[u] + d[w] * h[w]);
-    for (int j = i + 1; j < 3; ++j) {
-      const Expr shift = -(m * d[i] * d[j]) - d[i] * h[j] - h[i] * d[j];
-      out.rotational[3 * i + j] += shift;
-      out.rotational[3 * j + i] += shift;
-    }
-  }
-  return out;
-}
-
-// A child's wrench (its axes, about its G) in its reference's axes about the
-// reference's G: (R·n + d×R·f, R·f).
-Spatial to_reference(const Spatial& wrench, const Mat3& R, const Vec3& d) {
-  const Vec3 f = R * wrench.linear;
-  return {R * wrench.angular + cross(d, f), f};
-}
+using namespace detail;
 
 // A motion T = S_1·...·S_n seen from its last frame (the body's): r, the
 // body's G from the reference's in the body's axes, and the screws, the unit
@@ -148,7 +76,7 @@ class EquationsOfMotion {
     for (auto i = order_.rbegin(); i != order_.rend(); ++i) gather_subtree(*i);
     for (std::size_t a = 0; a < bodies_.size(); ++a) add_momenta(a);
     find_movers();
-    for (Body& b : bodies_) b.gathered.resize(nq_), b.from_children.resize(nq_);
+    for (BodyTerms& b : bodies_) b.gathered.resize(nq_), b.from_children.resize(nq_);
     for (std::size_t k = 0; k < nq_; ++k) gather_momenta(k);
     d_.mass_matrix.assign(nq_ * nq_, Expr(0));
     d_.bias.assign(nq_, Expr(0));
@@ -158,36 +86,19 @@ class EquationsOfMotion {
       d_.bias[k] = symbolic::add(terms);
       for (std::size_t j = 0; j <= k; ++j) d_.mass_matrix[j * nq_ + k] = d_.mass_matrix[k * nq_ + j] = mass_matrix_entry(j, k);
     }
+    d_.inverse = detail::inverse_dynamics(model_, bodies_, d_.bias, names_);
+    detail::forward_dynamics(model_, bodies_, names_, d_);
     std::vector<symbolic::Definition> gathered = names_.take_definitions();
     d_.definitions.insert(d_.definitions.end(), gathered.begin(), gathered.end());
     return std::move(d_);
   }
 
  private:
-  struct LocalTwist {
-    std::size_t j;
-    Expr coefficient;
-    std::size_t direction;
-  };
-
   // A local twist of some body, as one coordinate drives it.
   struct Mover {
     std::size_t body;
     Expr coefficient;
     std::size_t direction;
-  };
-
-  // What the sums need of each body, in its axes about its G.
-  struct Body {
-    Mat3 R;                                 // its axes to its reference's
-    Vec3 x;                                 // its G from its reference's, reference axes
-    Spatial twist, acceleration;            // (ω, v) and (dω/dt, a) at qdd = 0, less gravity
-    std::vector<Spatial> directions;        // of the local twists
-    std::vector<LocalTwist> local;          // l_j = coefficient·direction, for every nonzero l_j
-    std::vector<Spatial> momenta;           // F = I^C·direction, for each direction
-    SpatialInertia inertia;                 // of the body, then of its subtree
-    Spatial wrench;                         // of the body, then of its subtree (at qdd = 0)
-    std::vector<std::optional<Spatial>> gathered, from_children;  // (nq) G_k and G'_k, where nonzero
   };
 
   static symbolic::RateMap rates(const Model& model) {
@@ -234,7 +145,7 @@ class EquationsOfMotion {
   void add_body(int i) {
     const model::Body& body = model_.bodies()[i];
     const std::string& n = body.name();
-    Body& out = bodies_[i];
+    BodyTerms& out = bodies_[i];
     const MotionInBodyAxes local = in_body_axes(body.motion());
     out.R = k_.bodies[i].relative.R;
     out.x = k_.bodies[i].relative.x;
@@ -273,8 +184,9 @@ class EquationsOfMotion {
 
     const Mat3& J = body.inertia();
     const Vec3& w = out.twist.angular;
-    out.inertia = {body.mass(), zero3(), J};
-    out.wrench = {J * out.acceleration.angular + cross(w, J * w), body.mass() * out.acceleration.linear};
+    out.inertia = out.own_inertia = {body.mass(), zero3(), J};
+    out.wrench = out.own_wrench = {J * out.acceleration.angular + cross(w, J * w), body.mass() * out.acceleration.linear};
+    out.r = r;
   }
 
   // The local twists as coefficients times directions, a body's momentum being
@@ -283,7 +195,7 @@ class EquationsOfMotion {
   // the motion holds (a dependent parameter's pd_p has coefficients dp/dq_j:
   // the slider driven by p alone); one per screw (link6's Troty(beta - alpha),
   // in any variant).
-  void add_local_twists(const std::vector<Screw>& screws, Body& out) const {
+  void add_local_twists(const std::vector<Screw>& screws, BodyTerms& out) const {
     std::vector<std::vector<Expr>> dscalar_dq;  // (screws x nq)
     for (const Screw& s : screws) dscalar_dq.push_back(coordinate_derivatives(s.scalar));
     Span by_coordinate;
@@ -372,21 +284,21 @@ class EquationsOfMotion {
   // Called children first: names the subtree's inertia and wrench, and adds
   // them to the reference's.
   void gather_subtree(int i) {
-    Body& b = bodies_[i];
+    BodyTerms& b = bodies_[i];
     const std::string& n = model_.bodies()[i].name();
     b.inertia.mass = names_(b.inertia.mass, n + ".mass");
     names_.name_all(b.inertia.moment, n + ".h");
     names_.name_all(b.inertia.rotational, n + ".K");
     name(b.wrench, n + ".f");
     if (refs_[i] < 0) return;
-    Body& B = bodies_[refs_[i]];
+    BodyTerms& B = bodies_[refs_[i]];
     B.inertia = B.inertia + to_reference(b.inertia, b.R, b.x);
     B.wrench = B.wrench + to_reference(b.wrench, b.R, b.x);
   }
 
   // The momenta F = I^C·l of the body's local twist directions.
   void add_momenta(std::size_t a) {
-    Body& body = bodies_[a];
+    BodyTerms& body = bodies_[a];
     for (std::size_t d = 0; d < body.directions.size(); ++d) {
       body.momenta.push_back(momentum(body.inertia, body.directions[d]));
       name(body.momenta.back(), fmt::format("{}.F{}_", model_.bodies()[a].name(), d));
@@ -406,7 +318,7 @@ class EquationsOfMotion {
   void gather_momenta(std::size_t k) {
     for (auto i = order_.rbegin(); i != order_.rend(); ++i) {
       const std::string& n = model_.bodies()[*i].name();
-      Body& b = bodies_[*i];
+      BodyTerms& b = bodies_[*i];
       if (auto& part = b.from_children[k]; part) name(*part, fmt::format("{}.Gc{}_", n, k));
       std::optional<Spatial> total = b.from_children[k];
       for (const LocalTwist& l : b.local) {
@@ -444,12 +356,18 @@ class EquationsOfMotion {
   symbolic::TimeDerivative d_dt_;
   symbolic::Substitution at_zero_qdd_;
   IntermediateNames names_;
-  std::vector<Body> bodies_;
+  std::vector<BodyTerms> bodies_;
   std::vector<std::vector<Mover>> movers_;  // (nq) the local twists of each coordinate
   Dynamics d_;
 };
 
 }  // namespace
+
+std::vector<Expr> generalized_force_symbols(const Model& model) {
+  std::vector<Expr> tau;
+  for (const Coordinate& c : model.coordinates()) tau.push_back(symbolic::symbol("tau." + c.q.name(), symbolic::SymbolKind::Free));
+  return tau;
+}
 
 Dynamics derive_dynamics(const Model& model, const Kinematics& k, const SimplifyFunction& simplify) {
   return EquationsOfMotion(model, k, simplify).run();

@@ -38,7 +38,30 @@
 // the pairs of bodies where q_j drives the upper one, then q_k. Every gathered
 // quantity is a named intermediate (intermediates.hpp). Only the upper
 // triangle of the symmetric M is derived.
+//
+// Inverse dynamics, tau = M·qdd + h, in time linear in the bodies (recursive
+// Newton-Euler): qdd adds to each body's acceleration at qdd = 0
+//
+//   α = X·α_B + Σ_d β_d·l_d,   β_d = Σ_j c_dj·qdd_j,
+//
+// whose momentum rate I·α gathers up like f, so tau_j = h_j + Σ_a Σ_d c_dj·l_d·(I·α)^C_a.
+//
+// Forward dynamics, qdd = M⁻¹·(tau - h) without M, by the articulated-body
+// algorithm, where every coordinate drives the local motion of one body only
+// (a tree whose dependent parameters, if any, couple no two bodies): with S
+// the body's local twists of its own k coordinates (6 x k), children first,
+//
+//   I^A = I + Σ_c X·I^a_c·Xᵀ,  p^A = f + Σ_c X·p^a_c,  U = I^A·S,  D = Sᵀ·U = L·diag(d)·Lᵀ,
+//   Y = U·L⁻ᵀ,  z = L⁻¹·(tau - Sᵀ·p^A),
+//   I^a = I^A - Σ_m Y_m·Y_mᵀ/d_m,   p^a = p^A + Σ_m Y_m·z_m/d_m,
+//
+// then parents first, α' = X·α_B, qdd = L⁻ᵀ·diag(d)⁻¹·(z - Yᵀ·α'), α = α' + S·qdd.
+// These are taken in each body's joint frame F, after the last varying step
+// of its motion (a hinge's S is its axis there), and carried between frames
+// step by step of the motions, a child's constant steps merged with its
+// reference's: an elementary rotation and one displacement per body.
 
+#include <string>
 #include <vector>
 
 #include <symdyn/model/kinematics.hpp>
@@ -48,11 +71,23 @@ namespace symdyn::model {
 struct Dynamics {
   std::vector<Expr> mass_matrix;  // (nq x nq) row-major; the lower triangle mirrors the upper
   std::vector<Expr> bias;         // (nq) h
+  std::vector<Expr> inverse;      // (nq) tau = M·qdd + h, in the symbols qdd
+  // Where the articulated-body algorithm applies (else empty, and `why_not`
+  // says why): qdd = M⁻¹·(tau - h) in the symbols generalized_force_symbols(),
+  // and for every coordinate the pivot d of the LDLᵀ factorization of its
+  // body's D and the diagonal entry of D it came from.
+  std::vector<Expr> forward;  // (nq)
+  std::vector<Expr> pivots;   // (nq x 2)
+  std::string why_not;
   // The symbols the expressions above use besides the kinematics': the values
   // at qdd = 0 of the dependent accelerations ("<name>__0"), and the gathered
   // quantities; each after those it uses.
   std::vector<symbolic::Definition> definitions;
 };
+
+// The symbols of the generalized forces tau (nq), "tau.<coordinate>", inputs
+// of the forward dynamics.
+std::vector<Expr> generalized_force_symbols(const Model& model);
 
 // Uses the kinematics' relative motions and dependent parameters; `simplify`
 // (if any) simplifies the rates of the motions' angles and displacements.

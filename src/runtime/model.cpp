@@ -329,6 +329,16 @@ void Model::dynamics(double t, const double* q, const double* qd, KinematicsLeve
   dynamics_separately(t, q, qd, level, M, h, k);
 }
 
+void Model::inverse_dynamics(double t, const double* q, const double* qd, const double* qdd, double* tau) const {
+  if (d_.inverse_dynamics == nullptr) missing("inverse_dynamics");
+  d_.inverse_dynamics(t, q, qd, qdd, param_.data(), tau);
+}
+
+int Model::forward_dynamics(double t, const double* q, const double* qd, const double* tau, double* qdd) const {
+  if (d_.forward_dynamics == nullptr) missing("forward_dynamics");
+  return d_.forward_dynamics(t, q, qd, tau, param_.data(), qdd);
+}
+
 void Model::dynamics_separately(double t, const double* q, const double* qd,
                                 KinematicsLevel level, double* M, double* h,
                                 Kinematics& k) const {

@@ -59,7 +59,23 @@ using DynamicsVelocitiesFn = void (*)(double t, const double* q, const double* q
                                       const double* param, double* M, double* h, double* R,
                                       double* x, double* v, double* w, double* dv, double* dw);
 
+// tau = M·qdd + h (nq), recursive Newton-Euler.
+using InverseDynamicsFn = void (*)(double t, const double* q, const double* qd, const double* qdd,
+                                   const double* param, double* tau);
+// qdd = M⁻¹·(tau - h) (nq) by the articulated-body algorithm; returns -1, or the
+// first coordinate whose pivot failed (then qdd is not to be used).
+using ForwardDynamicsFn = int (*)(double t, const double* q, const double* qd, const double* tau,
+                                  const double* param, double* qdd);
+
 namespace detail {
+template <class G>
+concept has_inverse_dynamics = requires(double t, const double* c, double* o) {
+  G::inverse_dynamics(t, c, c, c, c, o);
+};
+template <class G>
+concept has_forward_dynamics = requires(double t, const double* c, double* o) {
+  { G::forward_dynamics(t, c, c, c, c, o) } -> std::convertible_to<int>;
+};
 template <class G>
 concept has_positions = requires(double t, const double* c, double* o) {
   G::positions(t, c, c, o, o);
@@ -178,6 +194,8 @@ struct ModelDescription {
   DynamicsFn dynamics = nullptr;
   DynamicsPositionsFn dynamics_positions = nullptr;
   DynamicsVelocitiesFn dynamics_velocities = nullptr;
+  InverseDynamicsFn inverse_dynamics = nullptr;
+  ForwardDynamicsFn forward_dynamics = nullptr;  // only where the generator chose it
   // Cold diagnostics; empty or null for code emitted before them.
   std::vector<std::string> dependent_names;  // (ndep)
   std::vector<DomainCheck> domain_checks;
@@ -242,6 +260,8 @@ class Model {
   bool has_equations_of_motion() const {
     return d_.mass_matrix != nullptr && d_.bias_forces != nullptr;
   }
+  bool has_inverse_dynamics() const { return d_.inverse_dynamics != nullptr; }
+  bool has_forward_dynamics() const { return d_.forward_dynamics != nullptr; }
 
   // A kinematics buffer of the right sizes for this model.
   Kinematics make_kinematics() const { return Kinematics(d_.nq, d_.nbody, d_.ndep); }
@@ -272,6 +292,14 @@ class Model {
   // entry points.
   void dynamics(double t, const double* q, const double* qd, KinematicsLevel level, double* M,
                 double* h, Kinematics& k) const;
+  // tau = M·qdd + h (nq each), emitted recursively.
+  void inverse_dynamics(double t, const double* q, const double* qd, const double* qdd, double* tau) const;
+  // qdd = M⁻¹·(tau - h) (nq each) without M; -1, or the coordinate of the first
+  // failed pivot (qdd then unusable: the mass matrix names the culprit).
+  int forward_dynamics(double t, const double* q, const double* qd, const double* tau, double* qdd) const;
+  // The emitted entry points, or null: for callers that dispatch once, with parameters().data().
+  InverseDynamicsFn emitted_inverse_dynamics() const { return d_.inverse_dynamics; }
+  ForwardDynamicsFn emitted_forward_dynamics() const { return d_.forward_dynamics; }
   // The emitted dynamics entry point of level none (M and h only), or null: for a
   // caller that dispatches once (MultibodySystem's hot path) with parameters().data().
   DynamicsFn emitted_dynamics() const { return d_.dynamics; }
@@ -371,6 +399,12 @@ ModelDescription Model::describe() {
       if constexpr (detail::has_dynamics<G>) d.dynamics = &G::dynamics;
       if constexpr (detail::has_dynamics_positions<G>) d.dynamics_positions = &G::dynamics_positions;
       if constexpr (detail::has_dynamics_velocities<G>) d.dynamics_velocities = &G::dynamics_velocities;
+      if constexpr (detail::has_inverse_dynamics<G>) d.inverse_dynamics = &G::inverse_dynamics;
+      bool forward = true;
+      if constexpr (requires { G::has_forward_dynamics; }) forward = G::has_forward_dynamics;
+      if constexpr (detail::has_forward_dynamics<G>) {
+        if (forward) d.forward_dynamics = &G::forward_dynamics;
+      }
     }
   }
   return d;

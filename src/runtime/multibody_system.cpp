@@ -26,6 +26,7 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
     }
   }
   set_source(source_);
+  set_recursive(true);
   update_level();
   const int nq = model_.nq();
   k_ = model_.make_kinematics();
@@ -46,6 +47,11 @@ void MultibodySystem::set_source(EquationsSource source) {
         model_.name()));
   }
   source_ = source;
+}
+
+void MultibodySystem::set_recursive(bool recursive) {
+  forward_ = recursive ? model_.emitted_forward_dynamics() : nullptr;
+  inverse_ = recursive ? model_.emitted_inverse_dynamics() : nullptr;
 }
 
 void MultibodySystem::add(std::shared_ptr<const ForceElement> element) {
@@ -362,10 +368,36 @@ void MultibodySystem::explain_non_finite(const State& s, const char* result) con
   throw NumericError(fmt::format("t = {}: {} not finite at {}", s.t, result, describe(s)));
 }
 
+void MultibodySystem::evaluate_loads(const State& s) {
+  using enum KinematicsLevel;
+  if (level_ == positions) model_.positions(s.t, s.q.data(), k_);
+  if (level_ == velocities) model_.velocities(s.t, s.q.data(), s.qd.data(), k_);
+  if (level_ != none) model_.partial_velocities(s.t, s.q.data(), k_);
+  if (elements_.empty()) return;
+  if (!k_.finite_up_to(level_)) check_kinematics(s, level_, false);
+  compute_loads(s);
+  project_loads(Qa_);
+}
+
+bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
+  const double* tau = zero_.data();
+  if (level_ != KinematicsLevel::none || !elements_.empty()) {
+    check_state(s);
+    evaluate_loads(s);
+    if (!elements_.empty()) tau = Qa_.data();
+  }
+  qdd.resize(h_.size());
+  const int failed = forward_(s.t, s.q.data(), s.qd.data(), tau, model_.parameters().data(), qdd.data());
+  return failed < 0 && all_finite(s, qdd);
+}
+
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   const Eigen::Index nq = h_.size();
   if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != extra_initial_.size()) state_error(s);
-  if (source_ == EquationsSource::emitted && elements_.empty()) {
+  if (source_ == EquationsSource::emitted && forward_ != nullptr && recursive_accelerations(s, qdd)) {
+    // qdd = M⁻¹·(Q - h) by the articulated-body algorithm. A failed pivot or a
+    // non-finite qdd falls through to M, whose factorization and checks name why.
+  } else if (source_ == EquationsSource::emitted && elements_.empty()) {
     // M qdd = -h. No code of the user's sees the state before its values are checked,
     // with the result's (below): a NaN in the state only propagates through the
     // emitted code, to a refused M or a non-finite qdd, whose reports name the state first.
@@ -410,6 +442,9 @@ void MultibodySystem::accelerations_rhs(const State& s, Vector& qdd) {
 void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
                                Vector& g) {
   check_state(s);
+  if (qdd.size() != model_.nq()) {
+    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(), qdd.size(), model_.nq()));
+  }
   f.resize(model_.nq());
   if (source_ == EquationsSource::assembled) {
     model_.accelerations(s.t, s.q.data(), s.qd.data(), qdd.data(), k_);
@@ -417,6 +452,12 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
     check_kinematics(s, KinematicsLevel::velocities, true);
     compute_loads(s);
     assemble_residual(f, true, true);
+  } else if (inverse_ != nullptr) {
+    // f = inverse_dynamics(qdd) - Q = M qdd + h - Q
+    evaluate_loads(s);
+    inverse_(s.t, s.q.data(), s.qd.data(), qdd.data(), model_.parameters().data(), f.data());
+    if (!elements_.empty()) f -= Qa_;
+    if (!all_finite(f.data(), f.size())) evaluate_equations(s);  // cold: M and h to name the culprit
   } else {
     // f = M qdd + h - Q
     evaluate_equations(s);

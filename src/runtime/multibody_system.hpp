@@ -7,7 +7,12 @@
 // with J_i = R_i I_i R_i^T, F_i and M_i the applied forces and moments at G_i
 // (gravity m_i g included in F_i) and Q_j the generalized forces of elements.
 // Explicit form: M qdd = Q - h, solved by Cholesky (SpdSolver); a singular or
-// indefinite M is a NumericError naming the time and the state.
+// indefinite M is a NumericError naming the time and the state. Where the
+// generator emitted forward_dynamics (the articulated-body algorithm, linear
+// in the bodies), the emitted source uses it instead, Q from the force
+// elements first: qdd = forward_dynamics(tau = Q), without M; a failed pivot
+// or a non-finite result goes the way of M, whose errors name the culprit.
+// Likewise the residual is inverse_dynamics(qdd) - Q where it was emitted.
 //
 // Two sources of M and h (selectable, compare_sources() checks they agree):
 //   emitted:   the generated equations, the default when the model has them.
@@ -60,6 +65,10 @@ class MultibodySystem : public DynamicSystem {
   void set_parameter(std::string_view name, double value) { model_.set_parameter(name, value); }
   EquationsSource source() const { return source_; }
   void set_source(EquationsSource source);
+  // Whether the emitted source uses the model's recursive forward and inverse
+  // dynamics where it has them (the default), or M and h.
+  void set_recursive(bool recursive);
+  bool recursive() const { return forward_ != nullptr || inverse_ != nullptr; }
 
   // Force elements, applied in the order added.
   void add(std::shared_ptr<const ForceElement> element);
@@ -148,6 +157,12 @@ class MultibodySystem : public DynamicSystem {
   // The right-hand side of M qdd = rhs (M in M_) of a checked state, but for the
   // emitted equations without force elements (accelerations() inline).
   void accelerations_rhs(const State& s, Vector& qdd);
+  // qdd by the emitted forward dynamics; false when a pivot failed or qdd is
+  // not finite (the caller then takes the way of M).
+  bool recursive_accelerations(const State& s, Vector& qdd);
+  // Kinematics up to level_ (for force elements and extra equations) and,
+  // with force elements, their generalized forces into Qa_.
+  void evaluate_loads(const State& s);
   // Out of the hot path: what is wrong when M_ was refused or the accelerations are
   // not finite, the state first.
   [[noreturn, gnu::cold, gnu::noinline]] void mass_matrix_refused(const State& s) const;
@@ -168,6 +183,8 @@ class MultibodySystem : public DynamicSystem {
   KinematicsLevel extra_reads_ = KinematicsLevel::none;
   KinematicsLevel level_ = KinematicsLevel::none;
   DynamicsFn dynamics_ = nullptr;  // the emitted dynamics() when level_ is none: no dispatch per call
+  ForwardDynamicsFn forward_ = nullptr;  // the emitted recursive ones, when used
+  InverseDynamicsFn inverse_ = nullptr;
 
   // Workspace: sized at construction, reused by every evaluation.
   Kinematics k_;

@@ -79,6 +79,30 @@ TEMPLATE_LIST_TEST_CASE("emitted M and h equal the assembled ones, and qdd agree
   }
 }
 
+// The recursive forward and inverse dynamics (where emitted) against M and h:
+// the same accelerations and residuals through MultibodySystem.
+TEMPLATE_LIST_TEST_CASE("the recursive dynamics give the mass matrix's accelerations and residuals",
+                        "[models][equations]", symdyn_test::all_models) {
+  const Model model = Model::from<TestType>();
+  INFO("model " << model.name() << " variant " << model.variant());
+  MultibodySystem recursive(model), by_matrix(model);
+  by_matrix.set_recursive(false);
+  CHECK(recursive.recursive() == (model.has_forward_dynamics() || model.has_inverse_dynamics()));
+  CHECK_FALSE(by_matrix.recursive());
+  std::mt19937 rng(7u + static_cast<unsigned>(model.nq()));
+  Vector qdd_r, qdd_m, yd, f_r, f_m, g;
+  for (int k = 0; k < 20; ++k) {
+    const State s = random_state(recursive, rng);
+    CAPTURE(k, s.t, s.q.transpose(), s.qd.transpose());
+    recursive.accelerations(s, qdd_r, yd);
+    by_matrix.accelerations(s, qdd_m, yd);
+    CHECK(max_abs(qdd_r - qdd_m) <= 1e-8 * (1.0 + max_abs(qdd_m)));
+    recursive.residual(s, qdd_m, yd, f_r, g);
+    by_matrix.residual(s, qdd_m, yd, f_m, g);
+    CHECK(max_abs(f_r - f_m) <= 1e-9 * (1.0 + max_abs(f_m)));
+  }
+}
+
 TEMPLATE_LIST_TEST_CASE("relative motions composed at run time equal the emitted absolute kinematics",
                         "[models][relative]", symdyn_test::all_models) {
   const Model model = Model::from<TestType>();

@@ -93,6 +93,17 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
     if (name == "mass_matrix") G::mass_matrix(s.t, s.q.data(), p, M.data()), take({&M});
     if (name == "bias_forces") G::bias_forces(s.t, s.q.data(), s.qd.data(), p, h.data()), take({&h});
     if (name == "dynamics") G::dynamics(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data()), take({&M, &h});
+    if constexpr (requires { G::inverse_dynamics; }) {
+      if (name == "inverse_dynamics") G::inverse_dynamics(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, h.data()), take({&h});
+    }
+    // The generalized forces tau of a state are its qdd (program_inputs).
+    if constexpr (requires { G::forward_dynamics_pivots; }) {
+      if (name == "forward_dynamics_pivots") {
+        std::vector<double> pivots(2 * G::nq);
+        G::forward_dynamics_pivots(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, h.data(), pivots.data());
+        take({&h, &pivots});
+      }
+    }
     if constexpr (requires { G::dynamics_velocities; }) {
       if (name == "dynamics_positions") {
         G::dynamics_positions(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data(), R.data(), x.data(), dv.data(),
@@ -117,7 +128,7 @@ inline std::vector<double> program_inputs(const codegen::EmittedFunction& f, con
     if (array == "t") in.push_back(s.t);
     if (array == "q") in.insert(in.end(), s.q.begin(), s.q.end());
     if (array == "qd") in.insert(in.end(), s.qd.begin(), s.qd.end());
-    if (array == "qdd") in.insert(in.end(), s.qdd.begin(), s.qdd.end());
+    if (array == "qdd" || array == "tau") in.insert(in.end(), s.qdd.begin(), s.qdd.end());
     if (array == "param") in.insert(in.end(), param.begin(), param.end());
   }
   return in;
