@@ -11,8 +11,9 @@
 namespace symdyn::model {
 
 // Every entry of M and h, and every definition of the dynamics, replaced by
-// its normal form (the kinematics' intermediates seen through), simplified,
-// where that is cheaper; the values are unchanged (to rounding).
+// its normal form (the kinematics' intermediates seen through) where that is
+// cheaper, then kept for the definitions, M and h each only where the
+// programs of M and h come out shorter; the values are unchanged (to rounding).
 void reduce_trigonometry(Dynamics& dynamics, const Kinematics& kinematics);
 
 }  // namespace symdyn::model
