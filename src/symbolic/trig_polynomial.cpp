@@ -220,7 +220,9 @@ struct TrigPolynomialForm::Impl {
     sum.reserve(terms.size());
     for (const Term& t : terms) {
       std::vector<Expr> product{Expr(t.coefficient.value)};
-      for (const auto& [index, exponent] : t.monomial) product.push_back(pow(atoms[index].e, static_cast<int>(exponent)));
+      for (const auto& [index, exponent] : t.monomial) {
+        product.push_back(pow(atoms[index].e, static_cast<int>(exponent)));
+      }
       sum.push_back(mul(product));
     }
     return add(sum);
@@ -243,13 +245,22 @@ int TrigPolynomialForm::cost_lower_bound(Expr e) { return Impl::cost_lower_bound
 
 namespace {
 
-// The function calls (sin, cos, ...) among e's nodes, outside sums and products.
-void calls_of(Expr e, std::vector<Expr>* out) {
+// The function calls (sin, cos, ...) among e's nodes, outside sums, products
+// and powers; each node visited once.
+void calls_of(Expr e, std::vector<Expr>* out, std::unordered_set<std::uint32_t>* seen) {
+  if (!seen->insert(e.id()).second) return;
   if (e.kind() == Kind::Add || e.kind() == Kind::Mul || e.kind() == Kind::Pow) {
-    for (Expr a : e.args()) calls_of(a, out);
+    for (Expr a : e.args()) calls_of(a, out, seen);
   } else if (is_function(e.kind())) {
     out->push_back(e);
   }
+}
+
+std::vector<Expr> calls_of(std::initializer_list<Expr> roots) {
+  std::vector<Expr> out;
+  std::unordered_set<std::uint32_t> seen;
+  for (Expr e : roots) calls_of(e, &out, &seen);
+  return out;
 }
 
 }  // namespace
@@ -281,17 +292,14 @@ PythagoreanReduction reduce_pythagorean(std::span<const Expr> outputs, std::span
   // counted as free: e computes them too, or their sines and cosines.
   auto reduce = [&](Expr e) {
     if (e.args().empty() || !deep(e)) return e;
-    std::vector<Expr> calls;
-    calls_of(e, &calls);
+    std::vector<Expr> calls = calls_of({e});
     const int own_calls = operation_cost(calls);
     calls.push_back(e);
     const int original_cost = operation_cost(calls) - own_calls;
     // Most entries are not shorter expanded: the bound tells without building.
     if (form.cost_lower_bound(e) >= original_cost) return e;
     const Expr candidate = form(e);
-    calls.clear();
-    calls_of(candidate, &calls);
-    calls_of(e, &calls);
+    calls = calls_of({candidate, e});
     const int base = operation_cost(calls);
     calls.push_back(candidate);
     const int candidate_cost = operation_cost(calls) - base;
