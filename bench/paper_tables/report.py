@@ -136,7 +136,12 @@ def load_row(case_dir, model, variant, case):
         compile_runs = []
     ops = lambda name: functions.get(name, {}).get("total", 0)
     sincos = lambda name: functions.get(name, {}).get("detail", {}).get("sincos", 0)
+    # Cases 3-4: accelerations and partial velocities from the one fused entry
+    # point when emitted (as SymPy's one function), else the two.
     kin = ["accelerations"] + (["partial_velocities"] if case >= 3 else [])
+    relative = ["relative_accelerations"] + (["relative_partial_velocities"] if case >= 3 else [])
+    if case >= 3 and "accelerations_partials" in functions:
+        kin, relative = ["accelerations_partials"], ["relative_accelerations_partials"]
     row = {
         "model": model, "variant": variant, "case": case,
         "nq": bench["nq"], "nbody": bench["nbody"], "ndep": bench["ndep"],
@@ -153,8 +158,7 @@ def load_row(case_dir, model, variant, case):
         "kinematics_ops_calls_apart": sum(ops(f) + sincos(f) for f in kin),
         "accelerations_ops_calls_apart": ops("accelerations") + sincos("accelerations"),
         # Each body relative to its reference, as CAGeM emitted and SymPy's reference counts.
-        "relative_ops_calls_apart": sum(ops(f) + sincos(f) for f in
-                                        ["relative_accelerations"] + (["relative_partial_velocities"] if case >= 3 else [])),
+        "relative_ops_calls_apart": sum(ops(f) + sincos(f) for f in relative),
         "eom_ops": ops("mass_matrix") + ops("bias_forces") if case == 4 else None,
         "compile_time": None if compile_user is None else compile_user + compile_system, "compile_wall": compile_wall,
         "compile_runs": compile_runs,
@@ -272,7 +276,8 @@ def chain_study(rows, results, out, summary):
     out.append("## Scaling: chain_N (case 4)\n")
     out.append("Growth exponent p of each column, least squares of log(value) on log(N) over the N measured "
                "(value ~ N^p). Case 4: simplification, symbolic partial velocities, emitted mass matrix and bias forces. "
-               "Kin. ops: accelerations + partial_velocities; EoM ops: mass_matrix + bias_forces.\n")
+               "Kin. ops: accelerations_partials (accelerations and partial velocities in one function); "
+               "EoM ops: mass_matrix + bias_forces.\n")
     for variant in ("relative", "absolute"):
         vr = sorted((r for r in chain if r["variant"] == variant), key=lambda r: int(r["model"][6:]))
         if not vr:
@@ -471,8 +476,9 @@ def main():
            f"{args.reps} runs: `runtime::MultibodySystem::accelerations` = mass matrix, right-hand side and LDLT solve "
            "for qdd; assembled from the kinematics and partial velocities (EasyDyn's way) in cases 1-3, from the "
            "emitted `mass_matrix` and `bias_forces` in case 4.",
-           "- Kin. ops: arithmetic operations and calls of the emitted `accelerations()`, plus `partial_velocities()` "
-           "in cases 3-4 (a fused sin/cos pair counts once). EoM ops: `mass_matrix` + `bias_forces` (case 4).",
+           "- Kin. ops: arithmetic operations and calls of the emitted `accelerations()` in cases 1-2, of "
+           "`accelerations_partials()` (accelerations and partial velocities in one function, as SymPy's) in cases 3-4 "
+           "(a fused sin/cos pair counts once). EoM ops: `mass_matrix` + `bias_forces` (case 4).",
            "- Compile: CPU seconds (user + system) to compile the emitted source with g++ at -O2, median of the "
            "runs (the JSON has every run's, `compile_runs`, and the median run's wall time, `compile_wall`).",
            "- Max error: largest of the errors of R, x, v, w, a, dw, the partial velocities and qdd against an "

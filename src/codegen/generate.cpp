@@ -12,6 +12,7 @@
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/identifier.hpp>
 #include <symdyn/model/kinematics.hpp>
+#include <symdyn/model/trig_reduction.hpp>
 #include <symdyn/symbolic/diff.hpp>
 #include <symdyn/symbolic/print.hpp>
 #include <symdyn/symbolic/simplify.hpp>
@@ -453,6 +454,7 @@ class Emitter {
                           {"t", "q", "param"},
                           {{"dv", pv_shape, flatten_partials(k.bodies, &BK::dv_dqd, true)},
                            {"dw", pv_shape, flatten_partials(k.bodies, &BK::dw_dqd, true)}}, {}});
+      add_fused_kinematics(entries);
     } else {
       entries.push_back({"partial_velocities",
                           "Partial velocities dv/dqd and dw/dqd, numeric as in EasyDyn: velocities are affine in qd, so\n"
@@ -469,7 +471,8 @@ class Emitter {
     entries.push_back({"dependent_parameters", "Dependent parameters and their first and second time derivatives.",
                         {"t", "q", "qd", "qdd", "param"}, {{"p", dep_shape, p}, {"pd", dep_shape, pd}, {"pdd", dep_shape, pdd}}, {}});
     if (options_.equations_of_motion) {
-      const model::Dynamics dyn = model::derive_dynamics(model_, k, simplify);
+      model::Dynamics dyn = model::derive_dynamics(model_, k, simplify);
+      if (simplify) model::reduce_trigonometry(dyn, k);
       definitions_.insert(definitions_.end(), dyn.definitions.begin(), dyn.definitions.end());
       entries.push_back({"mass_matrix", "Mass matrix M(q, t).", {"t", "q", "param"},
                           {{"M", fmt::format("({} x {})", nq, nq), dyn.mass_matrix}}, {}});
@@ -482,6 +485,30 @@ class Emitter {
       if (!dyn.forward.empty() && options_.dynamics != DynamicsMethod::mass_matrix) add_forward_dynamics(entries, dyn);
     }
     return entries;
+  }
+
+  // Accelerations and partial velocities in one call, absolute and relative:
+  // the sines, cosines and rotations both need are computed once. The
+  // partial velocities are named dv_dqd and dw_dqd here (dw is the angular
+  // acceleration).
+  static void add_fused_kinematics(std::vector<EntryPoint>& entries) {
+    const auto entry = [&](const std::string& name) {
+      return *std::find_if(entries.begin(), entries.end(), [&](const EntryPoint& p) { return p.name == name; });
+    };
+    const auto fuse = [&](const std::string& kinematics, const std::string& partials, const std::string& doc) {
+      EntryPoint fused = entry(kinematics);
+      fused.name = kinematics + "_partials";
+      fused.doc = doc;
+      for (OutputArray o : entry(partials).outputs) {
+        o.name += "_dqd";
+        fused.outputs.push_back(std::move(o));
+      }
+      entries.push_back(std::move(fused));
+    };
+    fuse("accelerations", "partial_velocities",
+         "accelerations and partial_velocities in one call (dv_dqd, dw_dqd: their dv, dw).");
+    fuse("relative_accelerations", "relative_partial_velocities",
+         "relative_accelerations and relative_partial_velocities in one call (dv_dqd, dw_dqd: their dv, dw).");
   }
 
   // The runtime's hot path: M and h in one call, so that the sines, cosines

@@ -285,17 +285,48 @@ Expr odd(Kind kind, Expr x, Expr (*f)(Expr)) {
   return intern_node(kind, std::array{x});
 }
 
+// sqrt(1 - u²) and sqrt(1 + u²): the cosine of asin u (the sine of acos u),
+// and the secant of atan u. The square root is the right branch: asin's range
+// [-π/2, π/2] has cos >= 0, acos's [0, π] has sin >= 0, atan's cos > 0.
+Expr sqrt_one_minus_square(Expr u) { return sqrt(1 - u * u); }
+Expr sqrt_one_plus_square(Expr u) { return sqrt(1 + u * u); }
+
+// sin, cos or tan of an inverse function of u, in closed form (false when x
+// is no inverse function): a call pair becomes arithmetic, and
+// the domain never shrinks (asin u, acos u need |u| <= 1 on both sides).
+//   sin(asin u) = u               cos(asin u) = sqrt(1 - u²)   tan(asin u) = u / sqrt(1 - u²)
+//   sin(acos u) = sqrt(1 - u²)    cos(acos u) = u              tan(acos u) = sqrt(1 - u²) / u
+//   sin(atan u) = u / sqrt(1 + u²) cos(atan u) = 1 / sqrt(1 + u²) tan(atan u) = u
+bool of_inverse(Kind f, Expr x, Expr* out) {
+  if (x.kind() != Kind::Asin && x.kind() != Kind::Acos && x.kind() != Kind::Atan) return false;
+  const Expr u = x.arg(0);
+  Expr s, c;  // the sine and cosine of x
+  switch (x.kind()) {
+    case Kind::Asin: s = u, c = sqrt_one_minus_square(u); break;
+    case Kind::Acos: s = sqrt_one_minus_square(u), c = u; break;
+    default: s = u / sqrt_one_plus_square(u), c = 1 / sqrt_one_plus_square(u); break;
+  }
+  switch (f) {
+    case Kind::Sin: *out = s; break;
+    case Kind::Cos: *out = c; break;
+    default: *out = x.kind() == Kind::Atan ? u : s / c; break;
+  }
+  return true;
+}
+
 }  // namespace
 
 Expr sin(Expr x) {
   if (x.is_zero()) return Expr(0);
   if (x.is_number()) return fold_function(Kind::Sin, x.number().to_double(), sin_d, true);
+  if (Expr r; of_inverse(Kind::Sin, x, &r)) return r;
   return odd(Kind::Sin, x, sin);
 }
 
 Expr cos(Expr x) {
   if (x.is_zero()) return Expr(1);
   if (x.is_number()) return fold_function(Kind::Cos, x.number().to_double(), cos_d, true);
+  if (Expr r; of_inverse(Kind::Cos, x, &r)) return r;
   if (has_negative_sign(x)) return cos(-x);
   return intern_node(Kind::Cos, std::array{x});
 }
@@ -303,6 +334,7 @@ Expr cos(Expr x) {
 Expr tan(Expr x) {
   if (x.is_zero()) return Expr(0);
   if (x.is_number()) return fold_function(Kind::Tan, x.number().to_double(), tan_d, true);
+  if (Expr r; of_inverse(Kind::Tan, x, &r)) return r;
   return odd(Kind::Tan, x, tan);
 }
 

@@ -28,7 +28,11 @@
 //     inexact constant is evaluated in double);
 //   - odd and even functions: sin(-x) = -sin(x), tan(-x) = -tan(x), asin(-x) =
 //     -asin(x), atan(-x) = -atan(x), cos(-x) = cos(x), abs(-x) = abs(x), where
-//     "-x" means x has a negative leading coefficient.
+//     "-x" means x has a negative leading coefficient;
+//   - sin, cos and tan of asin, acos and atan in closed form: sin(asin u) = u,
+//     cos(asin u) = sin(acos u) = sqrt(1 - u²) (the branch of asin's and acos's
+//     ranges), cos(atan u) = 1/sqrt(1 + u²), tan(atan u) = u, and the others
+//     as their quotients; a pair of calls becomes arithmetic.
 // Combining like factors never shrinks the domain of an expression: x·x⁻¹ = 1
 // is the continuous extension at x = 0, and no rule introduces a NaN.
 //

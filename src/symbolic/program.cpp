@@ -77,9 +77,24 @@ class Scheduler {
  public:
   explicit Scheduler(const ir::Graph& graph) : g_(graph), resolved_(graph.nodes.size()) {}
 
-  std::uint32_t output(ir::Term t) {
-    const ir::Term r = resolve(t.id);
-    return materialize({r.id, r.neg != t.neg});
+  // The slots of the outputs, in order, except that negated products and
+  // sums come last: the negations made before them (-(c·x) = (-c)·x among
+  // them) may take their signs, -(c·x·y) = ((-c)·x)·y.
+  std::vector<std::uint32_t> outputs(std::span<const ir::Term> terms) {
+    std::vector<std::uint32_t> slots(terms.size());
+    std::vector<std::pair<std::size_t, ir::Term>> deferred;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      const ir::Term r = resolve(terms[i].id);
+      const ir::Term v{r.id, r.neg != terms[i].neg};
+      const Opcode op = code_[v.id].op;
+      if (v.neg && (op == Opcode::Mul || op == Opcode::Add) && !scaled_by_constant(v) && !shifted_by_constant(v)) {
+        deferred.emplace_back(i, v);
+      } else {
+        slots[i] = materialize(v);
+      }
+    }
+    for (const auto& [i, v] : deferred) slots[i] = materialize(v);
+    return slots;
   }
   std::vector<Instruction>& code() { return code_; }
 
@@ -176,10 +191,69 @@ class Scheduler {
     return acc;
   }
 
+  // The value v, negated if v.neg. The sign goes into the instruction that
+  // computes the magnitude where that costs no more than a negation:
+  // -(a - b) = b - a, -(c·x) = (-c)·x, -(c + x) = (-c) - x, and -(a·b) = (-a)·b
+  // and -(a + b) = (-a) - b when -a is computed already. Where nothing else reads the magnitude,
+  // finalize drops it, and the negation is saved.
   std::uint32_t materialize(ir::Term v) {
     if (!v.neg) return v.id;
-    if (code_[v.id].op == Opcode::Const) return emit(Opcode::Const, {}, -code_[v.id].constant);
+    const Instruction ins = code_[v.id];
+    const auto [a, b] = ins.args;
+    switch (ins.op) {
+      case Opcode::Const: return emit(Opcode::Const, {}, -ins.constant);
+      case Opcode::Sub: return emit(Opcode::Sub, {b, a});
+      case Opcode::Mul:
+        if (code_[a].op == Opcode::Const) return emit(Opcode::Mul, {emit(Opcode::Const, {}, -code_[a].constant), b});
+        if (const auto na = existing_negation(a)) return emit(Opcode::Mul, {*na, b});
+        if (const auto nb = existing_negation(b)) return emit(Opcode::Mul, {a, *nb});
+        break;
+      case Opcode::Add:
+        if (code_[a].op == Opcode::Const) return emit(Opcode::Sub, {emit(Opcode::Const, {}, -code_[a].constant), b});
+        if (const auto na = existing_negation(a)) return emit(Opcode::Sub, {*na, b});
+        if (const auto nb = existing_negation(b)) return emit(Opcode::Sub, {*nb, a});
+        break;
+      default: break;
+    }
     return emit(Opcode::Neg, {v.id});
+  }
+
+  bool shifted_by_constant(ir::Term v) const {
+    return v.neg && code_[v.id].op == Opcode::Add && code_[code_[v.id].args[0]].op == Opcode::Const;
+  }
+
+  bool scaled_by_constant(ir::Term v) const {
+    return v.neg && code_[v.id].op == Opcode::Mul && code_[code_[v.id].args[0]].op == Opcode::Const;
+  }
+
+  // The slot of -x if an instruction computes it already: -x itself, or
+  // (-c)·y for x = c·y.
+  std::optional<std::uint32_t> existing_negation(std::uint32_t x) const {
+    const Instruction& ins = code_[x];
+    if (ins.op == Opcode::Mul && code_[ins.args[0]].op == Opcode::Const) {
+      const auto c = existing({Opcode::Const, {}, -code_[ins.args[0]].constant});
+      return c ? existing({Opcode::Mul, {*c, ins.args[1]}}) : std::nullopt;
+    }
+    return existing({Opcode::Neg, {x, 0}});
+  }
+
+  struct Key {
+    Opcode op;
+    std::array<std::uint32_t, 2> args;
+    double constant = 0.0;
+  };
+  // The slot of the instruction `key` if it is emitted already.
+  std::optional<std::uint32_t> existing(const Key& key) const {
+    if (index_.empty()) return std::nullopt;
+    Instruction ins;
+    ins.op = key.op;
+    ins.args = key.args;
+    ins.constant = key.constant;
+    const std::size_t mask = index_.size() - 1;
+    for (std::size_t i = hash(ins) & mask; index_[i] != 0; i = (i + 1) & mask) {
+      if (same(code_[index_[i] - 1], ins)) return index_[i] - 1;
+    }
+    return std::nullopt;
   }
 
   std::uint32_t emit(Opcode op, std::array<std::uint32_t, 2> args, double constant = 0.0) {
@@ -348,8 +422,7 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
   ir::extract_common_pairs(graph);
 
   Scheduler scheduler(graph);
-  std::vector<std::uint32_t> slots;
-  for (ir::Term t : graph.outputs) slots.push_back(scheduler.output(t));
+  std::vector<std::uint32_t> slots = scheduler.outputs(graph.outputs);
 
   Program program;
   program.input_count_ = inputs.size();

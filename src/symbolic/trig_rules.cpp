@@ -72,10 +72,6 @@ std::vector<Rule> algebraic_rules() {
   return {
       rule("sqrt(x^2)", sqrt(sq(x)), abs(x)),
       rule("abs of nonnegative", abs(x), x, nonnegative("_x")),
-      rule("sin(asin)", sin(asin(x)), x),
-      rule("cos(acos)", cos(acos(x)), x),
-      rule("cos(asin)", cos(asin(x)), sqrt(1 - sq(x))),
-      rule("sin(acos)", sin(acos(x)), sqrt(1 - sq(x))),
   };
 }
 

@@ -36,9 +36,8 @@ std::vector<Rule> sin_squared_elimination();
 std::vector<Rule> cos_squared_elimination();
 
 // Algebraic clean-ups with sound conditions (Improve): sqrt(x²) = |x|,
-// |x| = x for x known to be >= 0; sin(asin x) = cos(acos x) = x and
-// cos(asin x) = sin(acos x) = sqrt(1 - x²) (on [-1, 1], where asin and acos
-// are defined: the square root keeps the domain error outside).
+// |x| = x for x known to be >= 0. (sin, cos and tan of asin, acos and atan
+// are reduced by construction: expr.hpp.)
 std::vector<Rule> algebraic_rules();
 
 // Every table above by name, for tests and tools.

@@ -30,15 +30,21 @@ TEST_CASE("emitted slider-crank: its dependent parameters named, asin's argument
   STATIC_REQUIRE(G::nangle_sequences == 0);
 }
 
+// Inlined, x = l1·cos(q0) + l2·cos(alpha) holds cos(asin(u)) = sqrt(1 - u²)
+// (expr.hpp): x's square root is checked too, after alpha's asin.
 TEST_CASE("inlined dependent parameters keep their names and checks", "[codegen][diagnostics]") {
   using G = symdyn_generated::slider_crank_inline;
   STATIC_REQUIRE(G::ndep == 0);
-  STATIC_REQUIRE(G::ndomain == 1);
+  STATIC_REQUIRE(G::ndomain == 2);
   CHECK(std::string(G::domain_dependents[0]) == "alpha");
+  CHECK(std::string(G::domain_functions[0]) == "asin");
+  CHECK(std::string(G::domain_dependents[1]) == "x");
+  CHECK(std::string(G::domain_functions[1]) == "sqrt");
   const double q = 0.7;
-  double arguments[2] = {};
+  double arguments[4] = {};
   G::domain_arguments(0.0, &q, nullptr, arguments);
   CHECK(arguments[0] == Approx(std::sin(q) / 3.0).epsilon(1e-15));
+  CHECK(arguments[2] == Approx(1 - std::sin(q) * std::sin(q) / 9.0).epsilon(1e-15));
 }
 
 namespace {

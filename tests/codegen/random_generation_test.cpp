@@ -78,13 +78,15 @@ class References {
       return out;
     }
     const bool relative = entry.rfind("relative_", 0) == 0;
-    // dynamics_positions and dynamics_velocities carry the partial velocities as dv, dw.
+    // dynamics_positions and dynamics_velocities carry the partial velocities as dv, dw;
+    // accelerations_partials and its relative form as dv_dqd, dw_dqd.
     const bool partials = entry.find("partial_velocities") != std::string::npos ||
-                          (entry.rfind("dynamics_", 0) == 0 && (array == "dv" || array == "dw"));
+                          (entry.rfind("dynamics_", 0) == 0 && (array == "dv" || array == "dw")) ||
+                          array == "dv_dqd" || array == "dw_dqd";
     for (std::size_t i = 0; i < k_.bodies.size(); ++i) {
       const model::Motion& motion = relative ? k_.bodies[i].relative : k_.bodies[i];
       if (partials) {
-        for (const model::Vec3& v : array == "dv" ? motion.dv_dqd : motion.dw_dqd) push(v);
+        for (const model::Vec3& v : array.rfind("dv", 0) == 0 ? motion.dv_dqd : motion.dw_dqd) push(v);
       } else if (array == "mass") {
         push(std::array{m_.bodies()[i].mass()});
       } else if (array == "inertia") {

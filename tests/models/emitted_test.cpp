@@ -4,6 +4,8 @@
 // of a model against each other.
 #include <catch2/catch.hpp>
 
+#include <random>
+
 #include "generated.hpp"
 #include "support/emitted_check.hpp"
 #include "test_plan.hpp"
@@ -93,4 +95,27 @@ TEST_CASE("variants agree: chain_N relative and absolute", "[models]") {
   check_variants_agree<gen::chain_4_relative, gen::chain_4_absolute>();
   check_variants_agree<gen::chain_8_relative, gen::chain_8_absolute>();
   check_variants_agree<gen::chain_16_relative, gen::chain_16_absolute>();
+}
+
+// The trike's chassis is free: M_00 = Σ m_i·|R_i's first column|² is its
+// total mass, M_01 = Σ m_i·(columns 1 and 2 of R_i) is 0. Expanded and
+// reduced modulo sin² + cos² = 1 (symbolic/trig_polynomial.hpp), the emitted
+// entries are those constants, not sums that evaluate to them to rounding.
+TEST_CASE("emitted trike: M_00 is the total mass, M_01 exactly 0", "[models]") {
+  using T = gen::trike;
+  double mass[T::nbody], inertia[T::nbody * 9];
+  T::inertia(T::param_defaults, mass, inertia);
+  double total = 0;
+  for (double m : mass) total += m;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    double q[T::nq], M[T::nq * T::nq];
+    for (double& x : q) x = u(rng);
+    T::mass_matrix(u(rng), q, T::param_defaults, M);
+    CHECK(M[0] == Approx(total).epsilon(1e-15));
+    CHECK(M[1] == 0.0);
+    CHECK(M[T::nq] == 0.0);
+    CHECK(M[T::nq + 1] == Approx(total).epsilon(1e-15));
+  }
 }

@@ -6,8 +6,13 @@
 #include <catch2/catch.hpp>
 
 #include <map>
+#include <utility>
 
 #include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/dynamics.hpp>
+#include <symdyn/model/trig_reduction.hpp>
+#include <symdyn/symbolic/diff.hpp>
+#include <symdyn/symbolic/simplify.hpp>
 
 using namespace symdyn;
 
@@ -95,4 +100,27 @@ TEST_CASE("the equations of motion of chain_N grow as N² (M) and N (h)", "[mode
   for (const auto& [n, ops] : {std::pair(8, m8), std::pair(16, m16), std::pair(32, m32)}) {
     CHECK(ops <= 24 * n * (n + 1) / 2 + 60 * n);  // measured chain_16 2 906, chain_32 11 413
   }
+}
+
+// The double pendulum (unit masses and lengths): M_00 = 5/3 + cos q1 once
+// the sums over its rods are reduced modulo sin² + cos² = 1, one addition
+// and a cosine the kinematics computes anyway.
+TEST_CASE("the double pendulum's M_00 is 5/3 + cos q1", "[models]") {
+  const model::Model m = model::find_definition("double_pendulum").make("absolute");
+  symbolic::Simplifier simplifier;
+  model::DeriveOptions options;
+  options.simplify = [&simplifier](model::Expr e) { return simplifier(e); };
+  const model::Kinematics k = model::derive_kinematics(m, options);
+  model::Dynamics d = model::derive_dynamics(m, k, options.simplify);
+  model::reduce_trigonometry(d, k);
+  symbolic::Substitution inline_all({});
+  for (const std::vector<symbolic::Definition>* defs : {&k.intermediates, &std::as_const(d.definitions)}) {
+    for (const symbolic::Definition& def : *defs) inline_all.add(def.symbol, inline_all(def.value));
+  }
+  const model::Expr m00 = inline_all(d.mass_matrix[0]);
+  INFO("M_00 = " << m00);
+  REQUIRE(m00.kind() == symbolic::Kind::Add);
+  REQUIRE(m00.args().size() == 2);
+  CHECK(m00.arg(0).number().to_double() == Approx(5.0 / 3.0).epsilon(1e-15));
+  CHECK(m00.arg(1) == symbolic::cos(m.coordinates()[1].q));
 }

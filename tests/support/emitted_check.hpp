@@ -84,6 +84,18 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
       take({&dv, &dwp});
     }
   }
+  if constexpr (requires { G::accelerations_partials; }) {
+    if (name == "accelerations_partials") {
+      G::accelerations_partials(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(), w.data(),
+                                a.data(), dw.data(), dv.data(), dwp.data());
+      take({&R, &x, &v, &w, &a, &dw, &dv, &dwp});
+    }
+    if (name == "relative_accelerations_partials") {
+      G::relative_accelerations_partials(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(),
+                                         w.data(), a.data(), dw.data(), dv.data(), dwp.data());
+      take({&R, &x, &v, &w, &a, &dw, &dv, &dwp});
+    }
+  }
   if (name == "dependent_parameters") {
     G::dependent_parameters(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dep.data(), dep_d.data(), dep_dd.data());
     for (auto* d : {&dep, &dep_d, &dep_dd}) d->resize(G::ndep);
@@ -197,15 +209,20 @@ void check_emitted(const EmittedSetup& setup) {
     }
     CHECK(gap(call_entry<G>("relative_accelerations", s), relative) < 1e-12);
     // The fused entry points give exactly what the separate ones give.
+    const auto separate = [&](std::initializer_list<const char*> entries) {
+      std::vector<double> out;
+      for (const char* e : entries) {
+        const std::vector<double> part = call_entry<G>(e, s);
+        out.insert(out.end(), part.begin(), part.end());
+      }
+      return out;
+    };
+    if constexpr (requires { G::accelerations_partials; }) {
+      CHECK(gap(call_entry<G>("accelerations_partials", s), separate({"accelerations", "partial_velocities"})) < 1e-14);
+      CHECK(gap(call_entry<G>("relative_accelerations_partials", s),
+                separate({"relative_accelerations", "relative_partial_velocities"})) < 1e-14);
+    }
     if constexpr (G::has_equations_of_motion) {
-      const auto separate = [&](std::initializer_list<const char*> entries) {
-        std::vector<double> out;
-        for (const char* e : entries) {
-          const std::vector<double> part = call_entry<G>(e, s);
-          out.insert(out.end(), part.begin(), part.end());
-        }
-        return out;
-      };
       CHECK(gap(call_entry<G>("dynamics", s), separate({"mass_matrix", "bias_forces"})) < 1e-14);
       if constexpr (requires { G::dynamics_velocities; }) {
         std::vector<double> velocities = call_entry<G>("velocities", s);

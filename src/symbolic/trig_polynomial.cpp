@@ -1,0 +1,316 @@
+// The normal form modulo sin² + cos² = 1; see trig_polynomial.hpp.
+#include <symdyn/symbolic/trig_polynomial.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <unordered_map>
+#include <unordered_set>
+
+#include <symdyn/symbolic/cost.hpp>
+
+namespace symdyn::symbolic {
+namespace {
+
+// (atom index, exponent) pairs by atom index.
+using Monomial = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+
+struct Coefficient {
+  Number value;
+  double scale = 0.0;  // the largest |coefficient| added into it, for cancellation to rounding
+};
+
+struct Term {
+  Monomial monomial;
+  Coefficient coefficient;
+};
+// Distinct monomials in increasing order (so the expression built back is
+// deterministic), no zero coefficient.
+using Terms = std::vector<Term>;
+
+Monomial times(const Monomial& a, const Monomial& b) {
+  Monomial out;
+  out.reserve(a.size() + b.size());
+  std::size_t i = 0, j = 0;
+  while (i < a.size() || j < b.size()) {
+    if (j == b.size() || (i < a.size() && a[i].first < b[j].first)) {
+      out.push_back(a[i++]);
+    } else if (i == a.size() || b[j].first < a[i].first) {
+      out.push_back(b[j++]);
+    } else {
+      out.emplace_back(a[i].first, a[i].second + b[j].second);
+      ++i, ++j;
+    }
+  }
+  return out;
+}
+
+bool cancels(const Coefficient& c) {
+  if (c.value.is_exact()) return c.value.is_zero();
+  return std::abs(c.value.to_double()) <= 32 * std::numeric_limits<double>::epsilon() * c.scale;
+}
+
+}  // namespace
+
+struct TrigPolynomialForm::Impl {
+  struct Atom {
+    Expr e;
+    std::uint32_t cosine = 0;  // for sin x: the index of cos x
+    bool is_sine = false;
+  };
+  using Poly = std::shared_ptr<const Terms>;
+
+  std::size_t max_terms;
+  std::unordered_map<Expr, Expr> definitions;
+  std::vector<Atom> atoms;
+  std::unordered_map<Expr, std::uint32_t> atom_index;
+  std::unordered_map<std::uint32_t, Poly> memo;  // by node id
+  std::unordered_set<std::uint32_t> too_big;     // nodes kept as atoms for their size
+
+  std::uint32_t atom(Expr e) {
+    if (auto it = atom_index.find(e); it != atom_index.end()) return it->second;
+    const auto index = static_cast<std::uint32_t>(atoms.size());
+    atoms.push_back({e});
+    atom_index.emplace(e, index);
+    if (e.kind() == Kind::Sin) {
+      const std::uint32_t c = atom(cos(e.arg(0)));
+      atoms[index].cosine = c;
+      atoms[index].is_sine = true;
+    }
+    return index;
+  }
+
+  static void add_term(Terms& terms, Monomial m, const Number& c) {
+    terms.push_back({std::move(m), {c, std::abs(c.to_double())}});
+  }
+
+  // Adds c·m to terms with every sin²x of m replaced by 1 - cos²x.
+  void add_reduced(Terms& terms, Monomial m, const Number& c) {
+    for (auto& [index, exponent] : m) {
+      if (!atoms[index].is_sine || exponent < 2) continue;
+      exponent -= 2;
+      const std::uint32_t cosine = atoms[index].cosine;
+      Monomial rest;
+      for (const auto& f : m) {
+        if (f.second > 0) rest.push_back(f);
+      }
+      add_reduced(terms, rest, c);
+      add_reduced(terms, times(rest, Monomial{{cosine, 2}}), -c);
+      return;
+    }
+    add_term(terms, std::move(m), c);
+  }
+
+  // Terms in any order, with repeated monomials, to a Terms: sorted (stably,
+  // so that inexact coefficients are added in a deterministic order), like
+  // terms collected, cancelled ones dropped.
+  static Poly finish(Terms terms) {
+    std::stable_sort(terms.begin(), terms.end(), [](const Term& a, const Term& b) { return a.monomial < b.monomial; });
+    Terms out;
+    out.reserve(terms.size());
+    for (Term& t : terms) {
+      if (!out.empty() && out.back().monomial == t.monomial) {
+        Coefficient& c = out.back().coefficient;
+        c.value = c.value + t.coefficient.value;
+        c.scale = std::max(c.scale, t.coefficient.scale);
+      } else {
+        if (!out.empty() && cancels(out.back().coefficient)) out.pop_back();
+        out.push_back(std::move(t));
+      }
+    }
+    if (!out.empty() && cancels(out.back().coefficient)) out.pop_back();
+    return std::make_shared<const Terms>(std::move(out));
+  }
+
+  Poly constant(const Number& c) {
+    Terms t;
+    if (!c.is_zero()) add_term(t, {}, c);
+    return std::make_shared<const Terms>(std::move(t));
+  }
+
+  Poly of_atom(Expr e) {
+    Terms t;
+    add_term(t, {{atom(e), 1}}, Number(1));
+    return std::make_shared<const Terms>(std::move(t));
+  }
+
+  // The product, or nothing if it would have more than max_terms terms.
+  Poly product(const Poly& a, const Poly& b) {
+    if (a->size() * b->size() > 4 * max_terms) return nullptr;
+    Terms out;
+    out.reserve(a->size() * b->size());
+    for (const Term& ta : *a) {
+      for (const Term& tb : *b) {
+        add_reduced(out, times(ta.monomial, tb.monomial), ta.coefficient.value * tb.coefficient.value);
+      }
+    }
+    Poly p = finish(std::move(out));
+    return p->size() > max_terms ? nullptr : p;
+  }
+
+  Poly sum(std::span<const Expr> terms) {
+    Terms out;
+    for (Expr t : terms) {
+      const Poly p = of(t);
+      out.insert(out.end(), p->begin(), p->end());
+    }
+    Poly p = finish(std::move(out));
+    return p->size() > max_terms ? nullptr : p;
+  }
+
+  Poly compute(Expr e) {
+    switch (e.kind()) {
+      case Kind::Rational:
+      case Kind::Real: return constant(e.number());
+      case Kind::Symbol: {
+        const auto it = definitions.find(e);
+        if (it == definitions.end()) return of_atom(e);
+        // A value too big to expand stays behind its symbol.
+        Poly value = of(it->second);
+        return value->size() <= max_terms / 4 && !too_big.contains(it->second.id()) ? value : of_atom(e);
+      }
+      case Kind::Add: return sum(e.args());
+      case Kind::Mul: {
+        Poly p = constant(Number(1));
+        for (Expr f : e.args()) {
+          if (!(p = product(p, of(f)))) return nullptr;
+        }
+        return p;
+      }
+      case Kind::Pow: {
+        const Number& n = e.arg(1).number();
+        if (!n.is_integer() || n.num() < 2 || n.num() > 8) return of_atom(e);
+        Poly base = of(e.arg(0));
+        Poly p = base;
+        for (std::int64_t k = 1; k < n.num() && p; ++k) p = product(p, base);
+        return p;
+      }
+      default: return of_atom(e);
+    }
+  }
+
+  // e's polynomial; e itself as an atom when that would be too big.
+  Poly of(Expr e) {
+    if (auto it = memo.find(e.id()); it != memo.end()) return it->second;
+    Poly p = compute(e);
+    if (!p) {
+      p = of_atom(e);
+      too_big.insert(e.id());
+    }
+    memo.emplace(e.id(), p);
+    return p;
+  }
+
+  // A lower bound of the operation count of the expanded form: an addition
+  // per term but one, a multiplication per factor but one and per
+  // coefficient other than ±1 (powers shared between terms counted once: free).
+  static int cost_lower_bound(const Terms& terms) {
+    int cost = terms.empty() ? 0 : static_cast<int>(terms.size()) - 1;
+    for (const Term& t : terms) {
+      if (t.monomial.empty()) continue;
+      cost += static_cast<int>(t.monomial.size()) - 1;
+      if (!t.coefficient.value.is_one() && !(-t.coefficient.value).is_one()) ++cost;
+    }
+    return cost;
+  }
+
+  Expr to_expr(const Terms& terms) const {
+    std::vector<Expr> sum;
+    sum.reserve(terms.size());
+    for (const Term& t : terms) {
+      std::vector<Expr> product{Expr(t.coefficient.value)};
+      for (const auto& [index, exponent] : t.monomial) {
+        product.push_back(pow(atoms[index].e, static_cast<int>(exponent)));
+      }
+      sum.push_back(mul(product));
+    }
+    return add(sum);
+  }
+};
+
+TrigPolynomialForm::TrigPolynomialForm(std::span<const Definition> definitions, std::size_t max_terms)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->max_terms = max_terms;
+  for (const Definition& d : definitions) impl_->definitions.emplace(d.symbol, d.value);
+}
+
+TrigPolynomialForm::~TrigPolynomialForm() = default;
+
+Expr TrigPolynomialForm::operator()(Expr e) { return impl_->to_expr(*impl_->of(e)); }
+
+std::size_t TrigPolynomialForm::terms(Expr e) { return impl_->of(e)->size(); }
+
+int TrigPolynomialForm::cost_lower_bound(Expr e) { return Impl::cost_lower_bound(*impl_->of(e)); }
+
+namespace {
+
+// The function calls (sin, cos, ...) among e's nodes, outside sums, products
+// and powers; each node visited once.
+void calls_of(Expr e, std::vector<Expr>* out, std::unordered_set<std::uint32_t>* seen) {
+  if (!seen->insert(e.id()).second) return;
+  if (e.kind() == Kind::Add || e.kind() == Kind::Mul || e.kind() == Kind::Pow) {
+    for (Expr a : e.args()) calls_of(a, out, seen);
+  } else if (is_function(e.kind())) {
+    out->push_back(e);
+  }
+}
+
+std::vector<Expr> calls_of(std::initializer_list<Expr> roots) {
+  std::vector<Expr> out;
+  std::unordered_set<std::uint32_t> seen;
+  for (Expr e : roots) calls_of(e, &out, &seen);
+  return out;
+}
+
+}  // namespace
+
+PythagoreanReduction reduce_pythagorean(std::span<const Expr> outputs, std::span<const Definition> definitions,
+                                        std::span<const Definition> context_definitions) {
+  std::vector<Definition> all(context_definitions.begin(), context_definitions.end());
+  all.insert(all.end(), definitions.begin(), definitions.end());
+  TrigPolynomialForm form(all);
+  std::unordered_map<Expr, bool> trig_symbols;  // definitions whose value holds sin or cos
+  // Whether e depends on sin or cos, through the definitions too.
+  std::unordered_map<std::uint32_t, bool> deep_memo;
+  std::function<bool(Expr)> deep = [&](Expr x) {
+    if (x.kind() == Kind::Sin || x.kind() == Kind::Cos) return true;
+    if (x.is_symbol()) {
+      auto it = trig_symbols.find(x);
+      return it != trig_symbols.end() && it->second;
+    }
+    if (x.args().empty()) return false;
+    if (auto it = deep_memo.find(x.id()); it != deep_memo.end()) return it->second;
+    bool held = false;
+    for (Expr a : x.args()) held = held || deep(a);
+    deep_memo.emplace(x.id(), held);
+    return held;
+  };
+  for (const Definition& d : all) trig_symbols[d.symbol] = deep(d.value);
+
+  // The cheaper of e and its reduced form, the calls the reduced form makes
+  // counted as free: e computes them too, or their sines and cosines.
+  auto reduce = [&](Expr e) {
+    if (e.args().empty() || !deep(e)) return e;
+    std::vector<Expr> calls = calls_of({e});
+    const int own_calls = operation_cost(calls);
+    calls.push_back(e);
+    const int original_cost = operation_cost(calls) - own_calls;
+    // Most entries are not shorter expanded: the bound tells without building.
+    if (form.cost_lower_bound(e) >= original_cost) return e;
+    const Expr candidate = form(e);
+    calls = calls_of({candidate, e});
+    const int base = operation_cost(calls);
+    calls.push_back(candidate);
+    const int candidate_cost = operation_cost(calls) - base;
+    calls.back() = e;
+    return candidate_cost < operation_cost(calls) - base ? candidate : e;
+  };
+
+  PythagoreanReduction out;
+  for (const Definition& d : definitions) out.definitions.push_back({d.symbol, reduce(d.value)});
+  for (Expr e : outputs) out.outputs.push_back(reduce(e));
+  return out;
+}
+
+}  // namespace symdyn::symbolic
