@@ -115,7 +115,8 @@ def program(doc, case, result_file):
             out(f"pv:def {p[k]}", f"VP{k}")
         for k in range(len(p)):
             for j in range(len(q)):
-                lines.append(f"VJ{k}_{j}:=simp(diff(VPD{k},{qd[j]}));")
+                earlier = "".join(f"+diff(VPD{k},{pd[m]})*zJ{m}_{j}" for m in range(len(p)))
+                lines.append(f"VJ{k}_{j}:=simp(diff(VPD{k},{qd[j]}){earlier});")
                 out(f"pv:def zJ{k}_{j}", f"VJ{k}_{j}")
     for b, body in enumerate(doc["bodies"]):
         factors = []

@@ -190,9 +190,9 @@ def kinematics(m, case):
     programs = [("accelerations", definitions, [e for k in outputs for e in outputs[k]])]
     if case == 3:
         jac = []
-        for k, (pd, ed) in enumerate(pd_val):
+        for k, (pd, ed) in enumerate(pd_val):  # J_kj = dpd_k/dqd_j, through earlier dependents' rates
             for j, qdj in enumerate(m.qd):
-                jac.append((Symbol(f"J_{pd.name}_{j}", real=True), simplify(sympy.diff(ed, qdj))))
+                jac.append((Symbol(f"J_{pd.name}_{j}", real=True), simplify(partial(m, ed, j))))
         programs.append(("partial_velocities", p_val + jac, [e for k in partials for e in partials[k]]))
     return programs
 
@@ -212,13 +212,25 @@ def emit(name, definitions, outputs):
     replacements, reduced = sympy.cse(exprs, symbols=sympy.numbered_symbols("t_"), order="none")
     lines = [f"void {name}(const double* q, const double* qd, const double* qdd, double* out) {{"]
     trees = []
-    for s, e in replacements:
-        lines.append(f"  const double {s} = {sympy.ccode(e)};")
-        trees.append(tree(e))
     nd = len(definitions)
-    for (s, _), e in zip(definitions, reduced[:nd]):
+    # cse's temporaries and the definitions (dependent parameters, their Jacobian), each after what it uses.
+    assignments = dict(replacements)
+    assignments.update((s, e) for (s, _), e in zip(definitions, reduced[:nd]))
+    done = set()
+
+    def assign(s):
+        if s in done:
+            return
+        done.add(s)
+        e = assignments[s]
+        for u in sorted(e.free_symbols & assignments.keys(), key=str):
+            assign(u)
         lines.append(f"  const double {s} = {sympy.ccode(e)};")
         trees.append(tree(e))
+    for s, _ in replacements:
+        assign(s)
+    for s, _ in definitions:
+        assign(s)
     for i, e in enumerate(reduced[nd:]):
         lines.append(f"  out[{i}] = {sympy.ccode(e)};")
         trees.append(tree(e))
