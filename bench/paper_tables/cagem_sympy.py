@@ -109,7 +109,7 @@ def simplifier(case):
 
 def tree(e, in_sum=False):
     """A SymPy expression as an opcount tree (signs of products apart)."""
-    if e.is_Number:
+    if e.is_Number or e.is_NumberSymbol:  # pi, which trigsimp may bring, is a constant
         return ("num", float(e))
     if e.is_Symbol:
         return ("sym", e.name)
@@ -122,13 +122,15 @@ def tree(e, in_sum=False):
     if e.is_Mul or e.is_Pow:
         sign, t = signed(e)
         return t if sign > 0 else ("neg", t)
-    if e.func in CALL_NAMES:
-        return ("call", CALL_NAMES[e.func], tuple(tree(a) for a in e.args))
+    if e.is_Function:  # any other function simplification may bring (sign, ...) is a call too
+        return ("call", CALL_NAMES.get(e.func, e.func.__name__), tuple(tree(a) for a in e.args))
     raise ValueError(f"cagem_sympy: cannot count {e.func}")
 
 
 def signed(e):
     """A term: its sign and the tree of its magnitude."""
+    if e.is_NumberSymbol:
+        return 1, ("num", float(e))
     if e.is_Number:
         return (1, ("num", float(e))) if e >= 0 else (-1, ("num", float(-e)))
     if e.is_Pow:
