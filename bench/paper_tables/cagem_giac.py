@@ -81,6 +81,8 @@ def translation(d):
 
 
 def program(doc, case, result_file):
+    """The Giac program. Few top-level statements (one per body, the rest in functions and
+    loops): the giac interpreter fails on scripts of about 2000 statements or more."""
     q = [giac_name(c["q"]) for c in doc["coordinates"]]
     qd = [giac_name(c["qd"]) for c in doc["coordinates"]]
     qdd = [giac_name(c["qdd"]) for c in doc["coordinates"]]
@@ -89,6 +91,7 @@ def program(doc, case, result_file):
     pdd = [giac_name(d["pdd"]) for d in doc["dependents"]]
     t = giac_name(doc["time"])
     values = {giac_name(prm["symbol"]): prm["value"] for prm in doc["parameters"]}
+    nq, np_ = len(q), len(p)
     lines = []
     if case == 1:
         lines.append("simp(ex):=ex;")
@@ -97,28 +100,47 @@ def program(doc, case, result_file):
                      "for (j:=1;j<4;j++) { if (length(string(L[j]))<length(string(b))) { b:=L[j]; } } return b; };")
     chain = "+".join([f"diff(f,{t})"] + [f"diff(f,{x})*{xd}" for x, xd in zip(q + qd + p + pd, qd + qdd + pd + pdd)])
     lines.append(f"dt(f):={chain};")
+    lines.append(f"QD:=[{','.join(qd)}];")
+    lines.append(f"PD:=[{','.join(pd)}];")
+    # zJk_j: the symbol of dpd_k/dqd_j (the dependent parameters' Jacobian).
+    lines.append("JS:=[" + ",".join("[" + ",".join(f"zJ{k}_{j}" for j in range(nq)) + "]" for k in range(np_)) + "];"
+                 if np_ else "JS:=[[0]];")
+    # d ex/d qd_j through the dependent parameters' rates.
+    lines.append(f"pdq(ex,j):={{ local r,k; r:=diff(ex,QD[j]); for(k:=0;k<{np_};k++){{ r:=r+diff(ex,PD[k])*JS[k,j]; }} "
+                 "return r; };")
     subst = lambda e: f"subs({e},[{','.join(values)}],[{','.join(str(v) for v in values.values())}])" if values else e
     lines.append(f'fd:=fopen("{result_file}");')
-    out = lambda tag, var: lines.append(f'fprint(fd,Unquoted,"{tag}\\t",string({var}),"\\n");')
+    # out(tag, list of expressions)
+    lines.append('out(tag,L):={ local k; for(k:=0;k<size(L);k++){ fprint(fd,Unquoted,tag,"\t",string(L[k]),"\n"); } '
+                 "return 0; };")
     for k, d in enumerate(doc["dependents"]):
         lines.append(f"VP{k}:=simp({subst(to_giac(d['expression']))});")
         lines.append(f"VPD{k}:=simp(dt(VP{k}));")
         lines.append(f"VPDD{k}:=simp(dt(VPD{k}));")
-    for k in range(len(p)):
-        out(f"acc:def {p[k]}", f"VP{k}")
-    for k in range(len(p)):
-        out(f"acc:def {pd[k]}", f"VPD{k}")
-    for k in range(len(p)):
-        out(f"acc:def {pdd[k]}", f"VPDD{k}")
+    if np_:
+        for prefix, names, tag in (("VP", p, "acc"), ("VPD", pd, "acc"), ("VPDD", pdd, "acc")):
+            lines.append(f"VV:=[{','.join(f'{prefix}{k}' for k in range(np_))}];")
+            lines.append(f"NN:=[{','.join(names)}];")
+            lines.append('for(k:=0;k<size(VV);k++){ fprint(fd,Unquoted,"' + tag + ':def ",string(NN[k]),"\t",'
+                         'string(VV[k]),"\n"); };')
+        if case == 3:
+            lines.append(f"VV:=[{','.join(f'VP{k}' for k in range(np_))}];")
+            lines.append(f"NN:=[{','.join(p)}];")
+            lines.append('for(k:=0;k<size(VV);k++){ fprint(fd,Unquoted,"pv:def ",string(NN[k]),"\t",string(VV[k]),"\n"); };')
+            lines.append(f"VPDL:=[{','.join(f'VPD{k}' for k in range(np_))}];")
+            lines.append(f"for(k:=0;k<{np_};k++){{ for(j:=0;j<{nq};j++){{ "
+                         'fprint(fd,Unquoted,"pv:def ",string(JS[k,j]),"\t",string(simp(pdq(VPDL[k],j))),"\n"); } };')
+    partials = ""
     if case == 3:
-        for k in range(len(p)):
-            out(f"pv:def {p[k]}", f"VP{k}")
-        for k in range(len(p)):
-            for j in range(len(q)):
-                earlier = "".join(f"+diff(VPD{k},{pd[m]})*zJ{m}_{j}" for m in range(len(p)))
-                lines.append(f"VJ{k}_{j}:=simp(diff(VPD{k},{qd[j]}){earlier});")
-                out(f"pv:def zJ{k}_{j}", f"VJ{k}_{j}")
-    for b, body in enumerate(doc["bodies"]):
+        partials = (f"for(j:=0;j<{nq};j++){{ out(\"pv:dv\",[simp(pdq(V[0],j)),simp(pdq(V[1],j)),simp(pdq(V[2],j))]); "
+                    "out(\"pv:dw\",[simp(pdq(Om[0],j)),simp(pdq(Om[1],j)),simp(pdq(Om[2],j))]); } ")
+    lines.append("body(T):={ local R,X,V,A,W,Om,dOm,j; R:=map(T[0..2,0..2],simp); X:=map(T[0..2,3],simp); "
+                 "V:=map(map(X,dt),simp); A:=map(map(V,dt),simp); W:=map(R,dt)*tran(R); "
+                 "Om:=map([W[2,1],W[0,2],W[1,0]],simp); dOm:=map(map(Om,dt),simp); "
+                 'out("acc:R",[R[0,0],R[0,1],R[0,2],R[1,0],R[1,1],R[1,2],R[2,0],R[2,1],R[2,2]]); '
+                 'out("acc:x",X); out("acc:v",V); out("acc:w",Om); out("acc:a",A); out("acc:dw",dOm); '
+                 + partials + "return 0; };")
+    for body in doc["bodies"]:
         factors = []
         for step in body["motion"]:
             if "translation" in step:
@@ -126,28 +148,7 @@ def program(doc, case, result_file):
             else:
                 factors.append(rotation(step["rotation"], to_giac(step["angle"])))
         T = "*".join(factors) if factors else "idn(4)"
-        lines.append(f"T:={subst(T)};")
-        lines.append("R:=map(T[0..2,0..2],simp);")
-        lines.append("X:=map(T[0..2,3],simp);")
-        lines.append("V:=map(map(X,dt),simp);")
-        lines.append("A:=map(map(V,dt),simp);")
-        lines.append("W:=map(R,dt)*tran(R);")
-        lines.append("Om:=map([W[2,1],W[0,2],W[1,0]],simp);")
-        lines.append("dOm:=map(map(Om,dt),simp);")
-        for i in range(3):
-            for j in range(3):
-                out("acc:R", f"R[{i},{j}]")
-        for name, var in (("x", "X"), ("v", "V"), ("w", "Om"), ("a", "A"), ("dw", "dOm")):
-            for i in range(3):
-                out(f"acc:{name}", f"{var}[{i}]")
-        if case == 3:
-            for j in range(len(q)):
-                jac = "+".join([f"diff(ex,{qd[j]})"] + [f"diff(ex,{pd[k]})*zJ{k}_{j}" for k in range(len(p))])
-                lines.append(f"pdq(ex):={jac};")
-                for name, var in (("dv", "V"), ("dw", "Om")):
-                    lines.append(f"PV:=map(map({var},pdq),simp);")
-                    for i in range(3):
-                        out(f"pv:{name}", f"PV[{i}]")
+        lines.append(f"body({subst(T)});")
     lines.append("fclose(fd);")
     return "\n".join(lines) + "\n"
 

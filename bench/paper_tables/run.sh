@@ -5,6 +5,7 @@
 #   bench/paper_tables/run.sh [--models a,b] [--quick] [--reps N] [--gen-runs N] [--compile-runs N]
 #                             [--build DIR] [--work DIR] [--results DIR] [--no-build]
 #                             [--cas sympy,giac|none] [--cas-timeout S] [--cas-chain-max N]
+#                             [--cas-only] [--note TEXT]
 #
 #   --models a,b   only these models (double_pendulum, robot3d, slider_crank, trike,
 #                  amru5, hexapod_tree, chain = every chain_N, or chain_8 ...)
@@ -23,6 +24,9 @@
 #   --cas-timeout S  seconds each computer algebra derivation may take (default 300; then "timeout")
 #   --cas-chain-max N  chain_N measured by the computer algebra up to N (default 64); a chain
 #                  variant and case that timed out is not tried again for a longer chain
+#   --cas-only     measure the computer algebra (--cas) again, keeping the other rows of
+#                  --work from an earlier run, then write the report
+#   --note TEXT    a sentence for the report's set-up line (e.g. which rows were measured again)
 #
 # Per model, variant and case (1: --no-simplify --partials numeric --no-eom,
 # 2: --partials numeric --no-eom, 3: --no-eom, 4: default with mass_matrix and
@@ -50,6 +54,8 @@ do_build=1
 cas=sympy,giac
 cas_timeout=300
 cas_chain_max=64
+cas_only=0
+note=""
 
 while [[ $# -gt 0 ]]; do
   case $1 in
@@ -65,6 +71,8 @@ while [[ $# -gt 0 ]]; do
     --cas) cas=$2; shift 2 ;;
     --cas-timeout) cas_timeout=$2; shift 2 ;;
     --cas-chain-max) cas_chain_max=$2; shift 2 ;;
+    --cas-only) cas_only=1; shift ;;
+    --note) note=$2; shift 2 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -124,7 +132,12 @@ fi
 bench=$build/bench/symdyn_paper_bench
 tgen=$build/bench/symdyn_paper_tgen
 mkdir -p "$work" "$results"
-rm -rf "$work/rows"
+if [[ $cas_only == 0 ]]; then
+  rm -rf "$work/rows"
+elif [[ ! -d $work/rows ]]; then
+  echo "run.sh: --cas-only: no earlier measurements in $work/rows" >&2
+  exit 2
+fi
 mkdir -p "$work/rows"
 
 chain_sizes=(2 4 8 16 32 64)
@@ -211,10 +224,11 @@ measure_cas() {
   local gen=$1 model=$2 variant=$3 c=$4; shift 4
   (( c <= 3 )) || return 0
   local dir=$work/rows/$model/$variant/case$c/cas
-  rm -rf "$dir" && mkdir -p "$dir"
+  mkdir -p "$dir"
   "$gen" "$@" --variant "$variant" --describe > "$dir/describe.json"
   local tool key rc n
   for tool in "${cas_tools[@]}"; do
+    rm -f "$dir/${tool}_case$c".* "$dir/$tool.err"
     key="$tool $variant $c"
     if [[ $model == chain_* ]]; then
       n=${model#chain_}
@@ -267,7 +281,7 @@ for f in "${model_files[@]}"; do
         how=measure
         (( n >= 32 )) && how=measure_generation
         for c in 1 2 3 4; do
-          $how "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"
+          [[ $cas_only == 1 ]] || $how "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"
           measure_cas "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"
         done
       done
@@ -279,11 +293,11 @@ for f in "${model_files[@]}"; do
   variants=$("$gen" --list | sed 's/^[^:]*: variants //; s/,//g')
   for variant in $variants; do
     for c in 1 2 3 4; do
-      measure "$gen" "$f" "$variant" "$c"
+      [[ $cas_only == 1 ]] || measure "$gen" "$f" "$variant" "$c"
       measure_cas "$gen" "$f" "$variant" "$c"
     done
   done
 done
 
 python3 "$here/report.py" --work "$work/rows" --results "$results" --paper "$here/paper_numbers.json" \
-  --missing "${missing[*]}" --reps "$reps" --gen-runs "$gen_runs"
+  --missing "${missing[*]}" --reps "$reps" --gen-runs "$gen_runs" --note "$note"
