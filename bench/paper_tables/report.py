@@ -3,8 +3,10 @@
 
     report.py --work DIR --results DIR --paper paper_numbers.json [--missing "a b"]
 
-DIR/<model>/<variant>/case<c>/ holds stats_<i>.txt (generator --stats output),
-generator_wall.txt, compile_time.txt and bench.json (symdyn_paper_bench).
+DIR/<model>/<variant>/case<c>/ holds stats.txt (generator --stats output),
+generator_time.txt, tgen.json, compile_time.txt, bench.json (symdyn_paper_bench)
+and, in cases 1-3, cas/ (the generator's --describe and what cagem_sympy.py and
+cagem_giac.py measured: <tool>_case<c>.json).
 Writes paper_tables.md, paper_tables.json and chain_scaling.png (gnuplot).
 Standard library only.
 """
@@ -26,16 +28,9 @@ CASE_TEXT = {
     3: "simplification, symbolic partial velocities",
     4: "as 3, with the mass matrix and bias forces emitted (Robotran-style)",
 }
-# SymPy's cse + ccode operation counts of the kinematics, case 2 (a target of the tables).
-SYMPY_KINEMATICS = [
-    ("double_pendulum", "relative", 2, 42),
-    ("robot3d", "relative", 2, 104),
-    ("slider_crank", "inline", 2, 93),
-    ("trike", "default", 2, 105),
-    ("hexapod_tree", "default", 2, 474),
-    ("chain_64", "relative", 2, 1049),
-    ("amru5", "dependent", 1, 3371),
-]
+# The computer algebra measured beside symdyn (cagem_sympy.py, cagem_giac.py): file key, label.
+CAS_TOOLS = [("sympy", "SymPy"), ("giac", "Giac")]
+GIAC_FACTOR = 10  # target: symdyn's derivation at least this many times faster than Giac's
 
 
 INSTRUCTION_NOISE = 1.01  # programs of equal operation counts differ by up to 0.6 % in instructions
@@ -61,12 +56,15 @@ def run(cmd):
 def machine():
     cpu = next((l.split(":", 1)[1].strip() for l in run(["lscpu"]).splitlines() if l.startswith("Model name")), "?")
     cores = next((l.split(":", 1)[1].strip() for l in run(["lscpu"]).splitlines() if l.startswith("CPU(s)")), "?")
+    hypervisor = next((l.split(":", 1)[1].strip() for l in run(["lscpu"]).splitlines()
+                       if l.startswith("Hypervisor vendor")), None)
     compiler = run(["g++", "--version"]).splitlines()[:1]
     commit = run(["git", "rev-parse", "--short", "HEAD"]).strip()
     dirty = run(["git", "status", "--porcelain", "--untracked-files=no"]).strip()
     return {
         "cpu": cpu,
         "cpus": cores,
+        "hypervisor": hypervisor,
         "compiler": compiler[0] if compiler else "?",
         "flags": "-std=c++20 -O2 -fPIC -fvisibility=hidden",
         "date": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
@@ -172,7 +170,44 @@ def load_row(case_dir, model, variant, case):
         "instructions": (json.loads((case_dir / "instructions.json").read_text())
                          if (case_dir / "instructions.json").exists() else None),
     }
+    row["cagem_scope"] = cagem_scope(case_dir, model, variant, case, functions)
+    row["cas"] = {}
+    for key, _ in CAS_TOOLS:
+        path = case_dir / "cas" / f"{key}_case{case}.json"
+        if path.exists():
+            row["cas"][key] = json.loads(path.read_text())
     return row
+
+
+def cagem_scope(case_dir, model, variant, case, functions):
+    """symdyn's operations for what CAGeM derives (and cagem_*.py): each body's motion relative to
+    the reference the model file gives it. The emitted relative_accelerations (+ relative_partial_velocities
+    in case 3, fused in relative_accelerations_partials when emitted) when the generator kept those references; accelerations (+ partial_velocities) when every
+    body moves from the ground (the generator may then make a body relative to another: chain_N absolute).
+    None if neither (or no --describe)."""
+    describe = case_dir / "cas" / "describe.json"
+    header = case_dir / f"{model}_{variant}.hpp"
+    if case > 3 or not describe.exists() or not header.exists():
+        return None
+    bodies = json.loads(describe.read_text())["bodies"]
+    names = [b["name"] for b in bodies]
+    described = [names.index(b["reference"]) if b["reference"] else -1 for b in bodies]
+    m = re.search(r"reference_body\[\d+\] = \{([^}]*)\}", header.read_text())
+    emitted = [int(x) for x in m.group(1).split(",")] if m else None
+    if emitted == described:
+        entries = ["relative_accelerations"] + (["relative_partial_velocities"] if case == 3 else [])
+    elif all(r == -1 for r in described):
+        entries = ["accelerations"] + (["partial_velocities"] if case == 3 else [])
+    else:
+        return None
+    # Case 3: the one fused function when emitted, as SymPy's cse sees one function.
+    fused = {"relative_accelerations": "relative_accelerations_partials", "accelerations": "accelerations_partials"}
+    if case == 3 and fused[entries[0]] in functions:
+        entries = [fused[entries[0]]]
+    total = lambda f: functions.get(f, {}).get("total", 0)
+    sincos = lambda f: functions.get(f, {}).get("detail", {}).get("sincos", 0)
+    return {"entries": entries, "fused": sum(total(f) for f in entries),
+            "apart": sum(total(f) + sincos(f) for f in entries)}
 
 
 def load_rows(work):
@@ -222,6 +257,59 @@ def find(rows, model, variant, case):
     return next((r for r in rows if r["model"] == model and r["variant"] == variant and r["case"] == case), None)
 
 
+def cas_label(rows, key):
+    """"SymPy 1.11.1": the tool's name and the version its runs reported."""
+    versions = sorted({r["cas"][key]["version"] for r in rows if r["cas"].get(key, {}).get("version")})
+    return f"{dict(CAS_TOOLS)[key]} {versions[0]}" if versions else dict(CAS_TOOLS)[key]
+
+
+def cas_time(res):
+    status = res.get("status")
+    if status == "timeout":
+        return f"timeout (> {res.get('timeout', 0):g} s)"
+    if status == "not run":
+        return "not run"
+    if res.get("cpu") is None:
+        return status
+    return fmt_s(res["cpu"]) + (" (failed)" if status == "error" else " (output not counted)" if status == "unparsed" else "")
+
+
+def cas_ops(key, res):
+    """Kinematics operations, CAGeM's scope: SymPy's cse output with sin and cos of one argument fused;
+    Giac's output as emitted (no cse: sin, cos apart) and, in parentheses, each distinct subexpression once, fused."""
+    if res.get("status") != "ok":
+        return "—"
+    if key == "sympy":
+        return str(res["kinematics_fused"])
+    return f"{res['kinematics_apart']} ({res['kinematics_shared_fused']})"
+
+
+def ratio(a, b):
+    return None if a is None or not b else a / b
+
+
+def fmt_ratio(x, prefix=""):
+    return "—" if x is None else f"{prefix}{x:.3g}"
+
+
+def cas_ratios(key, res, r):
+    """(Tgen ratio, kinematics ratio) of a tool's row to symdyn's, as text."""
+    scope = r["cagem_scope"]
+    status = res.get("status")
+    if status == "timeout":
+        t = fmt_ratio(ratio(res.get("timeout"), r["tgen"]), "> ")
+    elif status in ("ok", "unparsed"):
+        t = fmt_ratio(ratio(res.get("cpu"), r["tgen"]))
+    else:
+        t = "—"
+    if status != "ok" or scope is None:
+        return t, "—"
+    if key == "sympy":
+        return t, fmt_ratio(ratio(res["kinematics_fused"], scope["fused"]))
+    return t, (f"{fmt_ratio(ratio(res['kinematics_apart'], scope['apart']))} "
+               f"({fmt_ratio(ratio(res['kinematics_shared_fused'], scope['fused']))})")
+
+
 def model_table(rows, paper, model, variant, out):
     paper_tables = [t for t in paper["tables"] if t["model"] == model and t["variant"] == variant]
     title = f"{model}, variant {variant}"
@@ -233,23 +321,76 @@ def model_table(rows, paper, model, variant, out):
     ours = [find(rows, model, variant, c) for c in (1, 2, 3, 4)]
     ref = next(r for r in ours if r)
     out.append(f"{ref['nbody']} bodies, {ref['nq']} DOF, {ref['ndep']} dependent parameters.\n")
-    out.append("| System | Case | Tgen/s | Size/bytes | T1/s | T2/s | Kin. ops | EoM ops | T1 partials/s | Compile/s | Max error | qdd vs other cases |")
-    out.append("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    out.append("| System | Case | Tgen/s | Size/bytes | T1/s | T2/s | Kin. ops | CAGeM kin. ops | EoM ops | T1 partials/s "
+               "| Compile/s | Max error | qdd vs other cases | Tgen / symdyn's | CAGeM kin. ops / symdyn's |")
+    out.append("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for t in paper_tables:
         for system, cases in t["rows"].items():
             for c in cases:
-                out.append(f"| {system} (paper) | {c[0]} | {c[1]} | {c[2]} | {c[3]} | {c[4]} | | | | | | |")
+                out.append(f"| {system} (paper) | {c[0]} | {c[1]} | {c[2]} | {c[3]} | {c[4]} | | | | | | | | | |")
     for r in ours:
         if r is None:
             continue
+        scope = r["cagem_scope"]
         out.append(
             f"| **symdyn** | {r['case']} | {fmt_s(r['tgen'])} | {fmt_bytes(r['size'])} | {fmt_s(r['T1'])} | {fmt_s(r['T2'])} "
-            f"| {r['kinematics_ops']} | {r['eom_ops'] if r['eom_ops'] is not None else '—'} | {fmt_s(r['T1_partials'])} "
-            f"| {fmt_s(r['compile_time'])} | {fmt_e(r['errors']['max'])} | {fmt_e(r['errors'].get('qdd_vs_other_cases'))} |")
+            f"| {r['kinematics_ops']} | {scope['fused'] if scope else '—'} "
+            f"| {r['eom_ops'] if r['eom_ops'] is not None else '—'} | {fmt_s(r['T1_partials'])} "
+            f"| {fmt_s(r['compile_time'])} | {fmt_e(r['errors']['max'])} | {fmt_e(r['errors'].get('qdd_vs_other_cases'))} | | |")
+    for key, _ in CAS_TOOLS:
+        for r in ours:
+            if r is None or key not in r["cas"]:
+                continue
+            res = r["cas"][key]
+            t_ratio, ops_ratio = cas_ratios(key, res, r)
+            size = fmt_bytes(res["size"]) if res.get("status") == "ok" else "—"
+            out.append(f"| {cas_label(rows, key)} | {r['case']} | {cas_time(res)} | {size} | | | | {cas_ops(key, res)} "
+                       f"| | | | | | {t_ratio} | {ops_ratio} |")
     if len(paper_tables) > 1:
         out.append("")
     for t in paper_tables[1:]:
         out.append(f"(Paper Table {t['table']} also: \"{t['title']}\".)")
+    out.append("")
+
+
+def cas_section(rows, out):
+    """Every model, variant and case measured by the computer algebra, chain_N included."""
+    measured = [r for r in rows if r["cas"]]
+    if not measured:
+        out.append("No computer algebra measured (run.sh --cas none, or neither tool available).\n")
+        return
+    tools = [k for k, _ in CAS_TOOLS if any(k in r["cas"] for r in measured)]
+    out.append("## symdyn against today's computer algebra, every row\n")
+    out.append("CAGeM's derivation (bench/paper_tables/cagem_sympy.py, cagem_giac.py) run on the model the generator "
+               "describes (`--describe`), in the same run as symdyn. Tgen: CPU seconds, start-up excluded (SymPy: timed "
+               "inside the script, after Python's start-up and imports; Giac: the giac process less an empty program's). "
+               "CAGeM kin. ops: symdyn's entry points of CAGeM's scope (each body relative to the reference the model "
+               "file gives it: `relative_accelerations`, plus `relative_partial_velocities` in case 3 (in one function, "
+               "`relative_accelerations_partials`, where emitted); `accelerations` and `partial_velocities` when every body moves from the ground and the generator made some relative), "
+               "a fused sin/cos pair once; SymPy: its cse output by the same rule; Giac: its output written in full "
+               "(Giac has no cse), sin and cos apart, and in parentheses each distinct subexpression once, fused. "
+               "Ratios: the tool's figure over symdyn's.\n")
+    head = "| Model | Variant | Case | symdyn Tgen/s | symdyn ops |"
+    rule = "|---|---|---|---:|---:|"
+    for key in tools:
+        label = cas_label(rows, key)
+        head += f" {label} Tgen/s | {label} ops | Tgen ratio | ops ratio |"
+        rule += "---:|---:|---:|---:|"
+    out.append(head)
+    out.append(rule)
+    order = lambda r: (r["model"].startswith("chain_"), int(r["model"][6:]) if r["model"].startswith("chain_") else 0,
+                       r["model"], r["variant"], r["case"])
+    for r in sorted(measured, key=order):
+        scope = r["cagem_scope"]
+        line = f"| {r['model']} | {r['variant']} | {r['case']} | {fmt_s(r['tgen'])} | {scope['fused'] if scope else '—'} |"
+        for key in tools:
+            res = r["cas"].get(key)
+            if res is None:
+                line += " — | — | — | — |"
+                continue
+            t_ratio, ops_ratio = cas_ratios(key, res, r)
+            line += f" {cas_time(res)} | {cas_ops(key, res)} | {t_ratio} | {ops_ratio} |"
+        out.append(line)
     out.append("")
 
 
@@ -333,7 +474,7 @@ def verdict(ok):
 
 
 def targets(rows, out):
-    out.append("## Targets: generation, equations, compile time\n")
+    out.append("## Targets: generation, equations, compile time, computer algebra\n")
     out.append("Measured figures from the tables above. Generation times are medians; T1 and T2 are compared between "
                "cases 1 and 2 by the instructions their workloads execute per evaluation (valgrind --tool=callgrind, "
                "repeatable), since on this shared machine the medians of identical code differ by up to 1.7x.\n")
@@ -402,18 +543,7 @@ def targets(rows, out):
         + "".join(f", {key} instructions from {min(v):.3f} to {max(v):.3f}" for key, v in ratios.items() if v)
         + ". "
         + ("Exceptions: " + "; ".join(bad) + "." if bad else "No exception."))
-    for model, variant, case, sympy in SYMPY_KINEMATICS:
-        r = find(rows, model, variant, case)
-        name = f"kinematics of {model} {variant} case {case} no bigger than SymPy's {sympy} operations"
-        if not r:
-            add(name, None, f"{model} {variant} not measured.")
-            continue
-        ours = r["relative_ops_calls_apart"]
-        add(name, ours <= sympy,
-            f"symdyn: {ours} (relative_accelerations(): positions, velocities and accelerations of each body relative "
-            f"to its reference, sin and cos counted apart; {r['operations']['relative_accelerations']} with fused sincos), "
-            f"{ours / sympy:.2f} x SymPy's. Composed to the ground in the emitted code (accelerations()): "
-            f"{r['accelerations_ops_calls_apart']}.")
+    cas_targets(rows, add)
     for variant in ("inline", "dependent"):
         r = find(rows, "amru5", variant, 4)
         name = f"amru5 {variant} emitted equations of motion (case 4) at most 500 operations per DOF"
@@ -433,6 +563,62 @@ def targets(rows, out):
     return results
 
 
+def row_name(r):
+    return f"{r['model']} {r['variant']} case {r['case']}"
+
+
+def cas_targets(rows, add):
+    """The two targets against the computer algebra, from this run's measurements."""
+    # symdyn's kinematics no longer than SymPy's.
+    compared, longer, missing = [], [], []
+    for r in rows:
+        res = r["cas"].get("sympy")
+        if res is None:
+            continue
+        if res.get("status") != "ok" or r["cagem_scope"] is None:
+            missing.append(f"{row_name(r)} ({res.get('status') if res.get('status') != 'ok' else 'no symdyn counterpart'})")
+            continue
+        ours, theirs = r["cagem_scope"]["fused"], res["kinematics_fused"]
+        compared.append(ours / theirs)
+        if ours > theirs:
+            longer.append(f"{row_name(r)}: symdyn {ours} > SymPy {theirs} ({ours / theirs:.2f} x; sin, cos apart: "
+                          f"{r['cagem_scope']['apart']} against {res['kinematics_apart']})")
+    name = "symdyn's kinematics no longer than SymPy's (CAGeM's scope, cse, a fused sin/cos pair once), every model/case row"
+    if not compared:
+        add(name, None, "SymPy not measured.")
+    else:
+        add(name, not longer,
+            f"{len(compared)} rows compared, symdyn / SymPy from {min(compared):.2f} to {max(compared):.2f}; "
+            + (f"{len(longer)} longer: " + "; ".join(longer) + "." if longer else "none longer.")
+            + (f" Not compared (SymPy timed out or failed): {'; '.join(missing)}." if missing else ""))
+    # symdyn's derivation at least GIAC_FACTOR times faster than Giac's.
+    compared, slow, failed = [], [], []
+    for r in rows:
+        res = r["cas"].get("giac")
+        if res is None or res.get("status") == "not run":
+            continue
+        if res.get("status") == "timeout":
+            compared.append(res["timeout"] / r["tgen"])  # at least
+            continue
+        if res.get("status") not in ("ok", "unparsed") or res.get("cpu") is None:
+            failed.append(f"{row_name(r)} ({res.get('message', res.get('status'))})")
+            continue
+        factor = res["cpu"] / r["tgen"]
+        compared.append(factor)
+        if factor < GIAC_FACTOR:
+            slow.append(f"{row_name(r)}: Giac {res['cpu'] * 1e3:.1f} ms, symdyn {r['tgen'] * 1e3:.2f} ms ({factor:.1f} x)")
+    name = (f"symdyn's derivation at least {GIAC_FACTOR}x faster than Giac's (CPU, Giac's start-up subtracted), "
+            "every model and case")
+    if not compared:
+        add(name, None, "Giac not measured.")
+    else:
+        add(name, not slow,
+            f"{len(compared)} rows compared (a Giac timeout counts as its limit), Giac / symdyn from "
+            f"{min(compared):.1f} to {max(compared):.0f}; "
+            + (f"{len(slow)} under {GIAC_FACTOR}x: " + "; ".join(slow) + "." if slow else f"none under {GIAC_FACTOR}x.")
+            + (f" Giac failed (not compared): {'; '.join(failed)}." if failed else ""))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--work", required=True, type=pathlib.Path)
@@ -441,6 +627,7 @@ def main():
     ap.add_argument("--missing", default="")
     ap.add_argument("--reps", type=int, default=7)
     ap.add_argument("--gen-runs", type=int, default=5)
+    ap.add_argument("--note", default="", help="a sentence added to the set-up line (e.g. rows measured again)")
     args = ap.parse_args()
     paper = json.loads(args.paper.read_text())
     rows = load_rows(args.work)
@@ -451,8 +638,9 @@ def main():
     missing = args.missing.split()
     out = ["# The paper's tables, reproduced by symdyn\n",
            "Generated by `bench/paper_tables/run.sh` (see bench/README.md); do not edit by hand.\n",
-           f"- Ours: {m['cpu']} ({m['cpus']} CPUs, shared with other jobs), {m['compiler']}, emitted code compiled with "
-           f"`{m['flags']}`; {m['date']}; commit {m['commit']}.",
+           f"- Ours: {m['cpu']} ({m['cpus']} vCPUs{' under ' + m['hypervisor'] if m['hypervisor'] else ''}, shared with "
+           f"other jobs), {m['compiler']}, emitted code compiled with "
+           f"`{m['flags']}`; {m['date']}; commit {m['commit']}." + (f" {args.note}" if args.note else ""),
            f"- The paper's: {paper['machine']}, {paper['systems']['MuPAD']} and {paper['systems']['Xcas/Giac']} "
            "(numbers copied as printed; \"—\" where Giac crashed).",
            f"- Models measured: {', '.join(sorted({r['model'] for r in rows}, key=lambda s: (s.startswith('chain'), len(s) if s.startswith('chain') else 0, s)))}."
@@ -466,7 +654,7 @@ def main():
            "its command line and its files). The JSON also has the wall times (`tgen_wall`), the time the generator "
            "executable reported (`tgen_generator_reported`) and its whole process' wall time "
            "(`generator_process_wall`): on this shared machine wall times run 2-5 times longer.",
-           "- Size: bytes of the emitted header and source together.",
+           "- Size: bytes of the emitted header and source together (SymPy, Giac: of the emitted C functions).",
            f"- T1: CPU seconds of the measuring thread (wall time would count the time other jobs took) for 10 000 evaluations of the kinematics of all bodies, median of {args.reps} runs: the emitted "
            "`accelerations()` (rotation, position, velocity, angular velocity, acceleration, angular acceleration of "
            "every body) and, in cases 3-4 only, `partial_velocities()` (symbolic). As in the paper, numeric partial "
@@ -479,6 +667,19 @@ def main():
            "- Kin. ops: arithmetic operations and calls of the emitted `accelerations()` in cases 1-2, of "
            "`accelerations_partials()` (accelerations and partial velocities in one function, as SymPy's) in cases 3-4 "
            "(a fused sin/cos pair counts once). EoM ops: `mass_matrix` + `bias_forces` (case 4).",
+           "- CAGeM kin. ops: the kinematics of CAGeM's scope, each body relative to the reference the model file "
+           "gives it (positions, velocities, accelerations; in case 3 also the partial velocities), as CAGeM derived them "
+           "and the computer algebra rows do: symdyn's `relative_accelerations` (case 3: `relative_accelerations_partials`, "
+           "both in one function, as SymPy's), or `accelerations` (case 3: `accelerations_partials`) when every body moves from the ground and the generator made some "
+           "relative to another (chain_N absolute); a fused sin/cos pair once. SymPy: its cse output counted by the same "
+           "rule (bench/paper_tables/opcount.py); Giac: its output written in full (no cse in Giac), sin and cos apart, "
+           "and in parentheses each distinct subexpression once, fused.",
+           "- SymPy and Giac rows: CAGeM's derivation (bench/paper_tables/cagem_sympy.py, cagem_giac.py) on the model "
+           "the generator describes (`--describe`), run in this run; Tgen in CPU seconds with the tool's start-up "
+           "excluded (SymPy timed inside the script after its imports; Giac: the giac process less an empty program's), "
+           "\"timeout\" past run.sh's --cas-timeout. Tgen / symdyn's and CAGeM kin. ops / symdyn's: the tool's figure over "
+           "symdyn's in the same case (Giac's ops: as emitted over symdyn's with sin, cos apart, and in parentheses "
+           "shared over fused).",
            "- Compile: CPU seconds (user + system) to compile the emitted source with g++ at -O2, median of the "
            "runs (the JSON has every run's, `compile_runs`, and the median run's wall time, `compile_wall`).",
            "- Max error: largest of the errors of R, x, v, w, a, dw, the partial velocities and qdd against an "
@@ -494,6 +695,7 @@ def main():
     for model, variant in pairs:
         model_table(rows, paper, model, variant, out)
     target_results = targets(rows, out)
+    cas_section(rows, out)
     summary = {}
     chain_study(rows, args.results, out, summary)
     chain_rows = [r for r in rows if r["model"].startswith("chain_")]
@@ -510,7 +712,7 @@ def main():
     (args.results / "paper_tables.md").write_text("\n".join(out) + "\n")
     for r in rows:
         r.pop("qdd_at_states")
-    doc = {"machine": m, "paper": {"machine": paper["machine"], "systems": paper["systems"]},
+    doc = {"machine": m, "note": args.note, "paper": {"machine": paper["machine"], "systems": paper["systems"]},
            "missing_models": missing, "cases": CASE_TEXT, "rows": rows, "targets": target_results,
            "chain_scaling": summary, "paper_tables": paper["tables"]}
     (args.results / "paper_tables.json").write_text(json.dumps(doc, indent=1) + "\n")

@@ -4,6 +4,8 @@
 #
 #   bench/paper_tables/run.sh [--models a,b] [--quick] [--reps N] [--gen-runs N] [--compile-runs N]
 #                             [--build DIR] [--work DIR] [--results DIR] [--no-build]
+#                             [--cas sympy,giac|none] [--cas-timeout S] [--cas-chain-max N]
+#                             [--cas-only] [--note TEXT]
 #
 #   --models a,b   only these models (double_pendulum, robot3d, slider_crank, trike,
 #                  amru5, hexapod_tree, chain = every chain_N, or chain_8 ...)
@@ -17,6 +19,14 @@
 #   --work DIR     scratch directory for emitted code and raw results (default build/paper_tables)
 #   --results DIR  where paper_tables.md/.json and chain_scaling.png go (default bench/results)
 #   --no-build     do not build the generators and symdyn_paper_bench first
+#   --cas LIST     computer algebra measured beside symdyn in cases 1-3 (default sympy,giac;
+#                  none: neither): cagem_sympy.py and cagem_giac.py on the generator's --describe
+#   --cas-timeout S  seconds each computer algebra derivation may take (default 300; then "timeout")
+#   --cas-chain-max N  chain_N measured by the computer algebra up to N (default 64); a chain
+#                  variant and case that timed out is not tried again for a longer chain
+#   --cas-only     measure the computer algebra (--cas) again, keeping the other rows of
+#                  --work from an earlier run, then write the report
+#   --note TEXT    a sentence for the report's set-up line (e.g. which rows were measured again)
 #
 # Per model, variant and case (1: --no-simplify --partials numeric --no-eom,
 # 2: --partials numeric --no-eom, 3: --no-eom, 4: default with mass_matrix and
@@ -41,6 +51,11 @@ reps=7
 gen_runs=5
 compile_runs=3
 do_build=1
+cas=sympy,giac
+cas_timeout=300
+cas_chain_max=64
+cas_only=0
+note=""
 
 while [[ $# -gt 0 ]]; do
   case $1 in
@@ -53,6 +68,11 @@ while [[ $# -gt 0 ]]; do
     --work) work=$(realpath -m "$2"); shift 2 ;;
     --results) results=$(realpath -m "$2"); shift 2 ;;
     --no-build) do_build=0; shift ;;
+    --cas) cas=$2; shift 2 ;;
+    --cas-timeout) cas_timeout=$2; shift 2 ;;
+    --cas-chain-max) cas_chain_max=$2; shift 2 ;;
+    --cas-only) cas_only=1; shift ;;
+    --note) note=$2; shift 2 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -61,6 +81,27 @@ done
 # shellcheck source=../../scripts/lib/setup.sh
 source "$root/scripts/lib/setup.sh"
 symdyn_require_packages "${symdyn_base_packages[@]}" valgrind gnuplot-nox
+
+# The computer algebra (bench only): Debian's python3-sympy (run by Debian's own
+# python3, whatever python3 comes first in PATH) and xcas (the giac interpreter).
+# Installed when missing if possible; otherwise skipped, saying so.
+cas_python=/usr/bin/python3
+cas_tools=()
+[[ $cas == none ]] && cas=""
+IFS=, read -ra cas_wanted <<< "$cas"
+for tool in "${cas_wanted[@]}"; do
+  case $tool in
+    sympy) package=python3-sympy ;;
+    giac) package=xcas ;;
+    *) echo "run.sh: --cas: unknown tool '$tool' (sympy, giac or none)" >&2; exit 2 ;;
+  esac
+  if (symdyn_require_packages "$package") >&2; then
+    cas_tools+=("$tool")
+  else
+    echo "run.sh: $package could not be installed: the $tool rows are skipped" >&2
+  fi
+done
+declare -A cas_gave_up=()  # "tool variant case" of a chain_N that timed out
 
 cxx=${CXX:-g++}
 cxxflags=(-std=c++20 -O2 -fPIC -fvisibility=hidden)
@@ -91,7 +132,12 @@ fi
 bench=$build/bench/symdyn_paper_bench
 tgen=$build/bench/symdyn_paper_tgen
 mkdir -p "$work" "$results"
-rm -rf "$work/rows"
+if [[ $cas_only == 0 ]]; then
+  rm -rf "$work/rows"
+elif [[ ! -d $work/rows ]]; then
+  echo "run.sh: --cas-only: no earlier measurements in $work/rows" >&2
+  exit 2
+fi
 mkdir -p "$work/rows"
 
 chain_sizes=(2 4 8 16 32 64)
@@ -172,6 +218,55 @@ measure_generation() {
   rm -f "$dir"/*.cpp
 }
 
+# measure_cas <generator> <model> <variant> <case> [--model name]: CAGeM's
+# derivation by each computer algebra tool, on the generator's --describe.
+measure_cas() {
+  local gen=$1 model=$2 variant=$3 c=$4; shift 4
+  (( c <= 3 )) || return 0
+  local dir=$work/rows/$model/$variant/case$c/cas
+  mkdir -p "$dir"
+  "$gen" "$@" --variant "$variant" --describe > "$dir/describe.json"
+  local tool key rc n
+  for tool in "${cas_tools[@]}"; do
+    rm -f "$dir/${tool}_case$c".* "$dir/$tool.err"
+    key="$tool $variant $c"
+    if [[ $model == chain_* ]]; then
+      n=${model#chain_}
+      if (( n > cas_chain_max )); then
+        echo "{\"tool\": \"$tool\", \"case\": $c, \"status\": \"not run\", \"message\": \"chain_N beyond --cas-chain-max $cas_chain_max\"}" \
+          > "$dir/${tool}_case$c.json"
+        continue
+      fi
+      if [[ -n ${cas_gave_up[$key]:-} ]]; then
+        echo "{\"tool\": \"$tool\", \"case\": $c, \"status\": \"not run\", \"message\": \"${cas_gave_up[$key]} timed out\"}" \
+          > "$dir/${tool}_case$c.json"
+        continue
+      fi
+    fi
+    echo "== $model $variant case $c: $tool" >&2
+    rc=0
+    if [[ $tool == sympy ]]; then
+      timeout --kill-after=10 "$cas_timeout" "$cas_python" "$here/cagem_sympy.py" --describe "$dir/describe.json" \
+        --case "$c" --out "$dir" > /dev/null 2> "$dir/sympy.err" || rc=$?
+      if (( rc == 124 || rc == 137 )); then
+        echo "{\"tool\": \"SymPy\", \"case\": $c, \"status\": \"timeout\", \"timeout\": $cas_timeout}" > "$dir/sympy_case$c.json"
+      elif (( rc != 0 )); then
+        "$cas_python" -c 'import json, sys; print(json.dumps({"tool": "SymPy", "case": int(sys.argv[1]), "status": "error",
+          "message": (open(sys.argv[2]).read().strip().splitlines() or ["?"])[-1]}))' "$c" "$dir/sympy.err" > "$dir/sympy_case$c.json"
+      fi
+    else
+      "$cas_python" "$here/cagem_giac.py" --describe "$dir/describe.json" --case "$c" --out "$dir" \
+        --timeout "$cas_timeout" > /dev/null 2> "$dir/giac.err" || rc=$?
+      (( rc == 0 )) || echo "{\"tool\": \"Giac\", \"case\": $c, \"status\": \"error\", \"message\": \"cagem_giac.py exited with $rc\"}" \
+        > "$dir/giac_case$c.json"
+    fi
+    if [[ $model == chain_* ]] && grep -q '"status": "timeout"' "$dir/${tool}_case$c.json"; then
+      cas_gave_up[$key]=$model
+    fi
+  done
+  rm -f "$dir"/*.txt
+}
+
 missing=()
 for f in double_pendulum robot3d slider_crank trike amru5 hexapod_tree chain; do
   [[ -f $root/models/$f.cpp ]] || missing+=("$f")
@@ -185,7 +280,10 @@ for f in "${model_files[@]}"; do
       for variant in relative absolute; do
         how=measure
         (( n >= 32 )) && how=measure_generation
-        for c in 1 2 3 4; do $how "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"; done
+        for c in 1 2 3 4; do
+          [[ $cas_only == 1 ]] || $how "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"
+          measure_cas "$gen" "chain_$n" "$variant" "$c" --model "chain_$n"
+        done
       done
     done
     continue
@@ -194,9 +292,12 @@ for f in "${model_files[@]}"; do
   # "double_pendulum: variants absolute, relative"
   variants=$("$gen" --list | sed 's/^[^:]*: variants //; s/,//g')
   for variant in $variants; do
-    for c in 1 2 3 4; do measure "$gen" "$f" "$variant" "$c"; done
+    for c in 1 2 3 4; do
+      [[ $cas_only == 1 ]] || measure "$gen" "$f" "$variant" "$c"
+      measure_cas "$gen" "$f" "$variant" "$c"
+    done
   done
 done
 
 python3 "$here/report.py" --work "$work/rows" --results "$results" --paper "$here/paper_numbers.json" \
-  --missing "${missing[*]}" --reps "$reps" --gen-runs "$gen_runs"
+  --missing "${missing[*]}" --reps "$reps" --gen-runs "$gen_runs" --note "$note"

@@ -15,6 +15,7 @@
 #include <symdyn/model/errors.hpp>
 #include <symdyn/model/identifier.hpp>
 #include <symdyn/symbolic/errors.hpp>
+#include <symdyn/symbolic/print.hpp>
 
 namespace {
 
@@ -39,6 +40,7 @@ struct Arguments {
   bool no_eom = false;
   bool list = false;
   bool stats = false;
+  bool describe = false;
 };
 
 // What to generate, every argument checked.
@@ -136,6 +138,69 @@ int list(const std::string& name) {
   return 0;
 }
 
+// A JSON string: names and expressions hold no quote, backslash or control
+// character, but escape them anyway.
+std::string json_string(std::string_view text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
+    } else {
+      out += c;
+    }
+  }
+  return out + '"';
+}
+
+std::string json_expr(symbolic::Expr e) { return json_string(symbolic::to_infix(e)); }
+
+std::string json_vec3(const model::Vec3& v) {
+  return fmt::format("[{}, {}, {}]", json_expr(v[0]), json_expr(v[1]), json_expr(v[2]));
+}
+
+// The model as its file describes it, for tools that derive it another way
+// (bench/paper_tables' computer algebra scripts): symbols, dependent
+// parameters, and each body's reference and elementary motions, expressions
+// in to_infix's notation (docs/builder.md, "The model as JSON").
+std::string describe(const Job& job) {
+  const model::Model m = job.definition->make(job.variant);
+  m.validate();
+  std::vector<std::string> coordinates, dependents, inlined, parameters, bodies;
+  for (const model::Coordinate& c : m.coordinates()) {
+    coordinates.push_back(fmt::format("{{\"q\": {}, \"qd\": {}, \"qdd\": {}}}", json_expr(c.q), json_expr(c.qd),
+                                      json_expr(c.qdd)));
+  }
+  for (const model::Dependent& d : m.dependents()) {
+    dependents.push_back(fmt::format("{{\"p\": {}, \"pd\": {}, \"pdd\": {}, \"expression\": {}}}", json_expr(d.symbol),
+                                     json_expr(d.rate), json_expr(d.acceleration), json_expr(d.expression)));
+  }
+  for (const model::InlinedDependent& d : m.inlined_dependents()) {
+    inlined.push_back(fmt::format("{{\"name\": {}, \"expression\": {}}}", json_string(d.name), json_expr(d.expression)));
+  }
+  for (const model::Parameter& p : m.parameters()) {
+    parameters.push_back(fmt::format("{{\"symbol\": {}, \"value\": {}}}", json_expr(p.symbol), symbolic::cpp_literal(p.value)));
+  }
+  for (const model::Body& b : m.bodies()) {
+    std::vector<std::string> steps;
+    for (const model::Transform::Step& s : b.motion().steps()) {
+      steps.push_back(s.is_rotation ? fmt::format("{{\"rotation\": {}, \"angle\": {}}}", json_vec3(s.axis), json_expr(s.angle))
+                                    : fmt::format("{{\"translation\": {}}}", json_vec3(s.displacement)));
+    }
+    bodies.push_back(fmt::format("    {{\"name\": {}, \"reference\": {}, \"motion\": [{}]}}", json_string(b.name()),
+                                 b.reference() ? json_string(*b.reference()) : "null", fmt::join(steps, ", ")));
+  }
+  return fmt::format(
+      "{{\n  \"model\": {},\n  \"variant\": {},\n  \"time\": {},\n  \"coordinates\": [{}],\n"
+      "  \"parameters\": [{}],\n  \"dependents\": [{}],\n  \"inlined_dependents\": [{}],\n"
+      "  \"gravity\": {},\n  \"bodies\": [\n{}\n  ]\n}}\n",
+      json_string(job.definition->name), json_string(job.variant), json_expr(m.time()), fmt::join(coordinates, ", "),
+      fmt::join(parameters, ", "), fmt::join(dependents, ", "), fmt::join(inlined, ", "), json_vec3(m.gravity()),
+      fmt::join(bodies, ",\n"));
+}
+
 int generate(const Job& job, const Arguments& args) {
   const auto start = std::chrono::steady_clock::now();
   const model::Model m = job.definition->make(job.variant);
@@ -159,6 +224,10 @@ int run(const Arguments& args, const codegen::GeneratorHooks& hooks) {
   try {
     if (hooks.prepare) hooks.prepare();
     if (args.list) return list(args.model);
+    if (args.describe) {
+      fmt::print("{}", describe(check_arguments(args)));
+      return 0;
+    }
     return generate(check_arguments(args), args);
   } catch (const CommandLineError& e) {
     std::cerr << "error: " << e.what() << '\n';
@@ -205,6 +274,9 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
       ->capture_default_str();
   app.add_flag("--list", args.list, "list the models linked in and their variants, generate nothing");
   app.add_flag("--stats", args.stats, "print generation time, size and operation counts");
+  app.add_flag("--describe", args.describe,
+               "print the model (symbols, dependent parameters, each body's reference and elementary motions) as "
+               "JSON, generate nothing");
   if (hooks.add_options) hooks.add_options(app);
   try {
     app.parse(argc, argv);

@@ -9,6 +9,7 @@
 //                             [--dynamics auto|mass-matrix|recursive]
 //                             [--part-size N] [--split-above N] [--stats]
 //   double_pendulum_generator --list [--model M]
+//   double_pendulum_generator --describe [--model M] [--variant V]   (the model as JSON)
 //
 // Exit codes: 0 success, 1 invalid model or generation failure, 2 bad command
 // line (every argument is checked before anything is derived or written).

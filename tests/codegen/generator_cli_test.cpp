@@ -154,3 +154,22 @@ TEST_CASE("cli: invalid models exit with 1 naming the culprit", "[bad_input][cli
   expect("bad_variant", "variant 'two words' is not a C++ identifier (character ' ' at 3)");
   CHECK(generator(kBad, {"--model", "valid", "--variant", "inline"}).exit_code == 0);
 }
+
+TEST_CASE("cli: --describe prints the model as JSON and generates nothing", "[cli]") {
+  const auto out = scratch_directory("describe");
+  const auto r = run_command({kPendulum, "--describe", "--variant", "relative", "--out", (out / "gen").string()});
+  CHECK_FALSE(std::filesystem::exists(out / "gen"));
+  CHECK(r.exit_code == 0);
+  CHECK(r.err.empty());
+  CHECK_THAT(r.out, Contains(R"("model": "double_pendulum",)"));
+  CHECK_THAT(r.out, Contains(R"("coordinates": [{"q": "q0", "qd": "qd0", "qdd": "qdd0"}, {"q": "q1", "qd": "qd1", "qdd": "qdd1"}],)"));
+  CHECK_THAT(r.out, Contains(R"("gravity": ["0", "-9.81", "0"],)"));
+  CHECK_THAT(r.out, Contains(R"({"name": "rod1", "reference": null, "motion": [{"rotation": ["0", "0", "1"], "angle": "q0"}, )"
+                             R"({"translation": ["1/2", "0", "0"]}]})"));
+  CHECK_THAT(r.out, Contains(R"({"name": "rod2", "reference": "rod1", "motion": [{"translation": ["1/2", "0", "0"]}, )"
+                             R"({"rotation": ["0", "0", "1"], "angle": "q1"}, {"translation": ["1/2", "0", "0"]}]})"));
+  // The same choices as a generation: several models need --model.
+  CHECK(run_command({kChain, "--describe"}).exit_code == 2);
+  CHECK_THAT(run_command({kChain, "--describe", "--model", "chain_2"}).out, Contains(R"("model": "chain_2",)"));
+  std::filesystem::remove_all(out);
+}
