@@ -318,6 +318,10 @@ void MultibodySystem::applied_forces(const State& s, Vector& Q) {
 
 void MultibodySystem::evaluate_equations(const State& s) {
   model_.dynamics(s.t, s.q.data(), s.qd.data(), level_, M_.data(), h_.data(), k_);
+  load_elements(s);
+}
+
+void MultibodySystem::load_elements(const State& s) {
   if (elements_.empty()) return;
   if (!k_.finite_up_to(level_)) check_kinematics(s, level_, false);
   compute_loads(s);
@@ -373,10 +377,7 @@ void MultibodySystem::evaluate_loads(const State& s) {
   if (level_ == positions) model_.positions(s.t, s.q.data(), k_);
   if (level_ == velocities) model_.velocities(s.t, s.q.data(), s.qd.data(), k_);
   if (level_ != none) model_.partial_velocities(s.t, s.q.data(), k_);
-  if (elements_.empty()) return;
-  if (!k_.finite_up_to(level_)) check_kinematics(s, level_, false);
-  compute_loads(s);
-  project_loads(Qa_);
+  load_elements(s);
 }
 
 bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
@@ -394,9 +395,10 @@ bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   const Eigen::Index nq = h_.size();
   if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != extra_initial_.size()) state_error(s);
-  if (source_ == EquationsSource::emitted && forward_ != nullptr && recursive_accelerations(s, qdd)) {
-    // qdd = M⁻¹·(Q - h) by the articulated-body algorithm. A failed pivot or a
-    // non-finite qdd falls through to M, whose factorization and checks name why.
+  const bool recursive = source_ == EquationsSource::emitted && forward_ != nullptr && recursive_accelerations(s, qdd);
+  if (recursive) {
+    // qdd = M⁻¹·(Q - h) by the articulated-body algorithm, state and qdd checked. A
+    // failed pivot or a non-finite qdd goes the way of M, whose checks name why.
   } else if (source_ == EquationsSource::emitted && elements_.empty()) {
     // M qdd = -h. No code of the user's sees the state before its values are checked,
     // with the result's (below): a NaN in the state only propagates through the
@@ -415,7 +417,7 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
     if (!solver_.factor(M_)) mass_matrix_refused(s);
     solver_.solve_in_place(qdd);
   }
-  if (!all_finite(s, qdd)) accelerations_not_finite(s);
+  if (!recursive && !all_finite(s, qdd)) accelerations_not_finite(s);
   yd.resize(extra_initial_.size());
   if (extra_) extra_(s, k_, yd);
 }

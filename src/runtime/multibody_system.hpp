@@ -163,6 +163,8 @@ class MultibodySystem : public DynamicSystem {
   // Kinematics up to level_ (for force elements and extra equations) and,
   // with force elements, their generalized forces into Qa_.
   void evaluate_loads(const State& s);
+  // The force elements' generalized forces into Qa_, from the kinematics up to level_.
+  void load_elements(const State& s);
   // Out of the hot path: what is wrong when M_ was refused or the accelerations are
   // not finite, the state first.
   [[noreturn, gnu::cold, gnu::noinline]] void mass_matrix_refused(const State& s) const;
