@@ -1,6 +1,6 @@
 # symdyn_add_model(<target> <model.cpp> [MODEL <name>] [VARIANT <v>]
 #                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM] [PART_SIZE n]
-#                  [DYNAMICS auto|mass-matrix|recursive]
+#                  [DYNAMICS auto|mass-matrix|recursive] [ONLY <entry point>...]
 #                  [PYTHON] [SIM_MODULE])
 #
 # Builds the model's generator (the model file linked with symdyn's generator
@@ -13,14 +13,15 @@
 #   target_link_libraries(my_simulation PRIVATE double_pendulum_absolute symdyn::runtime)
 #
 # The emitted header is <target>.hpp; the struct inside is symdyn_generated::<target>.
-# Every target with equations of motion (no NO_EOM) is appended to the global
+# ONLY emits those entry points alone (generator --only), to call directly.
+# Every target with equations of motion (no NO_EOM, no ONLY) is appended to the global
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
 # PYTHON also builds the Python module <target> (cmake/SymdynPython.cmake).
 include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 
 function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "ONLY" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
   get_filename_component(model_path ${model_source} ABSOLUTE)
   set(generator symdyn_generator_${model_name})
@@ -48,6 +49,10 @@ function(symdyn_add_model target model_source)
   if(ARG_DYNAMICS)
     list(APPEND flags --dynamics ${ARG_DYNAMICS})
   endif()
+  if(ARG_ONLY)
+    list(JOIN ARG_ONLY "," only)
+    list(APPEND flags --only ${only})
+  endif()
   if(DEFINED ARG_PART_SIZE)
     list(APPEND flags --part-size ${ARG_PART_SIZE} --split-above 0)
   endif()
@@ -61,7 +66,7 @@ function(symdyn_add_model target model_source)
   add_library(${target} STATIC ${out_dir}/${target}.cpp ${out_dir}/${target}.hpp)
   target_include_directories(${target} PUBLIC ${out_dir})
   symdyn_set_compile_options(${target})
-  if(NOT ARG_NO_EOM)
+  if(NOT ARG_NO_EOM AND NOT ARG_ONLY)
     set_property(GLOBAL APPEND PROPERTY SYMDYN_MODELS ${target})
   endif()
   if(ARG_PYTHON)

@@ -100,6 +100,15 @@ std::string input_element(const std::string& in, std::size_t i) { return in == "
 // The inputs of every entry point are among these arrays, in this order.
 constexpr const char* kInputs[] = {"t", "q", "qd", "qdd", "tau", "param"};
 
+// The entry points of the equations of motion: derived only when one is emitted.
+constexpr const char* kDynamicsEntryPoints[] = {"mass_matrix",         "bias_forces",      "dynamics",
+                                                "dynamics_positions",  "dynamics_velocities", "inverse_dynamics",
+                                                "forward_dynamics_pivots", "forward_dynamics"};
+
+// Hand-written bodies call another entry point, emitted with them.
+constexpr std::pair<const char*, const char*> kBodyCalls[] = {{"forward_dynamics", "forward_dynamics_pivots"},
+                                                              {"partial_velocities", "velocities"}};
+
 // Below this share of its diagonal entry of D a pivot of the articulated-body
 // algorithm is rounding: the runtime's SpdSolver::kSingularRatio (64 ulps).
 constexpr double kSingularPivotRatio = 64 * 2.220446049250313e-16;
@@ -208,6 +217,7 @@ class Emitter {
     define_dependents(k);
     d.entries = build_entry_points(k, derive.simplify);
     choose_dynamics(d.entries);
+    select_entry_points(d.entries);
     gather_arrays(d);
     std::vector<Expr> outputs;
     for (const OutputArray& a : d.arrays) outputs.insert(outputs.end(), a.values.begin(), a.values.end());
@@ -470,7 +480,7 @@ class Emitter {
     const std::string dep_shape = fmt::format("({})", k.dependents.size());
     entries.push_back({"dependent_parameters", "Dependent parameters and their first and second time derivatives.",
                         {"t", "q", "qd", "qdd", "param"}, {{"p", dep_shape, p}, {"pd", dep_shape, pd}, {"pdd", dep_shape, pdd}}, {}});
-    if (options_.equations_of_motion) {
+    if (options_.equations_of_motion && wants_dynamics()) {
       model::Dynamics dyn = model::derive_dynamics(model_, k, simplify);
       if (simplify) model::reduce_trigonometry(dyn, k);
       definitions_.insert(definitions_.end(), dyn.definitions.begin(), dyn.definitions.end());
@@ -569,6 +579,47 @@ class Emitter {
         nb, nq);
   }
 
+  bool selected(std::string_view name) const {
+    const auto& wanted = options_.entry_points;
+    return wanted.empty() || std::find(wanted.begin(), wanted.end(), name) != wanted.end();
+  }
+
+  bool wants_dynamics() const {
+    return std::any_of(std::begin(kDynamicsEntryPoints), std::end(kDynamicsEntryPoints),
+                       [&](const char* name) { return selected(name); });
+  }
+
+  // Options::entry_points, with what their hand-written bodies call.
+  void select_entry_points(std::vector<EntryPoint>& entries) const {
+    if (options_.entry_points.empty()) return;
+    std::vector<std::string> names;
+    for (const EntryPoint& e : entries) names.push_back(e.name);
+    const bool dynamics_derived = std::find(names.begin(), names.end(), "dynamics") != names.end();
+    if (options_.equations_of_motion && !dynamics_derived) {
+      names.insert(names.end(), std::begin(kDynamicsEntryPoints), std::end(kDynamicsEntryPoints));
+    }
+    for (const std::string& name : options_.entry_points) {
+      if (std::find(names.begin(), names.end(), name) == names.end()) {
+        const std::string why = choice_ ? fmt::format("; accelerations: {}", choice_->reason) : "";
+        throw ModelError(fmt::format("entry point '{}' is not emitted with these options (emitted: {}{})", name,
+                                     fmt::join(names, ", "), why));
+      }
+    }
+    const auto called = [&](const EntryPoint& e) {
+      return std::any_of(entries.begin(), entries.end(), [&](const EntryPoint& caller) {
+        return selected(caller.name) && !caller.body.empty() &&
+               std::any_of(std::begin(kBodyCalls), std::end(kBodyCalls), [&](const auto& call) {
+                 return caller.name == call.first && e.name == call.second;
+               });
+      });
+    };
+    std::erase_if(entries, [&](const EntryPoint& e) { return !selected(e.name) && !called(e); });
+  }
+
+  bool emitted(std::string_view name) const {
+    return std::any_of(entries_.begin(), entries_.end(), [&](const EntryPoint& e) { return e.name == name; });
+  }
+
   // Keeps forward_dynamics (and its program) or drops it, once for the model:
   // the plain derivation, compared entry point by entry point, follows the
   // first one's choice.
@@ -577,7 +628,7 @@ class Emitter {
       return std::find_if(entries.begin(), entries.end(), [&](const EntryPoint& e) { return e.name == name; });
     };
     const auto recursive = named("forward_dynamics_pivots");
-    if (!choice_ && options_.equations_of_motion) choice_ = weigh(entries, recursive, named("dynamics"));
+    if (!choice_ && named("dynamics") != entries.end()) choice_ = weigh(entries, recursive, named("dynamics"));
     if (recursive != entries.end() && !(choice_ && choice_->recursive)) {
       entries.erase(named("forward_dynamics_pivots"));
       entries.erase(named("forward_dynamics"));
@@ -720,9 +771,13 @@ class Emitter {
       counts += fmt::format("//   {:<22} {}\n", s.name,
                             !s.program ? hand_written_note(s.name) : fmt::format("{} operations: {}", s.operations.total(), s.operations.str()));
     }
-    const bool recursive = choice_ && choice_->recursive;
+    // What the runtime may take from the struct (runtime/model.hpp).
+    const bool eom = options_.equations_of_motion && emitted("mass_matrix") && emitted("bias_forces");
     const std::string dynamics_line =
-        options_.equations_of_motion ? fmt::format("// Accelerations: {}.\n", choice_ ? choice_->reason : "mass matrix") : "";
+        eom ? fmt::format("// Accelerations: {}.\n", choice_ ? choice_->reason : "mass matrix") : "";
+    const std::string only = options_.entry_points.empty()
+                                 ? ""
+                                 : fmt::format(", only {}", fmt::join(options_.entry_points, ", "));
     std::string declarations;
     for (const EntryPoint& e : entries_) {
       declarations += fmt::format("  // {}\n", e.doc);
@@ -732,7 +787,7 @@ class Emitter {
     const std::size_t nparam = model_.parameters().size();
     return fmt::format(
         "// Generated by symdyn from model '{model}', variant '{variant}'. Do not edit.\n"
-        "// Options: simplify={simplify}, partial velocities {partials}, equations of motion {eom}.\n"
+        "// Options: simplify={simplify}, partial velocities {partials}, equations of motion {eom_option}{only}.\n"
         "// Operation counts per entry point:\n{counts}"
         "{dynamics_line}"
         "// Interface: docs/emitted_interface.md. Arrays are row-major.\n"
@@ -746,7 +801,7 @@ class Emitter {
         "  static constexpr int ndep = {ndep};\n"
         "  static constexpr int nparam = {nparam};\n"
         "  static constexpr bool has_equations_of_motion = {eom};\n"
-        "  static constexpr bool has_inverse_dynamics = {eom};  // inverse_dynamics emitted\n"
+        "  static constexpr bool has_inverse_dynamics = {inverse};  // inverse_dynamics emitted\n"
         "  static constexpr bool has_forward_dynamics = {recursive};  // forward_dynamics emitted\n\n"
         "  static constexpr const char* q_names[{nq}] = {q_names};\n"
         "  static constexpr const char* body_names[{nbody}] = {body_names};\n"
@@ -763,8 +818,9 @@ class Emitter {
         "}}  // namespace {ns}\n",
         fmt::arg("model", model_.name()), fmt::arg("variant", variant_), fmt::arg("simplify", options_.simplify),
         fmt::arg("partials", options_.symbolic_partials ? "symbolic" : "numeric"),
-        fmt::arg("eom", options_.equations_of_motion), fmt::arg("counts", counts),
-        fmt::arg("dynamics_line", dynamics_line), fmt::arg("recursive", recursive), fmt::arg("ns", options_.name_space),
+        fmt::arg("eom_option", options_.equations_of_motion), fmt::arg("only", only), fmt::arg("eom", eom),
+        fmt::arg("counts", counts), fmt::arg("dynamics_line", dynamics_line),
+        fmt::arg("inverse", emitted("inverse_dynamics")), fmt::arg("recursive", emitted("forward_dynamics")), fmt::arg("ns", options_.name_space),
         fmt::arg("name", struct_name_), fmt::arg("nq", coords.size()), fmt::arg("nbody", model_.bodies().size()),
         fmt::arg("ndep", model_.dependents().size()), fmt::arg("nparam", nparam),
         fmt::arg("nparam1", at_least_one(nparam)), fmt::arg("q_names", string_array_literal(q_names)),

@@ -65,6 +65,11 @@ struct Options {
   // these values: see kDefaultPartInstructions and kSplitAbove.
   std::size_t part_instructions = kDefaultPartInstructions;
   std::size_t split_above = kSplitAbove;
+  // Emit only these entry points (and those their hand-written bodies call),
+  // to call them directly: code to draw a scene needs positions() alone.
+  // Empty: every entry point, which MultibodySystem needs. A name not emitted
+  // with these options is an error naming the ones that are.
+  std::vector<std::string> entry_points;
 };
 
 // One emitted function: its input arrays (among t, q, qd, qdd, param, in

@@ -41,6 +41,7 @@ struct Arguments {
   bool list = false;
   bool stats = false;
   bool describe = false;
+  std::vector<std::string> only;
 };
 
 // What to generate, every argument checked.
@@ -117,6 +118,7 @@ Job check_arguments(const Arguments& args) {
                                                           : codegen::DynamicsMethod::automatic;
   job.options.part_instructions = count(args.part_size, 1, "--part-size");
   job.options.split_above = count(args.split_above, 0, "--split-above");
+  job.options.entry_points = args.only;
   if (args.out.empty()) throw CommandLineError("--out: the directory name is empty");
   const std::filesystem::path out(args.out);
   std::error_code ec;
@@ -215,7 +217,7 @@ int generate(const Job& job, const Arguments& args) {
     for (const auto& e : code.functions) {
       fmt::print("  {:<22} {:>7} operations  {}\n", e.name, e.operations.total(), e.operations.str());
     }
-    if (job.options.equations_of_motion) fmt::print("  accelerations: {}\n", code.dynamics.reason);
+    if (!code.dynamics.reason.empty()) fmt::print("  accelerations: {}\n", code.dynamics.reason);
   }
   return 0;
 }
@@ -272,6 +274,10 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
   app.add_option("--split-above", args.split_above,
                  "share functions only if all entry points together are longer than N statements (N >= 0)")
       ->capture_default_str();
+  app.add_option("--only", args.only,
+                 "emit only these entry points (comma-separated) and what they call, to call them directly "
+                 "(MultibodySystem needs them all)")
+      ->delimiter(',');
   app.add_flag("--list", args.list, "list the models linked in and their variants, generate nothing");
   app.add_flag("--stats", args.stats, "print generation time, size and operation counts");
   app.add_flag("--describe", args.describe,

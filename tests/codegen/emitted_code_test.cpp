@@ -8,6 +8,7 @@
 #include "double_pendulum_absolute.hpp"
 #include "double_pendulum_absolute_case1.hpp"
 #include "double_pendulum_relative.hpp"
+#include "double_pendulum_relative_only.hpp"
 #include <symdyn/model/kinematics.hpp>
 #include "slider_crank_dependent.hpp"
 #include "slider_crank_dependent_parts.hpp"
@@ -103,6 +104,43 @@ TEST_CASE("each entry point computes only what it needs", "[codegen]") {
   }
   // positions() takes no rate: its signature has no qd.
   CHECK_THAT(code.header, Contains("static void positions(double t, const double* q, const double* param, double* R, double* x);"));
+}
+
+TEST_CASE("entry points emitted alone compute what the whole model's do", "[codegen]") {
+  using Only = symdyn_generated::double_pendulum_relative_only;  // ONLY positions forward_dynamics
+  using All = symdyn_generated::double_pendulum_relative;
+  STATIC_REQUIRE(Only::has_forward_dynamics);
+  STATIC_REQUIRE_FALSE(Only::has_equations_of_motion);
+  const double t = 0.0, q[2] = {0.4, -1.1}, qd[2] = {0.7, 2.0}, tau[2] = {0.3, -0.2};
+  double R[18], x[6], R_all[18], x_all[6];
+  Only::positions(t, q, All::param_defaults, R, x);
+  All::positions(t, q, All::param_defaults, R_all, x_all);
+  for (int i = 0; i < 18; ++i) CHECK(R[i] == R_all[i]);
+  for (int i = 0; i < 6; ++i) CHECK(x[i] == x_all[i]);
+  // The articulated-body algorithm's qdd, put back into recursive Newton-Euler, gives tau.
+  double qdd[2], tau_back[2];
+  REQUIRE(Only::forward_dynamics(t, q, qd, tau, All::param_defaults, qdd) == -1);
+  All::inverse_dynamics(t, q, qd, qdd, All::param_defaults, tau_back);
+  CHECK(tau_back[0] == Approx(tau[0]).margin(1e-13));
+  CHECK(tau_back[1] == Approx(tau[1]).margin(1e-13));
+}
+
+TEST_CASE("entry points alone: only those asked for and what they call, an unknown one named", "[codegen][bad_input]") {
+  const model::Model m = model::find_definition("slider_crank").make("dependent");
+  codegen::Options o = case1();
+  o.entry_points = {"partial_velocities"};  // numeric: a loop over velocities()
+  std::vector<std::string> names;
+  for (const auto& f : codegen::generate(m, "dependent", "x", o).functions) names.push_back(f.name);
+  CHECK(names == std::vector<std::string>{"velocities", "partial_velocities"});
+  o.entry_points = {"positions", "mass_matrix"};
+  CHECK_THROWS_WITH(codegen::generate(m, "dependent", "x", o),
+                    Contains("entry point 'mass_matrix' is not emitted with these options") && Contains("positions"));
+  o = codegen::Options{};
+  o.entry_points = {"relative_accelerations_partials"};
+  const auto code = codegen::generate(m, "dependent", "x", o);
+  REQUIRE(code.functions.size() == 1);
+  CHECK_THAT(code.header, Contains("has_equations_of_motion = false"));
+  CHECK_THAT(code.header, Contains("only relative_accelerations_partials"));
 }
 
 TEST_CASE("run-time parameters are inputs of the emitted programs", "[codegen]") {

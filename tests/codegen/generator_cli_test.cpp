@@ -155,6 +155,14 @@ TEST_CASE("cli: invalid models exit with 1 naming the culprit", "[bad_input][cli
   CHECK(generator(kBad, {"--model", "valid", "--variant", "inline"}).exit_code == 0);
 }
 
+TEST_CASE("cli: --only emits those entry points; one not emitted is named with those that are", "[bad_input][cli]") {
+  CHECK(generator(kPendulum, {"--only", "positions,velocities"}).exit_code == 0);
+  const auto r = generator(kPendulum, {"--no-eom", "--only", "positions,inverse_dynamics"});
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains("entry point 'inverse_dynamics' is not emitted with these options (emitted: inertia, "
+                             "positions, velocities,"));
+}
+
 TEST_CASE("cli: --describe prints the model as JSON and generates nothing", "[cli]") {
   const auto out = scratch_directory("describe");
   const auto r = run_command({kPendulum, "--describe", "--variant", "relative", "--out", (out / "gen").string()});
