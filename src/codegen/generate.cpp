@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <numeric>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -227,9 +228,20 @@ class Emitter {
       statements += i.op != symbolic::Opcode::Const && i.op != symbolic::Opcode::Input;
     }
     if (options_.part_instructions == 0 || statements <= options_.split_above) {
-      for (const EntryPoint& e : d.entries) d.whole.push_back(compile(e));
+      for (std::size_t e = 0; e < d.entries.size(); ++e) d.whole.push_back(whole_program(d, e));
     }
     return d;
+  }
+
+  // Entry point e's own program: the derivation's whole program where e is its
+  // only entry point with a program (generate --only), else compiled alone.
+  std::optional<symbolic::Program> whole_program(const Derivation& d, std::size_t e) const {
+    std::vector<std::size_t> every_array(d.arrays.size());
+    std::iota(every_array.begin(), every_array.end(), std::size_t{0});
+    if (!d.entries[e].body.empty() || d.arrays_of[e] != every_array) return compile(d.entries[e]);
+    std::vector<std::size_t> outputs(d.program.output_count());
+    std::iota(outputs.begin(), outputs.end(), std::size_t{0});
+    return d.program.subprogram(outputs, input_indices(d.entries[e]));
   }
 
   static void keep_shorter_entries(Derivation& chosen, Derivation&& other) {

@@ -457,6 +457,34 @@ class Matcher {
 // term brings (paid). Exact but for the merging of like terms, which only
 // lowers the cost further. Building the sum and rewriting its new parts is the
 // expensive part of a step, so only matches that pass this test pay for it.
+// The sine and cosine factors of an expression seen as a product (a power
+// counted that many times, at most 3 each). A product pattern's factor
+// sin(_x) matches only a sine factor of the target, so a target term with
+// fewer sines or cosines than a pattern term cannot match it: that is checked
+// before the backtracking search, which would find out term by term.
+struct TrigFactors {
+  int sin = 0, cos = 0;
+  bool covers(TrigFactors need) const { return sin >= need.sin && cos >= need.cos; }
+  bool none() const { return sin == 0 && cos == 0; }
+};
+
+TrigFactors trig_factors(Expr product) {
+  TrigFactors out;
+  const std::span<const Expr> factors = product.kind() == Kind::Mul ? product.args() : std::span<const Expr>(&product, 1);
+  for (Expr f : factors) {
+    int times = 1;
+    if (f.kind() == Kind::Pow) {
+      const Expr exponent = f.args()[1];
+      if (!exponent.is_number() || !exponent.number().is_integer() || exponent.number().num() < 1) continue;
+      times = static_cast<int>(std::min<std::int64_t>(exponent.number().num(), 3));
+      f = f.args()[0];
+    }
+    if (f.kind() == Kind::Sin) out.sin = std::min(3, out.sin + times);
+    if (f.kind() == Kind::Cos) out.cos = std::min(3, out.cos + times);
+  }
+  return out;
+}
+
 class SumCost {
  public:
   explicit SumCost(Expr sum) : terms_(static_cast<int>(sum.args().size())) {
@@ -523,6 +551,30 @@ void trace(const Rule& r) {
 
 std::span<const Expr> terms_of(const Expr& e) {
   return e.kind() == Kind::Add ? e.args() : std::span<const Expr>(&e, 1);
+}
+
+// The trig factors of a target, once for all the rules tried at it: of each
+// of its terms (itself if not a sum), and of itself seen as a product.
+struct TrigProfile {
+  explicit TrigProfile(Expr target) : product(trig_factors(target)) {
+    for (Expr t : terms_of(target)) terms.push_back(trig_factors(t));
+  }
+  detail::SmallVector<TrigFactors, 8> terms;
+  TrigFactors product;
+};
+
+// Necessary for a match of a sum or product pattern: each of its terms (the
+// pattern as one term if a product) has a target term with at least its
+// sines and cosines.
+bool may_match(Expr pattern, const TrigProfile& target) {
+  if (pattern.kind() == Kind::Mul) return target.product.covers(trig_factors(pattern));
+  if (pattern.kind() != Kind::Add) return true;
+  for (Expr term : pattern.args()) {
+    const TrigFactors need = trig_factors(term);
+    if (need.none()) continue;
+    if (std::none_of(target.terms.begin(), target.terms.end(), [&](TrigFactors t) { return t.covers(need); })) return false;
+  }
+  return true;
 }
 
 void collect_wildcards(Expr e, std::vector<Expr>* out) {
@@ -717,8 +769,9 @@ std::optional<Expr> Rewriter::step(Expr e, int cost) {
   if (sum_rules_done) {
     if (auto better = improve_sum(e, cost)) return better;
   }
+  const TrigProfile profile(e);
   for (const Rule& r : rules_) {
-    if (sum_rules_done && r.pattern.kind() == Kind::Add) continue;
+    if ((sum_rules_done && r.pattern.kind() == Kind::Add) || !may_match(r.pattern, profile)) continue;
     Match m;
     Matcher matcher(&m, budget_.attempts_per_rule, cache_.get());
     std::optional<Expr> accepted;
@@ -758,9 +811,10 @@ std::optional<Expr> Rewriter::improve_sum(Expr e, int cost) {
     Expr replacement;
   };
   SumCost sum_cost(e);
+  const TrigProfile profile(e);
   std::vector<Found> found;
   for (const Rule& r : rules_) {
-    if (r.pattern.kind() != Kind::Add) continue;
+    if (r.pattern.kind() != Kind::Add || !may_match(r.pattern, profile)) continue;
     Match m;
     Matcher matcher(&m, budget_.attempts_per_rule, cache_.get());
     matcher.match_top(r.pattern, e, [&] {
