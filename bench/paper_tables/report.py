@@ -170,7 +170,7 @@ def load_row(case_dir, model, variant, case):
         "instructions": (json.loads((case_dir / "instructions.json").read_text())
                          if (case_dir / "instructions.json").exists() else None),
     }
-    row["cagem_scope"] = cagem_scope(case_dir, model, variant, case, functions)
+    row["cagem_scope"] = cagem_scope(tgen)
     row["cas"] = {}
     for key, _ in CAS_TOOLS:
         path = case_dir / "cas" / f"{key}_case{case}.json"
@@ -179,35 +179,17 @@ def load_row(case_dir, model, variant, case):
     return row
 
 
-def cagem_scope(case_dir, model, variant, case, functions):
-    """symdyn's operations for what CAGeM derives (and cagem_*.py): each body's motion relative to
-    the reference the model file gives it. The emitted relative_accelerations (+ relative_partial_velocities
-    in case 3, fused in relative_accelerations_partials when emitted) when the generator kept those references; accelerations (+ partial_velocities) when every
-    body moves from the ground (the generator may then make a body relative to another: chain_N absolute).
-    None if neither (or no --describe)."""
-    describe = case_dir / "cas" / "describe.json"
-    header = case_dir / f"{model}_{variant}.hpp"
-    if case > 3 or not describe.exists() or not header.exists():
+def cagem_scope(tgen):
+    """symdyn generating what CAGeM derives (and cagem_*.py), alone (generator --only, symdyn_paper_tgen):
+    each body's motion relative to the reference the model file gives it, relative_accelerations
+    (relative_accelerations_partials in case 3), or accelerations (accelerations_partials) when every body
+    moves from the ground and the generator made some relative (chain_N absolute). Its Tgen, and its
+    operations with a fused sin/cos pair once and with sin and cos apart. None in case 4."""
+    scope = tgen.get("cagem_scope")
+    if scope is None:
         return None
-    bodies = json.loads(describe.read_text())["bodies"]
-    names = [b["name"] for b in bodies]
-    described = [names.index(b["reference"]) if b["reference"] else -1 for b in bodies]
-    m = re.search(r"reference_body\[\d+\] = \{([^}]*)\}", header.read_text())
-    emitted = [int(x) for x in m.group(1).split(",")] if m else None
-    if emitted == described:
-        entries = ["relative_accelerations"] + (["relative_partial_velocities"] if case == 3 else [])
-    elif all(r == -1 for r in described):
-        entries = ["accelerations"] + (["partial_velocities"] if case == 3 else [])
-    else:
-        return None
-    # Case 3: the one fused function when emitted, as SymPy's cse sees one function.
-    fused = {"relative_accelerations": "relative_accelerations_partials", "accelerations": "accelerations_partials"}
-    if case == 3 and fused[entries[0]] in functions:
-        entries = [fused[entries[0]]]
-    total = lambda f: functions.get(f, {}).get("total", 0)
-    sincos = lambda f: functions.get(f, {}).get("detail", {}).get("sincos", 0)
-    return {"entries": entries, "fused": sum(total(f) for f in entries),
-            "apart": sum(total(f) + sincos(f) for f in entries)}
+    return {"entries": scope["entry_points"], "tgen": scope["cpu"], "tgen_runs": scope["cpu_runs"],
+            "fused": scope["operations"], "apart": scope["operations"] + scope["sincos"]}
 
 
 def load_rows(work):
@@ -296,10 +278,11 @@ def cas_ratios(key, res, r):
     """(Tgen ratio, kinematics ratio) of a tool's row to symdyn's, as text."""
     scope = r["cagem_scope"]
     status = res.get("status")
+    ours = scope["tgen"] if scope else None
     if status == "timeout":
-        t = fmt_ratio(ratio(res.get("timeout"), r["tgen"]), "> ")
+        t = fmt_ratio(ratio(res.get("timeout"), ours), "> ")
     elif status in ("ok", "unparsed"):
-        t = fmt_ratio(ratio(res.get("cpu"), r["tgen"]))
+        t = fmt_ratio(ratio(res.get("cpu"), ours))
     else:
         t = "—"
     if status != "ok" or scope is None:
@@ -321,20 +304,20 @@ def model_table(rows, paper, model, variant, out):
     ours = [find(rows, model, variant, c) for c in (1, 2, 3, 4)]
     ref = next(r for r in ours if r)
     out.append(f"{ref['nbody']} bodies, {ref['nq']} DOF, {ref['ndep']} dependent parameters.\n")
-    out.append("| System | Case | Tgen/s | Size/bytes | T1/s | T2/s | Kin. ops | CAGeM kin. ops | EoM ops | T1 partials/s "
-               "| Compile/s | Max error | qdd vs other cases | Tgen / symdyn's | CAGeM kin. ops / symdyn's |")
-    out.append("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    out.append("| System | Case | Tgen/s | Size/bytes | T1/s | T2/s | Kin. ops | CAGeM Tgen/s | CAGeM kin. ops | EoM ops "
+               "| T1 partials/s | Compile/s | Max error | qdd vs other cases | Tgen / symdyn's | CAGeM kin. ops / symdyn's |")
+    out.append("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for t in paper_tables:
         for system, cases in t["rows"].items():
             for c in cases:
-                out.append(f"| {system} (paper) | {c[0]} | {c[1]} | {c[2]} | {c[3]} | {c[4]} | | | | | | | | | |")
+                out.append(f"| {system} (paper) | {c[0]} | {c[1]} | {c[2]} | {c[3]} | {c[4]} | | | | | | | | | | |")
     for r in ours:
         if r is None:
             continue
         scope = r["cagem_scope"]
         out.append(
             f"| **symdyn** | {r['case']} | {fmt_s(r['tgen'])} | {fmt_bytes(r['size'])} | {fmt_s(r['T1'])} | {fmt_s(r['T2'])} "
-            f"| {r['kinematics_ops']} | {scope['fused'] if scope else '—'} "
+            f"| {r['kinematics_ops']} | {fmt_s(scope['tgen']) if scope else '—'} | {scope['fused'] if scope else '—'} "
             f"| {r['eom_ops'] if r['eom_ops'] is not None else '—'} | {fmt_s(r['T1_partials'])} "
             f"| {fmt_s(r['compile_time'])} | {fmt_e(r['errors']['max'])} | {fmt_e(r['errors'].get('qdd_vs_other_cases'))} | | |")
     for key, _ in CAS_TOOLS:
@@ -344,7 +327,7 @@ def model_table(rows, paper, model, variant, out):
             res = r["cas"][key]
             t_ratio, ops_ratio = cas_ratios(key, res, r)
             size = fmt_bytes(res["size"]) if res.get("status") == "ok" else "—"
-            out.append(f"| {cas_label(rows, key)} | {r['case']} | {cas_time(res)} | {size} | | | | {cas_ops(key, res)} "
+            out.append(f"| {cas_label(rows, key)} | {r['case']} | {cas_time(res)} | {size} | | | | | {cas_ops(key, res)} "
                        f"| | | | | | {t_ratio} | {ops_ratio} |")
     if len(paper_tables) > 1:
         out.append("")
@@ -362,16 +345,18 @@ def cas_section(rows, out):
     tools = [k for k, _ in CAS_TOOLS if any(k in r["cas"] for r in measured)]
     out.append("## symdyn against today's computer algebra, every row\n")
     out.append("CAGeM's derivation (bench/paper_tables/cagem_sympy.py, cagem_giac.py) run on the model the generator "
-               "describes (`--describe`), in the same run as symdyn. Tgen: CPU seconds, start-up excluded (SymPy: timed "
-               "inside the script, after Python's start-up and imports; Giac: the giac process less an empty program's). "
-               "CAGeM kin. ops: symdyn's entry points of CAGeM's scope (each body relative to the reference the model "
-               "file gives it: `relative_accelerations`, plus `relative_partial_velocities` in case 3 (in one function, "
-               "`relative_accelerations_partials`, where emitted); `accelerations` and `partial_velocities` when every body moves from the ground and the generator made some relative), "
-               "a fused sin/cos pair once; SymPy: its cse output by the same rule; Giac: its output written in full "
-               "(Giac has no cse), sin and cos apart, and in parentheses each distinct subexpression once, fused. "
-               "Ratios: the tool's figure over symdyn's.\n")
-    head = "| Model | Variant | Case | symdyn Tgen/s | symdyn ops |"
-    rule = "|---|---|---|---:|---:|"
+               "describes (`--describe`), in the same run as symdyn. symdyn generating CAGeM's scope alone (generator "
+               "`--only`: each body relative to the reference the model file gives it, `relative_accelerations`, in case 3 "
+               "`relative_accelerations_partials`; `accelerations` and `accelerations_partials` when every body moves from "
+               "the ground and the generator made some relative), what the two scripts derive: its Tgen (median of the "
+               "generations in process: model construction, derivation, simplification, CSE, printing) and its operations "
+               "(a fused sin/cos pair once). Beside it, Tgen of the generator emitting every entry point. The tools' Tgen: "
+               "CPU seconds, start-up excluded (SymPy: timed inside the script, after Python's start-up and imports; Giac: "
+               "the median of the giac process's runs less that of an empty program's). SymPy's ops: its cse output by the "
+               "same rule; Giac's: its output written in full (Giac has no cse), sin and cos apart, and in parentheses "
+               "each distinct subexpression once, fused. Ratios: the tool's figure over symdyn's for CAGeM's scope.\n")
+    head = "| Model | Variant | Case | symdyn Tgen/s, every entry point | symdyn Tgen/s | symdyn ops |"
+    rule = "|---|---|---|---:|---:|---:|"
     for key in tools:
         label = cas_label(rows, key)
         head += f" {label} Tgen/s | {label} ops | Tgen ratio | ops ratio |"
@@ -382,7 +367,8 @@ def cas_section(rows, out):
                        r["model"], r["variant"], r["case"])
     for r in sorted(measured, key=order):
         scope = r["cagem_scope"]
-        line = f"| {r['model']} | {r['variant']} | {r['case']} | {fmt_s(r['tgen'])} | {scope['fused'] if scope else '—'} |"
+        line = (f"| {r['model']} | {r['variant']} | {r['case']} | {fmt_s(r['tgen'])} | "
+                f"{fmt_s(scope['tgen']) if scope else '—'} | {scope['fused'] if scope else '—'} |")
         for key in tools:
             res = r["cas"].get(key)
             if res is None:
@@ -595,20 +581,21 @@ def cas_targets(rows, add):
     compared, slow, failed = [], [], []
     for r in rows:
         res = r["cas"].get("giac")
-        if res is None or res.get("status") == "not run":
+        if res is None or res.get("status") == "not run" or r["cagem_scope"] is None:
             continue
+        ours = r["cagem_scope"]["tgen"]
         if res.get("status") == "timeout":
-            compared.append(res["timeout"] / r["tgen"])  # at least
+            compared.append(res["timeout"] / ours)  # at least
             continue
         if res.get("status") not in ("ok", "unparsed") or res.get("cpu") is None:
             failed.append(f"{row_name(r)} ({res.get('message', res.get('status'))})")
             continue
-        factor = res["cpu"] / r["tgen"]
+        factor = res["cpu"] / ours
         compared.append(factor)
         if factor < GIAC_FACTOR:
-            slow.append(f"{row_name(r)}: Giac {res['cpu'] * 1e3:.1f} ms, symdyn {r['tgen'] * 1e3:.2f} ms ({factor:.1f} x)")
-    name = (f"symdyn's derivation at least {GIAC_FACTOR}x faster than Giac's (CPU, Giac's start-up subtracted), "
-            "every model and case")
+            slow.append(f"{row_name(r)}: Giac {res['cpu'] * 1e3:.1f} ms, symdyn {ours * 1e3:.2f} ms ({factor:.1f} x)")
+    name = (f"symdyn's derivation at least {GIAC_FACTOR}x faster than Giac's (CAGeM's scope, CPU, Giac's start-up "
+            "subtracted), every model and case")
     if not compared:
         add(name, None, "Giac not measured.")
     else:
@@ -667,18 +654,19 @@ def main():
            "- Kin. ops: arithmetic operations and calls of the emitted `accelerations()` in cases 1-2, of "
            "`accelerations_partials()` (accelerations and partial velocities in one function, as SymPy's) in cases 3-4 "
            "(a fused sin/cos pair counts once). EoM ops: `mass_matrix` + `bias_forces` (case 4).",
-           "- CAGeM kin. ops: the kinematics of CAGeM's scope, each body relative to the reference the model file "
-           "gives it (positions, velocities, accelerations; in case 3 also the partial velocities), as CAGeM derived them "
-           "and the computer algebra rows do: symdyn's `relative_accelerations` (case 3: `relative_accelerations_partials`, "
-           "both in one function, as SymPy's), or `accelerations` (case 3: `accelerations_partials`) when every body moves from the ground and the generator made some "
-           "relative to another (chain_N absolute); a fused sin/cos pair once. SymPy: its cse output counted by the same "
+           "- CAGeM Tgen and CAGeM kin. ops: symdyn generating the kinematics of CAGeM's scope alone (generator `--only`, "
+           "Tgen as above), each body relative to the reference the model file gives it (positions, velocities, "
+           "accelerations; in case 3 also the partial velocities), as CAGeM derived them and the computer algebra rows do: "
+           "`relative_accelerations` (case 3: `relative_accelerations_partials`, both in one function, as SymPy's), or "
+           "`accelerations` (case 3: `accelerations_partials`) when every body moves from the ground and the generator "
+           "made some relative to another (chain_N absolute); a fused sin/cos pair once. SymPy: its cse output counted by the same "
            "rule (bench/paper_tables/opcount.py); Giac: its output written in full (no cse in Giac), sin and cos apart, "
            "and in parentheses each distinct subexpression once, fused.",
            "- SymPy and Giac rows: CAGeM's derivation (bench/paper_tables/cagem_sympy.py, cagem_giac.py) on the model "
            "the generator describes (`--describe`), run in this run; Tgen in CPU seconds with the tool's start-up "
-           "excluded (SymPy timed inside the script after its imports; Giac: the giac process less an empty program's), "
-           "\"timeout\" past run.sh's --cas-timeout. Tgen / symdyn's and CAGeM kin. ops / symdyn's: the tool's figure over "
-           "symdyn's in the same case (Giac's ops: as emitted over symdyn's with sin, cos apart, and in parentheses "
+           "excluded (SymPy timed inside the script after its imports; Giac: the median of the giac process's runs less "
+           "that of an empty program's), \"timeout\" past run.sh's --cas-timeout. Tgen / symdyn's and CAGeM kin. ops / "
+           "symdyn's: the tool's figure over symdyn's CAGeM Tgen and CAGeM kin. ops in the same case (Giac's ops: as emitted over symdyn's with sin, cos apart, and in parentheses "
            "shared over fused).",
            "- Compile: CPU seconds (user + system) to compile the emitted source with g++ at -O2, median of the "
            "runs (the JSON has every run's, `compile_runs`, and the median run's wall time, `compile_wall`).",

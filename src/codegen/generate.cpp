@@ -203,11 +203,12 @@ class Emitter {
 
   Derivation derive(bool simplify) {
     model::DeriveOptions derive;
-    symbolic::Simplifier simplifier;
+    std::optional<symbolic::Simplifier> simplifier;  // its rule tables take time to build
     Derivation d;
     if (simplify) {
+      simplifier.emplace();
       derive.simplify = [&simplifier, &d](Expr e) {
-        const Expr s = simplifier(e);
+        const Expr s = (*simplifier)(e);
         d.simplified = d.simplified || s != e;
         return s;
       };

@@ -51,6 +51,7 @@ std::string describe_symbol(Expr s) {
 // The first symbol of `e` that is not a run-time parameter: a mass or an
 // inertia is emitted in inertia(param), which sees no q, t or p.
 std::optional<Expr> non_constant_symbol(Expr e) {
+  if (e.is_number()) return std::nullopt;
   for (Expr s : symbolic::free_symbols(std::span<const Expr>(&e, 1))) {
     if (s.symbol_kind() != SymbolKind::Parameter) return s;
   }
@@ -132,6 +133,7 @@ bool Model::is_declared(Expr s) const {
 }
 
 void Model::check_declared(Expr e, std::string_view where) const {
+  if (e.is_number()) return;
   for (Expr s : symbolic::free_symbols(std::span<const Expr>(&e, 1))) {
     if (!is_declared(s)) {
       throw ModelError(fmt::format("{} uses '{}', which is not declared in model '{}' before it", where,
@@ -302,20 +304,24 @@ void Model::validate_bodies() const {
 void Model::validate_body(const Body& b) const {
   const std::string where = fmt::format("body '{}'", b.name());
   if (!b.has_motion()) throw ModelError(fmt::format("{} has no motion", where));
+  const std::string motion = where + " motion";
   for (const Transform::Step& s : b.motion().steps()) {
-    for (Expr e : s.displacement) check_declared(e, where + " motion");
-    check_declared(s.angle, where + " motion");
+    for (Expr e : s.displacement) check_declared(e, motion);
+    check_declared(s.angle, motion);
   }
   check_declared(b.mass(), where + " mass");
-  for (Expr e : b.inertia()) check_declared(e, where + " inertia");
-  const auto constant = [&](Expr e, std::string_view quantity) {
+  const std::string inertia = where + " inertia";
+  for (Expr e : b.inertia()) check_declared(e, inertia);
+  // k: the entry of the inertia tensor, -1 for the mass (named only in the error).
+  const auto constant = [&](Expr e, int k) {
     if (const auto s = non_constant_symbol(e)) {
+      const std::string quantity = k < 0 ? std::string("mass") : fmt::format("inertia I{}{}", k / 3, k % 3);
       throw ModelError(fmt::format("{}: {} depends on {}; a mass or inertia may use only constants and run-time "
                                    "parameters", where, quantity, describe_symbol(*s)));
     }
   };
-  constant(b.mass(), "mass");
-  for (int k = 0; k < 9; ++k) constant(b.inertia()[k], fmt::format("inertia I{}{}", k / 3, k % 3));
+  constant(b.mass(), -1);
+  for (int k = 0; k < 9; ++k) constant(b.inertia()[k], k);
   symbolic::Bindings<double> values;
   for (const Parameter& p : parameters_) values.emplace(p.symbol, p.value);
   symbolic::Evaluator<double> evaluate(values);
