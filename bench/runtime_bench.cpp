@@ -1,19 +1,28 @@
 // symdyn_bench_runtime: what the runtime adds to the emitted equations it calls.
 //
-// Per reference model, three ways to get qdd at 64 random states (no force
-// element, gravity only):
-//   system     runtime::MultibodySystem::accelerations, what users call;
-//   equations  the emitted mass_matrix() and bias_forces(), then Eigen's
-//              dynamic-size LDLT: the emitted equations plus a solve, by hand;
-//   dynamics   the emitted dynamics() (M and h in one call), then the
-//              runtime's own factorization (runtime::SpdSolver): the floor the
-//              runtime can reach.
+// Per reference model, ways to get qdd at 64 random states (no force element,
+// gravity only). What users call, on each of its two paths:
+//   system              runtime::MultibodySystem::accelerations as constructed:
+//                       the emitted forward_dynamics() where the generator
+//                       chose it (--list says "recursive"), else M and h;
+//   system_mass_matrix  the same after set_recursive(false): always M and h.
+// The floors, the emitted code called by hand without the runtime's checks:
+//   forward             the emitted forward_dynamics() (the articulated-body
+//                       algorithm, tau = 0), the floor of the recursive path;
+//                       only for models whose generated struct says
+//                       has_forward_dynamics (otherwise refused, not registered);
+//   dynamics            the emitted dynamics() (M and h in one call), then the
+//                       runtime's own factorization (runtime::SpdSolver): the
+//                       floor of the mass-matrix path;
+//   equations           the emitted mass_matrix() and bias_forces(), then
+//                       Eigen's dynamic-size LDLT: the solve a user would write.
 //
 //   symdyn_bench_runtime [Google Benchmark flags]     medians of CPU time (and
 //       solve/*: SpdSolver against Eigen's LLT and LDLT by size)
 //   symdyn_bench_runtime --count MODE MODEL [CALLS]   one workload, for
 //       valgrind --tool=callgrind --toggle-collect='*counted_workload*'
-//   symdyn_bench_runtime --list                       each model and its nq
+//   symdyn_bench_runtime --list                       each model, its nq and the
+//       system's default path (recursive or mass_matrix)
 // bench/runtime_overhead.sh runs the instruction counts of every model.
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -23,6 +32,7 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -59,8 +69,10 @@ using Workload = std::function<void(const State& s, Vector& qdd)>;
 struct BenchModel {
   std::string name;
   std::function<Model()> make;
+  bool recursive = false;  // the generator emitted forward_dynamics
   std::function<Workload()> equations;
   std::function<Workload()> dynamics;
+  std::function<Workload()> forward;  // empty unless recursive
 };
 
 template <class G>
@@ -90,6 +102,20 @@ BenchModel bench_model(std::string name) {
       solver->solve_in_place(qdd);
     };
   };
+  if constexpr (requires { G::has_forward_dynamics; }) {
+    if constexpr (G::has_forward_dynamics) {
+      b.recursive = true;
+      b.forward = [] {
+        auto tau = std::make_shared<Vector>(Vector::Zero(G::nq));
+        return [=](const State& s, Vector& qdd) {
+          qdd.resize(G::nq);
+          if (G::forward_dynamics(s.t, s.q.data(), s.qd.data(), tau->data(), G::param_defaults, qdd.data()) >= 0) {
+            throw NumericError("singular articulated inertia");
+          }
+        };
+      };
+    }
+  }
   return b;
 }
 
@@ -104,18 +130,34 @@ const std::vector<BenchModel>& models() {
   return all;
 }
 
-// The system's accelerations as a workload (the system lives in the closure).
-Workload system_workload(const BenchModel& b) {
+// The system's accelerations as a workload (the system lives in the closure):
+// as constructed (its default path), or always M and h.
+Workload system_workload(const BenchModel& b, bool mass_matrix_only) {
   auto system = std::make_shared<MultibodySystem>(b.make(), EquationsSource::emitted);
+  if (mass_matrix_only) system->set_recursive(false);
   auto yd = std::make_shared<Vector>();
   return [=](const State& s, Vector& qdd) { system->accelerations(s, qdd, *yd); };
 }
 
+const char* const kModes = "system, system_mass_matrix, equations, dynamics, forward";
+
+// The modes a model has: forward only where the generator emitted it.
+std::vector<std::string> modes(const BenchModel& b) {
+  std::vector<std::string> m = {"system", "system_mass_matrix", "equations", "dynamics"};
+  if (b.recursive) m.emplace_back("forward");
+  return m;
+}
+
 Workload workload(const BenchModel& b, const std::string& mode) {
-  if (mode == "system") return system_workload(b);
+  if (mode == "system") return system_workload(b, false);
+  if (mode == "system_mass_matrix") return system_workload(b, true);
   if (mode == "equations") return b.equations();
   if (mode == "dynamics") return b.dynamics();
-  throw std::invalid_argument(fmt::format("unknown mode '{}' (system, equations, dynamics)", mode));
+  if (mode == "forward") {
+    if (!b.forward) throw std::invalid_argument(fmt::format("model '{}' has no emitted forward_dynamics", b.name));
+    return b.forward();
+  }
+  throw std::invalid_argument(fmt::format("unknown mode '{}' ({})", mode, kModes));
 }
 
 // The counted region: callgrind --toggle-collect='*counted_workload*'.
@@ -195,9 +237,9 @@ void register_solver_benchmarks() {
 
 void register_benchmarks() {
   for (const BenchModel& b : models()) {
-    for (const char* mode : {"system", "equations", "dynamics"}) {
+    for (const std::string& mode : modes(b)) {
       benchmark::RegisterBenchmark(fmt::format("{}/{}", b.name, mode).c_str(),
-                                   [&b, m = std::string(mode)](benchmark::State& st) {
+                                   [&b, m = mode](benchmark::State& st) {
                                      const Workload w = workload(b, m);
                                      const auto states = random_states(b.make());
                                      Vector qdd;
@@ -216,15 +258,22 @@ void register_benchmarks() {
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (!args.empty() && args[0] == "--list") {
-    for (const BenchModel& b : models()) fmt::print("{} {}\n", b.name, b.make().nq());
+    for (const BenchModel& b : models()) {
+      fmt::print("{} {} {}\n", b.name, b.make().nq(), b.recursive ? "recursive" : "mass_matrix");
+    }
     return 0;
   }
   if (!args.empty() && args[0] == "--count") {
     if (args.size() < 3) {
-      fmt::print(stderr, "usage: symdyn_bench_runtime --count system|equations|dynamics MODEL [CALLS]\n");
+      fmt::print(stderr, "usage: symdyn_bench_runtime --count MODE MODEL [CALLS] (MODE: {})\n", kModes);
       return 2;
     }
-    return count(args[1], args[2], args.size() > 3 ? std::stoi(args[3]) : 1000);
+    try {
+      return count(args[1], args[2], args.size() > 3 ? std::stoi(args[3]) : 1000);
+    } catch (const std::invalid_argument& e) {
+      fmt::print(stderr, "{}\n", e.what());
+      return 2;
+    }
   }
   register_benchmarks();
   register_solver_benchmarks();

@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
 # Instructions per qdd evaluation (callgrind, repeatable on a shared machine) of
-# MultibodySystem::accelerations against the emitted equations alone, for every
-# model of symdyn_bench_runtime, as a Markdown table on stdout:
+# MultibodySystem::accelerations against the emitted equations alone, on each of
+# its two paths, for every model of symdyn_bench_runtime, as a Markdown table on
+# stdout:
 #
 #   bench/runtime_overhead.sh [build/release/bench/symdyn_bench_runtime] [CALLS]
 #
-# Columns: system (what users call), equations (emitted mass_matrix +
-# bias_forces + Eigen's dynamic LDLT), dynamics (emitted dynamics() + the
-# runtime's SpdSolver), and the ratios of system to each.
+# Columns (the modes of runtime_bench.cpp): path (the system's default:
+# recursive where the generator emitted forward_dynamics, else mass_matrix),
+# system (what users call, that path), system via M (set_recursive(false)),
+# equations (emitted mass_matrix + bias_forces + Eigen's dynamic LDLT), dynamics
+# (emitted dynamics() + the runtime's SpdSolver: the floor of the M path),
+# forward (emitted forward_dynamics(): the floor of the recursive path, "-"
+# where not emitted), and the ratios of each path to its floor.
 set -euo pipefail
 bench=${1:-build/release/bench/symdyn_bench_runtime}
 calls=${2:-1000}
@@ -31,11 +36,14 @@ per_call() {
 
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (b == "-" || a == "-" || b == 0) print "-"; else printf "%.2f", a / b }'; }
 
-echo "| model | nq | system | equations | dynamics | system / equations | system / dynamics |"
-echo "|---|---:|---:|---:|---:|---:|---:|"
-while read -r model nq; do
+echo "| model | nq | path | system | system via M | equations | dynamics | forward | system / forward | system via M / dynamics |"
+echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|"
+while read -r model nq path; do
   s=$(per_call system "$model")
+  m=$(per_call system_mass_matrix "$model")
   e=$(per_call equations "$model")
   d=$(per_call dynamics "$model")
-  echo "| $model | $nq | $s | $e | $d | $(ratio "$s" "$e") | $(ratio "$s" "$d") |"
+  f=-
+  [ "$path" = recursive ] && f=$(per_call forward "$model")
+  echo "| $model | $nq | $path | $s | $m | $e | $d | $f | $(ratio "$s" "$f") | $(ratio "$m" "$d") |"
 done < <("$bench" --list)

@@ -47,11 +47,13 @@ void MultibodySystem::set_source(EquationsSource source) {
         model_.name()));
   }
   source_ = source;
+  update_level();
 }
 
 void MultibodySystem::set_recursive(bool recursive) {
   forward_ = recursive ? model_.emitted_forward_dynamics() : nullptr;
   inverse_ = recursive ? model_.emitted_inverse_dynamics() : nullptr;
+  update_level();
 }
 
 void MultibodySystem::add(std::shared_ptr<const ForceElement> element) {
@@ -64,6 +66,8 @@ void MultibodySystem::update_level() {
   level_ = extra_reads_;
   for (const auto& e : elements_) level_ = std::max(level_, e->reads());
   dynamics_ = level_ == KinematicsLevel::none ? model_.emitted_dynamics() : nullptr;
+  const bool alone = source_ == EquationsSource::emitted && level_ == KinematicsLevel::none && elements_.empty();
+  forward_alone_ = alone ? forward_ : nullptr;
 }
 
 void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vector& initial,
@@ -381,21 +385,31 @@ void MultibodySystem::evaluate_loads(const State& s) {
 }
 
 bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
-  const double* tau = zero_.data();
-  if (level_ != KinematicsLevel::none || !elements_.empty()) {
-    check_state(s);
-    evaluate_loads(s);
-    if (!elements_.empty()) tau = Qa_.data();
-  }
+  check_state(s);
+  evaluate_loads(s);
   qdd.resize(h_.size());
+  const double* tau = elements_.empty() ? zero_.data() : Qa_.data();
   const int failed = forward_(s.t, s.q.data(), s.qd.data(), tau, model_.parameters().data(), qdd.data());
-  return failed < 0 && all_finite(s, qdd);
+  return failed < 0 && all_finite(qdd.data(), qdd.size());
 }
 
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   const Eigen::Index nq = h_.size();
   if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != extra_initial_.size()) state_error(s);
-  const bool recursive = source_ == EquationsSource::emitted && forward_ != nullptr && recursive_accelerations(s, qdd);
+  bool recursive = false;
+  if (forward_ != nullptr) {  // the way of M tests nothing more
+    if (forward_alone_ != nullptr) {
+      // qdd = M⁻¹·(-h) by the articulated-body algorithm, inline: nothing else to evaluate.
+      // The state's values are checked with qdd's after it, as on the way of M below.
+      qdd.resize(nq);
+      recursive = forward_alone_(s.t, s.q.data(), s.qd.data(), zero_.data(), model_.parameters().data(),
+                                 qdd.data()) < 0 &&
+                  all_finite(s, qdd);
+    } else if (source_ == EquationsSource::emitted) {
+      // With force elements or kinematics read: the state checked before them.
+      recursive = recursive_accelerations(s, qdd);
+    }
+  }
   if (recursive) {
     // qdd = M⁻¹·(Q - h) by the articulated-body algorithm, state and qdd checked. A
     // failed pivot or a non-finite qdd goes the way of M, whose checks name why.

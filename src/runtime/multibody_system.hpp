@@ -157,8 +157,9 @@ class MultibodySystem : public DynamicSystem {
   // The right-hand side of M qdd = rhs (M in M_) of a checked state, but for the
   // emitted equations without force elements (accelerations() inline).
   void accelerations_rhs(const State& s, Vector& qdd);
-  // qdd by the emitted forward dynamics; false when a pivot failed or qdd is
-  // not finite (the caller then takes the way of M).
+  // qdd by the emitted forward dynamics with the force elements' loads or the
+  // kinematics read (the state checked first); false when a pivot failed or qdd
+  // is not finite (the caller then takes the way of M).
   bool recursive_accelerations(const State& s, Vector& qdd);
   // Kinematics up to level_ (for force elements and extra equations) and,
   // with force elements, their generalized forces into Qa_.
@@ -187,6 +188,9 @@ class MultibodySystem : public DynamicSystem {
   DynamicsFn dynamics_ = nullptr;  // the emitted dynamics() when level_ is none: no dispatch per call
   ForwardDynamicsFn forward_ = nullptr;  // the emitted recursive ones, when used
   InverseDynamicsFn inverse_ = nullptr;
+  // forward_ when the emitted source has nothing else to evaluate (no force element,
+  // no kinematics read): accelerations() calls it inline, no dispatch per call.
+  ForwardDynamicsFn forward_alone_ = nullptr;
 
   // Workspace: sized at construction, reused by every evaluation.
   Kinematics k_;
