@@ -22,7 +22,9 @@
 //     absorbs it as a subtraction; a negative constant is loaded negative; an
 //     explicit `neg` remains only where nothing can absorb the sign (a function
 //     argument, the base of a non-integer power, an output, a sum with no
-//     positive term);
+//     positive term), and even there it goes into the instructions computing
+//     its operand when nothing else reads them and that costs nothing:
+//     -(x·y + z) = (-x)·y - z where -x is computed anyway;
 //   - a product with negative powers is one division: x·y⁻¹·z⁻² = x/(y·z·z);
 //     when two or more divisions share a denominator d, 1/d is computed once
 //     and the divisions become multiplications (a division costs 4 multiplies);

@@ -11,7 +11,8 @@
 //                       powers lowered, signs pulled out of values
 //   fold_reciprocals    divisions sharing a denominator -> multiplications by 1/d
 //   extract_common_pairs  pair CSE over the sums and products
-//   (program.cpp)       IR -> binary instructions, sincos fusion, slot numbering
+//   (program.cpp)       IR -> binary instructions, sincos fusion, slot numbering;
+//                       between the two, absorb_negations (program_negation.cpp)
 
 #include <cstdint>
 #include <map>
