@@ -346,26 +346,75 @@ Allocation allocate(const std::vector<Instruction>& code, const std::vector<std:
   return result;
 }
 
+// A program's instructions (finalized: dead code dropped, sincos fused) and
+// output slots.
+struct Scheduled {
+  std::vector<Instruction> code;
+  std::vector<std::uint32_t> outputs;
+  std::uint32_t slot_count = 0;
+};
+
+Scheduled schedule(const ir::Graph& graph) {
+  Scheduler scheduler(graph);
+  Scheduled s;
+  s.outputs = scheduler.outputs(graph.outputs);
+  const std::vector<Instruction> code = detail::absorb_negations(scheduler.code(), s.outputs);
+  s.code = finalize(code, s.outputs, &s.slot_count);
+  return s;
+}
+
+// The operations that computing some of the outputs executes (what
+// Program::subprogram(outputs, ...).operation_count().total() counts).
+int operations(const Scheduled& s, std::span<const std::size_t> outputs) {
+  std::vector<bool> needed(s.slot_count, false);
+  for (std::size_t o : outputs) needed[s.outputs[o]] = true;
+  int count = 0;
+  for (std::size_t k = s.code.size(); k-- > 0;) {
+    const Instruction& ins = s.code[k];
+    const OpcodeInfo& op = info(ins.op);
+    if (!needed[ins.results[0]] && !(op.results == 2 && needed[ins.results[1]])) continue;
+    count += ins.op != Opcode::Const && ins.op != Opcode::Input ? 1 : 0;
+    for (int a = 0; a < op.arity; ++a) needed[ins.args[a]] = true;
+  }
+  return count;
+}
+
 }  // namespace
 
 const OpcodeInfo& info(Opcode op) { return kOpcodes[static_cast<std::size_t>(op)]; }
 
 Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
-                        std::span<const Definition> definitions) {
-  ir::Graph graph = ir::lower(inputs, outputs, definitions);
-  ir::fold_reciprocals(graph);
-  ir::extract_common_pairs(graph);
-
-  Scheduler scheduler(graph);
-  std::vector<std::uint32_t> slots = scheduler.outputs(graph.outputs);
+                        std::span<const Definition> definitions, std::span<const std::vector<std::size_t>> groups) {
+  std::vector<std::size_t> all;
+  if (groups.empty()) {
+    for (std::size_t i = 0; i < outputs.size(); ++i) all.push_back(i);
+    groups = std::span(&all, 1);
+  }
+  for (const std::vector<std::size_t>& group : groups) {
+    for (std::size_t o : group) {
+      if (o >= outputs.size()) throw UsageError(fmt::format("compile_program: a group names output {} of {}", o, outputs.size()));
+    }
+  }
+  ir::Graph by_key = ir::lower(inputs, outputs, definitions);
+  ir::fold_reciprocals(by_key);
+  ir::Graph existing_first = by_key;
+  ir::extract_common_pairs(by_key, ir::PairTies::ByKey);
+  ir::extract_common_pairs(existing_first, ir::PairTies::ExistingFirst);
+  Scheduled chosen = schedule(by_key);
+  if (existing_first.nodes != by_key.nodes) {  // the ties changed something
+    Scheduled other = schedule(existing_first);
+    auto longer = [&](const auto& group) { return operations(other, group) > operations(chosen, group); };
+    auto shorter = [&](const auto& group) { return operations(other, group) < operations(chosen, group); };
+    if (std::none_of(groups.begin(), groups.end(), longer) && std::any_of(groups.begin(), groups.end(), shorter)) {
+      chosen = std::move(other);
+    }
+  }
 
   Program program;
   program.input_count_ = inputs.size();
-  std::uint32_t slot_count = 0;
-  const std::vector<Instruction> code = detail::absorb_negations(scheduler.code(), slots);
-  program.instructions_ = finalize(code, slots, &slot_count);
-  program.slot_count_ = slot_count;
-  program.outputs_ = slots;
+  program.instructions_ = std::move(chosen.code);
+  program.slot_count_ = chosen.slot_count;
+  program.outputs_ = std::move(chosen.outputs);
   program.allocate_workspace();
   return program;
 }

@@ -54,6 +54,8 @@ struct Node {
   double constant = 0.0;     // Const: the value; Pow: the exponent
   std::uint32_t input = 0;   // Input: its index
 
+  friend bool operator==(const Node&, const Node&) = default;
+
   static Node of(Op op, Terms terms = {}) {
     Node node;
     node.op = op;
@@ -98,7 +100,12 @@ class Graph {
 // neither an input nor defined.
 Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::span<const Definition> definitions);
 void fold_reciprocals(Graph& graph);
-void extract_common_pairs(Graph& graph);
+// Among pairs of equally many holders, pair CSE extracts first the one of
+// the smallest key, or (ExistingFirst) the one with the most holders that are
+// the pair itself, then the smallest key. Neither makes every program shorter
+// than the other: compile_program tries both.
+enum class PairTies : std::uint8_t { ByKey, ExistingFirst };
+void extract_common_pairs(Graph& graph, PairTies ties);
 
 // Sums and products with more operands take no part in pair CSE.
 inline constexpr std::size_t kMaxPairOperands = 128;
