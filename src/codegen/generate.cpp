@@ -318,7 +318,8 @@ class Emitter {
       for (std::size_t i = 0; i < a.values.size(); ++i) naming.outputs.push_back(element(a.name, i));
       naming.output_arrays.emplace_back(a.name, a.values.size());
     }
-    const std::vector<std::vector<std::size_t>> functions = entry_outputs(entries_, d);  // of each entry point with a program
+    // The outputs of each entry point with a program.
+    const std::vector<std::vector<std::size_t>> functions = entry_outputs(entries_, d);
     std::vector<std::size_t> function_of(entries_.size(), entries_.size());
     for (std::size_t e = 0, f = 0; e < entries_.size(); ++e) {
       if (entries_[e].body.empty()) function_of[e] = f++;

@@ -392,7 +392,9 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
   }
   for (const std::vector<std::size_t>& group : groups) {
     for (std::size_t o : group) {
-      if (o >= outputs.size()) throw UsageError(fmt::format("compile_program: a group names output {} of {}", o, outputs.size()));
+      if (o >= outputs.size()) {
+        throw UsageError(fmt::format("compile_program: a group names output {} of {}", o, outputs.size()));
+      }
     }
   }
   ir::Graph by_key = ir::lower(inputs, outputs, definitions);
