@@ -223,7 +223,7 @@ class Emitter {
     gather_arrays(d);
     std::vector<Expr> outputs;
     for (const OutputArray& a : d.arrays) outputs.insert(outputs.end(), a.values.begin(), a.values.end());
-    d.program = symbolic::compile_program(all_inputs(), outputs, definitions_);
+    d.program = symbolic::compile_program(all_inputs(), outputs, definitions_, entry_outputs(d.entries, d));
     std::size_t statements = d.program.output_count();
     for (const symbolic::Instruction& i : d.program.instructions()) {
       statements += i.op != symbolic::Opcode::Const && i.op != symbolic::Opcode::Input;
@@ -243,6 +243,27 @@ class Emitter {
     std::vector<std::size_t> outputs(d.program.output_count());
     std::iota(outputs.begin(), outputs.end(), std::size_t{0});
     return d.program.subprogram(outputs, input_indices(d.entries[e]));
+  }
+
+  // The outputs (indices among the program's) of each entry point with a
+  // program, in order: what each runs of the shared program.
+  static std::vector<std::vector<std::size_t>> entry_outputs(const std::vector<EntryPoint>& entries,
+                                                             const Derivation& d) {
+    std::vector<std::size_t> first_output;  // of each array
+    std::size_t next = 0;
+    for (const OutputArray& a : d.arrays) {
+      first_output.push_back(next);
+      next += a.values.size();
+    }
+    std::vector<std::vector<std::size_t>> groups;
+    for (std::size_t e = 0; e < entries.size(); ++e) {
+      if (!entries[e].body.empty()) continue;
+      std::vector<std::size_t>& outputs = groups.emplace_back();
+      for (std::size_t a : d.arrays_of[e]) {
+        for (std::size_t i = 0; i < d.arrays[a].values.size(); ++i) outputs.push_back(first_output[a] + i);
+      }
+    }
+    return groups;
   }
 
   static void keep_shorter_entries(Derivation& chosen, Derivation&& other) {
@@ -316,21 +337,15 @@ class Emitter {
       naming.input_arrays.emplace_back(in, n);
       for (std::size_t i = 0; i < n; ++i) naming.inputs.push_back(input_element(in, i));
     }
-    std::vector<std::size_t> first_output;  // of each array
     for (const OutputArray& a : d.arrays) {
-      first_output.push_back(naming.outputs.size());
       for (std::size_t i = 0; i < a.values.size(); ++i) naming.outputs.push_back(element(a.name, i));
       naming.output_arrays.emplace_back(a.name, a.values.size());
     }
-    std::vector<std::vector<std::size_t>> functions;  // outputs of each entry point with a program
+    // The outputs of each entry point with a program.
+    const std::vector<std::vector<std::size_t>> functions = entry_outputs(entries_, d);
     std::vector<std::size_t> function_of(entries_.size(), entries_.size());
-    for (std::size_t e = 0; e < entries_.size(); ++e) {
-      if (!entries_[e].body.empty()) continue;
-      function_of[e] = functions.size();
-      std::vector<std::size_t>& outputs = functions.emplace_back();
-      for (std::size_t a : d.arrays_of[e]) {
-        for (std::size_t i = 0; i < d.arrays[a].values.size(); ++i) outputs.push_back(first_output[a] + i);
-      }
+    for (std::size_t e = 0, f = 0; e < entries_.size(); ++e) {
+      if (entries_[e].body.empty()) function_of[e] = f++;
     }
     const symbolic::CppShared shared = symbolic::emit_cpp_shared(d.program, naming, functions, options_.part_instructions);
     code.source += emit_part_functions(shared, naming);

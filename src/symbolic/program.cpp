@@ -5,10 +5,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <bit>
 #include <map>
 #include <optional>
 
+#include <symdyn/symbolic/program_code.hpp>
 #include <symdyn/symbolic/program_ir.hpp>
 #include <symdyn/symbolic/small_vector.hpp>
 
@@ -96,7 +96,7 @@ class Scheduler {
     for (const auto& [i, v] : deferred) slots[i] = materialize(v);
     return slots;
   }
-  std::vector<Instruction>& code() { return code_; }
+  const detail::CodeBuilder& code() const { return code_; }
 
  private:
   // The value of an IR node up to sign, its operands first (post-order).
@@ -231,89 +231,24 @@ class Scheduler {
   std::optional<std::uint32_t> existing_negation(std::uint32_t x) const {
     const Instruction& ins = code_[x];
     if (ins.op == Opcode::Mul && code_[ins.args[0]].op == Opcode::Const) {
-      const auto c = existing({Opcode::Const, {}, -code_[ins.args[0]].constant});
-      return c ? existing({Opcode::Mul, {*c, ins.args[1]}}) : std::nullopt;
+      const auto c = existing(Opcode::Const, {}, -code_[ins.args[0]].constant);
+      return c ? existing(Opcode::Mul, {*c, ins.args[1]}) : std::nullopt;
     }
-    return existing({Opcode::Neg, {x, 0}});
+    return existing(Opcode::Neg, {x, 0});
   }
 
-  struct Key {
-    Opcode op;
-    std::array<std::uint32_t, 2> args;
-    double constant = 0.0;
-  };
-  // The slot of the instruction `key` if it is emitted already.
-  std::optional<std::uint32_t> existing(const Key& key) const {
-    if (index_.empty()) return std::nullopt;
-    Instruction ins;
-    ins.op = key.op;
-    ins.args = key.args;
-    ins.constant = key.constant;
-    const std::size_t mask = index_.size() - 1;
-    for (std::size_t i = hash(ins) & mask; index_[i] != 0; i = (i + 1) & mask) {
-      if (same(code_[index_[i] - 1], ins)) return index_[i] - 1;
-    }
-    return std::nullopt;
+  std::optional<std::uint32_t> existing(Opcode op, std::array<std::uint32_t, 2> args, double constant = 0.0) const {
+    return code_.find(op, args, constant);
   }
-
   std::uint32_t emit(Opcode op, std::array<std::uint32_t, 2> args, double constant = 0.0) {
-    Instruction ins;
-    ins.op = op;
-    ins.args = args;
-    ins.constant = constant;
-    return emit(ins);
+    return code_.emit(op, args, constant);
   }
-
-  std::uint32_t emit(Instruction ins) {
-    if (ins.op == Opcode::Add || ins.op == Opcode::Mul) {
-      // Commutative: one order for both, constants first ("2.0*x").
-      auto rank = [&](std::uint32_t s) { return std::pair{code_[s].op != Opcode::Const, s}; };
-      if (rank(ins.args[1]) < rank(ins.args[0])) std::swap(ins.args[0], ins.args[1]);
-    }
-    if (2 * (code_.size() + 1) > index_.size()) grow_index();
-    const std::size_t mask = index_.size() - 1;
-    std::size_t i = hash(ins) & mask;
-    for (; index_[i] != 0; i = (i + 1) & mask) {
-      if (same(code_[index_[i] - 1], ins)) return index_[i] - 1;
-    }
-    const auto slot = static_cast<std::uint32_t>(code_.size());
-    index_[i] = slot + 1;
-    ins.results[0] = slot;
-    code_.push_back(ins);
-    return slot;
-  }
-
-  // An instruction's value-numbering key: opcode, operands and payload.
-  static std::size_t hash(const Instruction& ins) {
-    std::size_t h = static_cast<std::size_t>(ins.op);
-    for (std::uint64_t v : {std::uint64_t{ins.args[0]}, std::uint64_t{ins.args[1]},
-                            std::bit_cast<std::uint64_t>(ins.constant), std::uint64_t{ins.input}}) {
-      h = ir::mix_hash(h, v);
-    }
-    return ir::finish_hash(h);
-  }
-  static bool same(const Instruction& a, const Instruction& b) {
-    return a.op == b.op && a.args == b.args && a.input == b.input &&
-           std::bit_cast<std::uint64_t>(a.constant) == std::bit_cast<std::uint64_t>(b.constant);
-  }
-
-  void grow_index() {
-    index_.assign(std::max<std::size_t>(1024, 2 * index_.size()), 0);
-    const std::size_t mask = index_.size() - 1;
-    for (std::uint32_t slot = 0; slot < code_.size(); ++slot) {
-      std::size_t i = hash(code_[slot]) & mask;
-      while (index_[i] != 0) i = (i + 1) & mask;
-      index_[i] = slot + 1;
-    }
-  }
+  std::uint32_t emit(const Instruction& ins) { return code_.emit(ins); }
 
   const ir::Graph& g_;
   std::vector<std::optional<ir::Term>> resolved_;  // by IR node id
   std::vector<std::pair<std::uint32_t, bool>> stack_;  // resolve's: (node, operands pushed), empty between calls
-  std::vector<Instruction> code_;
-  // Open addressing over code_, each entry a slot + 1 (0: empty): every
-  // instruction is value-numbered. Looked up, never iterated.
-  std::vector<std::uint32_t> index_;
+  detail::CodeBuilder code_;  // every instruction value-numbered
 };
 
 // Drops what no output needs, fuses sin and cos of one argument into sincos
@@ -411,25 +346,77 @@ Allocation allocate(const std::vector<Instruction>& code, const std::vector<std:
   return result;
 }
 
+// A program's instructions (finalized: dead code dropped, sincos fused) and
+// output slots.
+struct Scheduled {
+  std::vector<Instruction> code;
+  std::vector<std::uint32_t> outputs;
+  std::uint32_t slot_count = 0;
+};
+
+Scheduled schedule(const ir::Graph& graph) {
+  Scheduler scheduler(graph);
+  Scheduled s;
+  s.outputs = scheduler.outputs(graph.outputs);
+  const std::vector<Instruction> code = detail::absorb_negations(scheduler.code(), s.outputs);
+  s.code = finalize(code, s.outputs, &s.slot_count);
+  return s;
+}
+
+// The operations that computing some of the outputs executes (what
+// Program::subprogram(outputs, ...).operation_count().total() counts).
+int operations(const Scheduled& s, std::span<const std::size_t> outputs) {
+  std::vector<bool> needed(s.slot_count, false);
+  for (std::size_t o : outputs) needed[s.outputs[o]] = true;
+  int count = 0;
+  for (std::size_t k = s.code.size(); k-- > 0;) {
+    const Instruction& ins = s.code[k];
+    const OpcodeInfo& op = info(ins.op);
+    if (!needed[ins.results[0]] && !(op.results == 2 && needed[ins.results[1]])) continue;
+    count += ins.op != Opcode::Const && ins.op != Opcode::Input ? 1 : 0;
+    for (int a = 0; a < op.arity; ++a) needed[ins.args[a]] = true;
+  }
+  return count;
+}
+
 }  // namespace
 
 const OpcodeInfo& info(Opcode op) { return kOpcodes[static_cast<std::size_t>(op)]; }
 
 Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
-                        std::span<const Definition> definitions) {
-  ir::Graph graph = ir::lower(inputs, outputs, definitions);
-  ir::fold_reciprocals(graph);
-  ir::extract_common_pairs(graph);
-
-  Scheduler scheduler(graph);
-  std::vector<std::uint32_t> slots = scheduler.outputs(graph.outputs);
+                        std::span<const Definition> definitions, std::span<const std::vector<std::size_t>> groups) {
+  std::vector<std::size_t> all;
+  if (groups.empty()) {
+    for (std::size_t i = 0; i < outputs.size(); ++i) all.push_back(i);
+    groups = std::span(&all, 1);
+  }
+  for (const std::vector<std::size_t>& group : groups) {
+    for (std::size_t o : group) {
+      if (o >= outputs.size()) {
+        throw UsageError(fmt::format("compile_program: a group names output {} of {}", o, outputs.size()));
+      }
+    }
+  }
+  ir::Graph by_key = ir::lower(inputs, outputs, definitions);
+  ir::fold_reciprocals(by_key);
+  ir::Graph existing_first = by_key;
+  ir::extract_common_pairs(by_key, ir::PairTies::ByKey);
+  ir::extract_common_pairs(existing_first, ir::PairTies::ExistingFirst);
+  Scheduled chosen = schedule(by_key);
+  if (existing_first.nodes != by_key.nodes) {  // the ties changed something
+    Scheduled other = schedule(existing_first);
+    auto longer = [&](const auto& group) { return operations(other, group) > operations(chosen, group); };
+    auto shorter = [&](const auto& group) { return operations(other, group) < operations(chosen, group); };
+    if (std::none_of(groups.begin(), groups.end(), longer) && std::any_of(groups.begin(), groups.end(), shorter)) {
+      chosen = std::move(other);
+    }
+  }
 
   Program program;
   program.input_count_ = inputs.size();
-  std::uint32_t slot_count = 0;
-  program.instructions_ = finalize(scheduler.code(), slots, &slot_count);
-  program.slot_count_ = slot_count;
-  program.outputs_ = slots;
+  program.instructions_ = std::move(chosen.code);
+  program.slot_count_ = chosen.slot_count;
+  program.outputs_ = std::move(chosen.outputs);
   program.allocate_workspace();
   return program;
 }

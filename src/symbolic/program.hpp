@@ -22,7 +22,9 @@
 //     absorbs it as a subtraction; a negative constant is loaded negative; an
 //     explicit `neg` remains only where nothing can absorb the sign (a function
 //     argument, the base of a non-integer power, an output, a sum with no
-//     positive term);
+//     positive term), and even there it goes into the instructions computing
+//     its operand when nothing else reads them and that costs nothing:
+//     -(x·y + z) = (-x)·y - z where -x is computed anyway;
 //   - a product with negative powers is one division: x·y⁻¹·z⁻² = x/(y·z·z);
 //     when two or more divisions share a denominator d, 1/d is computed once
 //     and the divisions become multiplications (a division costs 4 multiplies);
@@ -44,7 +46,10 @@
 //     this free), and so is every repeated instruction made by lowering. Beyond
 //     it, pair CSE: when two or more sums (or products) share a pair of
 //     operands, the pair is computed once; the most frequent pair is extracted
-//     first, repeatedly, ties broken by the operands' order of creation. Sums
+//     first, repeatedly, ties broken by the operands' order of creation, or
+//     first by how many of the sums (products) are the pair itself (c3·c5
+//     beside c3·s4·c5: extracting it leaves s4 to pair elsewhere), whichever
+//     makes the output groups shorter (compile_program). Sums
 //     and products with more than 128 operands take no part (the pair table
 //     grows as the square of the operand count).
 //   - Dead code: only what the outputs need is scheduled; an input no output
@@ -186,7 +191,8 @@ class Program {
 
  private:
   friend Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
-                                 std::span<const Definition> definitions);
+                                 std::span<const Definition> definitions,
+                                 std::span<const std::vector<std::size_t>> groups);
   void check_sizes(std::size_t inputs, std::size_t outputs, std::size_t workspace) const;
   void allocate_workspace();
 
@@ -201,12 +207,19 @@ class Program {
 };
 
 // Schedules `outputs` into a program whose inputs are `inputs`, in that order.
+// `groups`: sets of outputs (indices) computed together, such as the
+// functions of emit_cpp_shared, each running Program::subprogram of its
+// outputs; none: all outputs, one group. Pair CSE breaks its ties two ways
+// (see Guarantees) and keeps the second only where it makes some group
+// shorter and none longer.
 // Throws UsageError if an input is not a symbol or is given twice, if a
 // definition's symbol is not a symbol, is an input or is defined twice, if
-// definitions depend on themselves, or if an output uses a symbol that is
-// neither an input nor defined (the message names it).
+// definitions depend on themselves, if an output uses a symbol that is
+// neither an input nor defined (the message names it), or if a group names
+// an output out of range.
 Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
-                        std::span<const Definition> definitions = {});
+                        std::span<const Definition> definitions = {},
+                        std::span<const std::vector<std::size_t>> groups = {});
 
 // A readable listing, one instruction a line: "s4 = mul s1 s3", "s0 = input 2",
 // then "out 0 = s4".

@@ -11,7 +11,8 @@
 //                       powers lowered, signs pulled out of values
 //   fold_reciprocals    divisions sharing a denominator -> multiplications by 1/d
 //   extract_common_pairs  pair CSE over the sums and products
-//   (program.cpp)       IR -> binary instructions, sincos fusion, slot numbering
+//   (program.cpp)       IR -> binary instructions, sincos fusion, slot numbering;
+//                       between the two, absorb_negations (program_negation.cpp)
 
 #include <cstdint>
 #include <map>
@@ -52,6 +53,8 @@ struct Node {
                              // Neg, Sqrt, Pow: {argument}; Call: arguments
   double constant = 0.0;     // Const: the value; Pow: the exponent
   std::uint32_t input = 0;   // Input: its index
+
+  friend bool operator==(const Node&, const Node&) = default;
 
   static Node of(Op op, Terms terms = {}) {
     Node node;
@@ -97,7 +100,12 @@ class Graph {
 // neither an input nor defined.
 Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::span<const Definition> definitions);
 void fold_reciprocals(Graph& graph);
-void extract_common_pairs(Graph& graph);
+// Among pairs of equally many holders, pair CSE extracts first the one of
+// the smallest key, or (ExistingFirst) the one with the most holders that are
+// the pair itself, then the smallest key. Neither makes every program shorter
+// than the other: compile_program tries both.
+enum class PairTies : std::uint8_t { ByKey, ExistingFirst };
+void extract_common_pairs(Graph& graph, PairTies ties);
 
 // Sums and products with more operands take no part in pair CSE.
 inline constexpr std::size_t kMaxPairOperands = 128;

@@ -7,7 +7,9 @@
 // it by p in each holder; and repeats while some pair has two holders or more.
 // Each extraction saves (holders - 1) operations and shrinks the holders, so
 // the loop ends. Counts are updated incrementally: removing or adding an
-// operand touches only the pairs it belongs to.
+// operand touches only the pairs it belongs to. Among equally frequent pairs,
+// the smallest key goes first, or (PairTies::ExistingFirst) the pair held by
+// the most nodes that are that pair alone, a sum or product of two operands.
 //
 // In sums, operands carry signs. The pair {±a, ±b} is keyed by its operands and
 // whether their signs differ: {+a, -b} and {-a, +b} are both ±(a - b), and
@@ -21,11 +23,13 @@
 // holder after the initial count is never extracted and is not tracked
 // further; tracked pairs (the others, and every pair with a fresh operand)
 // keep their holders, with the times each holds them, in a vector sorted by
-// node. A max-heap of (holders, pair) is kept lazily: every tracked pair with
-// two holders or more has an entry whose count is at least its own. Pairs
-// whose count rose during an extraction push one entry each at its end;
-// counts that fall push nothing, and an entry found on top with a count above
-// the pair's is replaced then by one with the right count.
+// node. A max-heap of (holders, exact holders, pair) is kept lazily: every
+// tracked pair with two holders or more has an entry whose counts are at
+// least its own (a holder becomes exact, two operands, only by gaining a
+// fresh pair, whose count then rises). Pairs whose count rose during an
+// extraction push one entry each at its end; counts that fall push nothing,
+// and an entry found on top with counts above the pair's is replaced then by
+// one with the right counts.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -57,7 +61,7 @@ bool differ_of(std::uint64_t key) { return (key & 1U) != 0; }
 
 class PairTable {
  public:
-  explicit PairTable(Graph& graph) : g_(graph), index_(4096) {}
+  PairTable(Graph& graph, PairTies ties) : g_(graph), ties_(ties), index_(4096) {}
 
   // Counts the pairs of a holder. Before rank(); holders in increasing order.
   void add_holder(std::uint32_t node) {
@@ -93,7 +97,7 @@ class PairTable {
     }
     enumerated_ = {};
     std::vector<Ranked> entries;
-    for (std::uint32_t p = 0; p < pairs_.size(); ++p) entries.push_back({holders(p), pairs_[p].key, p});
+    for (std::uint32_t p = 0; p < pairs_.size(); ++p) entries.push_back(ranked(p));
     ranked_ = std::priority_queue<Ranked>(std::less<Ranked>(), std::move(entries));
   }
 
@@ -118,7 +122,7 @@ class PairTable {
     }
     for (std::uint32_t p : risen_) {
       pairs_[p].risen = false;
-      if (holders(p) >= 2) ranked_.push({holders(p), pairs_[p].key, p});
+      if (holders(p) >= 2) ranked_.push(ranked(p));
     }
     risen_.clear();
     return true;
@@ -148,14 +152,18 @@ class PairTable {
     int holders = 0;
   };
 
-  // A heap entry: the pair had `holders` holders when pushed.
+  // A heap entry: the pair had `holders` holders, `exact` of them the pair
+  // itself, when pushed.
   struct Ranked {
     int holders;
+    int exact;
     std::uint64_t key;
     std::uint32_t pair;
-    // Most holders first, then the smallest key.
+    // Most holders first, then most exact holders, then the smallest key.
     friend bool operator<(const Ranked& a, const Ranked& b) {
-      return a.holders != b.holders ? a.holders < b.holders : a.key > b.key;
+      if (a.holders != b.holders) return a.holders < b.holders;
+      if (a.exact != b.exact) return a.exact < b.exact;
+      return a.key > b.key;
     }
   };
 
@@ -186,13 +194,31 @@ class PairTable {
 
   int holders(std::uint32_t p) const { return static_cast<int>(pairs_[p].holders.size()); }
 
+  // Holders of two operands, which are the pair itself. Why they rank a pair
+  // higher: extracting a pair saves one operation per holder but the first
+  // either way, but a longer holder gives up its other pairs for it, and
+  // the pair itself has none (c3·c5 beside c3·s4·c5: extracting c3·c5 leaves
+  // s4 free to pair elsewhere, extracting c3·s4 would not).
+  // A constant's pair does not count: c·x computed for itself takes the
+  // sign of its readers, (-c)·x, and c·x·y, extracted as (c·x)·y, no longer.
+  int exact(std::uint32_t p) const {
+    if (ties_ != PairTies::ExistingFirst) return 0;
+    const std::uint64_t key = pairs_[p].key;
+    if (g_.nodes[lo_of(key)].op == Op::Const || g_.nodes[hi_of(key)].op == Op::Const) return 0;
+    int n = 0;
+    for (const Holder& h : pairs_[p].holders) n += g_.nodes[h.node].terms.size() == 2 ? 1 : 0;
+    return n;
+  }
+
+  Ranked ranked(std::uint32_t p) const { return {holders(p), exact(p), pairs_[p].key, p}; }
+
   std::uint32_t pop_best() {
     while (!ranked_.empty()) {
       const Ranked top = ranked_.top();
-      const int now = holders(top.pair);
-      if (now == top.holders) return top.pair;
-      ranked_.pop();  // stale: the count has changed since
-      if (now < top.holders && now >= 2) ranked_.push({now, top.key, top.pair});
+      const Ranked now = ranked(top.pair);
+      if (now.holders == top.holders && now.exact == top.exact) return top.pair;
+      ranked_.pop();  // stale: the counts have changed since
+      if (now.holders >= 2) ranked_.push(now);
     }
     return kNone;
   }
@@ -260,6 +286,7 @@ class PairTable {
   }
 
   Graph& g_;
+  PairTies ties_;
   detail::FlatMap64<std::uint32_t> index_;   // key -> dense id
   std::vector<std::uint64_t> keys_;          // (by id)
   std::vector<std::uint32_t> record_of_;     // (by id) index in pairs_, kNone if untracked
@@ -273,12 +300,12 @@ class PairTable {
 
 }  // namespace
 
-void extract_common_pairs(Graph& graph) {
+void extract_common_pairs(Graph& graph, PairTies ties) {
   if (graph.nodes.size() > kMaxPairOperandId) {
     throw UsageError(fmt::format("pair CSE: {} program nodes, more than the pair keys can hold", graph.nodes.size()));
   }
   const std::vector<bool> live = graph.live();
-  PairTable table(graph);
+  PairTable table(graph, ties);
   for (std::uint32_t id = 0; id < live.size(); ++id) {
     const Node& node = graph.nodes[id];
     const bool nary = node.op == Op::Sum || node.op == Op::Prod;

@@ -271,6 +271,39 @@ TEST_CASE("pair CSE computes operand pairs shared by sums and products once", "[
   CHECK(out[1] == 0.25 - 1.5 + 7.0);
 }
 
+TEST_CASE("pair CSE extracts first a pair computed for itself, where that makes no output group longer",
+          "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr a = symbol("a"), b = symbol("b"), c = symbol("c"), d = symbol("d"), e = symbol("e");
+  const std::vector<Expr> in{a, b, c, d, e};
+  // A rotation's products: a·d beside a·b·d makes the latter (a·d)·b, one
+  // multiplication each, where a·b shared by a·b·c and a·b·d costs 3 for two.
+  const std::vector<Expr> outputs{a * b * c, a * b * d, e * b * c, e * b * d, a * d, e * c, e * d, a * c};
+  const std::vector<Expr> triples(outputs.begin(), outputs.begin() + 4);
+  CHECK(count_of(in, outputs) == ops(0, 8, 0, 0));
+  CHECK(count_of(in, triples) == ops(0, 6, 0, 0));  // a·b and e·b shared
+  // Groups of outputs computed together: the products alone would need the
+  // pairs that the other group computes, 8 multiplications instead of 6, so
+  // the other order is kept.
+  const std::vector<std::vector<std::size_t>> triples_apart{{0, 1, 2, 3}, {0, 1, 2, 3, 4, 5, 6, 7}};
+  const std::vector<std::vector<std::size_t>> pairs_apart{{4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}};
+  const Program kept = compile_program(in, outputs, {}, triples_apart);
+  CHECK(kept.operation_count() == ops(0, 10, 0, 0));
+  CHECK(kept.subprogram(triples_apart[0], std::vector<std::size_t>{0, 1, 2, 3, 4}).operation_count() ==
+        ops(0, 6, 0, 0));
+  CHECK(compile_program(in, outputs, {}, pairs_apart).operation_count() == ops(0, 8, 0, 0));
+  const std::vector<double> point{0.3, -1.1, 0.7, 2.2, -0.4};
+  Bindings<double> at;
+  for (std::size_t i = 0; i < in.size(); ++i) at[in[i]] = point[i];
+  for (const Program& p : {compile_program(in, outputs), kept}) {
+    const auto out = run(p, point);
+    for (std::size_t k = 0; k < outputs.size(); ++k) CHECK(close(out[k], evaluate(outputs[k], at), 1e-15));
+  }
+  CHECK_THROWS_WITH(compile_program(in, outputs, {}, std::vector<std::vector<std::size_t>>{{8}}),
+                    "compile_program: a group names output 8 of 8");
+}
+
 TEST_CASE("negations and divisions fold into subtractions and divisions", "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
@@ -297,6 +330,118 @@ TEST_CASE("negations and divisions fold into subtractions and divisions", "[prog
   CHECK(out[1] == 5.0 - 0.75);
   CHECK(out[2] == 0.75);
   CHECK(out[3] == 1.25);
+}
+
+TEST_CASE("a negation left at an output is absorbed by the code of its operand when nothing else reads it",
+          "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x"), y = symbol("y"), z = symbol("z"), w = symbol("w");
+  const std::vector<Expr> in{x, y, z, w};
+  struct Case {
+    std::vector<Expr> outputs;
+    OperationCount count;
+  };
+  const Case cases[] = {
+      // -(x·y + z) = (-x)·y - z with -x an output: the neg of the sum is saved.
+      {{-x, -(x * y + z)}, ops(1, 1, 0, 1)},
+      {{-y, -(x * y + z * w)}, ops(1, 2, 0, 1)},
+      {{-x, -(x / y + z)}, ops(1, 0, 1, 1)},
+      // Two levels down: -(w·(x·y + z) + w) = w·((-x)·y - z) - w.
+      {{-x, -(w + (x * y + z) * w)}, ops(2, 2, 0, 1)},
+      // The sum, or the product in it, is read elsewhere: rewriting it would
+      // cost what the neg does.
+      {{-x, -(x * y + z), x * y + z}, ops(1, 1, 0, 2)},
+      {{-x, -(x * y + z), x * y}, ops(1, 1, 0, 2)},
+      // No operand's negation at hand: the neg stays.
+      {{-(x * y + z)}, ops(1, 1, 0, 1)},
+  };
+  const std::vector<double> point{0.7, -1.3, 2.1, 0.4};
+  Bindings<double> at;
+  for (std::size_t i = 0; i < in.size(); ++i) at[in[i]] = point[i];
+  for (const Case& c : cases) {
+    const Program p = compile_program(in, c.outputs);
+    INFO(to_string(p));
+    CHECK(p.operation_count() == c.count);
+    const auto out = run(p, point);
+    for (std::size_t k = 0; k < c.outputs.size(); ++k) CHECK(close(out[k], evaluate(c.outputs[k], at), 1e-15));
+  }
+}
+
+TEST_CASE("absorbed negations keep every value: random sums, their negations and negated operands", "[program]") {
+  for (unsigned seed = 0; seed < 300; ++seed) {
+    Context ctx;
+    Context::Scope scope(ctx);
+    std::vector<Expr> xs;
+    for (int i = 0; i < 5; ++i) xs.push_back(symbol(fmt::format("s{}", i)));
+    symdyn::testing::RandomExpr gen(seed, xs);
+    const std::vector<Expr> coefficients{Expr(1), Expr(-1), Expr(3), rational(-1, 2)};
+    auto operand = [&]() -> Expr {
+      const Expr a = xs[gen.pick(xs.size())];
+      const Expr b = xs[gen.pick(xs.size())];
+      switch (gen.pick(4)) {
+        case 0: return a * b;
+        case 1: return a / (b * b + 1);
+        case 2: return a - b;
+        default: return coefficients[gen.pick(coefficients.size())] * a;
+      }
+    };
+    std::vector<Expr> outputs;
+    for (int k = 0; k < 8; ++k) {
+      Expr sum = operand() + operand();
+      if (gen.pick(2) == 0) sum = sum * operand() + operand();
+      switch (gen.pick(4)) {
+        case 0: outputs.push_back(-xs[gen.pick(xs.size())]); break;
+        case 1: outputs.push_back(sin(-sum)); break;
+        case 2: outputs.push_back(sum); break;
+        default: outputs.push_back(-sum); break;
+      }
+    }
+    const Program program = compile_program(xs, outputs);
+    INFO("seed " << seed << "\n" << to_string(program));
+    const std::vector<double> point = gen.point();
+    Bindings<double> at;
+    Bindings<Complex> at_z;
+    std::vector<Complex> zpoint(point.begin(), point.end());
+    zpoint[seed % xs.size()] += Complex(0, 1e-20);
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      at[xs[i]] = point[i];
+      at_z[xs[i]] = zpoint[i];
+    }
+    const std::vector<double> got = run(program, point);
+    const std::vector<Complex> got_z = program.evaluate<Complex>(zpoint);
+    for (std::size_t k = 0; k < outputs.size(); ++k) {
+      INFO("output " << k << ": " << outputs[k]);
+      CHECK(close(got[k], evaluate(outputs[k], at), 1e-12));
+      CHECK(close(got_z[k].imag() * 1e20, evaluate(outputs[k], at_z).imag() * 1e20, 1e-11));
+    }
+    CHECK(to_string(compile_program(xs, outputs)) == to_string(program));
+    std::vector<Expr> reversed(outputs.rbegin(), outputs.rend());
+    CHECK(compile_program(xs, reversed).operation_count() == program.operation_count());
+  }
+}
+
+TEST_CASE("a negation is absorbed down a long chain of additions, up to a bound on its length", "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  std::vector<Expr> xs;
+  for (int i = 0; i < 400; ++i) xs.push_back(symbol(fmt::format("s{}", i)));
+  std::vector<double> point;
+  Bindings<double> at;
+  for (int i = 0; i < 400; ++i) {
+    point.push_back(0.01 * i - 1.5);
+    at[xs[i]] = point.back();
+  }
+  // -(s0 + s1 + ... + s(n-1)) with -s0 an output: (-s0) - s1 - ... as long
+  // as the chain down to s0 is followed (kMaxRewriteDepth, 256).
+  for (const auto& [n, negs] : {std::pair{100, 1}, std::pair{400, 2}}) {
+    const Expr sum = add(std::vector<Expr>(xs.begin(), xs.begin() + n));
+    const Program p = compile_program(xs, std::vector{-sum, -xs[0]});
+    CHECK(p.operation_count() == ops(n - 1, 0, 0, negs));
+    const auto out = run(p, point);
+    CHECK(close(out[0], evaluate(-sum, at), 1e-13));
+    CHECK(out[1] == -point[0]);
+  }
 }
 
 TEST_CASE("powers lower to multiplications, sqrt and pow", "[program]") {
