@@ -57,24 +57,42 @@ class CostCounter {
   CostCounter() : seen_(marks()), stamp_(++current_stamp()), stack_(scratch().stack), operands_(scratch().operands) {
     if (stamp_ == 0) {  // the stamps wrapped around: old marks could collide
       std::fill(seen_.begin(), seen_.end(), 0);
+      std::fill(scratch().sincos.begin(), scratch().sincos.end(), 0);
       stamp_ = ++current_stamp();
     }
   }
 
-  int total(std::span<const Expr> outputs) {
+  // fuse_sincos: sin(x) and cos(x) of one x count as one call.
+  int total(std::span<const Expr> outputs, bool fuse_sincos = false) {
     stack_.clear();
     for (Expr e : outputs) push(e);
     while (!stack_.empty()) {
       const Expr e = stack_.back();
       stack_.pop_back();
       operands_.clear();
-      total_ += own_cost(e, &operands_);
+      const int cost = own_cost(e, &operands_);
+      if (!fuse_sincos || !partner_counted(e)) total_ += cost;
       for (Expr a : operands_) push(a);
     }
     return total_;
   }
 
  private:
+  // Whether e is sin(x) or cos(x) and the other of the two is counted already
+  // (marks e's as counted). The marks are by x's id: sin in the low bit.
+  bool partner_counted(Expr e) {
+    if (e.kind() != Kind::Sin && e.kind() != Kind::Cos) return false;
+    const std::uint32_t x = e.arg(0).id();
+    std::vector<std::uint64_t>& marks = scratch().sincos;
+    if (x >= marks.size()) marks.resize(std::max<std::size_t>(x + 1, Context::current().size()), 0);
+    const std::uint64_t mine = e.kind() == Kind::Sin ? 1 : 2;
+    std::uint64_t& mark = marks[x];
+    if ((mark >> 2) != stamp_) mark = std::uint64_t{stamp_} << 2;
+    const bool partner = (mark & (3 - mine)) != 0;
+    mark |= mine;
+    return partner;
+  }
+
   // Queues a node unless it is already counted.
   void push(Expr e) {
     const std::uint32_t id = e.id();
@@ -97,6 +115,7 @@ class CostCounter {
   struct Scratch {
     std::vector<Expr> stack;
     std::vector<Expr> operands;
+    std::vector<std::uint64_t> sincos;  // by argument id: this count's stamp << 2 | cos << 1 | sin
   };
   static Scratch& scratch() {
     thread_local Scratch lists;
@@ -134,5 +153,24 @@ int power_multiplications(std::int64_t n) {
 int operation_cost(std::span<const Expr> outputs) { return CostCounter().total(outputs); }
 
 int operation_cost(Expr e) { return operation_cost(std::span<const Expr>(&e, 1)); }
+
+int fused_operation_cost(std::span<const Expr> outputs) { return CostCounter().total(outputs, true); }
+
+std::vector<Expr> cheaper_together(std::span<const Expr> original, std::vector<Expr> rewritten) {
+  const auto cost = [](std::span<const Expr> outputs) { return operation_cost(outputs); };
+  int best = cost(rewritten);
+  for (std::size_t i = 0; i < rewritten.size(); ++i) {
+    if (rewritten[i] == original[i]) continue;
+    std::vector<Expr> trial = rewritten;
+    trial[i] = original[i];
+    const int trial_cost = cost(trial);
+    if (trial_cost < best) {
+      rewritten = std::move(trial);
+      best = trial_cost;
+    }
+  }
+  if (cost(original) <= best) return {original.begin(), original.end()};
+  return rewritten;
+}
 
 }  // namespace symdyn::symbolic

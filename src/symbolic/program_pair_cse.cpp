@@ -61,7 +61,8 @@ bool differ_of(std::uint64_t key) { return (key & 1U) != 0; }
 
 class PairTable {
  public:
-  PairTable(Graph& graph, PairTies ties) : g_(graph), ties_(ties), index_(4096) {}
+  // `pairs`: how many the holders have at first (the index grows past it as pairs are extracted).
+  PairTable(Graph& graph, PairTies ties, std::size_t pairs) : g_(graph), ties_(ties), index_(pairs) {}
 
   // Counts the pairs of a holder. Before rank(); holders in increasing order.
   void add_holder(std::uint32_t node) {
@@ -305,12 +306,18 @@ void extract_common_pairs(Graph& graph, PairTies ties) {
     throw UsageError(fmt::format("pair CSE: {} program nodes, more than the pair keys can hold", graph.nodes.size()));
   }
   const std::vector<bool> live = graph.live();
-  PairTable table(graph, ties);
+  std::vector<std::uint32_t> holders;
+  std::size_t pairs = 0;
   for (std::uint32_t id = 0; id < live.size(); ++id) {
     const Node& node = graph.nodes[id];
     const bool nary = node.op == Op::Sum || node.op == Op::Prod;
-    if (live[id] && nary && node.terms.size() <= kMaxPairOperands) table.add_holder(id);
+    if (!live[id] || !nary || node.terms.size() > kMaxPairOperands) continue;
+    holders.push_back(id);
+    pairs += node.terms.size() * (node.terms.size() - 1) / 2;
   }
+  // Sized to the program: a small one's table is cleared in no time.
+  PairTable table(graph, ties, pairs);
+  for (std::uint32_t id : holders) table.add_holder(id);
   table.rank();
   while (table.extract_best()) {
   }

@@ -55,10 +55,14 @@ class TrigPolynomialForm {
 };
 
 // Each output, and each definition's value, replaced by its normal form
-// (with definitions seen through) where that is cheaper than
-// the expression as written with the definitions it uses counted as free:
-// so the total cost of outputs and definitions never grows. Outputs and
-// definitions that do not hold sin or cos are kept as they are.
+// (with definitions seen through) where that is cheaper than the expression
+// as written, the definitions and calls it uses counted as free (a call it
+// adds is the sin of a cos it has, or the cos of a sin: one sincos in the
+// emitted code). Each value is weighed alone, not the sharing between them:
+// a reduced value can share less with the others than it did (a few
+// operations, rarely), which the programs compiled from them show (the
+// generator compares those). Outputs and definitions that do not hold sin
+// or cos are kept as they are.
 struct PythagoreanReduction {
   std::vector<Expr> outputs;
   std::vector<Definition> definitions;
