@@ -31,6 +31,27 @@ bool close(T a, T b, T tol) {
 
 std::vector<double> run(const Program& p, std::vector<double> in) { return p.evaluate<double>(in); }
 
+// The program's values at `point` against the DAG's, and its derivative in
+// input `step` by complex step against the DAG's.
+void check_values(const Program& program, const std::vector<Expr>& xs, const std::vector<Expr>& outputs,
+                  const std::vector<double>& point, std::size_t step) {
+  Bindings<double> at;
+  Bindings<Complex> at_z;
+  std::vector<Complex> zpoint(point.begin(), point.end());
+  zpoint[step] += Complex(0, 1e-20);
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    at[xs[i]] = point[i];
+    at_z[xs[i]] = zpoint[i];
+  }
+  const std::vector<double> got = run(program, point);
+  const std::vector<Complex> got_z = program.evaluate<Complex>(zpoint);
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    INFO("output " << k << ": " << outputs[k]);
+    CHECK(close(got[k], evaluate(outputs[k], at), 1e-12));
+    CHECK(close(got_z[k].imag() * 1e20, evaluate(outputs[k], at_z).imag() * 1e20, 1e-11));
+  }
+}
+
 int count_opcode(const Program& p, Opcode op) {
   const auto code = p.instructions();
   return static_cast<int>(std::count_if(code.begin(), code.end(), [op](const Instruction& i) { return i.op == op; }));
@@ -145,21 +166,7 @@ TEST_CASE("program equals DAG evaluation on wide sums and products with shared p
     const Program program = compile_program(xs, outputs);
     const std::vector<double> point = gen.point();
     INFO("seed " << seed << "\n" << to_string(program));
-    Bindings<double> at;
-    Bindings<Complex> at_z;
-    std::vector<Complex> zpoint(point.begin(), point.end());
-    zpoint[seed % xs.size()] += Complex(0, 1e-20);
-    for (std::size_t i = 0; i < xs.size(); ++i) {
-      at[xs[i]] = point[i];
-      at_z[xs[i]] = zpoint[i];
-    }
-    const std::vector<double> got = run(program, point);
-    const std::vector<Complex> got_z = program.evaluate<Complex>(zpoint);
-    for (std::size_t k = 0; k < outputs.size(); ++k) {
-      INFO("output " << k << ": " << outputs[k]);
-      CHECK(close(got[k], evaluate(outputs[k], at), 1e-12));
-      CHECK(close(got_z[k].imag() * 1e20, evaluate(outputs[k], at_z).imag() * 1e20, 1e-11));
-    }
+    check_values(program, xs, outputs, point, seed % xs.size());
     std::vector<Expr> rotated(outputs.begin() + 2, outputs.end());
     rotated.insert(rotated.end(), outputs.begin(), outputs.begin() + 2);
     CHECK(compile_program(xs, rotated).operation_count() == program.operation_count());
@@ -400,21 +407,7 @@ TEST_CASE("absorbed negations keep every value: random sums, their negations and
     const Program program = compile_program(xs, outputs);
     INFO("seed " << seed << "\n" << to_string(program));
     const std::vector<double> point = gen.point();
-    Bindings<double> at;
-    Bindings<Complex> at_z;
-    std::vector<Complex> zpoint(point.begin(), point.end());
-    zpoint[seed % xs.size()] += Complex(0, 1e-20);
-    for (std::size_t i = 0; i < xs.size(); ++i) {
-      at[xs[i]] = point[i];
-      at_z[xs[i]] = zpoint[i];
-    }
-    const std::vector<double> got = run(program, point);
-    const std::vector<Complex> got_z = program.evaluate<Complex>(zpoint);
-    for (std::size_t k = 0; k < outputs.size(); ++k) {
-      INFO("output " << k << ": " << outputs[k]);
-      CHECK(close(got[k], evaluate(outputs[k], at), 1e-12));
-      CHECK(close(got_z[k].imag() * 1e20, evaluate(outputs[k], at_z).imag() * 1e20, 1e-11));
-    }
+    check_values(program, xs, outputs, point, seed % xs.size());
     CHECK(to_string(compile_program(xs, outputs)) == to_string(program));
     std::vector<Expr> reversed(outputs.rbegin(), outputs.rend());
     CHECK(compile_program(xs, reversed).operation_count() == program.operation_count());
