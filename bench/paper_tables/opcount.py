@@ -43,14 +43,20 @@ def integer_power_muls(n):
 
 
 class Counter:
-    """Operations of trees, by kind, with the arguments of sin and cos kept for fusing."""
+    """Operations of trees, by kind, with the arguments of sin and cos kept for fusing.
+    shared: each distinct subtree (in or out of a sum) counted once (trees are hashable tuples)."""
 
-    def __init__(self):
+    def __init__(self, shared=False):
         self.kinds = collections.Counter()
         self.sin_args = collections.Counter()
         self.cos_args = collections.Counter()
+        self.seen = set() if shared else None
 
     def add(self, tree, in_sum=False):
+        if self.seen is not None:
+            if (tree, in_sum) in self.seen:
+                return
+            self.seen.add((tree, in_sum))
         kind = tree[0]
         if kind in ("num", "sym"):
             return
@@ -110,8 +116,8 @@ class Counter:
         return {"apart": apart, "fused": apart - pairs, "sincos_pairs": pairs, "by_kind": dict(sorted(self.kinds.items()))}
 
 
-def count(trees):
-    c = Counter()
+def count(trees, shared=False):
+    c = Counter(shared)
     for t in trees:
         c.add(t)
     return c.result()
@@ -119,51 +125,7 @@ def count(trees):
 
 def count_shared(trees):
     """Each distinct subtree counted once (trees are hashable tuples)."""
-    c = Counter()
-    seen = set()
-
-    def visit(tree, in_sum=False):
-        key = (tree, in_sum)
-        if key in seen:
-            return
-        seen.add(key)
-        kind = tree[0]
-        # Count this node alone, then its children once each.
-        if kind in ("num", "sym"):
-            return
-        if kind == "neg":
-            if not in_sum:
-                c.kinds["neg"] += 1
-            visit(tree[1])
-        elif kind == "add":
-            c.kinds["add"] += len(tree[1]) - 1
-            if all(sign < 0 for sign, _ in tree[1]):
-                c.kinds["neg"] += 1
-            for _, t in tree[1]:
-                visit(t, True)
-        elif kind == "mul":
-            shell = Counter()
-            shell.add(("mul", tree[1], [("sym", "_")] * len(tree[2]), [("sym", "_")] * len(tree[3])), in_sum)
-            c.kinds.update(shell.kinds)
-            for f in tree[2] + tree[3]:
-                visit(f)
-        elif kind == "pow":
-            shell = Counter()
-            shell.add(("pow", ("sym", "_"), tree[2]))
-            c.kinds.update(shell.kinds)
-            visit(tree[1])
-        elif kind == "call":
-            c.kinds[tree[1]] += 1
-            if tree[1] == "sin":
-                c.sin_args[tree[2][0]] += 1
-            elif tree[1] == "cos":
-                c.cos_args[tree[2][0]] += 1
-            for a in tree[2]:
-                visit(a)
-
-    for t in trees:
-        visit(t)
-    return c.result()
+    return count(trees, shared=True)
 
 
 # --- infix text (Giac's output) into trees -----------------------------------

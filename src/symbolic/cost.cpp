@@ -156,21 +156,4 @@ int operation_cost(Expr e) { return operation_cost(std::span<const Expr>(&e, 1))
 
 int fused_operation_cost(std::span<const Expr> outputs) { return CostCounter().total(outputs, true); }
 
-std::vector<Expr> cheaper_together(std::span<const Expr> original, std::vector<Expr> rewritten) {
-  const auto cost = [](std::span<const Expr> outputs) { return operation_cost(outputs); };
-  int best = cost(rewritten);
-  for (std::size_t i = 0; i < rewritten.size(); ++i) {
-    if (rewritten[i] == original[i]) continue;
-    std::vector<Expr> trial = rewritten;
-    trial[i] = original[i];
-    const int trial_cost = cost(trial);
-    if (trial_cost < best) {
-      rewritten = std::move(trial);
-      best = trial_cost;
-    }
-  }
-  if (cost(original) <= best) return {original.begin(), original.end()};
-  return rewritten;
-}
-
 }  // namespace symdyn::symbolic

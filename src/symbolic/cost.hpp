@@ -38,11 +38,6 @@ int operation_cost(Expr e);
 // the emitted code computes them (a sincos).
 int fused_operation_cost(std::span<const Expr> outputs);
 
-// Rewritten outputs, each cheaper than its original alone, may share less
-// together: each original that lowers the total operation_cost is put back
-// (in order), and the originals are returned if they still cost no more.
-std::vector<Expr> cheaper_together(std::span<const Expr> original, std::vector<Expr> rewritten);
-
 // The cost of the node e alone, and the nodes it needs computed: its
 // operands, except that a reciprocal factor y^-n of a product needs y.
 int own_cost(Expr e, std::vector<Expr>* operands);

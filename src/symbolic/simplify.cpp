@@ -120,7 +120,19 @@ std::vector<Expr> Simplifier::operator()(std::span<const Expr> outputs) {
   std::vector<Expr> out;
   out.reserve(outputs.size());
   for (Expr e : outputs) out.push_back((*this)(e));
-  return cheaper_together(outputs, std::move(out));
+  int best = operation_cost(out);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (out[i] == outputs[i]) continue;
+    std::vector<Expr> trial = out;
+    trial[i] = outputs[i];
+    const int cost = operation_cost(trial);
+    if (cost < best) {
+      out = std::move(trial);
+      best = cost;
+    }
+  }
+  if (operation_cost(outputs) <= best) return {outputs.begin(), outputs.end()};
+  return out;
 }
 
 // One bottom-up pass: operands first, then the cheapest candidate at the node.
