@@ -106,6 +106,11 @@ constexpr const char* kDynamicsEntryPoints[] = {"mass_matrix",         "bias_for
                                                 "dynamics_positions",  "dynamics_velocities", "inverse_dynamics",
                                                 "forward_dynamics_pivots", "forward_dynamics"};
 
+// The entry points computed from each body's motion relative to its reference
+// alone: when only these are emitted, no absolute motion is composed.
+constexpr const char* kRelativeEntryPoints[] = {"inertia", "relative_accelerations", "relative_partial_velocities",
+                                                "relative_accelerations_partials", "dependent_parameters"};
+
 // Hand-written bodies call another entry point, emitted with them.
 constexpr std::pair<const char*, const char*> kBodyCalls[] = {{"forward_dynamics", "forward_dynamics_pivots"},
                                                               {"partial_velocities", "velocities"}};
@@ -177,11 +182,13 @@ class Emitter {
     }
     code.source += domain_arguments_text();
     // The guard's name depends on everything emitted, so it is computed last.
-    const std::string unique = fmt::format("symdyn_model_{}_{:016x}", struct_name_,
-                                           fnv1a(code.source + emit_header(code.functions, {})));
+    const std::string header = emit_header(code.functions);
+    const std::string closing = fmt::format("}}  // namespace {}\n", options_.name_space);
+    const std::string unique =
+        fmt::format("symdyn_model_{}_{:016x}", struct_name_, fnv1a(code.source + header + closing));
     code.source += link_guard_definitions(unique);
-    code.source += fmt::format("\n}}  // namespace {}\n", options_.name_space);
-    code.header = emit_header(code.functions, link_guard_reference(unique));
+    code.source += '\n' + closing;
+    code.header = header + link_guard_reference(unique) + closing;
     return code;
   }
 
@@ -214,6 +221,7 @@ class Emitter {
       };
     }
     derive.symbolic_partials = options_.symbolic_partials;
+    derive.relative_only = !wants_absolute_motion();
     const model::Kinematics k = model::derive_kinematics(model_, derive);
     definitions_.clear();
     define_dependents(k);
@@ -617,6 +625,15 @@ class Emitter {
                        [&](const char* name) { return selected(name); });
   }
 
+  bool wants_absolute_motion() const {
+    const auto relative = [](const std::string& name) {
+      return std::find(std::begin(kRelativeEntryPoints), std::end(kRelativeEntryPoints), name) !=
+             std::end(kRelativeEntryPoints);
+    };
+    const auto& wanted = options_.entry_points;
+    return wanted.empty() || !std::all_of(wanted.begin(), wanted.end(), relative);
+  }
+
   // Options::entry_points, with what their hand-written bodies call.
   void select_entry_points(std::vector<EntryPoint>& entries) const {
     if (options_.entry_points.empty()) return;
@@ -774,7 +791,8 @@ class Emitter {
                        struct_name_, what, unique);
   }
 
-  std::string emit_header(const std::vector<EmittedFunction>& stats, const std::string& link_guard) const {
+  // The header up to its link guard, which closes its namespace.
+  std::string emit_header(const std::vector<EmittedFunction>& stats) const {
     const auto& coords = model_.coordinates();
     std::vector<std::string> q_names, body_names, param_names;
     std::vector<double> q0, qd0, param_defaults, gravity;
@@ -841,9 +859,7 @@ class Emitter {
         "  static constexpr int reference_body[{nbody}] = {{{refs}}};\n\n"
         "{declarations}"
         "{diagnostics}"
-        "}};\n\n"
-        "{link_guard}"
-        "}}  // namespace {ns}\n",
+        "}};\n\n",
         fmt::arg("model", model_.name()), fmt::arg("variant", variant_), fmt::arg("simplify", options_.simplify),
         fmt::arg("partials", options_.symbolic_partials ? "symbolic" : "numeric"),
         fmt::arg("eom_option", options_.equations_of_motion), fmt::arg("only", only), fmt::arg("eom", eom),
@@ -857,7 +873,7 @@ class Emitter {
         fmt::arg("param_defaults", array_literal(param_defaults)), fmt::arg("q0", array_literal(q0)),
         fmt::arg("qd0", array_literal(qd0)), fmt::arg("gravity", array_literal(gravity)),
         fmt::arg("refs", fmt::join(references, ", ")), fmt::arg("declarations", declarations),
-        fmt::arg("link_guard", link_guard), fmt::arg("diagnostics", diagnostics_declarations()));
+        fmt::arg("diagnostics", diagnostics_declarations()));
   }
 
   // Cold diagnostics (docs/emitted_interface.md): the runtime calls

@@ -39,10 +39,13 @@ class Deriver {
     const std::vector<bool> is_reference = model_.referenced();
     for (int i : model_.topological_order()) {
       BodyKinematics& b = k.bodies[i];
-      b = refs[i] < 0 ? absolute(derive_local(model_.bodies()[i].motion()))
-                      : compose(k.bodies[refs[i]], derive_local(model_.bodies()[i].motion()));
-      if (options_.symbolic_partials) add_partials(k.dependents, refs[i] < 0 ? nullptr : &k.bodies[refs[i]], b);
-      if (is_reference[i]) name_quantities(model_.bodies()[i].name(), b);
+      b.relative = derive_local(model_.bodies()[i].motion());
+      const bool composed = refs[i] >= 0 && !options_.relative_only;
+      if (composed) compose(k.bodies[refs[i]], b);
+      if (options_.symbolic_partials) add_local_partials(k.dependents, b.relative);
+      if (composed && options_.symbolic_partials) compose_partials(k.bodies[refs[i]], b);
+      if (refs[i] < 0) static_cast<Motion&>(b) = b.relative;
+      if (is_reference[i] && !options_.relative_only) name_quantities(model_.bodies()[i].name(), b);
     }
     k.intermediates = names_.take_definitions();
     return k;
@@ -92,17 +95,9 @@ class Deriver {
     return k;
   }
 
-  static BodyKinematics absolute(const Motion& l) {
-    BodyKinematics b;
-    static_cast<Motion&>(b) = l;
-    b.relative = l;
-    return b;
-  }
-
-  // Composition with the reference body B (docs/design.md).
-  static BodyKinematics compose(const BodyKinematics& B, const Motion& l) {
-    BodyKinematics b;
-    b.relative = l;
+  // Composition of b.relative with the reference body B (docs/design.md).
+  static void compose(const BodyKinematics& B, BodyKinematics& b) {
+    const Motion& l = b.relative;
     const Vec3 r = B.R * l.x;
     const Vec3 v_rel = B.R * l.v;
     const Vec3 w_rel = B.R * l.w;
@@ -112,41 +107,38 @@ class Deriver {
     b.v = B.v + cross(B.w, r) + v_rel;
     b.a = B.a + cross(B.dw, r) + cross(B.w, cross(B.w, r)) + Expr(2) * cross(B.w, v_rel) + B.R * l.a;
     b.dw = B.dw + cross(B.w, w_rel) + B.R * l.dw;
-    return b;
   }
 
-  // Partial velocities of the local motion (simplified: they are short), then
-  // composed with the reference's like the velocities themselves, since r does
-  // not depend on qd:
-  //   dv/dqd_j = dv_B/dqd_j + dw_B/dqd_j × r + R_B·dv_rel/dqd_j,
-  //   dw/dqd_j = dw_B/dqd_j + R_B·dw_rel/dqd_j.
-  // Differentiating the composed velocities instead would hand the simplifier
-  // the whole chain above the body, whose expansion costs time and operations.
+  // Partial velocities of the local motion (simplified: they are short).
   // A local partial is total: dv_rel/dqd_j = ∂v_rel/∂qd_j + Σ_k ∂v_rel/∂pd_k · dp_k/dq_j.
-  void add_partials(const std::vector<DependentKinematics>& dependents, const BodyKinematics* B, BodyKinematics& b) {
-    Motion& l = b.relative;
-    const Vec3 r = B != nullptr ? B->R * l.x : zero3();
-    // Most of a body's partials are zero (the coordinates that do not move it):
-    // products by them are skipped, not built.
-    const auto turned = [&](const Vec3& v) { return is_zero(v) ? v : B->R * v; };
+  void add_local_partials(const std::vector<DependentKinematics>& dependents, Motion& l) {
     for (std::size_t j = 0; j < by_qd_.size(); ++j) {
       auto partial = [&](Expr e) {
         Expr total = by_qd_[j](e);
         for (std::size_t m = 0; m < by_pd_.size(); ++m) total += by_pd_[m](e) * dependents[m].jacobian_symbols[j];
         return simplify(total);
       };
-      const Vec3 dv_rel{partial(l.v[0]), partial(l.v[1]), partial(l.v[2])};
-      const Vec3 dw_rel{partial(l.w[0]), partial(l.w[1]), partial(l.w[2])};
-      l.dv_dqd.push_back(dv_rel);
-      l.dw_dqd.push_back(dw_rel);
-      if (B == nullptr) {
-        b.dv_dqd.push_back(dv_rel);
-        b.dw_dqd.push_back(dw_rel);
-      } else {
-        const Vec3 carried = is_zero(B->dw_dqd[j]) ? zero3() : cross(B->dw_dqd[j], r);
-        b.dv_dqd.push_back(B->dv_dqd[j] + carried + turned(dv_rel));
-        b.dw_dqd.push_back(B->dw_dqd[j] + turned(dw_rel));
-      }
+      l.dv_dqd.push_back({partial(l.v[0]), partial(l.v[1]), partial(l.v[2])});
+      l.dw_dqd.push_back({partial(l.w[0]), partial(l.w[1]), partial(l.w[2])});
+    }
+  }
+
+  // The local partials composed with the reference's like the velocities
+  // themselves, since r does not depend on qd:
+  //   dv/dqd_j = dv_B/dqd_j + dw_B/dqd_j × r + R_B·dv_rel/dqd_j,
+  //   dw/dqd_j = dw_B/dqd_j + R_B·dw_rel/dqd_j.
+  // Differentiating the composed velocities instead would hand the simplifier
+  // the whole chain above the body, whose expansion costs time and operations.
+  static void compose_partials(const BodyKinematics& B, BodyKinematics& b) {
+    const Motion& l = b.relative;
+    const Vec3 r = B.R * l.x;
+    // Most of a body's partials are zero (the coordinates that do not move it):
+    // products by them are skipped, not built.
+    const auto turned = [&](const Vec3& v) { return is_zero(v) ? v : B.R * v; };
+    for (std::size_t j = 0; j < l.dv_dqd.size(); ++j) {
+      const Vec3 carried = is_zero(B.dw_dqd[j]) ? zero3() : cross(B.dw_dqd[j], r);
+      b.dv_dqd.push_back(B.dv_dqd[j] + carried + turned(l.dv_dqd[j]));
+      b.dw_dqd.push_back(B.dw_dqd[j] + turned(l.dw_dqd[j]));
     }
   }
 

@@ -69,6 +69,10 @@ using SimplifyFunction = std::function<Expr(Expr)>;
 struct DeriveOptions {
   SimplifyFunction simplify;      // empty: no simplification
   bool symbolic_partials = false;
+  // Only what CAGeM derived: each body's motion relative to its reference
+  // (BodyKinematics::relative). The absolute motion of a body relative to
+  // another is not composed: it stays zero, without partials or intermediates.
+  bool relative_only = false;
 };
 
 // Validates the model, then derives. Throws ModelError on an invalid model.

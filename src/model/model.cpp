@@ -373,22 +373,24 @@ void Model::validate_initial_configuration() const {
   values.emplace(time_, 0.0);
   for (const Parameter& p : parameters_) values.emplace(p.symbol, p.value);
   for (const Coordinate& c : coordinates_) values.emplace(c.q, c.initial);
-  const auto check = [&](Expr e, symbolic::Evaluator<double>& evaluate, const std::string& where) {
+  // `owner` and `name` say where e is, formatted only for an error.
+  const auto check = [&](Expr e, symbolic::Evaluator<double>& evaluate, const char* owner, const std::string& name,
+                         const char* what) {
     if (const auto operation = undefined_operation(e, evaluate)) {
-      throw ModelError(fmt::format("{}: {} is not defined at the initial configuration (t = 0, coordinates at "
-                                   "their initial values)", where, *operation));
+      throw ModelError(fmt::format("{} '{}'{}: {} is not defined at the initial configuration (t = 0, coordinates "
+                                   "at their initial values)", owner, name, what, *operation));
     }
   };
   for (const Dependent& d : dependents_) {
     symbolic::Evaluator<double> evaluate(values);
-    check(d.expression, evaluate, fmt::format("dependent parameter '{}'", d.symbol.name()));
+    check(d.expression, evaluate, "dependent parameter", d.symbol.name(), "");
     values.emplace(d.symbol, evaluate(d.expression));
   }
   symbolic::Evaluator<double> evaluate(values);
   for (const Body& b : bodies_) {
     for (const Transform::Step& s : b.motion().steps()) {
-      for (Expr e : s.displacement) check(e, evaluate, fmt::format("body '{}' motion", b.name()));
-      check(s.angle, evaluate, fmt::format("body '{}' motion", b.name()));
+      for (Expr e : s.displacement) check(e, evaluate, "body", b.name(), " motion");
+      check(s.angle, evaluate, "body", b.name(), " motion");
     }
   }
 }

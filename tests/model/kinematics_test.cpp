@@ -109,3 +109,31 @@ TEST_CASE("the angular velocity of the double pendulum's second rod is qd0 + qd1
     CHECK(k.bodies[1].w[2] == qd0 + qd1);
   }
 }
+
+// relative_only: each body's relative motion as in the whole derivation (the
+// same interned expressions), and nothing composed.
+TEST_CASE("relative_only derives the relative motions alone", "[kinematics]") {
+  const auto same = [](const model::Motion& a, const model::Motion& b) {
+    return a.R == b.R && a.x == b.x && a.v == b.v && a.w == b.w && a.a == b.a && a.dw == b.dw &&
+           a.dv_dqd == b.dv_dqd && a.dw_dqd == b.dw_dqd;
+  };
+  for (const Case& c : all_cases()) {
+    const model::Model m = model::find_definition(c.model).make(c.variant);
+    model::DeriveOptions options;
+    static symbolic::Simplifier simplifier;
+    if (c.simplify) options.simplify = [](Expr e) { return simplifier(e); };
+    options.symbolic_partials = true;
+    const model::Kinematics whole = model::derive_kinematics(m, options);
+    options.relative_only = true;
+    const model::Kinematics relative = model::derive_kinematics(m, options);
+    INFO(c.model << " " << c.variant << " simplify=" << c.simplify);
+    CHECK(relative.intermediates.empty());
+    const std::vector<int> refs = m.reference_indices();
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+      INFO("body " << m.bodies()[i].name());
+      CHECK(same(relative.bodies[i].relative, whole.bodies[i].relative));
+      const model::Motion& absolute = relative.bodies[i];
+      CHECK(same(absolute, refs[i] < 0 ? relative.bodies[i].relative : model::Motion{}));
+    }
+  }
+}
