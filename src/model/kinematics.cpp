@@ -86,10 +86,13 @@ class Deriver {
 
   Motion derive_local(const Transform& T) const {
     Motion k;
-    k.R = simplify(T.rotation());
-    k.x = simplify(T.translation());
+    const Transform::Pose pose = T.pose();
+    k.R = simplify(pose.R);
+    k.x = simplify(pose.x);
     k.v = simplify(d_dt(k.x));
-    k.w = simplify(T.angular_velocity([this](Expr angle) { return (*d_dt_)(angle); }));
+    Vec3 w = zero3();
+    for (const auto& [axis, angle] : pose.axes) w = w + (*d_dt_)(angle) * axis;
+    k.w = simplify(w);
     k.a = simplify(d_dt(k.v));
     k.dw = simplify(d_dt(k.w));
     return k;

@@ -60,26 +60,18 @@ Mat3 Transform::rotation_matrix(const Vec3& k, Expr angle) {
           v * k[2] * k[0] - s * k[1], v * k[2] * k[1] + s * k[0], c + v * k[2] * k[2]};
 }
 
-Mat3 Transform::rotation() const {
-  Mat3 R = identity3();
-  for (const Step& s : steps_) {
-    if (s.is_rotation) R = R * rotation_matrix(s.axis, s.angle);
-  }
-  return R;
-}
-
-// x = Σ (rotation before step)·displacement
-Vec3 Transform::translation() const {
-  Mat3 R = identity3();
-  Vec3 x = zero3();
+// x = Σ (rotation before step)·displacement, in one pass with R.
+Transform::Pose Transform::pose() const {
+  Pose p{identity3(), zero3(), {}};
   for (const Step& s : steps_) {
     if (s.is_rotation) {
-      R = R * rotation_matrix(s.axis, s.angle);
+      p.axes.emplace_back(p.R * s.axis, s.angle);
+      p.R = p.R * rotation_matrix(s.axis, s.angle);
     } else {
-      x = x + R * s.displacement;
+      p.x = p.x + p.R * s.displacement;
     }
   }
-  return x;
+  return p;
 }
 
 Transform Tdisp(Expr x, Expr y, Expr z) {

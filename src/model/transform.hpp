@@ -10,6 +10,7 @@
 // 4x4 matrix, because the angular velocity is exact and short when composed
 // from them: w = Σ_k R_(before k)·axis_k·d(angle_k)/dt.
 
+#include <utility>
 #include <vector>
 
 #include <symdyn/model/vector3.hpp>
@@ -40,22 +41,15 @@ class Transform {
   // The steps after the first n: this = (first n steps)·after(n).
   Transform after(std::size_t n) const;
 
-  Mat3 rotation() const;     // R
-  Vec3 translation() const;  // x
-
-  // Angular velocity in the frame the transformation starts from, given the
-  // time derivative of each step's angle.
-  template <class TimeDerivative>
-  Vec3 angular_velocity(TimeDerivative&& d_dt) const {
-    Mat3 R = identity3();
-    Vec3 w = zero3();
-    for (const Step& s : steps_) {
-      if (!s.is_rotation) continue;
-      w = w + d_dt(s.angle) * (R * s.axis);
-      R = R * rotation_matrix(s.axis, s.angle);
-    }
-    return w;
-  }
+  // R and x of the product, and each rotation's axis in the frame the
+  // product starts from, with its angle: the angular velocity is
+  // w = Σ d(angle)/dt · axis, exact and short.
+  struct Pose {
+    Mat3 R;
+    Vec3 x;
+    std::vector<std::pair<Vec3, Expr>> axes;
+  };
+  Pose pose() const;
 
   static Mat3 rotation_matrix(const Vec3& axis, Expr angle);
 
