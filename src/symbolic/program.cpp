@@ -397,13 +397,11 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
       }
     }
   }
-  ir::Graph by_key = ir::lower(inputs, outputs, definitions);
-  ir::fold_reciprocals(by_key);
-  ir::Graph existing_first = by_key;
-  ir::extract_common_pairs(by_key, ir::PairTies::ByKey);
-  ir::extract_common_pairs(existing_first, ir::PairTies::ExistingFirst);
-  Scheduled chosen = schedule(by_key);
-  if (existing_first.nodes != by_key.nodes) {  // the ties changed something
+  ir::Graph existing_first = ir::lower(inputs, outputs, definitions);
+  ir::fold_reciprocals(existing_first);
+  const std::optional<ir::Graph> by_key = ir::extract_common_pairs_both(existing_first);
+  Scheduled chosen = schedule(by_key ? *by_key : existing_first);
+  if (by_key) {  // the ties changed something
     Scheduled other = schedule(existing_first);
     auto longer = [&](const auto& group) { return operations(other, group) > operations(chosen, group); };
     auto shorter = [&](const auto& group) { return operations(other, group) < operations(chosen, group); };
