@@ -7,7 +7,6 @@
 #include <limits>
 #include <numeric>
 #include <unordered_map>
-#include <unordered_set>
 
 #include <symdyn/symbolic/cost.hpp>
 #include <symdyn/symbolic/small_vector.hpp>
@@ -91,8 +90,14 @@ struct TrigPolynomialForm::Impl {
   std::unordered_map<Expr, Expr> definitions;
   std::vector<Atom> atoms;
   std::unordered_map<Expr, std::uint32_t> atom_index;
-  std::unordered_map<std::uint32_t, Poly> memo;  // by node id
-  std::unordered_set<std::uint32_t> too_big;     // nodes kept as atoms for their size
+  // By node id: each node's polynomial once found, and whether it was kept
+  // as an atom for its size.
+  struct Memo {
+    Poly poly;
+    bool too_big = false;
+  };
+  std::vector<Memo> memo;
+  Poly one;  // the constant 1
   Terms scratch;                                 // product()'s terms before finish()
   std::vector<std::uint32_t> order;              // finish()'s
 
@@ -207,11 +212,16 @@ struct TrigPolynomialForm::Impl {
   }
 
   Poly sum(std::span<const Expr> terms) {
-    Terms out;
+    std::vector<Poly> polys;
+    polys.reserve(terms.size());
+    std::size_t n = 0;
     for (Expr t : terms) {
-      const Poly p = of(t);
-      out.insert(out.end(), p->begin(), p->end());
+      polys.push_back(of(t));
+      n += polys.back()->size();
     }
+    Terms out;
+    out.reserve(n);
+    for (const Poly& p : polys) out.insert(out.end(), p->begin(), p->end());
     Poly p = finish(out);
     return p->size() > max_terms ? nullptr : p;
   }
@@ -225,11 +235,12 @@ struct TrigPolynomialForm::Impl {
         if (it == definitions.end()) return of_atom(e);
         // A value too big to expand stays behind its symbol.
         Poly value = of(it->second);
-        return value->size() <= max_terms / 4 && !too_big.contains(it->second.id()) ? value : of_atom(e);
+        return value->size() <= max_terms / 4 && !memo[it->second.id()].too_big ? value : of_atom(e);
       }
       case Kind::Add: return sum(e.args());
       case Kind::Mul: {
-        Poly p = constant(Number(1));
+        if (!one) one = constant(Number(1));
+        Poly p = one;
         for (Expr f : e.args()) {
           if (!(p = product(p, of(f)))) return nullptr;
         }
@@ -249,13 +260,13 @@ struct TrigPolynomialForm::Impl {
 
   // e's polynomial; e itself as an atom when that would be too big.
   Poly of(Expr e) {
-    if (auto it = memo.find(e.id()); it != memo.end()) return it->second;
+    if (e.id() < memo.size() && memo[e.id()].poly) return memo[e.id()].poly;
     Poly p = compute(e);
-    if (!p) {
-      p = of_atom(e);
-      too_big.insert(e.id());
-    }
-    memo.emplace(e.id(), p);
+    const bool too_big = !p;
+    if (too_big) p = of_atom(e);
+    // Grown after compute(), which may make nodes (atom() makes cos x for sin x).
+    if (e.id() >= memo.size()) memo.resize(std::max<std::size_t>(e.id() + 1, Context::current().size()));
+    memo[e.id()] = {p, too_big};
     return p;
   }
 
