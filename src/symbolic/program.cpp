@@ -75,7 +75,9 @@ Opcode call_opcode(Kind kind) {
 // (opcode, operands, payload). Instruction k defines slot k.
 class Scheduler {
  public:
-  explicit Scheduler(const ir::Graph& graph) : g_(graph), resolved_(graph.nodes.size()) {}
+  explicit Scheduler(const ir::Graph& graph) : g_(graph), resolved_(graph.nodes.size()) {
+    code_.reserve(2 * graph.nodes.size());  // binarized n-ary nodes make more instructions than nodes
+  }
 
   // The slots of the outputs, in order, except that negated products and
   // sums come last: the negations made before them (-(c·x) = (-c)·x among
@@ -256,7 +258,7 @@ class Scheduler {
 // `code` defines slot k at instruction k; `outputs` are slots of it.
 std::vector<Instruction> finalize(const std::vector<Instruction>& code, std::vector<std::uint32_t>& outputs,
                                   std::uint32_t* slot_count) {
-  std::vector<bool> needed(code.size(), false);
+  std::vector<char> needed(code.size(), 0);  // bytes: read and set much faster than bits
   for (std::uint32_t s : outputs) needed[s] = true;
   for (std::size_t k = code.size(); k-- > 0;) {
     if (!needed[k]) continue;
@@ -366,7 +368,7 @@ Scheduled schedule(const ir::Graph& graph) {
 // The operations that computing some of the outputs executes (what
 // Program::subprogram(outputs, ...).operation_count().total() counts).
 int operations(const Scheduled& s, std::span<const std::size_t> outputs) {
-  std::vector<bool> needed(s.slot_count, false);
+  std::vector<char> needed(s.slot_count, 0);
   for (std::size_t o : outputs) needed[s.outputs[o]] = true;
   int count = 0;
   for (std::size_t k = s.code.size(); k-- > 0;) {
@@ -433,7 +435,7 @@ Program Program::subprogram(std::span<const std::size_t> outputs, std::span<cons
     if (inputs[i] >= input_count_) throw UsageError(fmt::format("subprogram: no input {}", inputs[i]));
     input_index[inputs[i]] = static_cast<std::uint32_t>(i);
   }
-  std::vector<bool> needed(slot_count_, false);
+  std::vector<char> needed(slot_count_, 0);  // bytes: read and set much faster than bits
   for (std::size_t o : outputs) {
     if (o >= outputs_.size()) throw UsageError(fmt::format("subprogram: no output {}", o));
     needed[outputs_[o]] = true;

@@ -74,8 +74,8 @@ std::uint32_t Graph::materialize(Term value) {
   return intern(Node::of(Op::Neg, {{value.id, false}}));
 }
 
-std::vector<bool> Graph::live() const {
-  std::vector<bool> seen(nodes.size(), false);
+std::vector<char> Graph::live() const {
+  std::vector<char> seen(nodes.size(), 0);
   std::vector<std::uint32_t> stack;
   for (Term t : outputs) stack.push_back(t.id);
   while (!stack.empty()) {
@@ -399,7 +399,7 @@ Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::sp
 // less than k divisions (a division weighs 4 multiplies) from k = 2 on, or
 // from k = 1 when 1/d is computed anyway.
 void fold_reciprocals(Graph& graph) {
-  const std::vector<bool> live = graph.live();
+  const std::vector<char> live = graph.live();
   std::map<std::uint32_t, std::vector<std::uint32_t>> divisions;  // denominator -> divisions, by id
   for (std::uint32_t id = 0; id < graph.nodes.size(); ++id) {
     if (live[id] && graph.nodes[id].op == Op::Div) divisions[graph.nodes[id].terms[1].id].push_back(id);

@@ -362,7 +362,7 @@ PairTable ranked_pairs(Graph& graph, PairTies ties, bool watch_by_key) {
   if (graph.nodes.size() > kMaxPairOperandId) {
     throw UsageError(fmt::format("pair CSE: {} program nodes, more than the pair keys can hold", graph.nodes.size()));
   }
-  const std::vector<bool> live = graph.live();
+  const std::vector<char> live = graph.live();
   std::vector<std::uint32_t> holders;
   std::size_t pairs = 0;
   for (std::uint32_t id = 0; id < live.size(); ++id) {
