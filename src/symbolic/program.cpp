@@ -275,6 +275,7 @@ std::vector<Instruction> finalize(const std::vector<Instruction>& code, std::vec
   }
   std::vector<std::uint32_t> renamed(code.size(), kNone);
   std::vector<Instruction> out;
+  out.reserve(code.size());
   std::uint32_t next = 0;
   for (std::uint32_t k = 0; k < code.size(); ++k) {
     if (!needed[k]) continue;
@@ -321,6 +322,7 @@ Allocation allocate(const std::vector<Instruction>& code, const std::vector<std:
   for (std::uint32_t s : outputs) last_use[s] = kEnd;
 
   Allocation result;
+  result.code.reserve(code.size());
   std::vector<std::uint32_t> where(slot_count, 0);
   std::vector<std::uint32_t> free;
   auto take = [&]() {
@@ -440,14 +442,17 @@ Program Program::subprogram(std::span<const std::size_t> outputs, std::span<cons
     if (o >= outputs_.size()) throw UsageError(fmt::format("subprogram: no output {}", o));
     needed[outputs_[o]] = true;
   }
+  std::size_t kept = 0;
   for (std::size_t k = instructions_.size(); k-- > 0;) {
     const Instruction& ins = instructions_[k];
     const int results = info(ins.op).results;
     if (!needed[ins.results[0]] && !(results == 2 && needed[ins.results[1]])) continue;
+    ++kept;
     for (int a = 0; a < info(ins.op).arity; ++a) needed[ins.args[a]] = true;
   }
   Program sub;
   sub.input_count_ = inputs.size();
+  sub.instructions_.reserve(kept);
   std::vector<std::uint32_t> renamed(slot_count_, kNone);
   std::uint32_t next = 0;
   for (const Instruction& ins : instructions_) {
