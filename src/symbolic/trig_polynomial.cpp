@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -84,7 +85,9 @@ struct TrigPolynomialForm::Impl {
     std::uint32_t cosine = 0;  // for sin x: the index of cos x
     bool is_sine = false;
   };
-  using Poly = std::shared_ptr<const Terms>;
+  // Polynomials live in `store` as long as the form: shared by the memo and
+  // the polynomials made of them without counting references.
+  using Poly = const Terms*;
 
   std::size_t max_terms;
   std::unordered_map<Expr, Expr> definitions;
@@ -93,13 +96,14 @@ struct TrigPolynomialForm::Impl {
   // By node id: each node's polynomial once found, and whether it was kept
   // as an atom for its size.
   struct Memo {
-    Poly poly;
+    Poly poly = nullptr;
     bool too_big = false;
   };
   std::vector<Memo> memo;
-  Poly one;  // the constant 1
-  Terms scratch;                                 // product()'s terms before finish()
-  std::vector<std::uint32_t> order;              // finish()'s
+  std::deque<Terms> store;           // every polynomial made
+  Poly one = nullptr;                // the constant 1
+  Terms scratch;                     // product()'s terms before finish()
+  std::vector<std::uint32_t> order;  // finish()'s
 
   std::uint32_t atom(Expr e) {
     if (auto it = atom_index.find(e); it != atom_index.end()) return it->second;
@@ -162,7 +166,12 @@ struct TrigPolynomialForm::Impl {
       }
     }
     if (!out.empty() && cancels(out.back().coefficient)) out.pop_back();
-    return std::make_shared<const Terms>(std::move(out));
+    return keep(std::move(out));
+  }
+
+  Poly keep(Terms terms) {
+    store.push_back(std::move(terms));
+    return &store.back();
   }
 
   static bool is_constant(const Terms& p) { return p.size() == 1 && p[0].monomial.empty(); }
@@ -170,7 +179,7 @@ struct TrigPolynomialForm::Impl {
   // The product of p and a constant c (c·p if c_first, else p·c), as
   // product() makes it: the monomials stay sorted and distinct, nothing to
   // collect, each scale the coefficient's own.
-  static Poly scaled(const Poly& p, const Number& c, bool c_first) {
+  Poly scaled(Poly p, const Number& c, bool c_first) {
     const auto own_scale = [](const Term& t) { return t.coefficient.scale == std::abs(t.coefficient.value.to_double()); };
     if (c.is_exact() && c.is_one() && std::all_of(p->begin(), p->end(), own_scale)) return p;
     Terms out;
@@ -180,23 +189,23 @@ struct TrigPolynomialForm::Impl {
       const Coefficient k{v, std::abs(v.to_double())};
       if (!cancels(k)) out.push_back({t.monomial, k});
     }
-    return std::make_shared<const Terms>(std::move(out));
+    return keep(std::move(out));
   }
 
   Poly constant(const Number& c) {
     Terms t;
     if (!c.is_zero()) add_term(t, {}, c);
-    return std::make_shared<const Terms>(std::move(t));
+    return keep(std::move(t));
   }
 
   Poly of_atom(Expr e) {
     Terms t;
     add_term(t, {{atom(e), 1}}, Number(1));
-    return std::make_shared<const Terms>(std::move(t));
+    return keep(std::move(t));
   }
 
   // The product, or nothing if it would have more than max_terms terms.
-  Poly product(const Poly& a, const Poly& b) {
+  Poly product(Poly a, Poly b) {
     if (a->size() * b->size() > 4 * max_terms) return nullptr;
     if (is_constant(*a)) return scaled(b, (*a)[0].coefficient.value, true);
     if (is_constant(*b)) return scaled(a, (*b)[0].coefficient.value, false);
@@ -221,7 +230,7 @@ struct TrigPolynomialForm::Impl {
     }
     Terms out;
     out.reserve(n);
-    for (const Poly& p : polys) out.insert(out.end(), p->begin(), p->end());
+    for (Poly p : polys) out.insert(out.end(), p->begin(), p->end());
     Poly p = finish(out);
     return p->size() > max_terms ? nullptr : p;
   }
