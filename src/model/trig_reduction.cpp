@@ -8,15 +8,49 @@
 namespace symdyn::model {
 namespace {
 
-// The operations of evaluating M, h and the definitions' values, every node
-// counted once (symbolic::operation_cost): a model of the programs' count,
-// found without compiling them.
-int operations(const std::vector<Expr>& M, const std::vector<Expr>& h,
-               const std::vector<symbolic::Definition>& definitions) {
-  std::vector<Expr> roots = M;
-  roots.insert(roots.end(), h.begin(), h.end());
-  for (const symbolic::Definition& d : definitions) roots.push_back(d.value);
-  return symbolic::operation_cost(roots);
+// The operations of evaluating one form of the definitions, of M and of h,
+// for each choice of forms (symbolic::operation_cost: every node counted
+// once). Each list is walked once, marking the nodes it reaches with its
+// bit; a choice then counts the nodes marked by one of its lists.
+class ChoiceCost {
+ public:
+  // Lists 2·k and 2·k + 1 are the given and the reduced forms of part k.
+  explicit ChoiceCost(const std::vector<std::vector<Expr>>& lists) : marks_(symbolic::Context::current().size(), 0) {
+    for (std::size_t i = 0; i < lists.size(); ++i) mark(lists[i], static_cast<std::uint8_t>(1U << i));
+  }
+
+  // `lists`: a mask of the lists chosen.
+  int operator()(unsigned lists) const {
+    int cost = 0;
+    for (const auto& [id, own] : reached_) cost += (marks_[id] & lists) != 0 ? own : 0;
+    return cost;
+  }
+
+ private:
+  void mark(const std::vector<Expr>& roots, std::uint8_t bit) {
+    std::vector<Expr> stack(roots.begin(), roots.end());
+    std::vector<Expr> operands;
+    while (!stack.empty()) {
+      const Expr e = stack.back();
+      stack.pop_back();
+      std::uint8_t& m = marks_[e.id()];
+      if ((m & bit) != 0) continue;
+      operands.clear();
+      const int own = symbolic::own_cost(e, &operands);
+      if (m == 0) reached_.emplace_back(e.id(), own);
+      m |= bit;
+      stack.insert(stack.end(), operands.begin(), operands.end());
+    }
+  }
+
+  std::vector<std::uint8_t> marks_;                 // (by node id) the lists that reach it
+  std::vector<std::pair<std::uint32_t, int>> reached_;  // each node reached, with its own cost
+};
+
+std::vector<Expr> values(const std::vector<symbolic::Definition>& definitions) {
+  std::vector<Expr> out;
+  for (const symbolic::Definition& d : definitions) out.push_back(d.value);
+  return out;
 }
 
 }  // namespace
@@ -41,12 +75,13 @@ void reduce_trigonometry(Dynamics& dynamics, const Kinematics& kinematics) {
     int operations;
     bool definitions, M, h;  // reduced or not
   };
+  const ChoiceCost operations({dynamics.mass_matrix, M, dynamics.bias, h, values(dynamics.definitions),
+                               values(reduced.definitions)});
   Choice best{-1, false, false, false};
   for (const bool d : {false, true}) {
     for (const bool m : {false, true}) {
       for (const bool b : {false, true}) {
-        const int cost = operations(m ? M : dynamics.mass_matrix, b ? h : dynamics.bias,
-                                    d ? reduced.definitions : dynamics.definitions);
+        const int cost = operations((m ? 2U : 1U) | (b ? 8U : 4U) | (d ? 32U : 16U));
         if (best.operations < 0 || cost < best.operations) best = {cost, d, m, b};
       }
     }

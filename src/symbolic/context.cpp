@@ -1,6 +1,7 @@
 // The node arena and the intern table.
 #include <fmt/format.h>
 
+#include <array>
 #include <deque>
 #include <memory_resource>
 #include <unordered_map>
@@ -89,6 +90,9 @@ struct Context::Impl {
   std::size_t symbol_count = 0;
   std::size_t args_bytes = 0;
   Expr zero{nullptr};
+  // The integers -16..16 once interned, by value + 16: most coefficients and
+  // exponents are among them, found here without hashing and comparing.
+  std::array<const Node*, 33> small_integers{};
 };
 
 namespace {
@@ -138,17 +142,23 @@ Expr intern_node(Kind kind, std::span<const Expr> args) {
 
 Expr intern_number(const Number& value) {
   Context::Impl& impl = *Context::current().impl_;
+  const bool small = value.is_integer() && value.num() >= -16 && value.num() <= 16;
+  const Node** cached = small ? &impl.small_integers[static_cast<std::size_t>(value.num() + 16)] : nullptr;
+  if (cached != nullptr && *cached != nullptr) return Expr(*cached);
   const Kind kind = value.is_exact() ? Kind::Rational : Kind::Real;
   const std::size_t h = mix(static_cast<std::size_t>(kind), hash_number(value));
   const Node* found = impl.table.find(h, [&](const Node* n) { return n->kind() == kind && n->number_ == value; });
-  if (found != nullptr) return Expr(found);
-  Node& node = impl.nodes.emplace_back();
-  node.kind_ = kind;
-  node.id_ = static_cast<std::uint32_t>(impl.nodes.size() - 1);
-  node.hash_ = h;
-  node.number_ = value;
-  impl.table.insert(&node);
-  return Expr(&node);
+  if (found == nullptr) {
+    Node& node = impl.nodes.emplace_back();
+    node.kind_ = kind;
+    node.id_ = static_cast<std::uint32_t>(impl.nodes.size() - 1);
+    node.hash_ = h;
+    node.number_ = value;
+    impl.table.insert(&node);
+    found = &node;
+  }
+  if (cached != nullptr) *cached = found;
+  return Expr(found);
 }
 
 Expr symbol(std::string_view name, SymbolKind kind) {

@@ -7,11 +7,16 @@ namespace symdyn::symbolic {
 
 DagMap::DagMap(Rule rule) : rule_(std::move(rule)) {}
 
-const Node* DagMap::image(Expr e) const { return e.id() < images_.size() ? images_[e.id()] : nullptr; }
+const Node* DagMap::image(Expr e) const {
+  const std::uint32_t page = e.id() >> kPageBits;
+  return page < pages_.size() && !pages_[page].empty() ? pages_[page][e.id() & (kPage - 1)] : nullptr;
+}
 
 void DagMap::set_image(Expr e, Expr image) {
-  if (e.id() >= images_.size()) images_.resize(std::max<std::size_t>(e.id() + 1, 2 * images_.size()), nullptr);
-  images_[e.id()] = image.node();
+  const std::uint32_t page = e.id() >> kPageBits;
+  if (page >= pages_.size()) pages_.resize(page + 1);
+  if (pages_[page].empty()) pages_[page].assign(kPage, nullptr);
+  pages_[page][e.id() & (kPage - 1)] = image.node();
 }
 
 Expr DagMap::operator()(Expr e) {

@@ -7,6 +7,7 @@
 // live in a side table indexed by node id (ids are dense per context), never in
 // the nodes. The traversal is iterative, so deep DAGs cannot overflow the stack.
 
+#include <cstdint>
 #include <functional>
 #include <span>
 #include <vector>
@@ -35,7 +36,12 @@ class DagMap {
   void set_image(Expr e, Expr image);
 
   Rule rule_;
-  std::vector<const Node*> images_;  // (by node id) nullptr while not mapped
+  // By node id, in pages of kPage ids allocated when first written (nullptr
+  // while not mapped): a map of a few nodes of a large context, as a one-off
+  // derivative is, allocates a few pages, not a table of every id.
+  static constexpr std::uint32_t kPageBits = 10;
+  static constexpr std::uint32_t kPage = 1U << kPageBits;
+  std::vector<std::vector<const Node*>> pages_;
   const Context* context_ = nullptr;
 };
 

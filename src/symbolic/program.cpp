@@ -75,7 +75,9 @@ Opcode call_opcode(Kind kind) {
 // (opcode, operands, payload). Instruction k defines slot k.
 class Scheduler {
  public:
-  explicit Scheduler(const ir::Graph& graph) : g_(graph), resolved_(graph.nodes.size()) {}
+  explicit Scheduler(const ir::Graph& graph) : g_(graph), resolved_(graph.nodes.size()) {
+    code_.reserve(2 * graph.nodes.size());  // binarized n-ary nodes make more instructions than nodes
+  }
 
   // The slots of the outputs, in order, except that negated products and
   // sums come last: the negations made before them (-(c·x) = (-c)·x among
@@ -256,7 +258,7 @@ class Scheduler {
 // `code` defines slot k at instruction k; `outputs` are slots of it.
 std::vector<Instruction> finalize(const std::vector<Instruction>& code, std::vector<std::uint32_t>& outputs,
                                   std::uint32_t* slot_count) {
-  std::vector<bool> needed(code.size(), false);
+  std::vector<char> needed(code.size(), 0);  // bytes: read and set much faster than bits
   for (std::uint32_t s : outputs) needed[s] = true;
   for (std::size_t k = code.size(); k-- > 0;) {
     if (!needed[k]) continue;
@@ -273,6 +275,7 @@ std::vector<Instruction> finalize(const std::vector<Instruction>& code, std::vec
   }
   std::vector<std::uint32_t> renamed(code.size(), kNone);
   std::vector<Instruction> out;
+  out.reserve(code.size());
   std::uint32_t next = 0;
   for (std::uint32_t k = 0; k < code.size(); ++k) {
     if (!needed[k]) continue;
@@ -319,6 +322,7 @@ Allocation allocate(const std::vector<Instruction>& code, const std::vector<std:
   for (std::uint32_t s : outputs) last_use[s] = kEnd;
 
   Allocation result;
+  result.code.reserve(code.size());
   std::vector<std::uint32_t> where(slot_count, 0);
   std::vector<std::uint32_t> free;
   auto take = [&]() {
@@ -366,7 +370,7 @@ Scheduled schedule(const ir::Graph& graph) {
 // The operations that computing some of the outputs executes (what
 // Program::subprogram(outputs, ...).operation_count().total() counts).
 int operations(const Scheduled& s, std::span<const std::size_t> outputs) {
-  std::vector<bool> needed(s.slot_count, false);
+  std::vector<char> needed(s.slot_count, 0);
   for (std::size_t o : outputs) needed[s.outputs[o]] = true;
   int count = 0;
   for (std::size_t k = s.code.size(); k-- > 0;) {
@@ -397,13 +401,11 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
       }
     }
   }
-  ir::Graph by_key = ir::lower(inputs, outputs, definitions);
-  ir::fold_reciprocals(by_key);
-  ir::Graph existing_first = by_key;
-  ir::extract_common_pairs(by_key, ir::PairTies::ByKey);
-  ir::extract_common_pairs(existing_first, ir::PairTies::ExistingFirst);
-  Scheduled chosen = schedule(by_key);
-  if (existing_first.nodes != by_key.nodes) {  // the ties changed something
+  ir::Graph existing_first = ir::lower(inputs, outputs, definitions);
+  ir::fold_reciprocals(existing_first);
+  const std::optional<ir::Graph> by_key = ir::extract_common_pairs_both(existing_first);
+  Scheduled chosen = schedule(by_key ? *by_key : existing_first);
+  if (by_key) {  // the ties changed something
     Scheduled other = schedule(existing_first);
     auto longer = [&](const auto& group) { return operations(other, group) > operations(chosen, group); };
     auto shorter = [&](const auto& group) { return operations(other, group) < operations(chosen, group); };
@@ -435,19 +437,22 @@ Program Program::subprogram(std::span<const std::size_t> outputs, std::span<cons
     if (inputs[i] >= input_count_) throw UsageError(fmt::format("subprogram: no input {}", inputs[i]));
     input_index[inputs[i]] = static_cast<std::uint32_t>(i);
   }
-  std::vector<bool> needed(slot_count_, false);
+  std::vector<char> needed(slot_count_, 0);  // bytes: read and set much faster than bits
   for (std::size_t o : outputs) {
     if (o >= outputs_.size()) throw UsageError(fmt::format("subprogram: no output {}", o));
     needed[outputs_[o]] = true;
   }
+  std::size_t kept = 0;
   for (std::size_t k = instructions_.size(); k-- > 0;) {
     const Instruction& ins = instructions_[k];
     const int results = info(ins.op).results;
     if (!needed[ins.results[0]] && !(results == 2 && needed[ins.results[1]])) continue;
+    ++kept;
     for (int a = 0; a < info(ins.op).arity; ++a) needed[ins.args[a]] = true;
   }
   Program sub;
   sub.input_count_ = inputs.size();
+  sub.instructions_.reserve(kept);
   std::vector<std::uint32_t> renamed(slot_count_, kNone);
   std::uint32_t next = 0;
   for (const Instruction& ins : instructions_) {

@@ -69,8 +69,17 @@ bool CodeBuilder::same(const Instruction& a, const Instruction& b) {
          std::bit_cast<std::uint64_t>(a.constant) == std::bit_cast<std::uint64_t>(b.constant);
 }
 
-void CodeBuilder::grow_index() {
-  index_.assign(std::max<std::size_t>(1024, 2 * index_.size()), 0);
+void CodeBuilder::reserve(std::size_t n) {
+  code_.reserve(n);
+  const std::size_t size = std::bit_ceil(2 * n + 2);
+  if (size > index_.size()) rehash(size);
+}
+
+void CodeBuilder::grow_index() { rehash(std::max<std::size_t>(1024, 2 * index_.size())); }
+
+// The index at `size` entries (a power of two), every instruction entered anew.
+void CodeBuilder::rehash(std::size_t size) {
+  index_.assign(size, 0);
   const std::size_t mask = index_.size() - 1;
   for (std::uint32_t slot = 0; slot < code_.size(); ++slot) {
     std::size_t i = hash(code_[slot]) & mask;

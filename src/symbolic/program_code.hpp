@@ -21,6 +21,8 @@ class CodeBuilder {
   // The slot of that instruction if it is emitted already.
   std::optional<std::uint32_t> find(Opcode op, std::array<std::uint32_t, 2> args, double constant = 0.0) const;
 
+  // Room for about n instructions: the index sized once instead of doubled up to it.
+  void reserve(std::size_t n);
   const Instruction& operator[](std::uint32_t slot) const { return code_[slot]; }
   std::size_t size() const { return code_.size(); }
   std::vector<Instruction>& code() { return code_; }
@@ -30,6 +32,7 @@ class CodeBuilder {
   static std::size_t hash(const Instruction& ins);
   static bool same(const Instruction& a, const Instruction& b);
   void grow_index();
+  void rehash(std::size_t size);
 
   std::vector<Instruction> code_;
   // Open addressing over code_, each entry a slot + 1 (0: empty). Looked up,

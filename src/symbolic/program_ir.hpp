@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -81,7 +82,7 @@ class Graph {
   std::uint32_t materialize(Term value);
 
   // Which nodes the outputs need (indexed by node id).
-  std::vector<bool> live() const;
+  std::vector<char> live() const;  // bytes: much faster than bits
 
  private:
   static std::size_t hash(const Node& node);
@@ -106,6 +107,10 @@ void fold_reciprocals(Graph& graph);
 // than the other: compile_program tries both.
 enum class PairTies : std::uint8_t { ByKey, ExistingFirst };
 void extract_common_pairs(Graph& graph, PairTies ties);
+// Both at once: `graph` gets ExistingFirst's pairs; the result is the graph
+// ByKey makes, where the two would choose another pair at some step (nothing
+// where they agree throughout: the same graph).
+std::optional<Graph> extract_common_pairs_both(Graph& graph);
 
 // Sums and products with more operands take no part in pair CSE.
 inline constexpr std::size_t kMaxPairOperands = 128;

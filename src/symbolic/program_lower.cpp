@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <functional>
@@ -74,8 +75,8 @@ std::uint32_t Graph::materialize(Term value) {
   return intern(Node::of(Op::Neg, {{value.id, false}}));
 }
 
-std::vector<bool> Graph::live() const {
-  std::vector<bool> seen(nodes.size(), false);
+std::vector<char> Graph::live() const {
+  std::vector<char> seen(nodes.size(), 0);
   std::vector<std::uint32_t> stack;
   for (Term t : outputs) stack.push_back(t.id);
   while (!stack.empty()) {
@@ -126,18 +127,57 @@ class Symbols {
   detail::FlatMap64<std::uint32_t> definition_of_;  // index in definitions_
 };
 
+// A value by node id, for one pass at a time: each pass stamps what it sets,
+// so the table is kept (by thread) and never cleared, and a small program in
+// a large context neither clears a table of every node nor hashes its own.
+class IdTable {
+ public:
+  // The table of `slot` (0 or 1), its values all unset.
+  static IdTable& fresh(int slot) {
+    thread_local std::array<IdTable, 2> tables;
+    IdTable& t = tables[static_cast<std::size_t>(slot)];
+    if (++t.stamp_ == 0) {  // the stamps wrapped around: old entries could collide
+      std::fill(t.entries_.begin(), t.entries_.end(), Entry{});
+      t.stamp_ = 1;
+    }
+    return t;
+  }
+
+  const std::uint32_t* find(std::uint32_t id) const {
+    return id < entries_.size() && entries_[id].stamp == stamp_ ? &entries_[id].value : nullptr;
+  }
+  // Sets id's value if unset; whether it was.
+  bool try_set(std::uint32_t id, std::uint32_t value) {
+    if (id >= entries_.size()) entries_.resize(std::max<std::size_t>(id + 1, 2 * entries_.size()));
+    Entry& e = entries_[id];
+    if (e.stamp == stamp_) return false;
+    e = {stamp_, value};
+    return true;
+  }
+
+ private:
+  struct Entry {
+    std::uint32_t stamp = 0;
+    std::uint32_t value = 0;
+  };
+  std::vector<Entry> entries_;
+  std::uint32_t stamp_ = 0;
+};
+
 class Lowerer {
  public:
-  // `expected`: about how many nodes will be lowered (the memo's initial size).
-  Lowerer(Graph& graph, const Symbols& symbols, std::size_t expected)
-      : g_(graph), symbols_(symbols), memo_(expected) {}
+  Lowerer(Graph& graph, const Symbols& symbols) : g_(graph), symbols_(symbols), memo_(IdTable::fresh(0)) {}
 
   // Lowers e, whose arguments are already lowered.
   void lower(Expr e) {
     const Term t = lower_node(e);
-    memo_.try_emplace(e.id(), t);
+    memo_.try_set(e.id(), (t.id << 1) | std::uint32_t{t.neg});
   }
-  Term lowered(Expr e) const { return *memo_.find(e.id()); }  // lowered before: see lower()
+  // Lowered before: see lower().
+  Term lowered(Expr e) const {
+    const std::uint32_t t = *memo_.find(e.id());
+    return {t >> 1, (t & 1U) != 0};
+  }
 
  private:
   Term lower_node(Expr e) {
@@ -253,7 +293,7 @@ class Lowerer {
 
   Graph& g_;
   const Symbols& symbols_;
-  detail::FlatMap64<Term> memo_;  // by node id
+  IdTable& memo_;  // by node id: the term's id << 1 | neg
 };
 
 // Throws UsageError for a non-symbol, a repeated input or a symbol both input and defined.
@@ -298,7 +338,7 @@ void for_each_dependency(Expr e, const Symbols& symbols, F&& f) {
 // from one to a waiting dependency, nodes.size() steps surely end on a cycle,
 // and every cycle passes through a definition (the DAG itself has none).
 [[noreturn]] void throw_cycle(const std::vector<Expr>& nodes, const std::vector<std::size_t>& waiting,
-                              const detail::FlatMap64<std::size_t>& index, const Symbols& symbols) {
+                              const IdTable& index, const Symbols& symbols) {
   std::size_t at = 0;
   while (waiting[at] == 0) ++at;
   auto step = [&](std::size_t i) {
@@ -320,8 +360,8 @@ void for_each_dependency(Expr e, const Symbols& symbols, F&& f) {
 // Kahn's algorithm over `nodes` (closed under dependencies), the smallest
 // node id first among the ready ones. Without definitions this is id order.
 std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symbols) {
-  detail::FlatMap64<std::size_t> index(nodes.size());  // node id -> position in nodes
-  for (std::size_t i = 0; i < nodes.size(); ++i) index.try_emplace(nodes[i].id(), i);
+  IdTable& index = IdTable::fresh(1);  // node id -> position in nodes
+  for (std::size_t i = 0; i < nodes.size(); ++i) index.try_set(nodes[i].id(), static_cast<std::uint32_t>(i));
   std::vector<std::size_t> waiting(nodes.size(), 0);  // dependencies not yet ordered
   // The positions of every node's dependencies, node after node.
   std::vector<std::uint32_t> dependency;
@@ -364,14 +404,14 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
 // node id (so the order does not depend on the order of the outputs).
 std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbols) {
   std::vector<Expr> found;
-  detail::FlatMap64<bool> seen(1024);
+  IdTable& seen = IdTable::fresh(0);
   std::vector<Expr> stack;
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     stack.push_back(outputs[i]);
     while (!stack.empty()) {
       const Expr e = stack.back();
       stack.pop_back();
-      if (!seen.try_emplace(e.id(), true).second) continue;
+      if (!seen.try_set(e.id(), 0)) continue;
       if (e.is_symbol() && !symbols.is_input(e.id()) && !symbols.is_defined(e.id())) {
         throw UsageError(fmt::format(
             "compile_program: output {} uses symbol '{}', which is neither an input nor defined", i, e.name()));
@@ -389,7 +429,7 @@ Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::sp
   Graph graph;
   const std::vector<Expr> order = reachable(outputs, symbols);
   graph.nodes.reserve(order.size() + order.size() / 4);
-  Lowerer lowerer(graph, symbols, order.size());
+  Lowerer lowerer(graph, symbols);
   for (Expr e : order) lowerer.lower(e);
   for (Expr e : outputs) graph.outputs.push_back(lowerer.lowered(e));
   return graph;
@@ -399,7 +439,7 @@ Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::sp
 // less than k divisions (a division weighs 4 multiplies) from k = 2 on, or
 // from k = 1 when 1/d is computed anyway.
 void fold_reciprocals(Graph& graph) {
-  const std::vector<bool> live = graph.live();
+  const std::vector<char> live = graph.live();
   std::map<std::uint32_t, std::vector<std::uint32_t>> divisions;  // denominator -> divisions, by id
   for (std::uint32_t id = 0; id < graph.nodes.size(); ++id) {
     if (live[id] && graph.nodes[id].op == Op::Div) divisions[graph.nodes[id].terms[1].id].push_back(id);

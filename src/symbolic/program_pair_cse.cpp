@@ -30,9 +30,18 @@
 // extraction push one entry each at its end; counts that fall push nothing,
 // and an entry found on top with counts above the pair's is replaced then by
 // one with the right counts.
+//
+// Both orders at once: the state after each extraction depends only on the
+// pairs extracted so far, not on the order that chose them. A run by
+// ExistingFirst keeps a second heap, by key, fed the same entries; while
+// both heaps name the same pair on top, a run by key would be the same run.
+// Where they first differ, the table and the graph are copied and the copy
+// goes on by key.
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <memory>
+#include <optional>
 #include <queue>
 #include <stdexcept>
 
@@ -62,7 +71,9 @@ bool differ_of(std::uint64_t key) { return (key & 1U) != 0; }
 class PairTable {
  public:
   // `pairs`: how many the holders have at first (the index grows past it as pairs are extracted).
-  PairTable(Graph& graph, PairTies ties, std::size_t pairs) : g_(graph), ties_(ties), index_(pairs) {}
+  // watch_by_key (with ExistingFirst): also follow what ties by key would choose, see fork().
+  PairTable(Graph& graph, PairTies ties, std::size_t pairs, bool watch_by_key = false)
+      : g_(&graph), ties_(ties), watching_(watch_by_key && ties == PairTies::ExistingFirst), index_(pairs) {}
 
   // Counts the pairs of a holder. Before rank(); holders in increasing order.
   void add_holder(std::uint32_t node) {
@@ -83,7 +94,7 @@ class PairTable {
     record_of_.assign(initial_.size(), kNone);
     std::size_t next = 0;  // in enumerated_: the pairs of each holder, in the order add_holder saw them
     for (std::uint32_t node : holder_nodes_) {
-      const std::size_t n = g_.nodes[node].terms.size();
+      const std::size_t n = g_->nodes[node].terms.size();
       for (std::size_t k = 0; k < n * (n - 1) / 2; ++k) {
         const std::uint32_t id = enumerated_[next++];
         if (initial_[id].holders < 2) continue;
@@ -98,24 +109,29 @@ class PairTable {
     }
     enumerated_ = {};
     std::vector<Ranked> entries;
-    for (std::uint32_t p = 0; p < pairs_.size(); ++p) entries.push_back(ranked(p));
+    for (std::uint32_t p = 0; p < pairs_.size(); ++p) entries.push_back(ranked(p, false));
+    if (watching_) by_key_ = std::priority_queue<Ranked>(std::less<Ranked>(), entries);
+    if (ties_ == PairTies::ExistingFirst) {
+      for (Ranked& r : entries) r.exact = exact(r.pair);
+    }
     ranked_ = std::priority_queue<Ranked>(std::less<Ranked>(), std::move(entries));
   }
 
   // Extracts the pair with the most holders (the smallest key among equals).
   // Returns false when no pair has two holders.
   bool extract_best() {
-    const std::uint32_t best = pop_best();
+    const std::uint32_t best = pop_best(ranked_, ties_ == PairTies::ExistingFirst);
+    if (watching_ && pop_best(by_key_, false) != best) fork();
     if (best == kNone) return false;
     const std::uint64_t key = pairs_[best].key;
-    const std::uint32_t pair = g_.append(Node::of(op_of(key), {{lo_of(key), false}, {hi_of(key), differ_of(key)}}));
+    const std::uint32_t pair = g_->append(Node::of(op_of(key), {{lo_of(key), false}, {hi_of(key), differ_of(key)}}));
     detail::SmallVector<std::uint32_t, 16> holder_list;  // increasing node order
     for (const Holder& h : pairs_[best].holders) holder_list.push_back(h.node);
     for (std::uint32_t node : holder_list) {
       std::size_t i = 0;
       std::size_t j = 0;
       while (find(node, key, &i, &j)) {
-        const bool sign = g_.nodes[node].terms[i].neg;
+        const bool sign = g_->nodes[node].terms[i].neg;
         remove_term(node, std::max(i, j));
         remove_term(node, std::min(i, j));
         add_term(node, {pair, sign});
@@ -123,11 +139,17 @@ class PairTable {
     }
     for (std::uint32_t p : risen_) {
       pairs_[p].risen = false;
-      if (holders(p) >= 2) ranked_.push(ranked(p));
+      if (holders(p) < 2) continue;
+      ranked_.push(ranked(p, ties_ == PairTies::ExistingFirst));
+      if (watching_) by_key_.push(ranked(p, false));
     }
     risen_.clear();
     return true;
   }
+
+  // The graph as ties by key make it, where they would have chosen another
+  // pair at some step; nothing where they agree with this run throughout.
+  std::optional<Graph> finish_by_key();
 
  private:
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
@@ -170,8 +192,8 @@ class PairTable {
 
   template <class F>
   void for_each_pair(std::uint32_t node, F&& f) const {
-    const Terms& terms = g_.nodes[node].terms;
-    const Op op = g_.nodes[node].op;
+    const Terms& terms = g_->nodes[node].terms;
+    const Op op = g_->nodes[node].op;
     for (std::size_t i = 0; i < terms.size(); ++i) {
       for (std::size_t j = i + 1; j < terms.size(); ++j) f(key_of(op, terms[i], terms[j]));
     }
@@ -203,30 +225,36 @@ class PairTable {
   // A constant's pair does not count: c·x computed for itself takes the
   // sign of its readers, (-c)·x, and c·x·y, extracted as (c·x)·y, no longer.
   int exact(std::uint32_t p) const {
-    if (ties_ != PairTies::ExistingFirst) return 0;
     const std::uint64_t key = pairs_[p].key;
-    if (g_.nodes[lo_of(key)].op == Op::Const || g_.nodes[hi_of(key)].op == Op::Const) return 0;
+    if (g_->nodes[lo_of(key)].op == Op::Const || g_->nodes[hi_of(key)].op == Op::Const) return 0;
     int n = 0;
-    for (const Holder& h : pairs_[p].holders) n += g_.nodes[h.node].terms.size() == 2 ? 1 : 0;
+    for (const Holder& h : pairs_[p].holders) n += g_->nodes[h.node].terms.size() == 2 ? 1 : 0;
     return n;
   }
 
-  Ranked ranked(std::uint32_t p) const { return {holders(p), exact(p), pairs_[p].key, p}; }
+  // with_exact: ranked by ExistingFirst, else by key.
+  Ranked ranked(std::uint32_t p, bool with_exact) const {
+    return {holders(p), with_exact ? exact(p) : 0, pairs_[p].key, p};
+  }
 
-  std::uint32_t pop_best() {
-    while (!ranked_.empty()) {
-      const Ranked top = ranked_.top();
-      const Ranked now = ranked(top.pair);
+  std::uint32_t pop_best(std::priority_queue<Ranked>& heap, bool with_exact) {
+    while (!heap.empty()) {
+      const Ranked top = heap.top();
+      const Ranked now = ranked(top.pair, with_exact);
       if (now.holders == top.holders && now.exact == top.exact) return top.pair;
-      ranked_.pop();  // stale: the counts have changed since
-      if (now.holders >= 2) ranked_.push(now);
+      heap.pop();  // stale: the counts have changed since
+      if (now.holders >= 2) heap.push(now);
     }
     return kNone;
   }
 
+  // Copies the graph and the table as they are, to go on by key from here:
+  // the heap by key is the one a run by key would have now.
+  void fork();
+
   // Positions i != j of the pair's operands in node (with matching signs).
   bool find(std::uint32_t node, std::uint64_t key, std::size_t* i, std::size_t* j) const {
-    const Terms& terms = g_.nodes[node].terms;
+    const Terms& terms = g_->nodes[node].terms;
     const std::uint32_t lo = lo_of(key);
     const std::uint32_t hi = hi_of(key);
     for (std::size_t a = 0; a < terms.size(); ++a) {
@@ -243,16 +271,16 @@ class PairTable {
   }
 
   void remove_term(std::uint32_t node, std::size_t position) {
-    Terms& terms = g_.nodes[node].terms;
+    Terms& terms = g_->nodes[node].terms;
     for (std::size_t q = 0; q < terms.size(); ++q) {
-      if (q != position) count(key_of(g_.nodes[node].op, terms[position], terms[q]), node, -1);
+      if (q != position) count(key_of(g_->nodes[node].op, terms[position], terms[q]), node, -1);
     }
     terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(position));
   }
 
   void add_term(std::uint32_t node, Term t) {
-    Terms& terms = g_.nodes[node].terms;
-    for (Term other : terms) count(key_of(g_.nodes[node].op, t, other), node, +1);
+    Terms& terms = g_->nodes[node].terms;
+    for (Term other : terms) count(key_of(g_->nodes[node].op, t, other), node, +1);
     terms.push_back(t);
   }
 
@@ -286,8 +314,11 @@ class PairTable {
     }
   }
 
-  Graph& g_;
+  struct Fork;
+
+  Graph* g_;
   PairTies ties_;
+  bool watching_;  // by_key_ is kept, no fork yet
   detail::FlatMap64<std::uint32_t> index_;   // key -> dense id
   std::vector<std::uint64_t> keys_;          // (by id)
   std::vector<std::uint32_t> record_of_;     // (by id) index in pairs_, kNone if untracked
@@ -296,16 +327,42 @@ class PairTable {
   std::vector<std::uint32_t> enumerated_;    // until rank(): ids of each holder's pairs, in order
   std::vector<std::uint32_t> holder_nodes_;  // every holder, increasing
   std::priority_queue<Ranked> ranked_;       // tracked pairs, holders >= 2 when pushed
+  std::priority_queue<Ranked> by_key_;       // while watching_: the same entries ranked by key
+  std::shared_ptr<Fork> forked_;             // the run by key from where it parts
   std::vector<std::uint32_t> risen_;         // pairs whose count rose in this extraction
 };
 
-}  // namespace
+// The copies a run by key goes on with (fork()).
+struct PairTable::Fork {
+  Fork(const Graph& g, const PairTable& t) : graph(g), table(t) { table.g_ = &graph; }
+  Graph graph;
+  PairTable table;
+};
 
-void extract_common_pairs(Graph& graph, PairTies ties) {
+void PairTable::fork() {
+  forked_ = std::make_shared<Fork>(*g_, *this);
+  PairTable& t = forked_->table;
+  t.ties_ = PairTies::ByKey;
+  t.ranked_ = std::move(t.by_key_);
+  t.by_key_ = {};
+  t.watching_ = false;
+  watching_ = false;
+  by_key_ = {};
+}
+
+std::optional<Graph> PairTable::finish_by_key() {
+  if (!forked_) return std::nullopt;
+  while (forked_->table.extract_best()) {
+  }
+  return std::move(forked_->graph);
+}
+
+// The pairs of the graph's live sums and products, counted and ranked.
+PairTable ranked_pairs(Graph& graph, PairTies ties, bool watch_by_key) {
   if (graph.nodes.size() > kMaxPairOperandId) {
     throw UsageError(fmt::format("pair CSE: {} program nodes, more than the pair keys can hold", graph.nodes.size()));
   }
-  const std::vector<bool> live = graph.live();
+  const std::vector<char> live = graph.live();
   std::vector<std::uint32_t> holders;
   std::size_t pairs = 0;
   for (std::uint32_t id = 0; id < live.size(); ++id) {
@@ -316,11 +373,25 @@ void extract_common_pairs(Graph& graph, PairTies ties) {
     pairs += node.terms.size() * (node.terms.size() - 1) / 2;
   }
   // Sized to the program: a small one's table is cleared in no time.
-  PairTable table(graph, ties, pairs);
+  PairTable table(graph, ties, pairs, watch_by_key);
   for (std::uint32_t id : holders) table.add_holder(id);
   table.rank();
+  return table;
+}
+
+}  // namespace
+
+void extract_common_pairs(Graph& graph, PairTies ties) {
+  PairTable table = ranked_pairs(graph, ties, false);
   while (table.extract_best()) {
   }
+}
+
+std::optional<Graph> extract_common_pairs_both(Graph& graph) {
+  PairTable table = ranked_pairs(graph, PairTies::ExistingFirst, true);
+  while (table.extract_best()) {
+  }
+  return table.finish_by_key();
 }
 
 }  // namespace symdyn::symbolic::ir

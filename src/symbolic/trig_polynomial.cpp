@@ -3,18 +3,33 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <unordered_map>
-#include <unordered_set>
 
 #include <symdyn/symbolic/cost.hpp>
+#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic {
 namespace {
 
-// (atom index, exponent) pairs by atom index.
-using Monomial = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+// An atom and its exponent.
+struct Factor {
+  std::uint32_t atom;
+  std::uint32_t exponent;
+  friend auto operator<=>(const Factor&, const Factor&) = default;
+};
+
+// Factors by atom index, inline: most monomials have a few, and the
+// expansion makes thousands of them.
+using Monomial = detail::SmallVector<Factor, 6>;
+
+// Lexicographic, factor by factor.
+bool before(const Monomial& a, const Monomial& b) {
+  return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end());
+}
 
 struct Coefficient {
   Number value;
@@ -34,16 +49,27 @@ Monomial times(const Monomial& a, const Monomial& b) {
   out.reserve(a.size() + b.size());
   std::size_t i = 0, j = 0;
   while (i < a.size() || j < b.size()) {
-    if (j == b.size() || (i < a.size() && a[i].first < b[j].first)) {
+    if (j == b.size() || (i < a.size() && a[i].atom < b[j].atom)) {
       out.push_back(a[i++]);
-    } else if (i == a.size() || b[j].first < a[i].first) {
+    } else if (i == a.size() || b[j].atom < a[i].atom) {
       out.push_back(b[j++]);
     } else {
-      out.emplace_back(a[i].first, a[i].second + b[j].second);
+      out.push_back({a[i].atom, a[i].exponent + b[j].exponent});
       ++i, ++j;
     }
   }
   return out;
+}
+
+// A stable sort for short lists.
+template <class Less>
+void insertion_sort(std::vector<std::uint32_t>& v, Less less) {
+  for (std::size_t i = 1; i < v.size(); ++i) {
+    const std::uint32_t x = v[i];
+    std::size_t j = i;
+    for (; j > 0 && less(x, v[j - 1]); --j) v[j] = v[j - 1];
+    v[j] = x;
+  }
 }
 
 bool cancels(const Coefficient& c) {
@@ -59,14 +85,25 @@ struct TrigPolynomialForm::Impl {
     std::uint32_t cosine = 0;  // for sin x: the index of cos x
     bool is_sine = false;
   };
-  using Poly = std::shared_ptr<const Terms>;
+  // Polynomials live in `store` as long as the form: shared by the memo and
+  // the polynomials made of them without counting references.
+  using Poly = const Terms*;
 
   std::size_t max_terms;
   std::unordered_map<Expr, Expr> definitions;
   std::vector<Atom> atoms;
   std::unordered_map<Expr, std::uint32_t> atom_index;
-  std::unordered_map<std::uint32_t, Poly> memo;  // by node id
-  std::unordered_set<std::uint32_t> too_big;     // nodes kept as atoms for their size
+  // By node id: each node's polynomial once found, and whether it was kept
+  // as an atom for its size.
+  struct Memo {
+    Poly poly = nullptr;
+    bool too_big = false;
+  };
+  std::vector<Memo> memo;
+  std::deque<Terms> store;           // every polynomial made
+  Poly one = nullptr;                // the constant 1
+  Terms scratch;                     // product()'s terms before finish()
+  std::vector<std::uint32_t> order;  // finish()'s
 
   std::uint32_t atom(Expr e) {
     if (auto it = atom_index.find(e); it != atom_index.end()) return it->second;
@@ -93,10 +130,10 @@ struct TrigPolynomialForm::Impl {
       const std::uint32_t cosine = atoms[index].cosine;
       Monomial rest;
       for (const auto& f : m) {
-        if (f.second > 0) rest.push_back(f);
+        if (f.exponent > 0) rest.push_back(f);
       }
       add_reduced(terms, rest, c);
-      add_reduced(terms, times(rest, Monomial{{cosine, 2}}), -c);
+      add_reduced(terms, times(rest, Monomial{Factor{cosine, 2}}), -c);
       return;
     }
     add_term(terms, std::move(m), c);
@@ -105,11 +142,20 @@ struct TrigPolynomialForm::Impl {
   // Terms in any order, with repeated monomials, to a Terms: sorted (stably,
   // so that inexact coefficients are added in a deterministic order), like
   // terms collected, cancelled ones dropped.
-  static Poly finish(Terms terms) {
-    std::stable_sort(terms.begin(), terms.end(), [](const Term& a, const Term& b) { return a.monomial < b.monomial; });
+  Poly finish(Terms& terms) {
+    // Sorting positions moves less than sorting the terms.
+    order.resize(terms.size());
+    std::iota(order.begin(), order.end(), std::uint32_t{0});
+    const auto less = [&](std::uint32_t a, std::uint32_t b) { return before(terms[a].monomial, terms[b].monomial); };
+    if (order.size() <= 32) {
+      insertion_sort(order, less);  // stable too, and no buffer to allocate
+    } else {
+      std::stable_sort(order.begin(), order.end(), less);
+    }
     Terms out;
     out.reserve(terms.size());
-    for (Term& t : terms) {
+    for (std::uint32_t k : order) {
+      Term& t = terms[k];
       if (!out.empty() && out.back().monomial == t.monomial) {
         Coefficient& c = out.back().coefficient;
         c.value = c.value + t.coefficient.value;
@@ -120,42 +166,72 @@ struct TrigPolynomialForm::Impl {
       }
     }
     if (!out.empty() && cancels(out.back().coefficient)) out.pop_back();
-    return std::make_shared<const Terms>(std::move(out));
+    return keep(std::move(out));
+  }
+
+  Poly keep(Terms terms) {
+    store.push_back(std::move(terms));
+    return &store.back();
+  }
+
+  static bool is_constant(const Terms& p) { return p.size() == 1 && p[0].monomial.empty(); }
+
+  // The product of p and a constant c (c·p if c_first, else p·c), as
+  // product() makes it: the monomials stay sorted and distinct, nothing to
+  // collect, each scale the coefficient's own.
+  Poly scaled(Poly p, const Number& c, bool c_first) {
+    const auto own_scale = [](const Term& t) { return t.coefficient.scale == std::abs(t.coefficient.value.to_double()); };
+    if (c.is_exact() && c.is_one() && std::all_of(p->begin(), p->end(), own_scale)) return p;
+    Terms out;
+    out.reserve(p->size());
+    for (const Term& t : *p) {
+      const Number v = c_first ? c * t.coefficient.value : t.coefficient.value * c;
+      const Coefficient k{v, std::abs(v.to_double())};
+      if (!cancels(k)) out.push_back({t.monomial, k});
+    }
+    return keep(std::move(out));
   }
 
   Poly constant(const Number& c) {
     Terms t;
     if (!c.is_zero()) add_term(t, {}, c);
-    return std::make_shared<const Terms>(std::move(t));
+    return keep(std::move(t));
   }
 
   Poly of_atom(Expr e) {
     Terms t;
     add_term(t, {{atom(e), 1}}, Number(1));
-    return std::make_shared<const Terms>(std::move(t));
+    return keep(std::move(t));
   }
 
   // The product, or nothing if it would have more than max_terms terms.
-  Poly product(const Poly& a, const Poly& b) {
+  Poly product(Poly a, Poly b) {
     if (a->size() * b->size() > 4 * max_terms) return nullptr;
-    Terms out;
-    out.reserve(a->size() * b->size());
+    if (is_constant(*a)) return scaled(b, (*a)[0].coefficient.value, true);
+    if (is_constant(*b)) return scaled(a, (*b)[0].coefficient.value, false);
+    scratch.clear();
+    scratch.reserve(a->size() * b->size());
     for (const Term& ta : *a) {
       for (const Term& tb : *b) {
-        add_reduced(out, times(ta.monomial, tb.monomial), ta.coefficient.value * tb.coefficient.value);
+        add_reduced(scratch, times(ta.monomial, tb.monomial), ta.coefficient.value * tb.coefficient.value);
       }
     }
-    Poly p = finish(std::move(out));
+    Poly p = finish(scratch);
     return p->size() > max_terms ? nullptr : p;
   }
 
   Poly sum(std::span<const Expr> terms) {
-    Terms out;
+    std::vector<Poly> polys;
+    polys.reserve(terms.size());
+    std::size_t n = 0;
     for (Expr t : terms) {
-      const Poly p = of(t);
-      out.insert(out.end(), p->begin(), p->end());
+      polys.push_back(of(t));
+      n += polys.back()->size();
     }
-    Poly p = finish(std::move(out));
+    Terms out;
+    out.reserve(n);
+    for (Poly p : polys) out.insert(out.end(), p->begin(), p->end());
+    Poly p = finish(out);
     return p->size() > max_terms ? nullptr : p;
   }
 
@@ -168,11 +244,12 @@ struct TrigPolynomialForm::Impl {
         if (it == definitions.end()) return of_atom(e);
         // A value too big to expand stays behind its symbol.
         Poly value = of(it->second);
-        return value->size() <= max_terms / 4 && !too_big.contains(it->second.id()) ? value : of_atom(e);
+        return value->size() <= max_terms / 4 && !memo[it->second.id()].too_big ? value : of_atom(e);
       }
       case Kind::Add: return sum(e.args());
       case Kind::Mul: {
-        Poly p = constant(Number(1));
+        if (!one) one = constant(Number(1));
+        Poly p = one;
         for (Expr f : e.args()) {
           if (!(p = product(p, of(f)))) return nullptr;
         }
@@ -192,13 +269,13 @@ struct TrigPolynomialForm::Impl {
 
   // e's polynomial; e itself as an atom when that would be too big.
   Poly of(Expr e) {
-    if (auto it = memo.find(e.id()); it != memo.end()) return it->second;
+    if (e.id() < memo.size() && memo[e.id()].poly) return memo[e.id()].poly;
     Poly p = compute(e);
-    if (!p) {
-      p = of_atom(e);
-      too_big.insert(e.id());
-    }
-    memo.emplace(e.id(), p);
+    const bool too_big = !p;
+    if (too_big) p = of_atom(e);
+    // Grown after compute(), which may make nodes (atom() makes cos x for sin x).
+    if (e.id() >= memo.size()) memo.resize(std::max<std::size_t>(e.id() + 1, Context::current().size()));
+    memo[e.id()] = {p, too_big};
     return p;
   }
 
@@ -245,23 +322,33 @@ int TrigPolynomialForm::cost_lower_bound(Expr e) { return Impl::cost_lower_bound
 
 namespace {
 
-// The function calls (sin, cos, ...) among e's nodes, outside sums, products
-// and powers; each node visited once.
-void calls_of(Expr e, std::vector<Expr>* out, std::unordered_set<std::uint32_t>* seen) {
-  if (!seen->insert(e.id()).second) return;
-  if (e.kind() == Kind::Add || e.kind() == Kind::Mul || e.kind() == Kind::Pow) {
-    for (Expr a : e.args()) calls_of(a, out, seen);
-  } else if (is_function(e.kind())) {
-    out->push_back(e);
+// The function calls (sin, cos, ...) among the nodes of some roots, outside
+// sums, products and powers; each node visited once.
+class CallFinder {
+ public:
+  std::vector<Expr> operator()(std::initializer_list<Expr> roots) {
+    ++visit_;
+    std::vector<Expr> out;
+    for (Expr e : roots) find(e, &out);
+    return out;
   }
-}
 
-std::vector<Expr> calls_of(std::initializer_list<Expr> roots) {
-  std::vector<Expr> out;
-  std::unordered_set<std::uint32_t> seen;
-  for (Expr e : roots) calls_of(e, &out, &seen);
-  return out;
-}
+ private:
+  void find(Expr e, std::vector<Expr>* out) {
+    // Stamped by node id: a table reused from root to root, never cleared.
+    if (e.id() >= visited_.size()) visited_.resize(2 * e.id() + 64, 0);
+    if (visited_[e.id()] == visit_) return;
+    visited_[e.id()] = visit_;
+    if (e.kind() == Kind::Add || e.kind() == Kind::Mul || e.kind() == Kind::Pow) {
+      for (Expr a : e.args()) find(a, out);
+    } else if (is_function(e.kind())) {
+      out->push_back(e);
+    }
+  }
+
+  std::vector<std::uint32_t> visited_;  // (by node id) the visit that saw it last
+  std::uint32_t visit_ = 0;
+};
 
 }  // namespace
 
@@ -288,6 +375,7 @@ PythagoreanReduction reduce_pythagorean(std::span<const Expr> outputs, std::span
   };
   for (const Definition& d : all) trig_symbols[d.symbol] = deep(d.value);
 
+  CallFinder calls_of;
   // The cheaper of e and its reduced form, the calls the reduced form makes
   // counted as free: e computes them too, or their sines and cosines.
   auto reduce = [&](Expr e) {
