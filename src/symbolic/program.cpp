@@ -403,7 +403,7 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
   }
   ir::Graph existing_first = ir::lower(inputs, outputs, definitions);
   ir::fold_reciprocals(existing_first);
-  const std::optional<ir::Graph> by_key = ir::extract_common_pairs_both(existing_first);
+  const std::optional<ir::Graph> by_key = ir::extract_common_pairs(existing_first);
   Scheduled chosen = schedule(by_key ? *by_key : existing_first);
   if (by_key) {  // the ties changed something
     Scheduled other = schedule(existing_first);

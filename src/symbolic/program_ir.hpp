@@ -106,11 +106,10 @@ void fold_reciprocals(Graph& graph);
 // the pair itself, then the smallest key. Neither makes every program shorter
 // than the other: compile_program tries both.
 enum class PairTies : std::uint8_t { ByKey, ExistingFirst };
-void extract_common_pairs(Graph& graph, PairTies ties);
 // Both at once: `graph` gets ExistingFirst's pairs; the result is the graph
 // ByKey makes, where the two would choose another pair at some step (nothing
 // where they agree throughout: the same graph).
-std::optional<Graph> extract_common_pairs_both(Graph& graph);
+std::optional<Graph> extract_common_pairs(Graph& graph);
 
 // Sums and products with more operands take no part in pair CSE.
 inline constexpr std::size_t kMaxPairOperands = 128;

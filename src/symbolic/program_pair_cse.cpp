@@ -357,8 +357,9 @@ std::optional<Graph> PairTable::finish_by_key() {
   return std::move(forked_->graph);
 }
 
-// The pairs of the graph's live sums and products, counted and ranked.
-PairTable ranked_pairs(Graph& graph, PairTies ties, bool watch_by_key) {
+// The pairs of the graph's live sums and products, counted and ranked by
+// ExistingFirst, watching what ties by key would choose.
+PairTable ranked_pairs(Graph& graph) {
   if (graph.nodes.size() > kMaxPairOperandId) {
     throw UsageError(fmt::format("pair CSE: {} program nodes, more than the pair keys can hold", graph.nodes.size()));
   }
@@ -373,7 +374,7 @@ PairTable ranked_pairs(Graph& graph, PairTies ties, bool watch_by_key) {
     pairs += node.terms.size() * (node.terms.size() - 1) / 2;
   }
   // Sized to the program: a small one's table is cleared in no time.
-  PairTable table(graph, ties, pairs, watch_by_key);
+  PairTable table(graph, PairTies::ExistingFirst, pairs, true);
   for (std::uint32_t id : holders) table.add_holder(id);
   table.rank();
   return table;
@@ -381,14 +382,8 @@ PairTable ranked_pairs(Graph& graph, PairTies ties, bool watch_by_key) {
 
 }  // namespace
 
-void extract_common_pairs(Graph& graph, PairTies ties) {
-  PairTable table = ranked_pairs(graph, ties, false);
-  while (table.extract_best()) {
-  }
-}
-
-std::optional<Graph> extract_common_pairs_both(Graph& graph) {
-  PairTable table = ranked_pairs(graph, PairTies::ExistingFirst, true);
+std::optional<Graph> extract_common_pairs(Graph& graph) {
+  PairTable table = ranked_pairs(graph);
   while (table.extract_best()) {
   }
   return table.finish_by_key();
