@@ -9,6 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
 
 #include <symdyn/model/diagnostics.hpp>
 #include <symdyn/model/dynamics.hpp>
@@ -145,6 +146,11 @@ class Emitter {
   }
 
   GeneratedCode run() {
+    // Node ids break ties in scheduling and pair CSE, and the simplifier makes
+    // nodes of its own (its rules' constants, the forms it tries): the plain
+    // expressions are made first, as without simplification, so that what it
+    // leaves alone compiles to the same code as without it.
+    if (options_.simplify) derive(false, Until::expressions);
     Derivation chosen = derive(options_.simplify);
     // Simplification works expression by expression; common subexpressions
     // are found later, across them. A form that is shorter alone may share
@@ -153,11 +159,13 @@ class Emitter {
     // share it. Where simplification changed no expression, the plain
     // derivation is the same expressions (the derivation is deterministic and
     // otherwise the same), hence the same programs: nothing to compare.
+    // At equal length the plain form stays: another form of as many
+    // operations gains nothing and may compile to more instructions.
     if (options_.simplify && chosen.simplified) {
       Derivation plain = derive(false);
       if (!chosen.whole.empty() && !plain.whole.empty()) {
         keep_shorter_entries(chosen, std::move(plain));
-      } else if (plain.program.operation_count().total() < chosen.program.operation_count().total()) {
+      } else if (no_longer(plain.program, chosen.program)) {
         chosen = std::move(plain);
       }
     }
@@ -209,7 +217,10 @@ class Emitter {
     bool simplified = false;  // simplification changed some expression
   };
 
-  Derivation derive(bool simplify) {
+  // How far a derivation goes: its expressions alone only make their nodes (run()).
+  enum class Until : std::uint8_t { expressions, programs };
+
+  Derivation derive(bool simplify, Until until = Until::programs) {
     model::DeriveOptions derive;
     std::optional<symbolic::Simplifier> simplifier;  // its rule tables take time to build
     Derivation d;
@@ -227,6 +238,7 @@ class Emitter {
     definitions_.clear();
     define_dependents(k);
     d.entries = build_entry_points(k, derive.simplify);
+    if (until == Until::expressions) return d;
     choose_dynamics(d.entries);
     select_entry_points(d.entries);
     gather_arrays(d);
@@ -275,11 +287,18 @@ class Emitter {
     return groups;
   }
 
+  // Fewer operations, then a lower weighted cost (divisions, calls), or as many.
+  static bool no_longer(const symbolic::Program& a, const symbolic::Program& b) {
+    const symbolic::OperationCount x = a.operation_count(), y = b.operation_count();
+    return std::pair(x.total(), x.weighted()) <= std::pair(y.total(), y.weighted());
+  }
+
+  // Each entry point of `other` (the plain derivation) no longer than chosen's replaces it.
   static void keep_shorter_entries(Derivation& chosen, Derivation&& other) {
     for (std::size_t i = 0; i < chosen.entries.size(); ++i) {
       auto& mine = chosen.whole[i];
       auto& theirs = other.whole[i];
-      if (mine && theirs && theirs->operation_count().total() < mine->operation_count().total()) {
+      if (mine && theirs && no_longer(*theirs, *mine)) {
         chosen.entries[i] = std::move(other.entries[i]);
         mine = std::move(theirs);
       }
