@@ -222,11 +222,10 @@ class PairTable {
   // either way, but a longer holder gives up its other pairs for it, and
   // the pair itself has none (c3·c5 beside c3·s4·c5: extracting c3·c5 leaves
   // s4 free to pair elsewhere, extracting c3·s4 would not).
-  // A constant's pair does not count: c·x computed for itself takes the
-  // sign of its readers, (-c)·x, and c·x·y, extracted as (c·x)·y, no longer.
+  // A constant's pair counts too (0.5·y beside 0.5·x·y): where the pair
+  // alone takes its readers' sign, (-0.5)·y, and shares nothing,
+  // compile_program keeps the other order.
   int exact(std::uint32_t p) const {
-    const std::uint64_t key = pairs_[p].key;
-    if (g_->nodes[lo_of(key)].op == Op::Const || g_->nodes[hi_of(key)].op == Op::Const) return 0;
     int n = 0;
     for (const Holder& h : pairs_[p].holders) n += g_->nodes[h.node].terms.size() == 2 ? 1 : 0;
     return n;
