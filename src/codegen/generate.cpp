@@ -148,9 +148,10 @@ class Emitter {
   GeneratedCode run() {
     // Node ids break ties in scheduling and pair CSE, and the simplifier makes
     // nodes of its own (its rules' constants, the forms it tries): the plain
-    // expressions are made first, as without simplification, so that what it
-    // leaves alone compiles to the same code as without it.
-    if (options_.simplify) derive(false, Until::expressions);
+    // kinematics are made first, as without simplification, so that what it
+    // leaves alone compiles to the same code as without it (not the
+    // equations of motion: long to derive without simplification).
+    if (options_.simplify) derive(false, Until::kinematics);
     Derivation chosen = derive(options_.simplify);
     // Simplification works expression by expression; common subexpressions
     // are found later, across them. A form that is shorter alone may share
@@ -217,8 +218,8 @@ class Emitter {
     bool simplified = false;  // simplification changed some expression
   };
 
-  // How far a derivation goes: its expressions alone only make their nodes (run()).
-  enum class Until : std::uint8_t { expressions, programs };
+  // How far a derivation goes: its kinematics alone only make their nodes (run()).
+  enum class Until : std::uint8_t { kinematics, programs };
 
   Derivation derive(bool simplify, Until until = Until::programs) {
     model::DeriveOptions derive;
@@ -235,10 +236,10 @@ class Emitter {
     derive.symbolic_partials = options_.symbolic_partials;
     derive.relative_only = !wants_absolute_motion();
     const model::Kinematics k = model::derive_kinematics(model_, derive);
+    if (until == Until::kinematics) return d;
     definitions_.clear();
     define_dependents(k);
     d.entries = build_entry_points(k, derive.simplify);
-    if (until == Until::expressions) return d;
     choose_dynamics(d.entries);
     select_entry_points(d.entries);
     gather_arrays(d);
