@@ -100,16 +100,19 @@ def generation_only(model):
         "timings": {k: None for k in ("T1", "T1_accelerations", "T1_partials", "T2", "T1_min", "T2_min", "reps")}}
 
 
+LINK_GUARD_HASH = re.compile(r"(symdyn_model_\w+?)_[0-9a-f]{16}\b")
+
+
 def code_digest(case_dir, model, variant):
-    """A digest of the emitted code, its comments aside (they name the options):
-    rows of equal digests run the same code."""
+    """A digest of the emitted code, its comments (they name the options) and the hash in its link
+    guard's name (of everything, comments included) aside: rows of equal digests run the same code."""
     digest = hashlib.sha256()
     for suffix in (".hpp", ".cpp"):
         path = case_dir / f"{model}_{variant}{suffix}"
         if path.exists():
             for line in path.read_text().splitlines():
                 if not line.startswith("//"):
-                    digest.update(line.encode() + b"\n")
+                    digest.update(LINK_GUARD_HASH.sub(r"\1", line).encode() + b"\n")
     return digest.hexdigest()
 
 
