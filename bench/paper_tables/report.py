@@ -355,7 +355,7 @@ def cas_section(rows, out):
                "generations in process: model construction, derivation, simplification, CSE, printing) and its operations "
                "(a fused sin/cos pair once). Beside it, Tgen of the generator emitting every entry point. The tools' Tgen: "
                "CPU seconds, start-up excluded (SymPy: timed inside the script, after Python's start-up and imports; Giac: "
-               "the median of the giac process's runs less that of an empty program's). SymPy's ops: its cse output by the "
+               "the fastest of the giac process's runs less that of interleaved runs of an empty program). SymPy's ops: its cse output by the "
                "same rule; Giac's: its output written in full (Giac has no cse), sin and cos apart, and in parentheses "
                "each distinct subexpression once, fused. Ratios: the tool's figure over symdyn's for CAGeM's scope.\n")
     head = "| Model | Variant | Case | symdyn Tgen/s, every entry point | symdyn Tgen/s | symdyn ops |"
@@ -667,8 +667,8 @@ def main():
            "and in parentheses each distinct subexpression once, fused.",
            "- SymPy and Giac rows: CAGeM's derivation (bench/paper_tables/cagem_sympy.py, cagem_giac.py) on the model "
            "the generator describes (`--describe`), run in this run; Tgen in CPU seconds with the tool's start-up "
-           "excluded (SymPy timed inside the script after its imports; Giac: the median of the giac process's runs less "
-           "that of an empty program's), \"timeout\" past run.sh's --cas-timeout. Tgen / symdyn's and CAGeM kin. ops / "
+           "excluded (SymPy timed inside the script after its imports; Giac: the fastest of the giac process's runs less "
+           "that of interleaved runs of an empty program), \"timeout\" past run.sh's --cas-timeout. Tgen / symdyn's and CAGeM kin. ops / "
            "symdyn's: the tool's figure over symdyn's CAGeM Tgen and CAGeM kin. ops in the same case (Giac's ops: as emitted over symdyn's with sin, cos apart, and in parentheses "
            "shared over fused).",
            "- Compile: CPU seconds (user + system) to compile the emitted source with g++ at -O2, median of the "
