@@ -150,8 +150,9 @@ class Emitter {
     // nodes of its own (its rules' constants, the forms it tries): the plain
     // kinematics are made first, as without simplification, so that what it
     // leaves alone compiles to the same code as without it (not the
-    // equations of motion: long to derive without simplification).
-    if (options_.simplify) derive(false, Until::kinematics);
+    // equations of motion: long to derive without simplification). The plain
+    // derivation below starts from them.
+    if (options_.simplify) plain_kinematics_ = model::derive_kinematics(model_, derive_options());
     Derivation chosen = derive(options_.simplify);
     // Simplification works expression by expression; common subexpressions
     // are found later, across them. A form that is shorter alone may share
@@ -219,24 +220,29 @@ class Emitter {
   };
 
   // How far a derivation goes: its kinematics alone only make their nodes (run()).
-  enum class Until : std::uint8_t { kinematics, programs };
+  // Without simplification unless one is given.
+  model::DeriveOptions derive_options(model::SimplifyFunction simplify = {}) const {
+    model::DeriveOptions options;
+    options.simplify = std::move(simplify);
+    options.symbolic_partials = options_.symbolic_partials;
+    options.relative_only = !wants_absolute_motion();
+    return options;
+  }
 
-  Derivation derive(bool simplify, Until until = Until::programs) {
-    model::DeriveOptions derive;
+  Derivation derive(bool simplify) {
     std::optional<symbolic::Simplifier> simplifier;  // its rule tables take time to build
     Derivation d;
+    model::SimplifyFunction simplify_function;
     if (simplify) {
       simplifier.emplace();
-      derive.simplify = [&simplifier, &d](Expr e) {
+      simplify_function = [&simplifier, &d](Expr e) {
         const Expr s = (*simplifier)(e);
         d.simplified = d.simplified || s != e;
         return s;
       };
     }
-    derive.symbolic_partials = options_.symbolic_partials;
-    derive.relative_only = !wants_absolute_motion();
-    const model::Kinematics k = model::derive_kinematics(model_, derive);
-    if (until == Until::kinematics) return d;
+    const model::DeriveOptions derive = derive_options(simplify_function);
+    const model::Kinematics k = !simplify && plain_kinematics_ ? *plain_kinematics_ : model::derive_kinematics(model_, derive);
     definitions_.clear();
     define_dependents(k);
     d.entries = build_entry_points(k, derive.simplify);
@@ -992,6 +998,7 @@ class Emitter {
   std::vector<EntryPoint> entries_;
   std::vector<model::DomainCheck> checks_;
   std::vector<model::AngleSequence> sequences_;
+  std::optional<model::Kinematics> plain_kinematics_;  // made first when simplifying (run())
   std::optional<DynamicsChoice> choice_;  // made by the first derivation
   std::string why_not_;                   // the recursive forward dynamics does not apply
 };
