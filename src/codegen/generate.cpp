@@ -219,8 +219,7 @@ class Emitter {
     bool simplified = false;  // simplification changed some expression
   };
 
-  // How far a derivation goes: its kinematics alone only make their nodes (run()).
-  // Without simplification unless one is given.
+  // The derivation's options, without simplification unless one is given.
   model::DeriveOptions derive_options(model::SimplifyFunction simplify = {}) const {
     model::DeriveOptions options;
     options.simplify = std::move(simplify);
@@ -791,8 +790,8 @@ class Emitter {
     return out;
   }
 
-  // 64-bit FNV-1a: a deterministic fingerprint of the emitted text.
-  // FNV-1a's step over little-endian 8-byte words in 4 independent lanes,
+  // A deterministic 64-bit fingerprint of the emitted text: FNV-1a's step
+  // over little-endian 8-byte words in 4 independent lanes,
   // then over the lanes' bytes: byte by byte, its chain of dependent
   // multiplications would be slow to run over the whole source.
   static std::uint64_t text_hash(std::string_view text) {

@@ -451,12 +451,6 @@ class Matcher {
   MatchCache* cache_;
 };
 
-// The cost of a sum under the removal of some terms and the addition of
-// others, without building the new sum: reference counts over the sum's DAG
-// say which nodes a removed term alone needed (saved) and which nodes an added
-// term brings (paid). Exact but for the merging of like terms, which only
-// lowers the cost further. Building the sum and rewriting its new parts is the
-// expensive part of a step, so only matches that pass this test pay for it.
 // The sine and cosine factors of an expression seen as a product (a power
 // counted that many times, at most 3 each). A product pattern's factor
 // sin(_x) matches only a sine factor of the target, so a target term with
@@ -485,6 +479,12 @@ TrigFactors trig_factors(Expr product) {
   return out;
 }
 
+// The cost of a sum under the removal of some terms and the addition of
+// others, without building the new sum: reference counts over the sum's DAG
+// say which nodes a removed term alone needed (saved) and which nodes an added
+// term brings (paid). Exact but for the merging of like terms, which only
+// lowers the cost further. Building the sum and rewriting its new parts is the
+// expensive part of a step, so only matches that pass this test pay for it.
 class SumCost {
  public:
   explicit SumCost(Expr sum) : terms_(static_cast<int>(sum.args().size())) {
