@@ -706,6 +706,31 @@ py::object linearize(System& self, const py::object& q, const py::object& qd, do
   return namespace_of(d);
 }
 
+// xd = f(x, u), x = (q, qd), u generalized forces on the coordinates:
+// A = df/dx (2n x 2n), B = df/du (2n x n), exact where the model was emitted
+// with its derivatives.
+py::object dynamics_derivatives(System& self, const py::object& q, const py::object& qd, double t,
+                                const std::vector<Force>& forces) {
+  MultibodySystem& system = self.with(forces);
+  runtime::DynamicsDerivatives d;
+  system.dynamics_derivatives(state_arg(system, t, q, qd), d, true);
+  const Eigen::Index n = system.num_coordinates();
+  runtime::Matrix A = runtime::Matrix::Zero(2 * n, 2 * n), B = runtime::Matrix::Zero(2 * n, n);
+  A.topRightCorner(n, n).setIdentity();
+  A.bottomLeftCorner(n, n) = d.dqdd_dq;
+  A.bottomRightCorner(n, n) = d.dqdd_dqd;
+  B.bottomRows(n) = d.dqdd_dtau;
+  py::dict out;
+  out["qdd"] = d.qdd;
+  out["dqdd_dq"] = d.dqdd_dq;
+  out["dqdd_dqd"] = d.dqdd_dqd;
+  out["dqdd_dtau"] = d.dqdd_dtau;
+  out["A"] = A;
+  out["B"] = B;
+  out["method"] = system.jacobian_method();
+  return namespace_of(out);
+}
+
 py::object modes(System& self, const py::object& q, const py::object& qd, double t,
                  const py::iterable& locked, const std::vector<Force>& forces) {
   const runtime::Linearization lin = linearization(self, q, qd, t, locked, forces);
@@ -822,6 +847,11 @@ void define_system(py::module_& module, ModelFactory make_model) {
            "forces"_a = no_forces,
            "M dqdd + C dqd + K dq = 0 about the state: coordinates, M, C, K (n x n) and the "
            "state matrix A (2n x 2n), locked coordinates removed.")
+      .def("dynamics_derivatives", &dynamics_derivatives, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
+           "forces"_a = no_forces,
+           "The forward dynamics' derivatives at (q, qd), generalized forces u on the coordinates: qdd, "
+           "dqdd_dq, dqdd_dqd, dqdd_dtau (nq x nq each), the continuous-time A (2nq x 2nq) and B (2nq x nq) of "
+           "xd = f(x, u), x = (q, qd), and method: exact where the model was emitted with its derivatives.")
       .def("modes", &modes, "q"_a = none, "qd"_a = none, "t"_a = 0.0, "locked"_a = empty,
            "forces"_a = no_forces,
            "Modes of the linearization, sorted by |pole|: poles, natural_frequency_hz, "

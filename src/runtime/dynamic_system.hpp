@@ -48,6 +48,14 @@ class DynamicSystem {
   // K = df/dq (n x n each). The default differentiates the residual by central
   // differences; systems that know them exactly override it.
   virtual void jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);
+
+  // dqdd/dq and dqdd/dqd (n x n) of the explicit form at s, whose accelerations
+  // are qdd, where the system knows them exactly (-M⁻¹·K and -M⁻¹·C); false
+  // (the default) where it does not: the caller differentiates.
+  virtual bool exact_acceleration_derivatives(const State& /*s*/, const Vector& /*qdd*/, Matrix& /*dqdd_dq*/,
+                                              Matrix& /*dqdd_dqd*/) {
+    return false;
+  }
 };
 
 }  // namespace symdyn::runtime

@@ -76,6 +76,15 @@ class ForceElement {
   virtual KinematicsLevel reads() const { return KinematicsLevel::velocities; }
   // Adds this element's loads. Must not allocate (it runs in the hot path).
   virtual void apply(const State& s, const Kinematics& k, Loads& loads) const = 0;
+  // Whether add_load_derivatives() gives this element's derivatives. Without
+  // them the runtime differentiates this element's part alone by central
+  // differences, and says so (MultibodySystem::jacobian_method).
+  virtual bool has_load_derivatives() const { return false; }
+  // Adds dQ/dq and dQ/dqd (nq x nq each) of this element's generalized forces
+  // Q (its loads projected: Q_j = Σ_i F_i·dv_ij + M_i·dw_ij + Q_j) at the state,
+  // exactly. Called only where has_load_derivatives(); must not allocate.
+  virtual void add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/, Matrix& /*dQ_dq*/,
+                                    Matrix& /*dQ_dqd*/) const {}
   // Elastic energy stored in the element (0 for non-conservative elements).
   virtual double potential_energy(const State& /*s*/, const Kinematics& /*k*/) const {
     return 0.0;

@@ -13,6 +13,12 @@ void CoordinateSpringDamper::apply(const State& s, const Kinematics& /*k*/, Load
   loads.add_generalized(j_, -k_ * (s.q(j_) - q0_) - c_ * s.qd(j_));
 }
 
+void CoordinateSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/, Matrix& dQ_dq,
+                                                  Matrix& dQ_dqd) const {
+  dQ_dq(j_, j_) -= k_;
+  dQ_dqd(j_, j_) -= c_;
+}
+
 double CoordinateSpringDamper::potential_energy(const State& s, const Kinematics& /*k*/) const {
   const double e = s.q(j_) - q0_;
   return 0.5 * k_ * e * e;
@@ -33,6 +39,12 @@ CoordinateTracking::CoordinateTracking(std::string name, int coordinate, double 
 void CoordinateTracking::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {
   const double rd = rd_ ? rd_(s.t) : 0.0;
   loads.add_generalized(j_, -kp_ * (s.q(j_) - r_(s.t)) - kd_ * (s.qd(j_) - rd));
+}
+
+void CoordinateTracking::add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/, Matrix& dQ_dq,
+                                              Matrix& dQ_dqd) const {
+  dQ_dq(j_, j_) -= kp_;
+  dQ_dqd(j_, j_) -= kd_;
 }
 
 }  // namespace symdyn::runtime

@@ -334,6 +334,17 @@ void Model::inverse_dynamics(double t, const double* q, const double* qd, const 
   d_.inverse_dynamics(t, q, qd, qdd, param_.data(), tau);
 }
 
+void Model::inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
+                                         Matrix& dtau_dq, Matrix& dtau_dqd) const {
+  if (d_.inverse_dynamics_derivatives == nullptr) missing("inverse_dynamics_derivatives");
+  dtau_dq.resize(d_.nq, d_.nq);
+  dtau_dqd.resize(d_.nq, d_.nq);
+  // Emitted row-major into column-major storage: each is its transpose until turned.
+  d_.inverse_dynamics_derivatives(t, q, qd, qdd, param_.data(), dtau_dq.data(), dtau_dqd.data());
+  dtau_dq.transposeInPlace();
+  dtau_dqd.transposeInPlace();
+}
+
 int Model::forward_dynamics(double t, const double* q, const double* qd, const double* tau, double* qdd) const {
   if (d_.forward_dynamics == nullptr) missing("forward_dynamics");
   return d_.forward_dynamics(t, q, qd, tau, param_.data(), qdd);

@@ -62,6 +62,11 @@ using DynamicsVelocitiesFn = void (*)(double t, const double* q, const double* q
 // tau = M·qdd + h (nq), recursive Newton-Euler.
 using InverseDynamicsFn = void (*)(double t, const double* q, const double* qd, const double* qdd,
                                    const double* param, double* tau);
+// dtau/dq and dtau/dqd (nq x nq each, row-major: dtau_dq[i·nq + j] = ∂tau_i/∂q_j)
+// of tau = M·qdd + h at (q, qd, qdd), the dependent parameters' chain rule included.
+using InverseDynamicsDerivativesFn = void (*)(double t, const double* q, const double* qd,
+                                              const double* qdd, const double* param,
+                                              double* dtau_dq, double* dtau_dqd);
 // qdd = M⁻¹·(tau - h) (nq) by the articulated-body algorithm; returns -1, or the
 // first coordinate whose pivot failed (then qdd is not to be used).
 using ForwardDynamicsFn = int (*)(double t, const double* q, const double* qd, const double* tau,
@@ -71,6 +76,10 @@ namespace detail {
 template <class G>
 concept has_inverse_dynamics = requires(double t, const double* c, double* o) {
   G::inverse_dynamics(t, c, c, c, c, o);
+};
+template <class G>
+concept has_inverse_dynamics_derivatives = requires(double t, const double* c, double* o) {
+  G::inverse_dynamics_derivatives(t, c, c, c, c, o, o);
 };
 template <class G>
 concept has_forward_dynamics = requires(double t, const double* c, double* o) {
@@ -196,6 +205,7 @@ struct ModelDescription {
   DynamicsVelocitiesFn dynamics_velocities = nullptr;
   InverseDynamicsFn inverse_dynamics = nullptr;
   ForwardDynamicsFn forward_dynamics = nullptr;  // only where the generator chose it
+  InverseDynamicsDerivativesFn inverse_dynamics_derivatives = nullptr;  // only where asked for
   // Cold diagnostics; empty or null for code emitted before them.
   std::vector<std::string> dependent_names;  // (ndep)
   std::vector<DomainCheck> domain_checks;
@@ -262,6 +272,7 @@ class Model {
   }
   bool has_inverse_dynamics() const { return d_.inverse_dynamics != nullptr; }
   bool has_forward_dynamics() const { return d_.forward_dynamics != nullptr; }
+  bool has_inverse_dynamics_derivatives() const { return d_.inverse_dynamics_derivatives != nullptr; }
 
   // A kinematics buffer of the right sizes for this model.
   Kinematics make_kinematics() const { return Kinematics(d_.nq, d_.nbody, d_.ndep); }
@@ -294,6 +305,9 @@ class Model {
                 double* h, Kinematics& k) const;
   // tau = M·qdd + h (nq each), emitted recursively.
   void inverse_dynamics(double t, const double* q, const double* qd, const double* qdd, double* tau) const;
+  // dtau/dq and dtau/dqd (nq x nq each) at (q, qd, qdd), exact (emitted).
+  void inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
+                                    Matrix& dtau_dq, Matrix& dtau_dqd) const;
   // qdd = M⁻¹·(tau - h) (nq each) without M; -1, or the coordinate of the first
   // failed pivot (qdd then unusable: the mass matrix names the culprit).
   int forward_dynamics(double t, const double* q, const double* qd, const double* tau, double* qdd) const;
@@ -400,6 +414,9 @@ ModelDescription Model::describe() {
       if constexpr (detail::has_dynamics_positions<G>) d.dynamics_positions = &G::dynamics_positions;
       if constexpr (detail::has_dynamics_velocities<G>) d.dynamics_velocities = &G::dynamics_velocities;
       if constexpr (detail::has_inverse_dynamics<G>) d.inverse_dynamics = &G::inverse_dynamics;
+      if constexpr (detail::has_inverse_dynamics_derivatives<G>) {
+        d.inverse_dynamics_derivatives = &G::inverse_dynamics_derivatives;
+      }
       bool forward = true;
       if constexpr (requires { G::has_forward_dynamics; }) forward = G::has_forward_dynamics;
       if constexpr (detail::has_forward_dynamics<G>) {

@@ -491,6 +491,111 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
 
 void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C,
                                 Matrix& K) {
+  if (!exact_jacobians()) {
+    jacobians_by_differences(s, qdd, M, C, K);
+    return;
+  }
+  check_state(s);
+  if (qdd.size() != model_.nq()) {
+    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(), qdd.size(), model_.nq()));
+  }
+  // f = tau(q, qd, qdd) - Q(q, qd): M = dtau/dqdd, C and K from the emitted
+  // derivatives of tau, less those of the force elements' Q.
+  mass_matrix_emitted(s, M);
+  model_.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C);
+  if (!(all_finite(K.data(), K.size()) && all_finite(C.data(), C.size()))) derivatives_not_finite(s);
+  if (!elements_.empty()) subtract_load_derivatives(s, C, K);
+}
+
+bool MultibodySystem::exact_jacobians() const {
+  return source_ == EquationsSource::emitted && model_.has_inverse_dynamics_derivatives();
+}
+
+std::string MultibodySystem::jacobian_method() const {
+  if (!exact_jacobians()) return "central differences of the residual";
+  std::string differenced;
+  for (const auto& e : elements_) {
+    if (!e->has_load_derivatives()) differenced += (differenced.empty() ? "" : ", ") + e->name();
+  }
+  if (differenced.empty()) return "exact (emitted derivatives)";
+  return "exact (emitted derivatives), but by central differences for " + differenced;
+}
+
+// C -= dQ/dqd, K -= dQ/dq of the force elements' generalized forces Q: exact
+// from the elements that give them, the others' part by central differences
+// of their Q alone (kinematics and those elements, not M nor h).
+void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matrix& K) {
+  const int n = model_.nq();
+  Matrix &dQ_dq = load_dq_, &dQ_dqd = load_dqd_;
+  dQ_dq.setZero(n, n);
+  dQ_dqd.setZero(n, n);
+  bool differenced = false;
+  evaluate_loads_kinematics(s);
+  for (const auto& e : elements_) {
+    if (e->has_load_derivatives()) {
+      e->add_load_derivatives(s, k_, dQ_dq, dQ_dqd);
+    } else {
+      differenced = true;
+    }
+  }
+  if (differenced) {
+    State& p = jacobian_state_;
+    p = s;
+    Vector &Qp = jacobian_fp_, &Qm = jacobian_fm_;
+    // Central differences with a relative step: error O(h^2) against rounding eps/h.
+    const auto column = [&](Vector& x, const Vector& x0, Matrix& J, int j) {
+      const double h = 1e-6 * std::max(1.0, std::abs(x0(j)));
+      x(j) = x0(j) + h;
+      differenced_forces(p, Qp);
+      x(j) = x0(j) - h;
+      differenced_forces(p, Qm);
+      x(j) = x0(j);
+      J.col(j) += (Qp - Qm) / (2.0 * h);
+    };
+    for (int j = 0; j < n; ++j) {
+      column(p.q, s.q, dQ_dq, j);
+      column(p.qd, s.qd, dQ_dqd, j);
+    }
+  }
+  if (!(all_finite(dQ_dq.data(), dQ_dq.size()) && all_finite(dQ_dqd.data(), dQ_dqd.size()))) {
+    compute_loads(s);  // names a non-finite load
+    throw NumericError(fmt::format("t = {}: the derivatives of the force elements' loads are not finite at {}", s.t,
+                                   describe(s)));
+  }
+  K -= dQ_dq;
+  C -= dQ_dqd;
+}
+
+// The kinematics the force elements read, at a checked state.
+void MultibodySystem::evaluate_loads_kinematics(const State& s) {
+  using enum KinematicsLevel;
+  if (level_ == positions) model_.positions(s.t, s.q.data(), k_);
+  if (level_ == velocities) model_.velocities(s.t, s.q.data(), s.qd.data(), k_);
+  if (level_ != none) {
+    model_.partial_velocities(s.t, s.q.data(), k_);
+    if (!k_.finite_up_to(level_)) check_kinematics(s, level_, false);
+  }
+}
+
+// Q of the force elements without derivatives of their own.
+void MultibodySystem::differenced_forces(const State& s, Vector& Q) {
+  evaluate_loads_kinematics(s);
+  loads_.clear();
+  for (const auto& e : elements_) {
+    if (!e->has_load_derivatives()) e->apply(s, k_, loads_);
+  }
+  if (!(loads_.F.allFinite() && loads_.M.allFinite() && loads_.Q.allFinite())) compute_loads(s);  // names the culprit
+  project_loads(Q);
+}
+
+void MultibodySystem::derivatives_not_finite(const State& s) const {
+  throw_domain_error(s);
+  throw NumericError(fmt::format("t = {}: the derivatives of the equations of motion are not finite at {}", s.t,
+                                 describe(s)));
+}
+
+void MultibodySystem::jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M, Matrix& C,
+                                               Matrix& K) {
   const int n = model_.nq();
   mass_matrix(s, M);
   C.resize(n, n);
@@ -517,6 +622,51 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
     residual(p, qdd, yd, fm, g);
     p.qd(j) = s.qd(j);
     C.col(j) = (fp - fm) / (2.0 * hv);
+  }
+}
+
+bool MultibodySystem::exact_acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
+                                                     Matrix& dqdd_dqd) {
+  if (!exact_jacobians() || num_extra_states() > 0) return false;
+  acceleration_derivatives(s, qdd, dqdd_dq, dqdd_dqd);
+  return true;
+}
+
+void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
+                                               Matrix& dqdd_dqd) {
+  Matrix& M = derivative_M_;
+  jacobians(s, qdd, M, dqdd_dqd, dqdd_dq);
+  // M·dqdd = -(K·dq + C·dqd) + dtau
+  if (!solver_.factor(M)) {
+    M_ = M;
+    mass_matrix_refused(s);
+  }
+  Vector &column = jacobian_fp_, &solved = jacobian_fm_;
+  solved.resize(model_.nq());
+  for (int j = 0; j < model_.nq(); ++j) {
+    column = dqdd_dq.col(j);
+    solver_.solve_negated(column, solved);
+    dqdd_dq.col(j) = solved;
+    column = dqdd_dqd.col(j);
+    solver_.solve_negated(column, solved);
+    dqdd_dqd.col(j) = solved;
+  }
+}
+
+void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix) {
+  accelerations(s, out.qdd, jacobian_yd_);
+  acceleration_derivatives(s, out.qdd, out.dqdd_dq, out.dqdd_dqd);
+  if (!with_input_matrix) {
+    out.dqdd_dtau.resize(0, 0);
+    return;
+  }
+  // M is factored (acceleration_derivatives): its inverse column by column.
+  out.dqdd_dtau.setIdentity(model_.nq(), model_.nq());
+  Vector& column = jacobian_fp_;
+  for (int j = 0; j < model_.nq(); ++j) {
+    column = out.dqdd_dtau.col(j);
+    solver_.solve_in_place(column);
+    out.dqdd_dtau.col(j) = column;
   }
 }
 

@@ -52,6 +52,14 @@ namespace symdyn::runtime {
 
 enum class EquationsSource { assembled, emitted };
 
+// The forward dynamics and its derivatives at a state (MultibodySystem::dynamics_derivatives).
+struct DynamicsDerivatives {
+  Vector qdd;        // (nq)
+  Matrix dqdd_dq;    // (nq x nq)
+  Matrix dqdd_dqd;   // (nq x nq)
+  Matrix dqdd_dtau;  // (nq x nq) M⁻¹, or empty unless asked for
+};
+
 class MultibodySystem : public DynamicSystem {
  public:
   // Throws ModelError when the model lacks the entry points the source needs
@@ -104,9 +112,27 @@ class MultibodySystem : public DynamicSystem {
   void accelerations(const State& s, Vector& qdd, Vector& yd) override;
   void residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
                 Vector& g) override;
-  // M exact (from the chosen source), C and K by central differences of the
-  // residual (relative step 1e-6 with floor 1e-6).
+  // M = df/dqdd, C = df/dqd, K = df/dq at (s, qdd). Exact where the model was
+  // emitted with inverse_dynamics_derivatives (and the source is emitted): C
+  // and K are dtau/dqd and dtau/dq less the force elements' dQ/dqd and dQ/dq,
+  // exact from the elements that give them (ForceElement::add_load_derivatives),
+  // the others' part by central differences of their Q alone; otherwise M exact (from the
+  // chosen source), C and K by central differences of the residual (relative
+  // step 1e-6 with floor 1e-6). jacobian_method() says which, for run summaries.
   void jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K) override;
+  bool exact_jacobians() const;
+  std::string jacobian_method() const;
+  // Where exact_jacobians() (and there are no extra states, whose equations
+  // are not differentiated): -M⁻¹·K and -M⁻¹·C.
+  bool exact_acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
+                                      Matrix& dqdd_dqd) override;
+
+  // The derivatives of the forward dynamics qdd(q, qd, tau) at s, force
+  // elements included, tau generalized forces added on the coordinates:
+  //   dqdd/dq = -M⁻¹·K,  dqdd/dqd = -M⁻¹·C,  dqdd/dtau = M⁻¹
+  // (K, C of jacobians() at qdd), by solves with M's factorization; M⁻¹ is
+  // formed only with `with_input_matrix`. Exact as jacobians() is.
+  void dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix = false);
 
   // The pieces, each evaluated at the state s (nq x nq and nq).
   void mass_matrix(const State& s, Matrix& M);
@@ -176,6 +202,13 @@ class MultibodySystem : public DynamicSystem {
   // Throws naming the dependent parameter out of its domain at s, if any.
   [[gnu::cold, gnu::noinline]] void throw_domain_error(const State& s) const;
   std::string describe(const State& s) const;
+  void jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);
+  // dqdd/dq and dqdd/dqd from jacobians() at (s, qdd): -M⁻¹·K and -M⁻¹·C by solves.
+  void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq, Matrix& dqdd_dqd);
+  void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
+  void evaluate_loads_kinematics(const State& s);
+  void differenced_forces(const State& s, Vector& Q);
+  [[noreturn, gnu::cold, gnu::noinline]] void derivatives_not_finite(const State& s) const;
 
   Model model_;
   EquationsSource source_;
@@ -201,6 +234,8 @@ class MultibodySystem : public DynamicSystem {
   SpdSolver solver_;
   State jacobian_state_;                                   // jacobians(): the shifted state,
   Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
+  Matrix derivative_M_;                                    // dynamics_derivatives(): M
+  Matrix load_dq_, load_dqd_;                              // the force elements' dQ/dq, dQ/dqd
 };
 
 // Largest absolute differences between the assembled and the emitted mass

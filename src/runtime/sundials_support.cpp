@@ -55,6 +55,12 @@ int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vec
     unpack(d, t, x);
     jac.setZero();
     jac.block(0, n, n, n).setIdentity();
+    d.f0 = f0.segment(n, n);
+    if (d.system->exact_acceleration_derivatives(d.s, d.f0, d.dqdd_dq, d.dqdd_dqd)) {
+      jac.block(n, 0, n, n) = d.dqdd_dq;
+      jac.block(n, n, n, n) = d.dqdd_dqd;
+      return 0;
+    }
     for (int j = 0; j < size; ++j) {
       double& xj = j < n ? d.s.q[j] : j < 2 * n ? d.s.qd[j - n] : d.s.y[j - 2 * n];
       const double saved = xj;

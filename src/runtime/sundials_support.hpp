@@ -21,6 +21,8 @@ struct CallbackData {
   Vector qdd, yd;
   Vector x;      // (2n + m) the solver's state for the error weights, copied: no allocation per step
   Vector scale;  // (2n + m) the size below which a difference step does not shrink: q_scale, else 1
+  Vector f0;     // (n) the accelerations at the Jacobian's point
+  Matrix dqdd_dq, dqdd_dqd;  // (n x n) the system's exact derivatives, where it has them
   long evaluations = 0;
   std::string last_failure;     // last non-finite value or NumericError, with its time
   std::string solver_message;   // the solver's own message of its last error
@@ -36,7 +38,8 @@ void unpack(CallbackData& d, double t, N_Vector x);
 int right_hand_side(realtype t, N_Vector x, N_Vector dx, void* user);
 
 // J = d(qd, qdd, yd)/d(q, qd, y) (2n + m square): the rows of qd exactly (0, I, 0),
-// the others by forward differences of the accelerations, a step of sqrt(eps)·max(|x_j|,
+// the others exactly where the system knows them (DynamicSystem::exact_acceleration_derivatives),
+// else by forward differences of the accelerations, a step of sqrt(eps)·max(|x_j|,
 // scale_j). Ours rather than the solver's difference Jacobian, which allocates at each
 // call and differences the rows it could know. Returns as right_hand_side.
 int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector);

@@ -147,6 +147,13 @@ DagMap::Rule time_derivative_rule(RateMap rates) {
   });
 }
 
+DagMap::Rule directional_rule(const std::unordered_map<Expr, Expr>& tangents) {
+  return derivative_rule([&tangents](Expr s) {
+    auto it = tangents.find(s);
+    return it == tangents.end() ? Expr(0) : it->second;
+  });
+}
+
 // Symbols replaced by their values; a node whose arguments are unchanged is
 // kept, any other is rebuilt through its smart constructor.
 DagMap::Rule substitution_rule(const std::unordered_map<Expr, Expr>& replacements) {
@@ -184,6 +191,22 @@ TimeDerivative::TimeDerivative(RateMap rates) : map_(time_derivative_rule(std::m
 Expr TimeDerivative::operator()(Expr e) { return map_(e); }
 
 Expr time_derivative(Expr e, const RateMap& rates) { return TimeDerivative(rates)(e); }
+
+DirectionalDerivative::DirectionalDerivative(std::unordered_map<Expr, Expr> tangents)
+    : tangents_(std::move(tangents)), map_(directional_rule(tangents_)) {
+  require_symbol_keys(tangents_, "directional derivative");
+}
+
+Expr DirectionalDerivative::operator()(Expr e) { return map_(e); }
+
+void DirectionalDerivative::add(Expr symbol, Expr tangent) {
+  if (!symbol.is_symbol()) {
+    throw UsageError(fmt::format("directional derivative: key '{}' is not a symbol", symbol.str()));
+  }
+  if (map_.has_mapped(symbol) || !tangents_.try_emplace(symbol, tangent).second) {
+    throw UsageError(fmt::format("directional derivative: '{}' is already met or given", symbol.name()));
+  }
+}
 
 Substitution::Substitution(std::unordered_map<Expr, Expr> replacements)
     : replacements_(std::move(replacements)), map_(substitution_rule(replacements_)) {

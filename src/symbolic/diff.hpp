@@ -1,7 +1,7 @@
 #pragma once
-// Differentiation, total time derivative and substitution.
+// Differentiation, total time derivative, directional derivative and substitution.
 //
-// All three are memoized sweeps over the DAG (see dag_map.hpp): each node is
+// All are memoized sweeps over the DAG (see dag_map.hpp): each node is
 // processed once per sweep object, so the result of differentiating a DAG of n
 // nodes has O(n) new nodes (times the arity of products), however much the
 // DAG shares. Keep one Differentiator / TimeDerivative / Substitution object
@@ -74,6 +74,25 @@ class TimeDerivative {
   DagMap map_;
 };
 Expr time_derivative(Expr e, const RateMap& rates);
+
+// The derivative along a direction: each symbol's derivative is its entry in
+// `tangents` (absent: 0, whatever its kind), so that d e = Σ_a ∂e/∂a · tangent(a)
+// in one sweep, a Jacobian-vector product.
+class DirectionalDerivative {
+ public:
+  explicit DirectionalDerivative(std::unordered_map<Expr, Expr> tangents);
+  DirectionalDerivative(const DirectionalDerivative&) = delete;
+  DirectionalDerivative& operator=(const DirectionalDerivative&) = delete;
+  Expr operator()(Expr e);
+  // The tangent of a symbol no earlier call has met (its image is fixed once
+  // met): lets a chain of definitions be differentiated in order. Throws
+  // UsageError otherwise.
+  void add(Expr symbol, Expr tangent);
+
+ private:
+  std::unordered_map<Expr, Expr> tangents_;
+  DagMap map_;
+};
 
 // e with every symbol of `replacements` replaced by its value, rebuilt
 // through the smart constructors (so the result is canonical: x·y with x -> 2
