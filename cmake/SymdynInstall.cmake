@@ -1,5 +1,6 @@
 # What `cmake --install` puts under the prefix for a project to use symdyn
-# (docs/install.md): the headers as <symdyn/<part>/<file>.hpp>, the static
+# (docs/install.md): the headers as <symdyn/<part>/<file>.hpp> (not those of
+# a part's detail/ folder, its internals), the static
 # libraries as the exported targets symdyn::<part>, symdyn_add_model, and the
 # package configuration that find_package(symdyn) reads.
 include(CMakePackageConfigHelpers)
@@ -8,7 +9,7 @@ set(symdyn_exported_parts symbolic model codegen runtime generator_main)
 set(symdyn_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/symdyn)
 
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/symdyn
-  FILES_MATCHING PATTERN "*.hpp")
+  FILES_MATCHING PATTERN "*.hpp" PATTERN "detail" EXCLUDE)
 
 list(TRANSFORM symdyn_exported_parts PREPEND symdyn_ OUTPUT_VARIABLE symdyn_exported_targets)
 install(TARGETS ${symdyn_exported_targets} EXPORT symdynTargets

@@ -52,7 +52,7 @@ enum class DynamicsMethod { automatic, mass_matrix, recursive };
 
 struct Options {
   bool simplify = true;             // trigonometric simplification of the relative kinematics; the code
-                                    // keeps the shorter of the simplified and plain programs (see run())
+                                    // keeps the shorter of the simplified and plain programs (detail/derivation.cpp)
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
   bool equations_of_motion = true;  // emit mass_matrix, bias_forces and inverse_dynamics
   // recursive: forward_dynamics where the articulated-body algorithm applies

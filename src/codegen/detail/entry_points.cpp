@@ -1,0 +1,377 @@
+#include <symdyn/codegen/detail/entry_points.hpp>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <charconv>
+#include <stdexcept>
+
+#include <symdyn/symbolic/print.hpp>
+
+namespace symdyn::codegen::detail {
+namespace {
+
+using model::Expr;
+using model::Motion;
+
+// Where outputs come from (defined below the table).
+template <class Field>
+Source absolute(Field Motion::*field);
+template <class Field>
+Source relative(Field Motion::*field);
+Source absolute_partials(std::vector<model::Vec3> Motion::*field);
+Source relative_partials(std::vector<model::Vec3> Motion::*field);
+Source dynamics(std::vector<Expr> model::Dynamics::*field);
+std::vector<Expr> masses(const Quantities& q);
+std::vector<Expr> inertias(const Quantities& q);
+std::vector<Expr> dependent_values(const Quantities& q);
+std::vector<Expr> dependent_rates(const Quantities& q);
+std::vector<Expr> dependent_accelerations(const Quantities& q);
+std::string numeric_partials_body(const Sizes& sizes);
+std::string forward_dynamics_body(const Sizes& sizes);
+
+// The catalogue. Each row is emitted in this order, declared in the header
+// with its doc and its outputs' shapes, and selectable by name (--only).
+//
+// Adding an entry point is adding a row where it is to be emitted, and its
+// declaration in docs/emitted_interface.md (tests/codegen/entry_points_test.cpp
+// checks that the two agree). A row gives
+//   - inputs, in the order of kInputs;
+//   - outputs, each a name, a shape in nq, nbody, ndep, and a Source of its
+//     expressions: a field of model::Kinematics or model::Dynamics through the
+//     helpers above, or any function of Quantities;
+//   - needs: what must be derived first (the equations of motion are derived
+//     only when a selected entry point needs them) or chosen;
+//   - for a hand-written body instead of a program: body, note and calls.
+// The derivatives of the inverse dynamics, say, once model::Dynamics has them:
+//
+//   {.name = "inverse_dynamics_derivatives",
+//    .doc = "dtau/dq and dtau/dqd of inverse_dynamics.",
+//    .inputs = {t, q, qd, qdd, param},
+//    .outputs = {{"dtau_dq", "nq x nq", dynamics(&model::Dynamics::dtau_dq)},
+//                {"dtau_dqd", "nq x nq", dynamics(&model::Dynamics::dtau_dqd)}},
+//    .needs = equations},
+//
+// An output of the same name and values as another entry point's is one array
+// of the shared program (positions' R is velocities' R); one of the same name
+// and other values is renamed there (relative_accelerations_R).
+std::vector<EntryPointSpec> make_catalogue() {
+  using enum Input;
+  // Each body's absolute motion, in the global frame.
+  const OutputSpec R{"R", "nbody x 3 x 3", absolute(&Motion::R)}, x{"x", "nbody x 3", absolute(&Motion::x)},
+      v{"v", "nbody x 3", absolute(&Motion::v)}, w{"w", "nbody x 3", absolute(&Motion::w)},
+      a{"a", "nbody x 3", absolute(&Motion::a)}, dw{"dw", "nbody x 3", absolute(&Motion::dw)};
+  // Each body's motion relative to its reference, in the reference's axes.
+  const OutputSpec rel_R{"R", "nbody x 3 x 3", relative(&Motion::R)}, rel_x{"x", "nbody x 3", relative(&Motion::x)},
+      rel_v{"v", "nbody x 3", relative(&Motion::v)}, rel_w{"w", "nbody x 3", relative(&Motion::w)},
+      rel_a{"a", "nbody x 3", relative(&Motion::a)}, rel_dw{"dw", "nbody x 3", relative(&Motion::dw)};
+  // Partial velocities dv_i/dqd_j and dw_i/dqd_j, symbolic; named dv_dqd and
+  // dw_dqd beside the accelerations (whose dw is the angular acceleration).
+  const Source pv = absolute_partials(&Motion::dv_dqd), pw = absolute_partials(&Motion::dw_dqd);
+  const Source rel_pv = relative_partials(&Motion::dv_dqd), rel_pw = relative_partials(&Motion::dw_dqd);
+  const OutputSpec partial_dv{"dv", "nbody x nq x 3", pv}, partial_dw{"dw", "nbody x nq x 3", pw};
+  const OutputSpec M{"M", "nq x nq", dynamics(&model::Dynamics::mass_matrix)},
+      h{"h", "nq", dynamics(&model::Dynamics::bias)};
+  const Needs absolute_motion{.absolute_motion = true};
+  const Needs symbolic{.absolute_motion = true, .partials = Partials::symbolic};
+  const Needs relative_symbolic{.partials = Partials::symbolic};
+  const Needs equations{.absolute_motion = true, .equations_of_motion = true};
+  const Needs equations_symbolic{.absolute_motion = true, .partials = Partials::symbolic, .equations_of_motion = true};
+  const Needs recursive{.absolute_motion = true, .equations_of_motion = true, .recursive_dynamics = true};
+  return {
+      {.name = "inertia",
+       .doc = "Mass of every body and its inertia tensor at G in body axes.",
+       .inputs = {param},
+       .outputs = {{"mass", "nbody", masses}, {"inertia", "nbody x 3 x 3", inertias}}},
+      {.name = "positions",
+       .doc = "Positions only (to draw a scene).",
+       .inputs = {t, q, param},
+       .outputs = {R, x},
+       .needs = absolute_motion},
+      {.name = "velocities",
+       .doc = "Positions and velocities.",
+       .inputs = {t, q, qd, param},
+       .outputs = {R, x, v, w},
+       .needs = absolute_motion},
+      {.name = "accelerations",
+       .doc = "Positions, velocities and accelerations.",
+       .inputs = {t, q, qd, qdd, param},
+       .outputs = {R, x, v, w, a, dw},
+       .needs = absolute_motion},
+      {.name = "relative_accelerations",
+       .doc = "Each body's motion relative to its reference (reference_body; the ground for -1), in the\n"
+              "reference's axes, as CAGeM emitted it: compose as EasyDyn did (runtime/relative_motion.hpp).",
+       .inputs = {t, q, qd, qdd, param},
+       .outputs = {rel_R, rel_x, rel_v, rel_w, rel_a, rel_dw}},
+      {.name = "partial_velocities",
+       .doc = "Partial velocities dv/dqd and dw/dqd (symbolic).",
+       .inputs = {t, q, param},
+       .outputs = {partial_dv, partial_dw},
+       .needs = symbolic},
+      {.name = "partial_velocities",
+       .doc = "Partial velocities dv/dqd and dw/dqd, numeric as in EasyDyn: velocities are affine in qd, so\n"
+              "dv/dqd_j = v(qd = e_j) - v(qd = 0) exactly.",
+       .inputs = {t, q, param},
+       .outputs = {{"dv", "nbody x nq x 3", {}}, {"dw", "nbody x nq x 3", {}}},
+       .needs = {.absolute_motion = true, .partials = Partials::numeric},
+       .body = numeric_partials_body,
+       .note = "(loops over velocities)",
+       .calls = "velocities"},
+      {.name = "relative_partial_velocities",
+       .doc = "Partial velocities of each body's motion relative to its reference, in the reference's axes.",
+       .inputs = {t, q, param},
+       .outputs = {{"dv", "nbody x nq x 3", rel_pv}, {"dw", "nbody x nq x 3", rel_pw}},
+       .needs = relative_symbolic},
+      // Accelerations and partial velocities in one call: the sines, cosines
+      // and rotations both need are computed once.
+      {.name = "accelerations_partials",
+       .doc = "accelerations and partial_velocities in one call (dv_dqd, dw_dqd: their dv, dw).",
+       .inputs = {t, q, qd, qdd, param},
+       .outputs = {R, x, v, w, a, dw, {"dv_dqd", "nbody x nq x 3", pv}, {"dw_dqd", "nbody x nq x 3", pw}},
+       .needs = symbolic},
+      {.name = "relative_accelerations_partials",
+       .doc = "relative_accelerations and relative_partial_velocities in one call (dv_dqd, dw_dqd: their dv, dw).",
+       .inputs = {t, q, qd, qdd, param},
+       .outputs = {rel_R, rel_x, rel_v, rel_w, rel_a, rel_dw, {"dv_dqd", "nbody x nq x 3", rel_pv},
+                   {"dw_dqd", "nbody x nq x 3", rel_pw}},
+       .needs = relative_symbolic},
+      {.name = "dependent_parameters",
+       .doc = "Dependent parameters and their first and second time derivatives.",
+       .inputs = {t, q, qd, qdd, param},
+       .outputs = {{"p", "ndep", dependent_values}, {"pd", "ndep", dependent_rates},
+                   {"pdd", "ndep", dependent_accelerations}}},
+      {.name = "mass_matrix",
+       .doc = "Mass matrix M(q, t).",
+       .inputs = {t, q, param},
+       .outputs = {M},
+       .needs = equations},
+      {.name = "bias_forces",
+       .doc = "h(q, qd, t): inertia terms at qdd = 0 and gravity (M qdd + h = Q).",
+       .inputs = {t, q, qd, param},
+       .outputs = {h},
+       .needs = equations},
+      // The runtime's hot path: M and h in one call, so that the sines,
+      // cosines and rotations they share are computed once, with (for force
+      // elements) the kinematics and partial velocities of the same state.
+      {.name = "dynamics",
+       .doc = "M and h together (the runtime's hot path without force elements).",
+       .inputs = {t, q, qd, param},
+       .outputs = {M, h},
+       .needs = equations},
+      {.name = "dynamics_positions",
+       .doc = "M and h with the positions and partial velocities that force elements read.",
+       .inputs = {t, q, qd, param},
+       .outputs = {M, h, R, x, partial_dv, partial_dw},
+       .needs = equations_symbolic},
+      {.name = "dynamics_velocities",
+       .doc = "M and h with the positions, velocities and partial velocities that force elements read.",
+       .inputs = {t, q, qd, param},
+       .outputs = {M, h, R, x, v, w, partial_dv, partial_dw},
+       .needs = equations_symbolic},
+      {.name = "inverse_dynamics",
+       .doc = "tau = M qdd + h by recursive Newton-Euler (linear in the bodies).",
+       .inputs = {t, q, qd, qdd, param},
+       .outputs = {{"tau", "nq", dynamics(&model::Dynamics::inverse)}},
+       .needs = equations},
+      {.name = "forward_dynamics_pivots",
+       .doc = "qdd = M^-1 (tau - h) by the articulated-body algorithm, with each coordinate's pivot d of\n"
+              "the LDL^T factorization of its body's D = S^T I^A S and the diagonal entry of D it came from.",
+       .inputs = {t, q, qd, tau, param},
+       .outputs = {{"qdd_solved", "nq", dynamics(&model::Dynamics::forward)},
+                   {"pivots", "nq x 2", dynamics(&model::Dynamics::pivots)}},
+       .needs = recursive},
+      {.name = "forward_dynamics",
+       .doc = "qdd = M^-1 (tau - h) without M; returns -1, or the first coordinate whose pivot is not\n"
+              "positive or is below 64 ulps of its diagonal entry (then qdd is not to be used).",
+       .inputs = {t, q, qd, tau, param},
+       .outputs = {{"qdd", "nq", {}}},
+       .needs = recursive,
+       .returns = "int",
+       .body = forward_dynamics_body,
+       .note = "(forward_dynamics_pivots and the pivot check)",
+       .calls = "forward_dynamics_pivots"},
+  };
+}
+
+// One field of every body's absolute (or, with `relative`, relative) motion, flattened.
+template <class Field>
+Source motion_field(Field Motion::*field, bool relative) {
+  return [field, relative](const Quantities& q) {
+    std::vector<Expr> out;
+    for (const model::BodyKinematics& b : q.kinematics.bodies) {
+      const Field& value = relative ? b.relative.*field : b.*field;
+      out.insert(out.end(), value.begin(), value.end());
+    }
+    return out;
+  };
+}
+
+template <class Field>
+Source absolute(Field Motion::*field) {
+  return motion_field(field, false);
+}
+
+template <class Field>
+Source relative(Field Motion::*field) {
+  return motion_field(field, true);
+}
+
+// dv/dqd or dw/dqd of every body: (nbody x nq x 3).
+Source partials(std::vector<model::Vec3> Motion::*field, bool relative) {
+  return [field, relative](const Quantities& q) {
+    std::vector<Expr> out;
+    for (const model::BodyKinematics& b : q.kinematics.bodies) {
+      for (const model::Vec3& v : relative ? b.relative.*field : b.*field) out.insert(out.end(), v.begin(), v.end());
+    }
+    return out;
+  };
+}
+
+Source absolute_partials(std::vector<model::Vec3> Motion::*field) { return partials(field, false); }
+Source relative_partials(std::vector<model::Vec3> Motion::*field) { return partials(field, true); }
+
+Source dynamics(std::vector<Expr> model::Dynamics::*field) {
+  return [field](const Quantities& q) {
+    if (q.dynamics == nullptr) throw std::logic_error("generate: an output of the dynamics without them derived");
+    return q.dynamics->*field;
+  };
+}
+
+std::vector<Expr> masses(const Quantities& q) {
+  std::vector<Expr> out;
+  for (const model::Body& b : q.model.bodies()) out.push_back(b.mass());
+  return out;
+}
+
+std::vector<Expr> inertias(const Quantities& q) {
+  std::vector<Expr> out;
+  for (const model::Body& b : q.model.bodies()) out.insert(out.end(), b.inertia().begin(), b.inertia().end());
+  return out;
+}
+
+std::vector<Expr> dependent_values(const Quantities& q) {
+  std::vector<Expr> out;
+  for (const model::DependentKinematics& d : q.kinematics.dependents) out.push_back(d.symbols.symbol);
+  return out;
+}
+
+std::vector<Expr> dependent_rates(const Quantities& q) {
+  std::vector<Expr> out;
+  for (const model::DependentKinematics& d : q.kinematics.dependents) out.push_back(d.symbols.rate);
+  return out;
+}
+
+std::vector<Expr> dependent_accelerations(const Quantities& q) {
+  std::vector<Expr> out;
+  for (const model::DependentKinematics& d : q.kinematics.dependents) out.push_back(d.symbols.acceleration);
+  return out;
+}
+
+// Numeric partial velocities, as EasyDyn: velocities are affine in qd, so
+// dv/dqd_j = v(qd = e_j) - v(qd = 0) exactly.
+std::string numeric_partials_body(const Sizes& sizes) {
+  return fmt::format(
+      "  double R[{0} * 9], x[{0} * 3], v0[{0} * 3], w0[{0} * 3], v[{0} * 3], w[{0} * 3];\n"
+      "  double qd[{1}] = {{}};\n"
+      "  velocities(t, q, qd, param, R, x, v0, w0);\n"
+      "  for (int j = 0; j < {1}; ++j) {{\n"
+      "    qd[j] = 1.0;\n"
+      "    velocities(t, q, qd, param, R, x, v, w);\n"
+      "    qd[j] = 0.0;\n"
+      "    for (int i = 0; i < {0}; ++i) {{\n"
+      "      for (int k = 0; k < 3; ++k) {{\n"
+      "        dv[(i * {1} + j) * 3 + k] = v[i * 3 + k] - v0[i * 3 + k];\n"
+      "        dw[(i * {1} + j) * 3 + k] = w[i * 3 + k] - w0[i * 3 + k];\n"
+      "      }}\n"
+      "    }}\n"
+      "  }}\n",
+      sizes.nbody, sizes.nq);
+}
+
+// Below this share of its diagonal entry of D a pivot of the articulated-body
+// algorithm is rounding: the runtime's SpdSolver::kSingularRatio (64 ulps).
+constexpr double kSingularPivotRatio = 64 * 2.220446049250313e-16;
+
+// forward_dynamics: the emitted pivots checked as the runtime's SpdSolver
+// checks M's, so that a failing call can fall back to M and its diagnostics.
+std::string forward_dynamics_body(const Sizes& sizes) {
+  return fmt::format(
+      "  double pivots[{0}];\n"
+      "  forward_dynamics_pivots(t, q, qd, tau, param, qdd, pivots);\n"
+      "  for (int j = 0; j < {1}; ++j) {{\n"
+      "    const double d = pivots[2 * j], diagonal = pivots[2 * j + 1];\n"
+      "    if (!(d > 0.0 && d > {2} * diagonal)) return j;\n"
+      "  }}\n"
+      "  return -1;\n",
+      2 * sizes.nq, sizes.nq, symbolic::cpp_literal(kSingularPivotRatio));
+}
+
+// The value of one dimension of a shape.
+std::size_t dimension(std::string_view d, const Sizes& sizes) {
+  if (d == "nq") return sizes.nq;
+  if (d == "nbody") return sizes.nbody;
+  if (d == "ndep") return sizes.ndep;
+  std::size_t n = 0;
+  const auto [end, error] = std::from_chars(d.data(), d.data() + d.size(), n);
+  if (error != std::errc() || end != d.data() + d.size()) {
+    throw std::logic_error(fmt::format("generate: '{}' is not a dimension of an entry point's output", d));
+  }
+  return n;
+}
+
+// The dimensions of a shape, in order.
+std::vector<std::size_t> dimensions(std::string_view shape, const Sizes& sizes) {
+  constexpr std::string_view kTimes = " x ";
+  std::vector<std::size_t> out;
+  for (std::size_t sep = shape.find(kTimes);; sep = shape.find(kTimes)) {
+    out.push_back(dimension(shape.substr(0, sep), sizes));
+    if (sep == std::string_view::npos) return out;
+    shape.remove_prefix(sep + kTimes.size());
+  }
+}
+
+}  // namespace
+
+std::string_view input_name(Input input) {
+  constexpr std::string_view kNames[] = {"t", "q", "qd", "qdd", "tau", "param"};
+  return kNames[static_cast<std::size_t>(input)];
+}
+
+std::string shape_text(std::string_view shape, const Sizes& sizes) {
+  return fmt::format("({})", fmt::join(dimensions(shape, sizes), " x "));
+}
+
+std::size_t shape_size(std::string_view shape, const Sizes& sizes) {
+  std::size_t n = 1;
+  for (std::size_t d : dimensions(shape, sizes)) n *= d;
+  return n;
+}
+
+std::span<const EntryPointSpec> catalogue() {
+  static const std::vector<EntryPointSpec> rows = make_catalogue();
+  return rows;
+}
+
+std::vector<std::string_view> entry_point_names() {
+  std::vector<std::string_view> names;
+  for (const EntryPointSpec& e : catalogue()) {
+    if (std::find(names.begin(), names.end(), e.name) == names.end()) names.push_back(e.name);
+  }
+  return names;
+}
+
+bool is_entry_point(std::string_view name) {
+  return std::any_of(catalogue().begin(), catalogue().end(), [&](const EntryPointSpec& e) { return e.name == name; });
+}
+
+EntryPoint build_entry_point(const EntryPointSpec& spec, const Quantities& quantities, const Sizes& sizes) {
+  EntryPoint e{.spec = &spec, .outputs = {}, .body = spec.body ? spec.body(sizes) : std::string()};
+  for (const OutputSpec& o : spec.outputs) {
+    std::vector<Expr> values = o.source ? o.source(quantities) : std::vector<Expr>();
+    e.outputs.push_back({std::string(o.name), shape_text(o.shape, sizes), std::move(values)});
+  }
+  return e;
+}
+
+}  // namespace symdyn::codegen::detail
