@@ -47,7 +47,7 @@ GeneratedCode generate(const model::Model& model, std::string_view variant, std:
     detail::Deriver deriver(shared, options, selection, inputs);
     detail::Derivation chosen = deriver.run();
     const detail::TextContext text{shared, variant, basename, options, inputs, checks, sequences};
-    return detail::emit_code(text, std::move(chosen), deriver.dynamics_choice());
+    return detail::emit_code(text, std::move(chosen), deriver.dynamics_choice(), deriver.derivatives_reason());
   } catch (const symbolic::SymbolicError& e) {
     throw ModelError(fmt::format("model '{}' variant '{}': {}", model.name(), variant, e.what()));
   }

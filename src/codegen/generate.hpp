@@ -55,6 +55,9 @@ struct Options {
                                     // keeps the shorter of the simplified and plain programs (detail/derivation.cpp)
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
   bool equations_of_motion = true;  // emit mass_matrix, bias_forces and inverse_dynamics
+  // Also emit inverse_dynamics_derivatives: dtau/dq and dtau/dqd, exact, which
+  // the runtime uses wherever it needs a Jacobian (docs/runtime.md).
+  bool derivatives = false;
   // recursive: forward_dynamics where the articulated-body algorithm applies
   // (else the mass matrix, GeneratedCode::dynamics says why).
   DynamicsMethod dynamics = DynamicsMethod::automatic;
@@ -95,6 +98,7 @@ struct DynamicsChoice {
 struct GeneratedCode {
   std::string struct_name;  // the basename
   DynamicsChoice dynamics;
+  std::string derivatives;  // which form of tau inverse_dynamics_derivatives differentiates, and why (or empty)
   std::string header;       // <basename>.hpp
   std::string source;       // <basename>.cpp
   std::vector<EmittedFunction> functions;

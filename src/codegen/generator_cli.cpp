@@ -38,6 +38,7 @@ struct Arguments {
   std::int64_t split_above = static_cast<std::int64_t>(codegen::kSplitAbove);
   bool no_simplify = false;
   bool no_eom = false;
+  bool derivatives = false;
   bool list = false;
   bool stats = false;
   bool describe = false;
@@ -113,6 +114,7 @@ Job check_arguments(const Arguments& args) {
   job.options.simplify = !args.no_simplify;
   job.options.symbolic_partials = args.partials == "symbolic";
   job.options.equations_of_motion = !args.no_eom;
+  job.options.derivatives = args.derivatives;
   job.options.dynamics = args.dynamics == "recursive"     ? codegen::DynamicsMethod::recursive
                          : args.dynamics == "mass-matrix" ? codegen::DynamicsMethod::mass_matrix
                                                           : codegen::DynamicsMethod::automatic;
@@ -218,6 +220,7 @@ int generate(const Job& job, const Arguments& args) {
       fmt::print("  {:<22} {:>7} operations  {}\n", e.name, e.operations.total(), e.operations.str());
     }
     if (!code.dynamics.reason.empty()) fmt::print("  accelerations: {}\n", code.dynamics.reason);
+    if (!code.derivatives.empty()) fmt::print("  derivatives: {}\n", code.derivatives);
   }
   return 0;
 }
@@ -263,6 +266,9 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
       ->check(CLI::IsMember({"numeric", "symbolic"}))
       ->capture_default_str();
   app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix, bias forces and inverse dynamics");
+  app.add_flag("--derivatives", args.derivatives,
+               "also emit inverse_dynamics_derivatives: dtau/dq and dtau/dqd, exact, which the runtime uses "
+               "wherever it needs a Jacobian");
   app.add_option("--dynamics", args.dynamics,
                  "accelerations by the mass matrix (Cholesky at run time) or the emitted recursive forward "
                  "dynamics where it applies; auto: the one of fewer operations")

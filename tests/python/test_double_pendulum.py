@@ -182,5 +182,34 @@ class StaticsAndModes(unittest.TestCase):
             self.assertEqual(lin.coordinates, ["q0", "q1"])
 
 
+class Derivatives(unittest.TestCase):
+    def test_continuous_time_A_and_B_against_closed_forms(self):
+        # qdd = M(q)^-1 (u - h(q, qd)): A and B from Richardson-extrapolated differences of the
+        # closed form, independent of the module; the module's exact where generated with DERIVATIVES.
+        system = double_pendulum_absolute.System()
+        q, qd = np.array([0.3, -0.7]), np.array([1.1, -0.4])
+        d = system.dynamics_derivatives(q=q, qd=qd)
+        self.assertEqual(d.method, "exact (emitted derivatives)")
+
+        def qdd(x):
+            return np.linalg.solve(mass_matrix(x[:2], **UNIT), -bias_forces(x[:2], x[2:], **UNIT))
+
+        def richardson(f, x, j, h=1e-3):
+            def central(step):
+                e = np.zeros_like(x)
+                e[j] = step
+                return (f(x + e) - f(x - e)) / (2 * step)
+
+            return (4 * central(h / 2) - central(h)) / 3
+
+        x = np.concatenate([q, qd])
+        expected = np.column_stack([richardson(qdd, x, j) for j in range(4)])
+        np.testing.assert_allclose(d.qdd, qdd(x), rtol=1e-12)
+        np.testing.assert_allclose(d.A[2:, :], expected, rtol=1e-8, atol=1e-8)
+        np.testing.assert_allclose(d.A[:2, :], np.hstack([np.zeros((2, 2)), np.eye(2)]))
+        np.testing.assert_allclose(d.B[2:, :], np.linalg.inv(mass_matrix(q, **UNIT)), rtol=1e-12)
+        np.testing.assert_allclose(d.B[:2, :], np.zeros((2, 2)))
+
+
 if __name__ == "__main__":
     unittest.main()

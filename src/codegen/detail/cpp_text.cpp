@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
+
 #include <symdyn/symbolic/print.hpp>
 
 namespace symdyn::codegen::detail {
 
-GeneratedCode emit_code(const TextContext& c, Derivation&& d, const std::optional<DynamicsChoice>& choice) {
+GeneratedCode emit_code(const TextContext& c, Derivation&& d, const std::optional<DynamicsChoice>& choice,
+                        const std::string& derivatives) {
   GeneratedCode code;
   code.struct_name = std::string(c.basename);
   code.dynamics = choice.value_or(DynamicsChoice{});
@@ -19,7 +22,9 @@ GeneratedCode emit_code(const TextContext& c, Derivation&& d, const std::optiona
   emit_functions(c, d, code);
   code.source += domain_arguments_text(c);
   // The guard's name depends on everything emitted, so it is computed last.
-  const std::string header = header_text(c, d.entries, code.functions, choice);
+  const std::string header = header_text(c, d.entries, code.functions, choice, derivatives);
+  const auto differentiated = [](const EntryPoint& e) { return e.spec->needs.derivatives; };
+  if (std::any_of(d.entries.begin(), d.entries.end(), differentiated)) code.derivatives = derivatives;
   const std::string closing = fmt::format("}}  // namespace {}\n", c.options.name_space);
   const std::string unique =
       fmt::format("symdyn_model_{}_{:016x}", c.basename, text_hash(code.source + header + closing));

@@ -31,7 +31,9 @@ struct TextContext {
 };
 
 // The header and source, and each entry point's program (cpp_text.cpp).
-GeneratedCode emit_code(const TextContext& c, Derivation&& d, const std::optional<DynamicsChoice>& choice);
+// `derivatives`: why the derivatives are of the form they are (Deriver::derivatives_reason).
+GeneratedCode emit_code(const TextContext& c, Derivation&& d, const std::optional<DynamicsChoice>& choice,
+                        const std::string& derivatives);
 
 // cpp_text_functions.cpp: the declaration ("void positions(double t, ...)",
 // without `static`) or the definition's head ("void <struct>::positions(
@@ -43,7 +45,8 @@ void emit_functions(const TextContext& c, Derivation& d, GeneratedCode& code);
 
 // cpp_text_header.cpp: the header up to its link guard, which closes its namespace.
 std::string header_text(const TextContext& c, const std::vector<EntryPoint>& entries,
-                        const std::vector<EmittedFunction>& functions, const std::optional<DynamicsChoice>& choice);
+                        const std::vector<EmittedFunction>& functions, const std::optional<DynamicsChoice>& choice,
+                        const std::string& derivatives);
 
 // cpp_text_diagnostics.cpp: the struct's cold diagnostics, and the source's domain_arguments().
 std::string diagnostics_declarations(const TextContext& c);

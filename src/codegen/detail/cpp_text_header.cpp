@@ -40,7 +40,8 @@ std::string declarations(const TextContext& c, const std::vector<EntryPoint>& en
 }  // namespace
 
 std::string header_text(const TextContext& c, const std::vector<EntryPoint>& entries,
-                        const std::vector<EmittedFunction>& functions, const std::optional<DynamicsChoice>& choice) {
+                        const std::vector<EmittedFunction>& functions, const std::optional<DynamicsChoice>& choice,
+                        const std::string& derivatives) {
   const model::Model& model = c.model;
   const Options& options = c.options;
   const auto& coords = model.coordinates();
@@ -69,6 +70,9 @@ std::string header_text(const TextContext& c, const std::vector<EntryPoint>& ent
   const bool eom = options.equations_of_motion && emitted("mass_matrix") && emitted("bias_forces");
   const std::string dynamics_line =
       eom ? fmt::format("// Accelerations: {}.\n", choice ? choice->reason : "mass matrix") : "";
+  const bool derivatives_emitted = emitted("inverse_dynamics_derivatives");
+  const std::string derivatives_line =
+      derivatives_emitted ? fmt::format("// Derivatives: {}.\n", derivatives) : "";
   const std::string only =
       options.entry_points.empty() ? "" : fmt::format(", only {}", fmt::join(options.entry_points, ", "));
   const std::size_t nparam = model.parameters().size();
@@ -77,6 +81,7 @@ std::string header_text(const TextContext& c, const std::vector<EntryPoint>& ent
       "// Options: simplify={simplify}, partial velocities {partials}, equations of motion {eom_option}{only}.\n"
       "// Operation counts per entry point:\n{counts}"
       "{dynamics_line}"
+      "{derivatives_line}"
       "// Interface: docs/emitted_interface.md. Arrays are row-major.\n"
       "#pragma once\n\n"
       "namespace {ns} {{\n\n"
@@ -89,7 +94,9 @@ std::string header_text(const TextContext& c, const std::vector<EntryPoint>& ent
       "  static constexpr int nparam = {nparam};\n"
       "  static constexpr bool has_equations_of_motion = {eom};\n"
       "  static constexpr bool has_inverse_dynamics = {inverse};  // inverse_dynamics emitted\n"
-      "  static constexpr bool has_forward_dynamics = {recursive};  // forward_dynamics emitted\n\n"
+      "  static constexpr bool has_forward_dynamics = {recursive};  // forward_dynamics emitted\n"
+      "  static constexpr bool has_inverse_dynamics_derivatives = {derivatives};  // inverse_dynamics_derivatives "
+      "emitted\n\n"
       "  static constexpr const char* q_names[{nq}] = {q_names};\n"
       "  static constexpr const char* body_names[{nbody}] = {body_names};\n"
       "  static constexpr const char* param_names[{nparam1}] = {param_names};\n"
@@ -105,6 +112,7 @@ std::string header_text(const TextContext& c, const std::vector<EntryPoint>& ent
       fmt::arg("partials", options.symbolic_partials ? "symbolic" : "numeric"),
       fmt::arg("eom_option", options.equations_of_motion), fmt::arg("only", only), fmt::arg("eom", eom),
       fmt::arg("counts", operation_counts(entries, functions)), fmt::arg("dynamics_line", dynamics_line),
+      fmt::arg("derivatives_line", derivatives_line), fmt::arg("derivatives", derivatives_emitted),
       fmt::arg("inverse", emitted("inverse_dynamics")), fmt::arg("recursive", emitted("forward_dynamics")),
       fmt::arg("ns", options.name_space), fmt::arg("name", c.basename), fmt::arg("nq", coords.size()),
       fmt::arg("nbody", model.bodies().size()), fmt::arg("ndep", model.dependents().size()),

@@ -196,7 +196,13 @@ Derivation Deriver::derive(bool simplify) {
     if (derive.simplify) model::reduce_trigonometry(*dynamics, k);
     d.definitions.insert(d.definitions.end(), dynamics->definitions.begin(), dynamics->definitions.end());
   }
-  d.entries = build_entry_points(k, dynamics ? &*dynamics : nullptr);
+  std::optional<DynamicsDerivatives> derivatives;
+  if (dynamics && selection_.needs_derivatives(options_.derivatives)) {
+    derivatives = derive_derivatives(*dynamics, d.definitions);
+    d.definitions.insert(d.definitions.end(), derivatives->definitions.begin(), derivatives->definitions.end());
+    if (derivatives_reason_.empty()) derivatives_reason_ = derivatives->reason;  // the first derivation's, as choice_
+  }
+  d.entries = build_entry_points({model_, k, dynamics ? &*dynamics : nullptr, derivatives ? &*derivatives : nullptr});
   const DynamicsWays ways{.method = options_.dynamics,
                           .nq = sizes_.nq,
                           .why_not = dynamics ? dynamics->why_not : std::string(),
@@ -223,20 +229,33 @@ void Deriver::compile_programs(Derivation& d) const {
 
 // The catalogue's entry points that these options and this derivation give
 // (the recursive dynamics where it applies, choose_dynamics chooses later).
-std::vector<EntryPoint> Deriver::build_entry_points(const model::Kinematics& k, const model::Dynamics* dynamics) const {
-  const Quantities quantities{model_, k, dynamics};
+std::vector<EntryPoint> Deriver::build_entry_points(const Quantities& quantities) const {
   std::vector<EntryPoint> entries;
   for (const EntryPointSpec& spec : catalogue()) {
-    if (derivable(spec.needs, dynamics)) entries.push_back(build_entry_point(spec, quantities, sizes_));
+    if (derivable(spec.needs, quantities)) entries.push_back(build_entry_point(spec, quantities, sizes_));
   }
   return entries;
 }
 
-bool Deriver::derivable(const Needs& needs, const model::Dynamics* dynamics) const {
+bool Deriver::derivable(const Needs& needs, const Quantities& quantities) const {
+  const model::Dynamics* dynamics = quantities.dynamics;
   const bool partials = needs.partials == Partials::either ||
                         (needs.partials == Partials::symbolic) == options_.symbolic_partials;
   const bool recursive = dynamics && !dynamics->forward.empty() && options_.dynamics != DynamicsMethod::mass_matrix;
-  return partials && (!needs.equations_of_motion || dynamics) && (!needs.recursive_dynamics || recursive);
+  return partials && (!needs.equations_of_motion || dynamics) && (!needs.recursive_dynamics || recursive) &&
+         (!needs.derivatives || quantities.derivatives);
+}
+
+// dtau/dq and dtau/dqd, each form of tau weighed by its own program's operations.
+DynamicsDerivatives Deriver::derive_derivatives(const model::Dynamics& dynamics,
+                                                const std::vector<symbolic::Definition>& definitions) const {
+  const std::vector<Input> inputs{Input::t, Input::q, Input::qd, Input::qdd, Input::param};
+  const OperationCounter operations = [&](const std::vector<Expr>& outputs,
+                                          const std::vector<symbolic::Definition>& defined) {
+    return symbolic::compile_program(inputs_.of(inputs), outputs, defined).operation_count().total();
+  };
+  return derive_dynamics_derivatives(dynamics, inputs_[Input::q], inputs_[Input::qd], inputs_[Input::qdd],
+                                     definitions, operations);
 }
 
 // The entry point's own program, or nothing for a hand-written body.

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <symdyn/codegen/detail/entry_points.hpp>
@@ -46,13 +47,17 @@ class Deriver {
 
   // Made by the first derivation with the equations of motion.
   const std::optional<DynamicsChoice>& dynamics_choice() const { return choice_; }
+  // Which form of tau the derivatives differentiate, and why (empty: none derived).
+  const std::string& derivatives_reason() const { return derivatives_reason_; }
 
  private:
   model::DeriveOptions derive_options(model::SimplifyFunction simplify = {}) const;
   Derivation derive(bool simplify);
   void compile_programs(Derivation& d) const;
-  std::vector<EntryPoint> build_entry_points(const model::Kinematics& k, const model::Dynamics* dynamics) const;
-  bool derivable(const Needs& needs, const model::Dynamics* dynamics) const;
+  std::vector<EntryPoint> build_entry_points(const Quantities& quantities) const;
+  bool derivable(const Needs& needs, const Quantities& quantities) const;
+  DynamicsDerivatives derive_derivatives(const model::Dynamics& dynamics,
+                                         const std::vector<symbolic::Definition>& definitions) const;
   std::optional<symbolic::Program> compile(const EntryPoint& e,
                                            const std::vector<symbolic::Definition>& definitions) const;
   std::optional<symbolic::Program> whole_program(const Derivation& d, std::size_t e) const;
@@ -64,6 +69,7 @@ class Deriver {
   Sizes sizes_;
   std::optional<model::Kinematics> plain_kinematics_;  // made first when simplifying (run())
   std::optional<DynamicsChoice> choice_;
+  std::string derivatives_reason_;
 };
 
 }  // namespace symdyn::codegen::detail

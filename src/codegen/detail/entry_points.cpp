@@ -23,6 +23,7 @@ Source relative(Field Motion::*field);
 Source absolute_partials(std::vector<model::Vec3> Motion::*field);
 Source relative_partials(std::vector<model::Vec3> Motion::*field);
 Source dynamics(std::vector<Expr> model::Dynamics::*field);
+Source derivatives(std::vector<Expr> DynamicsDerivatives::*field);
 std::vector<Expr> masses(const Quantities& q);
 std::vector<Expr> inertias(const Quantities& q);
 std::vector<Expr> dependent_values(const Quantities& q);
@@ -44,14 +45,8 @@ std::string forward_dynamics_body(const Sizes& sizes);
 //   - needs: what must be derived first (the equations of motion are derived
 //     only when a selected entry point needs them) or chosen;
 //   - for a hand-written body instead of a program: body, note and calls.
-// The derivatives of the inverse dynamics, say, once model::Dynamics has them:
-//
-//   {.name = "inverse_dynamics_derivatives",
-//    .doc = "dtau/dq and dtau/dqd of inverse_dynamics.",
-//    .inputs = {t, q, qd, qdd, param},
-//    .outputs = {{"dtau_dq", "nq x nq", dynamics(&model::Dynamics::dtau_dq)},
-//                {"dtau_dqd", "nq x nq", dynamics(&model::Dynamics::dtau_dqd)}},
-//    .needs = equations},
+// inverse_dynamics_derivatives below is such a row: its outputs come from
+// DynamicsDerivatives through derivatives(...), derived where .needs asks.
 //
 // An output of the same name and values as another entry point's is one array
 // of the shared program (positions' R is velocities' R); one of the same name
@@ -174,6 +169,13 @@ std::vector<EntryPointSpec> make_catalogue() {
        .inputs = {t, q, qd, qdd, param},
        .outputs = {{"tau", "nq", dynamics(&model::Dynamics::inverse)}},
        .needs = equations},
+      {.name = "inverse_dynamics_derivatives",
+       .doc = "dtau/dq and dtau/dqd of tau = M qdd + h at (q, qd, qdd), exact, the dependent parameters'\n"
+              "chain rule included; row-major: dtau_dq[i * nq + j] = dtau_i/dq_j.",
+       .inputs = {t, q, qd, qdd, param},
+       .outputs = {{"dtau_dq", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dq)},
+                   {"dtau_dqd", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dqd)}},
+       .needs = {.absolute_motion = true, .equations_of_motion = true, .derivatives = true}},
       {.name = "forward_dynamics_pivots",
        .doc = "qdd = M^-1 (tau - h) by the articulated-body algorithm, with each coordinate's pivot d of\n"
               "the LDL^T factorization of its body's D = S^T I^A S and the diagonal entry of D it came from.",
@@ -235,6 +237,13 @@ Source dynamics(std::vector<Expr> model::Dynamics::*field) {
   return [field](const Quantities& q) {
     if (q.dynamics == nullptr) throw std::logic_error("generate: an output of the dynamics without them derived");
     return q.dynamics->*field;
+  };
+}
+
+Source derivatives(std::vector<Expr> DynamicsDerivatives::*field) {
+  return [field](const Quantities& q) {
+    if (q.derivatives == nullptr) throw std::logic_error("generate: an output of the derivatives without them derived");
+    return q.derivatives->*field;
   };
 }
 

@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include <symdyn/codegen/detail/dynamics_derivatives.hpp>
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/kinematics.hpp>
 #include <symdyn/model/model.hpp>
@@ -31,6 +32,7 @@ struct Quantities {
   const model::Model& model;
   const model::Kinematics& kinematics;
   const model::Dynamics* dynamics;  // null unless the equations of motion were derived
+  const DynamicsDerivatives* derivatives = nullptr;  // null unless their derivatives were derived
 };
 
 // The expressions of one output array, row-major.
@@ -66,6 +68,7 @@ struct Needs {
   Partials partials = Partials::either;  // emitted only with these partial velocities
   bool equations_of_motion = false;      // Options::equations_of_motion: model::Dynamics derived
   bool recursive_dynamics = false;       // the articulated-body algorithm applies and was chosen (DynamicsChoice)
+  bool derivatives = false;              // Options::derivatives (or named alone): DynamicsDerivatives derived
 };
 
 // A hand-written C++ body, in place of a program.

@@ -36,6 +36,11 @@ bool Selection::needs_equations_of_motion() const {
   return any_row([&](const EntryPointSpec& e) { return e.needs.equations_of_motion && selected(e.name); });
 }
 
+bool Selection::needs_derivatives(bool asked) const {
+  if (wanted_.empty()) return asked;
+  return any_row([&](const EntryPointSpec& e) { return e.needs.derivatives && selected(e.name); });
+}
+
 void Selection::apply(std::vector<EntryPoint>& entries, const std::optional<DynamicsChoice>& choice) const {
   if (wanted_.empty()) return;
   check(entries, choice);

@@ -1,0 +1,45 @@
+#pragma once
+// The derivatives of the inverse dynamics tau(q, qd, qdd) = M·qdd + h with
+// respect to q and qd (Options::derivatives), exact: forward mode through the
+// derivation's definitions (symbolic::chain_jacobian), so that the dependent
+// parameters' chain rule, the intermediates and the gathered quantities are
+// differentiated once each and shared. Of the two forms of tau, the
+// recursive Newton-Euler one (linear in the bodies: its derivatives grow as
+// nq²) and M·qdd + h (short for a few coordinates), the one whose derivatives
+// have fewer operations is kept, as the dynamics choose between M and the
+// articulated-body algorithm.
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <symdyn/model/dynamics.hpp>
+#include <symdyn/symbolic/expr.hpp>
+
+namespace symdyn::codegen::detail {
+
+struct DynamicsDerivatives {
+  std::vector<model::Expr> dtau_dq, dtau_dqd;     // (nq x nq) row-major: [i·nq + j] = dtau_i/dx_j
+  std::vector<symbolic::Definition> definitions;  // the derivatives of the defined symbols they read
+  std::string reason;                              // which form, and why: for --stats and the header
+};
+
+// Both forms are differentiated only when the longer one has at most this many
+// times the other's operations (chain_64's M·qdd + h has 50 000, its
+// recursive form 9 000, and their derivatives 2.6 million against 0.6 million).
+inline constexpr std::size_t kDerivativeFormRatio = 2;
+
+// The operations of a program computing `outputs` from (t, q, qd, qdd,
+// param) through the definitions.
+using OperationCounter =
+    std::function<std::size_t(const std::vector<model::Expr>& outputs, const std::vector<symbolic::Definition>&)>;
+
+// `q`, `qd`, `qdd`: the coordinates' symbols; `definitions`: those tau reads, each after those it uses.
+DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const std::vector<model::Expr>& q,
+                                                const std::vector<model::Expr>& qd,
+                                                const std::vector<model::Expr>& qdd,
+                                                const std::vector<symbolic::Definition>& definitions,
+                                                const OperationCounter& operations);
+
+}  // namespace symdyn::codegen::detail
