@@ -77,6 +77,16 @@ struct Event {
   std::vector<std::pair<std::string, double>> parameters;
 };
 
+// The values of the run's constants (rtol, atol, t_end), for what is known before the run.
+class RunConstants : public Environment {
+ public:
+  explicit RunConstants(const SymbolTable& table) : table_(table) {}
+  double value(int s) const override { return table_[s].constant; }
+
+ private:
+  const SymbolTable& table_;
+};
+
 bool is_identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
   return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
@@ -416,11 +426,7 @@ struct Simulation::Impl {
       }
       Statistic s{.kind = row->second, .of = Expression::parse(args[0], make_resolver(names, sample_scope(), table))};
       if (arity == 2) {  // the time: a number, or of rtol, atol, t_end
-        struct Constants : Environment {
-          const SymbolTable* table;
-          double value(int s) const override { return (*table)[s].constant; }
-        } constants;
-        constants.table = &table;
+        const RunConstants constants(table);
         s.time = Expression::parse(args[1], make_resolver(names, {.time = false, .state = false, .run_constants = true},
                                                           table))
                      .evaluate(constants);
@@ -443,11 +449,7 @@ struct Simulation::Impl {
                           [&](int s) { return table[s].source == Source::statistic; });
     };
     if (!known(c.low) || !known(c.high)) return;
-    struct Constants : Environment {
-      const SymbolTable* table = nullptr;
-      double value(int s) const override { return (*table)[s].constant; }
-    } constants;
-    constants.table = &table;
+    const RunConstants constants(table);
     const double low = c.low.evaluate(constants), high = c.high.evaluate(constants);
     if (!std::isfinite(low) || !std::isfinite(high)) {
       band.fail(fmt::format("the band [{:.6g}, {:.6g}] is not finite", low, high));

@@ -3,9 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
-#include <cctype>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -121,12 +121,6 @@ double Node::positive() const {
   return v;
 }
 
-double Node::non_negative() const {
-  const double v = number();
-  if (!(v >= 0.0)) fail(fmt::format("expected a number >= 0, found {}", v));
-  return v;
-}
-
 bool Node::boolean() const {
   if (!value_->is_boolean()) fail(fmt::format("expected true or false, found {}", type_name(*value_)));
   return value_->get<bool>();
@@ -169,8 +163,8 @@ class DocumentReader : public nlohmann::json_sax<nlohmann::json> {
   bool number_float(number_float_t v, const string_t& text) override {
     // 1e-400 reads as 0: a stiffness written so would silently be none.
     const std::string mantissa = text.substr(0, text.find_first_of("eE"));
-    if (v == 0.0 && mantissa.find_first_of("123456789") != std::string::npos && !problem_) {
-      problem_ = {next_path(), fmt::format("{} is too small for a double (it would read as 0)", text)};
+    if (v == 0.0 && mantissa.find_first_of("123456789") != std::string::npos && !problem) {
+      problem = {next_path(), fmt::format("{} is too small for a double (it would read as 0)", text)};
     }
     return add(json(v));
   }
@@ -179,8 +173,8 @@ class DocumentReader : public nlohmann::json_sax<nlohmann::json> {
   bool start_object(std::size_t) override { return open(json::object()); }
   bool key(string_t& k) override {
     Level& top = levels_.back();
-    if (top.container->contains(k) && !problem_) {
-      problem_ = {path() + "/" + escaped(k),
+    if (top.container->contains(k) && !problem) {
+      problem = {path() + "/" + escaped(k),
                   fmt::format("key '{}' is given twice in this object (a JSON reader keeps one of them)", k)};
     }
     top.key = std::move(k);
@@ -190,22 +184,21 @@ class DocumentReader : public nlohmann::json_sax<nlohmann::json> {
   bool end_object() override { return close(); }
   bool start_array(std::size_t) override { return open(json::array()); }
   bool end_array() override { return close(); }
-  bool parse_error(std::size_t position, const std::string& token, const json::exception& e) override {
-    error_ = Error{next_path(), position, token, e.id, e.what()};
+  bool parse_error(std::size_t position, const std::string& /*token*/, const json::exception& e) override {
+    error = Error{next_path(), position, e.id, e.what()};
     return false;
   }
 
   json document;
   // The first duplicate key or underflow: its JSON path and what is wrong.
-  std::optional<std::pair<std::string, std::string>> problem_;
+  std::optional<std::pair<std::string, std::string>> problem;
   struct Error {
     std::string path;
     std::size_t position = 0;  // just past the text that failed
-    std::string token;
     int id = 0;
     std::string what;
   };
-  std::optional<Error> error_;
+  std::optional<Error> error;
 
  private:
   struct Level {
@@ -279,8 +272,8 @@ nlohmann::json read_document(std::string_view text, const std::string& origin) {
   }
   DocumentReader reader;
   nlohmann::json::sax_parse(text.begin(), text.end(), &reader);
-  if (reader.error_) {
-    const DocumentReader::Error& e = *reader.error_;
+  if (reader.error) {
+    const DocumentReader::Error& e = *reader.error;
     const auto [first, last] = literal_around(text, e.position);
     const std::string literal(text.substr(first, last - first));
     const bool overflow = e.id == 406;
@@ -294,7 +287,7 @@ nlohmann::json read_document(std::string_view text, const std::string& origin) {
       DocumentReader again;
       nlohmann::json::sax_parse(patched, &again);
       const nlohmann::json::json_pointer at(e.path);
-      if (!again.error_ && again.document.contains(at)) {
+      if (!again.error && again.document.contains(at)) {
         Node(again.document.at(at), origin, e.path, &again.document).fail(what);
       }
       throw ScenarioError(fmt::format("{}: {}: {}", origin, e.path.empty() ? "/" : e.path, what));
@@ -304,8 +297,8 @@ nlohmann::json read_document(std::string_view text, const std::string& origin) {
     throw ScenarioError(fmt::format("{}: not JSON: {}{}", origin, at == std::string::npos ? e.what : e.what.substr(at + 2),
                                     e.path.empty() ? "" : fmt::format(" (in {})", e.path)));
   }
-  if (reader.problem_) {
-    const auto& [path, what] = *reader.problem_;
+  if (reader.problem) {
+    const auto& [path, what] = *reader.problem;
     Node(reader.document.at(nlohmann::json::json_pointer(path)), origin, path, &reader.document).fail(what);
   }
   return std::move(reader.document);

@@ -58,7 +58,6 @@ class Node {
   std::string string() const;
   double number() const;              // finite
   double positive() const;            // finite and > 0
-  double non_negative() const;        // finite and >= 0
   bool boolean() const;
   std::vector<double> numbers(std::size_t n) const;  // an array of n finite numbers
 
