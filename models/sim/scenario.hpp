@@ -49,7 +49,7 @@ class Node {
   bool has(std::string_view key) const;
   Node operator[](std::string_view key) const;  // required member
   std::optional<Node> optional(std::string_view key) const;
-  std::vector<std::pair<std::string, Node>> members() const;  // of an object, in file order
+  std::vector<std::pair<std::string, Node>> members() const;  // of an object, sorted by key
   std::vector<Node> elements() const;                         // of an array
 
   bool is_string() const { return value_->is_string(); }
