@@ -3,9 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <ranges>
+#include <string_view>
 
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/contact.hpp>
+#include <symdyn/runtime/element_properties.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/gim_tyre.hpp>
 #include <symdyn/runtime/point_forces.hpp>
@@ -59,6 +62,12 @@ class Reader {
     return static_cast<int>(it - bodies.begin());
   }
   int body(std::string_view key) const { return body(node_[key]); }
+  // A body that moves: an element acting on the ground alone would do nothing.
+  int moving_body(const Node& n, std::string_view what) const {
+    const int b = body(n);
+    if (b == runtime::ground) n.fail(fmt::format("{} on the ground moves nothing: name a body", what));
+    return b;
+  }
   int coordinate(const Node& n) const {
     const std::string name = n.string();
     const auto& q = c_.names.model->q_names();
@@ -67,6 +76,15 @@ class Reader {
     return static_cast<int>(it - q.begin());
   }
   int coordinate(std::string_view key) const { return coordinate(node_[key]); }
+  // An element between two frames of the ground, or of one rigid body, pushes
+  // nothing: its forces cancel.
+  void distinct_bodies(int a, int b, std::string_view what) const {
+    if (a != b) return;
+    const Node at = node_["b"]["body"];
+    at.fail(a == runtime::ground ? fmt::format("{} between two points of the ground moves nothing", what)
+                                 : fmt::format("{} with both ends on body '{}' moves nothing (its forces cancel)", what,
+                                               at.string()));
+  }
   // {"body", "point"}: a body point.
   runtime::BodyPoint body_point(std::string_view key) const {
     const Node p = node_[key];
@@ -184,7 +202,13 @@ std::shared_ptr<ScenarioElement> coordinate_force(const Reader& r) {
   if (c.is_string()) {
     coordinates.push_back(r.coordinate(c));
   } else {
-    for (const Node& n : c.elements()) coordinates.push_back(r.coordinate(n));
+    for (const Node& n : c.elements()) {
+      const int j = r.coordinate(n);
+      if (std::find(coordinates.begin(), coordinates.end(), j) != coordinates.end()) {
+        n.fail(fmt::format("coordinate '{}' is listed twice: its force would be applied twice", n.string()));
+      }
+      coordinates.push_back(j);
+    }
     if (coordinates.empty()) c.fail("expected at least one coordinate");
   }
   auto e = wrap(r, std::make_shared<ExpressionForce>(r.node()["name"].string(), coordinates,
@@ -222,6 +246,7 @@ std::shared_ptr<ScenarioElement> coordinate_tracking(const Reader& r) {
 
 std::shared_ptr<ScenarioElement> point_spring_damper(const Reader& r) {
   const auto a = r.body_point("a"), b = r.body_point("b");
+  r.distinct_bodies(a.body, b.body, "a spring");
   auto spring = std::make_shared<runtime::PointSpringDamper>(r.node()["name"].string(), a, b, r.number("stiffness"),
                                                              r.number("free_length"), r.number("damping", 0.0));
   auto e = wrap(r, spring);
@@ -232,6 +257,7 @@ std::shared_ptr<ScenarioElement> point_spring_damper(const Reader& r) {
 
 std::shared_ptr<ScenarioElement> point_load(const Reader& r) {
   const auto at = r.body_point("at");
+  if (at.body == runtime::ground) r.node()["at"]["body"].fail("a load on the ground moves nothing: name a body");
   const Scope law_scope{};
   std::vector<std::shared_ptr<Expression>> parts;
   for (const char* key : {"force", "torque"}) {
@@ -282,12 +308,15 @@ std::shared_ptr<ScenarioElement> bushing(const Reader& r) {
   p.preload_force = r.vec3("preload_force", p.preload_force);
   p.preload_torque = r.vec3("preload_torque", p.preload_torque);
   const auto a = body_frame(r, "a"), b = body_frame(r, "b");
+  r.distinct_bodies(a.body, b.body, "a bushing");
   std::shared_ptr<runtime::Bushing> inner;
   try {
     inner = std::make_shared<runtime::Bushing>(r.node()["name"].string(), a, b, p,
                                                r.node().string_or("order", "xyz"));
+  } catch (const runtime::PropertyError&) {
+    throw;  // named at its key by make_element
   } catch (const runtime::ModelError& e) {
-    r.node()["order"].fail(e.what());
+    r.node()["order"].fail(e.what());  // an order that is not a Cardan sequence
   }
   auto e = wrap(r, inner);
   for (int i = 0; i < 3; ++i) {
@@ -314,7 +343,8 @@ std::shared_ptr<ScenarioElement> plane_contact(const Reader& r) {
     if (name != "linear" && name != "smooth") reg->fail(fmt::format("expected linear or smooth, found '{}'", name));
     p.regularization = name == "smooth" ? runtime::FrictionRegularization::smooth : runtime::FrictionRegularization::linear;
   }
-  auto contact = std::make_shared<runtime::PlaneContact>(r.node()["name"].string(), r.body("body"),
+  auto contact = std::make_shared<runtime::PlaneContact>(r.node()["name"].string(),
+                                                         r.moving_body(r.node()["body"], "a contact"),
                                                          r.vec3("point", Vec3::Zero()), r.number("radius", 0.0),
                                                          r.plane("plane"), p);
   auto e = wrap(r, contact);
@@ -335,7 +365,8 @@ std::shared_ptr<ScenarioElement> simple_tyre(const Reader& r) {
   p.epsilon = r.positive("epsilon", p.epsilon);
   p.axis = r.vec3("axis", p.axis);
   p.centre = r.vec3("centre", p.centre);
-  auto tyre = std::make_shared<runtime::SimpleTyre>(r.node()["name"].string(), r.body("body"), p, r.plane("ground"));
+  auto tyre = std::make_shared<runtime::SimpleTyre>(r.node()["name"].string(), r.moving_body(r.node()["body"], "a tyre"),
+                                                    p, r.plane("ground"));
   auto e = wrap(r, tyre);
   e->add_quantity("normal_force", [tyre](const State&, const Kinematics& k) { return tyre->evaluate(k).normal_force; });
   e->add_quantity("penetration", [tyre](const State&, const Kinematics& k) { return tyre->evaluate(k).penetration; });
@@ -362,7 +393,8 @@ std::shared_ptr<ScenarioElement> gim_tyre(const Reader& r) {
   p.mu_dynamic = r.number("mu_dynamic", p.mu_dynamic);
   p.axis = r.vec3("axis", p.axis);
   p.centre = r.vec3("centre", p.centre);
-  auto tyre = std::make_shared<runtime::GimTyre>(r.node()["name"].string(), r.body("body"), p, r.plane("ground"));
+  auto tyre = std::make_shared<runtime::GimTyre>(r.node()["name"].string(), r.moving_body(r.node()["body"], "a tyre"),
+                                                 p, r.plane("ground"));
   auto e = wrap(r, tyre);
   using Result = runtime::GimTyre::Result;
   const std::pair<const char*, double (*)(const Result&)> quantities[] = {
@@ -445,6 +477,15 @@ std::shared_ptr<ScenarioElement> make_element(const Node& node, const ElementCon
   if (!identifier(id.string())) id.fail(fmt::format("'{}' is not a name expressions can use (letters, digits, _)", id.string()));
   try {
     return row->make(Reader(node, context));
+  } catch (const runtime::PropertyError& e) {
+    // Named at its key ("a/axes": the key axes of the member a) when the file has it.
+    Node at = node;
+    for (const auto part : std::views::split(std::string_view(e.property()), '/')) {
+      const std::string key(part.begin(), part.end());
+      if (!at.has(key)) break;
+      at = at[key];
+    }
+    at.fail(e.detail());
   } catch (const runtime::ModelError& e) {
     node.fail(e.what());  // what the runtime's constructor refused
   }

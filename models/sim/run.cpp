@@ -77,6 +77,16 @@ struct Event {
   std::vector<std::pair<std::string, double>> parameters;
 };
 
+// The values of the run's constants (rtol, atol, t_end), for what is known before the run.
+class RunConstants : public Environment {
+ public:
+  explicit RunConstants(const SymbolTable& table) : table_(table) {}
+  double value(int s) const override { return table_[s].constant; }
+
+ private:
+  const SymbolTable& table_;
+};
+
 bool is_identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
   return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
@@ -96,6 +106,7 @@ struct Simulation::Impl {
   std::vector<double> statistic_values;
   std::vector<CheckSpec> checks;
   std::vector<std::pair<std::string, Expression>> channels;
+  std::vector<Node> channel_nodes;  // where each channel was asked for
   runtime::CsvRecorder::Columns groups;
   std::vector<Event> events;
   State initial;
@@ -172,6 +183,10 @@ struct Simulation::Impl {
       if (!is_identifier(name) || name == "t" || name == "pi" || std::find(q.begin(), q.end(), name) != q.end()) {
         value.fail(fmt::format("'{}' cannot name a variable (letters, digits and _, not t, pi or a coordinate)", name));
       }
+      const auto& bodies = system->model().body_names();
+      if (name == "ground" || std::find(bodies.begin(), bodies.end(), name) != bodies.end()) {
+        value.fail(fmt::format("'{}' is a body's name: name the variable otherwise", name));
+      }
       names.variables.push_back(name);
       variables.push_back(value.number());
     }
@@ -190,6 +205,9 @@ struct Simulation::Impl {
       }
       if (std::find(bodies.begin(), bodies.end(), e->id()) != bodies.end()) {
         id.fail(fmt::format("'{}' is a body's name: name the element otherwise", e->id()));
+      }
+      if (std::find(names.variables.begin(), names.variables.end(), e->id()) != names.variables.end()) {
+        id.fail(fmt::format("'{}' is a variable's name: name the element otherwise", e->id()));
       }
       elements.push_back(e);
       system->add(e);
@@ -285,6 +303,24 @@ struct Simulation::Impl {
       at.fail(x.what());
     }
     channels.emplace_back(std::move(name), std::move(e));
+    channel_nodes.push_back(at);
+  }
+
+  // Two columns of one name would make the CSV ambiguous: an output named
+  // like a coordinate ("q0"), "t", or another output.
+  void check_columns() const {
+    std::ostringstream unused;
+    runtime::CsvRecorder probe(unused, *system, groups);
+    for (const auto& [name, e] : channels) probe.add_channel(name, [](const State&) { return 0.0; });
+    const std::vector<std::string> columns = probe.columns();
+    const std::size_t first = columns.size() - channels.size();
+    for (std::size_t k = 0; k < channels.size(); ++k) {
+      const auto end = columns.begin() + static_cast<std::ptrdiff_t>(first + k);
+      if (std::find(columns.begin(), end, channels[k].first) != end) {
+        channel_nodes[k].fail(fmt::format("the CSV already has a column '{}': name this output otherwise",
+                                          channels[k].first));
+      }
+    }
   }
 
   // "q", "qd", "qdd", "energies"; {"body", "quantity"}; {"element", "quantity"}; {"name", "value"}.
@@ -316,6 +352,7 @@ struct Simulation::Impl {
         add_channel(n["name"].string(), value.is_number() ? fmt::format("{}", value.number()) : value.string(), value);
       }
     }
+    check_columns();
   }
 
   void read_body_output(const Node& n) {
@@ -389,19 +426,39 @@ struct Simulation::Impl {
       }
       Statistic s{.kind = row->second, .of = Expression::parse(args[0], make_resolver(names, sample_scope(), table))};
       if (arity == 2) {  // the time: a number, or of rtol, atol, t_end
-        struct Constants : Environment {
-          const SymbolTable* table;
-          double value(int s) const override { return (*table)[s].constant; }
-        } constants;
-        constants.table = &table;
+        const RunConstants constants(table);
         s.time = Expression::parse(args[1], make_resolver(names, {.time = false, .state = false, .run_constants = true},
                                                           table))
                      .evaluate(constants);
+        // Outside the run, at() would never be set: its check would read NaN.
+        if (!(s.time >= 0.0 && s.time <= t_end)) {
+          throw ExpressionError(fmt::format("at(): the time {:.6g} is outside the run [0, t_end = {:.6g}]", s.time, t_end));
+        }
       }
       statistics.push_back(std::move(s));
       return table.add({.source = Source::statistic, .a = static_cast<int>(statistics.size() - 1)});
     };
     return r;
+  }
+
+  // A band whose ends read no statistic is known now: refused before the run
+  // when reversed (no value could pass) or not finite.
+  void check_band(const CheckSpec& c, const Node& band) const {
+    const auto known = [&](const Expression& e) {
+      return std::none_of(e.symbols().begin(), e.symbols().end(),
+                          [&](int s) { return table[s].source == Source::statistic; });
+    };
+    if (!known(c.low) || !known(c.high)) return;
+    const RunConstants constants(table);
+    const double low = c.low.evaluate(constants), high = c.high.evaluate(constants);
+    if (!std::isfinite(low) || !std::isfinite(high)) {
+      band.fail(fmt::format("the band [{:.6g}, {:.6g}] is not finite", low, high));
+    }
+    if (low > high) {
+      band.fail(fmt::format("the band [{:.6g}, {:.6g}] is reversed: its low end is above its high end, so no value "
+                            "passes; write [{:.6g}, {:.6g}]",
+                            low, high, high, low));
+    }
   }
 
   void read_checks() {
@@ -417,6 +474,7 @@ struct Simulation::Impl {
       if (ends.size() != 2) band.fail(fmt::format("expected [low, high], found {} entries", ends.size()));
       c.low = read_expression(ends[0], resolver);
       c.high = read_expression(ends[1], resolver);
+      check_band(c, band);
       checks.push_back(std::move(c));
     }
     statistic_values.assign(statistics.size(), 0.0);

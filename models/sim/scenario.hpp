@@ -7,7 +7,7 @@
 // Simulation (run.hpp) resolves every name against the model. Every error is
 // a ScenarioError naming the file, the JSON path of the culprit and what was
 // expected:
-//   double_pendulum.json: /forces/0/body: unknown body 'rod3' (bodies: rod1, rod2)
+//   double_pendulum.json: /forces/0/body (force element 'strut'): unknown body 'rod3' (bodies: rod1, rod2)
 
 #include <nlohmann/json.hpp>
 
@@ -33,12 +33,15 @@ class ScenarioError : public runtime::OptionError {
 // the culprit. Accessors check the type and throw ScenarioError.
 class Node {
  public:
-  Node(const nlohmann::json& value, std::string origin, std::string path = "")
-      : value_(&value), origin_(std::move(origin)), path_(std::move(path)) {}
+  // `root`: the document `value` is in (itself when omitted), to name the
+  // force element or check a path is inside.
+  Node(const nlohmann::json& value, std::string origin, std::string path = "", const nlohmann::json* root = nullptr)
+      : value_(&value), root_(root != nullptr ? root : &value), origin_(std::move(origin)), path_(std::move(path)) {}
 
   const nlohmann::json& json() const { return *value_; }
   const std::string& path() const { return path_; }
-  std::string where() const { return origin_ + ": " + (path_.empty() ? "/" : path_); }
+  // "swing.json: /forces/1/stiffness (force element 'strut')"
+  std::string where() const;
   [[noreturn]] void fail(const std::string& what) const;
 
   // Object members: the keys allowed here (others are refused, listing these).
@@ -46,7 +49,7 @@ class Node {
   bool has(std::string_view key) const;
   Node operator[](std::string_view key) const;  // required member
   std::optional<Node> optional(std::string_view key) const;
-  std::vector<std::pair<std::string, Node>> members() const;  // of an object, in file order
+  std::vector<std::pair<std::string, Node>> members() const;  // of an object, sorted by key
   std::vector<Node> elements() const;                         // of an array
 
   bool is_string() const { return value_->is_string(); }
@@ -63,7 +66,12 @@ class Node {
   std::string string_or(std::string_view key, std::string fallback) const;
 
  private:
+  Node child(const nlohmann::json& value, const std::string& segment) const {
+    return Node(value, origin_, path_ + "/" + segment, root_);
+  }
+
   const nlohmann::json* value_;
+  const nlohmann::json* root_;
   std::string origin_;
   std::string path_;
 };
@@ -89,7 +97,8 @@ struct Scenario {
   Node root() const { return Node(document, origin); }
 };
 
-// Throws ScenarioError (unreadable file, not JSON, bad structure).
+// Throws ScenarioError (unreadable file, not JSON, a key given twice in an
+// object, a number a double cannot hold, bad structure).
 Scenario load_scenario(const std::filesystem::path& file);
 Scenario parse_scenario(std::string_view text, std::string origin, std::filesystem::path directory = {});
 

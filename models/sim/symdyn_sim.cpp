@@ -33,6 +33,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -40,6 +41,7 @@
 #include <iostream>
 #include <optional>
 
+#include "output_files.hpp"
 #include "run.hpp"
 #include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/errors.hpp>
@@ -64,6 +66,20 @@ struct Arguments {
   bool list = false;
   sim::RunOptions run;
 };
+
+// A finite number > 0. (CLI11's PositiveNumber lets NaN through and prints
+// its bound, DBL_MAX, in 309 digits.)
+const CLI::Validator kPositive(
+    [](std::string& text) -> std::string {
+      double v = 0.0;
+      if (CLI::detail::lexical_cast(text, v) && std::isfinite(v) && v > 0.0) return {};
+      return fmt::format("expected a finite number > 0, found '{}'", text);
+    },
+    "POSITIVE");
+
+// An output's name: not empty (an empty --out would mean the default name).
+const CLI::Validator kFileName(
+    [](std::string& text) -> std::string { return text.empty() ? "expected a file name, found ''" : ""; }, "FILE");
 
 void list_scenarios() {
   for (const sim::Scenario& s : sim::builtin_scenarios()) {
@@ -181,6 +197,16 @@ void check_pictures(const Arguments& args) {
   }
 }
 
+// A text inside gnuplot's single quotes, where a quote is written twice.
+std::string gnuplot_text(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    out += c;
+    if (c == '\'') out += c;
+  }
+  return out;
+}
+
 // The coordinates (columns 2 .. nq + 1 of the CSV) against time, by gnuplot,
 // and below them the energies when the CSV has them.
 void plot(const std::filesystem::path& csv, const std::string& file, const sim::RunResult& r,
@@ -190,15 +216,15 @@ void plot(const std::filesystem::path& csv, const std::string& file, const sim::
   std::string script = fmt::format(
       "set terminal {} size 1000,{} noenhanced\nset output '{}'\nset datafile separator ','\n"
       "set key autotitle columnhead outside\nset grid\nset xlabel 't (s)'\n",
-      svg ? "svg" : "pngcairo", energies ? 900 : 600, file);
+      svg ? "svg" : "pngcairo", energies ? 900 : 600, gnuplot_text(file));
   if (energies) script += "set multiplot layout 2,1\n";
-  script += fmt::format("set title '{}: coordinates'\nplot for [i=2:{}] '{}' using 1:i with lines\n", title,
-                        r.coordinates.size() + 1, csv.string());
+  script += fmt::format("set title '{}: coordinates'\nplot for [i=2:{}] '{}' using 1:i with lines\n",
+                        gnuplot_text(title), r.coordinates.size() + 1, gnuplot_text(csv.string()));
   if (energies) {
     script += fmt::format(
         "set title '{}: energies (J)'\nplot for [c in 'kinetic_energy gravitational_energy elastic_energy "
         "total_energy'] '{}' using 1:c with lines title c\nunset multiplot\n",
-        title, csv.string());
+        gnuplot_text(title), gnuplot_text(csv.string()));
   }
   FILE* gnuplot = popen("gnuplot", "w");
   if (gnuplot == nullptr) throw std::runtime_error("--plot: cannot start gnuplot");
@@ -206,11 +232,58 @@ void plot(const std::filesystem::path& csv, const std::string& file, const sim::
   if (pclose(gnuplot) != 0) throw std::runtime_error(fmt::format("--plot: gnuplot failed to write '{}'", file));
 }
 
+// Every file the run would write, by the option that names it.
+std::vector<std::pair<std::string, std::filesystem::path>> output_files(const Arguments& args,
+                                                                        const std::filesystem::path& csv) {
+  std::vector<std::pair<std::string, std::filesystem::path>> files{{"--out", csv}};
+  std::filesystem::path partial = csv;
+  files.emplace_back("--out", partial += ".partial");
+  for (const auto& [option, file] : {std::pair{"--html", &args.html}, {"--glb", &args.glb}, {"--plot", &args.plot},
+                                     {"--modes", &args.modes}}) {
+    if (!file->empty()) files.emplace_back(option, *file);
+  }
+  if (!args.easyanim.empty()) {
+    std::vector<std::string> stems{args.easyanim};
+    if (!args.modes.empty()) stems.push_back(args.easyanim + "_modes");
+    for (const std::string& stem : stems) {
+      for (const char* ext : {".vol", stem == args.easyanim ? ".van" : ".vmo"}) files.emplace_back("--easyanim", stem + ext);
+    }
+  }
+  return files;
+}
+
+// Each output a regular file that can be written, none named twice, none the
+// scenario itself: refused before the run, not after it.
+void check_outputs(const Arguments& args, const std::filesystem::path& csv) {
+  const auto files = output_files(args, csv);
+  std::vector<std::filesystem::path> seen;
+  const auto same = [](const std::filesystem::path& a, const std::filesystem::path& b) {
+    std::error_code ec;
+    return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+  };
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const auto& [option, file] = files[i];
+    sim::check_output_file(option, file);
+    if (is_file(args.scenario) && same(file, args.scenario)) {
+      throw runtime::OptionError(fmt::format("{} '{}' is the scenario file: it would be overwritten", option, file.string()));
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (same(file, files[j].second)) {
+        throw runtime::OptionError(fmt::format("{} '{}' and {} '{}' are the same file: one would overwrite the other",
+                                               files[j].first, files[j].second.string(), option, file.string()));
+      }
+    }
+  }
+}
+
 int simulate(Arguments& args) {
   const sim::Scenario scenario =
       is_file(args.scenario) ? sim::load_scenario(args.scenario) : sim::find_builtin(args.scenario);
-  // Rows go to <file>.partial as they come, renamed to <file> when the run ends.
-  const std::filesystem::path path = args.out.empty() ? scenario.name + ".csv" : args.out;
+  // Rows go to <file>.partial as they come, renamed to <file> when the run ends
+  // (through a symbolic link, to the file it names).
+  std::filesystem::path path = args.out.empty() ? scenario.name + ".csv" : args.out;
+  check_outputs(args, path);
+  if (std::filesystem::is_symlink(path)) path = std::filesystem::canonical(path);
   std::filesystem::path partial = path;
   partial += ".partial";
   std::ofstream csv;
@@ -233,7 +306,7 @@ int simulate(Arguments& args) {
   if (!args.html.empty() || !args.glb.empty() || !args.easyanim.empty()) {
     pictures.emplace(simulation.system().model());
   }
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  for (const auto& [option, file] : output_files(args, path)) sim::create_folders(file);
   csv.open(partial);
   if (!csv) throw std::runtime_error(fmt::format("cannot write '{}'", partial.string()));
   const auto keep = [&] {
@@ -288,30 +361,31 @@ int main(int argc, char** argv) {
   app.add_option("scenario", args.scenario, "scenario file (*.json) or built-in model name (see --list)");
   app.add_flag("--list", args.list, "list the built-in scenarios and their models' variants");
   app.add_option("--variant", args.run.variant, "generated variant (default: the scenario's, else the model's first)");
-  app.add_option("--t-end", args.run.t_end, "end time in s (default: the scenario's)")->check(CLI::PositiveNumber);
+  app.add_option("--t-end", args.run.t_end, "end time in s (default: the scenario's)")->check(kPositive);
   app.add_option("--integrator", args.run.integrator,
                  fmt::format("one of {}", fmt::join(runtime::integrator_names(), ", ")));
-  app.add_option("--tolerance", args.run.tolerance, "relative and absolute tolerance")->check(CLI::PositiveNumber);
-  app.add_option("--rtol", args.run.rtol, "relative tolerance (over --tolerance)")->check(CLI::PositiveNumber);
-  app.add_option("--atol", args.run.atol, "absolute tolerance (over --tolerance)")->check(CLI::PositiveNumber);
-  app.add_option("--interval", args.run.output_interval, "output interval in s")->check(CLI::PositiveNumber);
-  app.add_option("--step", args.run.step, "initial step in s (rk4: the fixed step)")->check(CLI::PositiveNumber);
+  app.add_option("--tolerance", args.run.tolerance, "relative and absolute tolerance")->check(kPositive);
+  app.add_option("--rtol", args.run.rtol, "relative tolerance (over --tolerance)")->check(kPositive);
+  app.add_option("--atol", args.run.atol, "absolute tolerance (over --tolerance)")->check(kPositive);
+  app.add_option("--interval", args.run.output_interval, "output interval in s")->check(kPositive);
+  app.add_option("--step", args.run.step, "initial step in s (rk4: the fixed step)")->check(kPositive);
   app.add_flag("--assembled", args.run.assembled, "assemble M and h from the kinematics instead of the emitted ones");
-  app.add_option("--out", args.out, "CSV file (default: <scenario>.csv)");
-  app.add_option("--html", args.html, "write the HTML viewer of the run (open it in a browser)");
-  app.add_option("--glb", args.glb, "write the animation as glTF binary (Blender, glTF viewers)");
-  app.add_option("--plot", args.plot, "plot the coordinates against time with gnuplot (.png or .svg)");
-  app.add_option("--easyanim", args.easyanim, "write EasyDyn's STEM.vol and STEM.van of the run (EasyAnim)");
+  app.add_option("--out", args.out, "CSV file (default: <scenario>.csv)")->check(kFileName);
+  app.add_option("--html", args.html, "write the HTML viewer of the run (open it in a browser)")->check(kFileName);
+  app.add_option("--glb", args.glb, "write the animation as glTF binary (Blender, glTF viewers)")->check(kFileName);
+  app.add_option("--plot", args.plot, "plot the coordinates against time with gnuplot (.png or .svg)")->check(kFileName);
+  app.add_option("--easyanim", args.easyanim, "write EasyDyn's STEM.vol and STEM.van of the run (EasyAnim)")->check(kFileName);
   CLI::Option* modes =
-      app.add_option("--modes", args.modes, "write the modes of the linearization as CSV (also clips of --html, --glb)");
+      app.add_option("--modes", args.modes, "write the modes of the linearization as CSV (also clips of --html, --glb)")
+          ->check(kFileName);
   app.add_option("--modes-about", args.modes_about, "linearize about the static equilibrium (default) or the initial state")
       ->check(CLI::IsMember({"equilibrium", "initial"}))
       ->needs(modes);
   app.add_option("--mode-amplitude", args.mode_amplitude, "largest coordinate's swing in a mode's clip (default 0.2)")
-      ->check(CLI::PositiveNumber)
+      ->check(kPositive)
       ->needs(modes);
   app.add_option("--max-rows", args.max_rows, "refuse a run that would write more CSV rows (default 1e7)")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   try {
     app.parse(argc, argv);
     if (!args.list && args.scenario.empty()) throw CLI::RequiredError("scenario");

@@ -3,10 +3,12 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -88,6 +90,51 @@ const model::Definition& choose_model(const std::string& name) {
                                      fmt::join(model_names(), ", ")));
 }
 
+// A file can be made in the folder: tried, since root passes access() in
+// /proc or on a read-only mount.
+bool can_create_in(const std::filesystem::path& folder) {
+  std::string probe = (folder / ".symdyn-probe-XXXXXX").string();
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) return false;
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return true;
+}
+
+// What generation writes, checked before the derivation (which can take
+// minutes): --out a directory or one that can be made, writable, and the
+// two files, where they exist, regular files that are not read-only.
+void check_out_directory(const std::string& out, const std::string& basename) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path dir(out);
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    throw CommandLineError(fmt::format("--out: '{}' exists and is not a directory", out));
+  }
+  fs::path folder = dir;
+  while (!folder.empty() && !fs::exists(folder, ec)) folder = folder.parent_path();
+  if (folder.empty()) folder = dir.is_absolute() ? dir.root_path() : fs::path(".");
+  if (!fs::is_directory(folder, ec)) {
+    throw CommandLineError(fmt::format("--out: '{}' cannot be made: '{}' is not a directory", out, folder.string()));
+  }
+  if (::access(folder.c_str(), W_OK | X_OK) != 0 || !can_create_in(folder)) {
+    throw CommandLineError(fmt::format("--out: '{}' cannot be written: the folder '{}' is not writable", out,
+                                       folder.string()));
+  }
+  constexpr fs::perms any_write = fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
+  for (const char* ext : {".hpp", ".cpp"}) {
+    const fs::path file = dir / (basename + ext);
+    const fs::file_status status = fs::status(file, ec);
+    if (!fs::exists(status)) continue;
+    if (!fs::is_regular_file(status)) {
+      throw CommandLineError(fmt::format("--out: '{}' exists and is not a regular file", file.string()));
+    }
+    if (::access(file.c_str(), W_OK) != 0 || (status.permissions() & any_write) == fs::perms::none) {
+      throw CommandLineError(fmt::format("--out: '{}' is read-only: it is not replaced", file.string()));
+    }
+  }
+}
+
 std::size_t count(std::int64_t value, std::int64_t minimum, const char* option) {
   if (value < minimum) {
     throw CommandLineError(fmt::format("{}: {} is out of range (it must be at least {})", option, value, minimum));
@@ -122,11 +169,6 @@ Job check_arguments(const Arguments& args) {
   job.options.split_above = count(args.split_above, 0, "--split-above");
   job.options.entry_points = args.only;
   if (args.out.empty()) throw CommandLineError("--out: the directory name is empty");
-  const std::filesystem::path out(args.out);
-  std::error_code ec;
-  if (std::filesystem::exists(out, ec) && !std::filesystem::is_directory(out, ec)) {
-    throw CommandLineError(fmt::format("--out: '{}' exists and is not a directory", args.out));
-  }
   return job;
 }
 
@@ -233,7 +275,9 @@ int run(const Arguments& args, const codegen::GeneratorHooks& hooks) {
       fmt::print("{}", describe(check_arguments(args)));
       return 0;
     }
-    return generate(check_arguments(args), args);
+    const Job job = check_arguments(args);
+    check_out_directory(args.out, job.basename);
+    return generate(job, args);
   } catch (const CommandLineError& e) {
     std::cerr << "error: " << e.what() << '\n';
     return kExitCommandLine;

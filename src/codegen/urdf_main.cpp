@@ -6,6 +6,8 @@
 // The model is named after the robot (<robot>_default.hpp unless --basename).
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+
 #include <symdyn/codegen/generator_cli.hpp>
 #include <symdyn/model/urdf.hpp>
 
@@ -49,7 +51,16 @@ int main(int argc, char** argv) {
   hooks.add_options = [&](CLI::App& app) {
     app.add_option("--urdf", args.path, "the robot's URDF file")->required();
     app.add_flag("--floating-base", args.floating_base, "the root link moves freely (6 coordinates)");
-    app.add_option("--gravity", args.gravity, "gravity in the URDF world frame")->expected(3)->capture_default_str();
+    app.add_option("--gravity", args.gravity, "gravity in the URDF world frame")
+        ->expected(3)
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+              double v = 0.0;
+              if (CLI::detail::lexical_cast(text, v) && std::isfinite(v)) return {};
+              return "expected a finite number, found '" + text + "'";
+            },
+            "FINITE"));
   };
   hooks.prepare = [&] { register_robot(args); };
   return codegen::run_generator(argc, argv, hooks);

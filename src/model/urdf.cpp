@@ -3,12 +3,16 @@
 #include <console_bridge/console.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -54,14 +58,120 @@ class ParsedRobot {
   urdf::ModelInterfaceSharedPtr robot_;
 };
 
+// urdfdom logs an error and still returns the robot for some bad numbers
+// (a <mass> or <inertia> that does not parse leaves the link with mass 0, a
+// frame): any error it logs refuses the file.
 ParsedRobot parse(std::string_view xml) {
   CollectedMessages messages;
   urdf::ModelInterfaceSharedPtr robot = urdf::parseURDF(std::string(xml));
-  if (!robot) {
+  if (!robot || !messages.errors().empty()) {
     const std::string why = messages.errors().empty() ? "not a URDF robot" : fmt::format("{}", fmt::join(messages.errors(), "; "));
     throw ModelError(fmt::format("URDF: {}", why));
   }
   return ParsedRobot(std::move(robot));
+}
+
+// The numbers as written, read again from the XML: urdfdom's message for a
+// number that is not finite ("nan", "inf", "1e400") names neither the link nor
+// the attribute, and it keeps rpy as a quaternion whose getRPY rounds a pitch
+// within 0.0045 rad of ±90° to ±π/2. Every attribute of a link or joint that
+// holds numbers is checked here, and the rpy angles are kept as written.
+using Rpy = std::array<double, 3>;
+
+struct WrittenNumbers {
+  std::map<std::string, Rpy> joint_rpy;     // <joint><origin rpy>, by joint name
+  std::map<std::string, Rpy> inertial_rpy;  // <link><inertial><origin rpy>, by link name
+};
+
+// The attributes that hold numbers, by element (anywhere inside a link or joint).
+const std::map<std::string_view, std::vector<const char*>>& numeric_attributes() {
+  static const std::map<std::string_view, std::vector<const char*>> table{
+      {"origin", {"xyz", "rpy"}},
+      {"mass", {"value"}},
+      {"inertia", {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}},
+      {"axis", {"xyz"}},
+      {"limit", {"lower", "upper", "effort", "velocity"}},
+      {"dynamics", {"damping", "friction"}},
+      {"safety_controller", {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}},
+      {"calibration", {"rising", "falling", "reference_position"}},
+      {"mimic", {"multiplier", "offset"}},
+      {"box", {"size"}},
+      {"cylinder", {"radius", "length"}},
+      {"sphere", {"radius"}},
+      {"mesh", {"scale"}},
+      {"color", {"rgba"}},
+  };
+  return table;
+}
+
+// The numbers of an attribute, each finite: ModelError naming the owner (link
+// or joint), the element's path and the attribute. A word that is not a
+// number is left to urdfdom's own message.
+std::vector<double> finite_numbers(const std::string& owner, const std::string& element, const char* attribute,
+                                   const std::string& text) {
+  std::vector<double> out;
+  std::istringstream words(text);
+  std::string word;
+  while (words >> word) {
+    const char* first = word.data() + (word.starts_with('+') ? 1 : 0);
+    const char* last = word.data() + word.size();
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(first, last, v);
+    const auto refuse = [&](const char* why) {
+      throw ModelError(fmt::format("URDF {}: <{} {}=\"{}\">: '{}' {}", owner, element, attribute, text, word, why));
+    };
+    if (ec == std::errc::result_out_of_range) refuse("is beyond the range of a double");
+    if (ec != std::errc() || end != last) return {};
+    if (!std::isfinite(v)) refuse("is not a finite number");
+    out.push_back(v);
+  }
+  return out;
+}
+
+void check_element(const TiXmlElement& e, const std::string& owner, const std::string& path) {
+  const auto row = numeric_attributes().find(e.ValueStr());
+  if (row != numeric_attributes().end()) {
+    for (const char* attribute : row->second) {
+      if (const char* text = e.Attribute(attribute)) finite_numbers(owner, path, attribute, text);
+    }
+  }
+  for (const TiXmlElement* child = e.FirstChildElement(); child != nullptr; child = child->NextSiblingElement()) {
+    check_element(*child, owner, path + "><" + child->ValueStr());
+  }
+}
+
+// The rpy of `origin` as written (0 0 0 when absent or not three numbers: urdfdom says why).
+Rpy written_rpy(const TiXmlElement* origin, const std::string& owner, const std::string& path) {
+  Rpy rpy{0.0, 0.0, 0.0};
+  const char* text = origin != nullptr ? origin->Attribute("rpy") : nullptr;
+  if (text == nullptr) return rpy;
+  const std::vector<double> v = finite_numbers(owner, path, "rpy", text);
+  if (v.size() == 3) std::copy(v.begin(), v.end(), rpy.begin());
+  return rpy;
+}
+
+WrittenNumbers read_written_numbers(std::string_view xml) {
+  WrittenNumbers out;
+  TiXmlDocument document;
+  document.Parse(std::string(xml).c_str());
+  const TiXmlElement* robot = document.Error() ? nullptr : document.FirstChildElement("robot");
+  if (robot == nullptr) return out;  // urdfdom says what is wrong
+  for (const TiXmlElement* e = robot->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
+    const bool link = e->ValueStr() == "link", joint = e->ValueStr() == "joint";
+    if (!link && !joint) continue;
+    const char* name = e->Attribute("name");
+    const std::string owner = fmt::format("{} '{}'", e->ValueStr(), name != nullptr ? name : "");
+    for (const TiXmlElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+      check_element(*c, owner, c->ValueStr());
+    }
+    if (name == nullptr) continue;
+    if (joint) {
+      out.joint_rpy[name] = written_rpy(e->FirstChildElement("origin"), owner, "origin");
+    } else if (const TiXmlElement* inertial = e->FirstChildElement("inertial")) {
+      out.inertial_rpy[name] = written_rpy(inertial->FirstChildElement("origin"), owner, "inertial><origin");
+    }
+  }
+  return out;
 }
 
 // A URDF name as a symdyn name: every character that cannot be in an identifier becomes '_'.
@@ -77,10 +187,10 @@ std::string identifier_shaped(const std::string& name) {
 // Zero mass makes a frame; any other mass a body, a negative or NaN one refused by the builder's checks naming it.
 bool is_massive(const urdf::Link& link) { return link.inertial && link.inertial->mass != 0.0; }
 
-// Translation by xyz, then rotation Rz(yaw)·Ry(pitch)·Rx(roll); factors that do nothing are left out.
-Transform pose_transform(const urdf::Pose& pose) {
-  double roll = 0.0, pitch = 0.0, yaw = 0.0;
-  pose.rotation.getRPY(roll, pitch, yaw);
+// Translation by xyz, then rotation Rz(yaw)·Ry(pitch)·Rx(roll) with the
+// angles as written; factors that do nothing are left out.
+Transform pose_transform(const urdf::Pose& pose, const Rpy& rpy) {
+  const auto [roll, pitch, yaw] = rpy;
   Transform t;
   const urdf::Vector3& p = pose.position;
   if (p.x != 0.0 || p.y != 0.0 || p.z != 0.0) t *= Tdisp(p.x, p.y, p.z);
@@ -90,9 +200,8 @@ Transform pose_transform(const urdf::Pose& pose) {
   return t;
 }
 
-Transform inverse_pose_transform(const urdf::Pose& pose) {
-  double roll = 0.0, pitch = 0.0, yaw = 0.0;
-  pose.rotation.getRPY(roll, pitch, yaw);
+Transform inverse_pose_transform(const urdf::Pose& pose, const Rpy& rpy) {
+  const auto [roll, pitch, yaw] = rpy;
   Transform t;
   if (roll != 0.0) t *= Trotx(-roll);
   if (pitch != 0.0) t *= Troty(-pitch);
@@ -135,8 +244,8 @@ Transform floating_motion(Model& m, const std::string& base, std::vector<std::st
 
 class Importer {
  public:
-  Importer(Model& m, const urdf::ModelInterface& robot, const UrdfOptions& options)
-      : m_(m), robot_(robot), options_(options) {}
+  Importer(Model& m, const urdf::ModelInterface& robot, const WrittenNumbers& written, const UrdfOptions& options)
+      : m_(m), robot_(robot), written_(written), options_(options) {}
 
   std::vector<UrdfJoint> run() {
     const urdf::Link& root = *robot_.getRoot();
@@ -167,7 +276,7 @@ class Importer {
     std::optional<std::string> children_reference = reference;
     if (is_massive(link)) {
       add_body(link, placement, reference);
-      to_link = inverse_pose_transform(link.inertial->origin);
+      to_link = inverse_pose_transform(link.inertial->origin, inertial_rpy(link));
       children_reference = identifier_shaped(link.name);
     }
     bool massive = is_massive(link);
@@ -175,8 +284,9 @@ class Importer {
       const urdf::LinkConstSharedPtr child = robot_.getLink(joint->child_link_name);
       const std::size_t coordinates_before = m_.coordinates().size();
       const Transform motion = joint_motion(*joint);
-      const bool child_massive = visit(*child, to_link * pose_transform(joint->parent_to_joint_origin_transform) * motion,
-                                       children_reference);
+      const bool child_massive =
+          visit(*child, to_link * pose_transform(joint->parent_to_joint_origin_transform, joint_rpy(*joint)) * motion,
+                children_reference);
       if (!child_massive && m_.coordinates().size() > coordinates_before) {
         throw ModelError(fmt::format("URDF joint '{}' ({}) moves no body: link '{}' and the links beyond it have no mass",
                                      joint->name, type_name(*joint), joint->child_link_name));
@@ -192,7 +302,7 @@ class Importer {
     body.mass(in.mass)
         .inertia(Mat3{Expr(in.ixx), Expr(in.ixy), Expr(in.ixz), Expr(in.ixy), Expr(in.iyy), Expr(in.iyz), Expr(in.ixz),
                       Expr(in.iyz), Expr(in.izz)})
-        .motion(placement * pose_transform(in.origin));
+        .motion(placement * pose_transform(in.origin, inertial_rpy(link)));
     if (reference) body.relative_to(*reference);
   }
 
@@ -238,6 +348,15 @@ class Importer {
     return q;
   }
 
+  Rpy joint_rpy(const urdf::Joint& joint) const {
+    const auto it = written_.joint_rpy.find(joint.name);
+    return it != written_.joint_rpy.end() ? it->second : Rpy{0.0, 0.0, 0.0};
+  }
+  Rpy inertial_rpy(const urdf::Link& link) const {
+    const auto it = written_.inertial_rpy.find(link.name);
+    return it != written_.inertial_rpy.end() ? it->second : Rpy{0.0, 0.0, 0.0};
+  }
+
   void check_all_links_reached() const {
     for (const auto& [name, link] : robot_.links_) {
       if (!visited_.count(name)) {
@@ -249,6 +368,7 @@ class Importer {
 
   Model& m_;
   const urdf::ModelInterface& robot_;
+  const WrittenNumbers& written_;
   const UrdfOptions& options_;
   std::vector<UrdfJoint> joints_;
   std::set<std::string> visited_;
@@ -257,16 +377,21 @@ class Importer {
 }  // namespace
 
 std::vector<UrdfJoint> add_urdf(Model& model, std::string_view urdf_xml, const UrdfOptions& options) {
+  const WrittenNumbers written = read_written_numbers(urdf_xml);
   const ParsedRobot robot = parse(urdf_xml);
-  return Importer(model, *robot, options).run();
+  return Importer(model, *robot, written, options).run();
 }
 
-std::string urdf_robot_name(std::string_view urdf_xml) { return identifier_shaped(parse(urdf_xml)->getName()); }
+std::string urdf_robot_name(std::string_view urdf_xml) {
+  read_written_numbers(urdf_xml);  // its refusals name the link or joint and the attribute
+  return identifier_shaped(parse(urdf_xml)->getName());
+}
 
 UrdfRobot import_urdf(std::string_view urdf_xml, const UrdfOptions& options) {
+  const WrittenNumbers written = read_written_numbers(urdf_xml);
   const ParsedRobot robot = parse(urdf_xml);
   UrdfRobot out{Model(options.name.empty() ? identifier_shaped(robot->getName()) : options.name), {}};
-  out.joints = Importer(out.model, *robot, options).run();
+  out.joints = Importer(out.model, *robot, written, options).run();
   return out;
 }
 

@@ -32,9 +32,12 @@
 // identifiers have each other character replaced by '_'.
 //
 // Errors (ModelError, naming the file, link or joint): unreadable file, urdfdom's
-// parse errors, unsupported joints, an axis of zero length, a coordinate that
-// moves no body (a movable joint with no mass beyond it), closed loops; the
-// builder's own checks name the body of a non-physical mass or inertia.
+// parse errors (any it logs, even when it returns a robot), a number that is
+// not finite or beyond a double's range (naming the element and attribute),
+// unsupported joints, an axis of zero length, a coordinate that moves no body
+// (a movable joint with no mass beyond it), closed loops; the builder's own
+// checks name the body of a non-physical mass or inertia. rpy angles are read
+// as written (urdfdom's getRPY rounds a pitch near ±90° to ±π/2).
 // urdfdom reports its errors through console_bridge's global output handler,
 // which the importer takes over while parsing: import from one thread at a time.
 

@@ -23,6 +23,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -163,13 +164,26 @@ std::string name_or(const py::object& name, const py::handle& fallback) {
   return fallback.is_none() ? std::string("ground") : py::str(fallback).cast<std::string>();
 }
 
+// Every value finite: ValueError naming the coordinate (positions() and the
+// other kinematics would return NaN silently).
+void check_finite(const Vector& v, const Model& m, std::string_view what) {
+  for (Eigen::Index j = 0; j < v.size(); ++j) {
+    if (std::isfinite(v(j))) continue;
+    throw py::value_error(fmt::format("{}: coordinate '{}' is {}, not a finite number", what,
+                                      m.q_names()[static_cast<std::size_t>(j)], v(j)));
+  }
+}
+
 // The state (t, q, qd) of a call: the model's initial values where None.
 State state_arg(const MultibodySystem& system, double t, const py::object& q,
                 const py::object& qd) {
   State s = system.initial_state();
+  if (!std::isfinite(t)) throw py::value_error(fmt::format("t = {} is not a finite time", t));
   s.t = t;
   if (!q.is_none()) s.q = vector_arg(q, system.num_coordinates(), "q");
   if (!qd.is_none()) s.qd = vector_arg(qd, system.num_coordinates(), "qd");
+  check_finite(s.q, system.model(), "q");
+  check_finite(s.qd, system.model(), "qd");
   return s;
 }
 
@@ -329,6 +343,9 @@ Force coordinate_spring_damper(const py::object& coordinate, double stiffness, d
 Force coordinate_tracking(const py::object& coordinate, double kp, double kd, double reference,
                           double rate, const py::object& name) {
   const std::string n = name_or(name, coordinate);
+  // The runtime's element takes functions of time: the constants are checked here.
+  runtime::check_property(fmt::format("coordinate tracking '{}'", n), "reference", reference);
+  runtime::check_property(fmt::format("coordinate tracking '{}'", n), "rate", rate);
   return {fmt::format("CoordinateTracking('{}')", n), [=](const Model& m) -> ElementPtr {
             return std::make_shared<runtime::CoordinateTracking>(
                 n, coordinate_arg(m, coordinate), kp, kd, [reference](double) { return reference; },
@@ -534,6 +551,7 @@ py::tuple body_accelerations(System& self, const py::object& q, const py::object
   const Model& m = self.model();
   const State s = state_arg(self.base(), t, q, qd);
   const Vector a = vector_arg(qdd, m.nq(), "qdd");
+  check_finite(a, m, "qdd");
   Kinematics k = m.make_kinematics();
   m.accelerations(t, s.q.data(), s.qd.data(), a.data(), k);
   return py::make_tuple(body_array(k.a_data(), m.nbody(), false), body_array(k.dw_data(), m.nbody(), false));

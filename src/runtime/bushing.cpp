@@ -3,11 +3,25 @@
 #include <Eigen/LU>
 #include <utility>
 
+#include <symdyn/runtime/element_properties.hpp>
+
 namespace symdyn::runtime {
 
 Bushing::Bushing(std::string name, BodyFrame a, BodyFrame b, const BushingProperties& p,
                  std::string_view order)
-    : name_(std::move(name)), a_(a), b_(b), p_(p), order_(CardanOrder::parse(order)) {}
+    : name_(std::move(name)), a_(a), b_(b), p_(p), order_(CardanOrder::parse(order)) {
+  const std::string me = this->name();
+  check_property(me, "a/origin", a_.origin);
+  check_axes(me, "a/axes", a_.axes);
+  check_property(me, "b/origin", b_.origin);
+  check_axes(me, "b/axes", b_.axes);
+  check_property(me, "stiffness", p_.stiffness, Sign::non_negative);
+  check_property(me, "damping", p_.damping, Sign::non_negative);
+  check_property(me, "rotational_stiffness", p_.rotational_stiffness, Sign::non_negative);
+  check_property(me, "rotational_damping", p_.rotational_damping, Sign::non_negative);
+  check_property(me, "preload_force", p_.preload_force);
+  check_property(me, "preload_torque", p_.preload_torque);
+}
 
 Bushing::Deflection Bushing::deflection(const Kinematics& k) const {
   const Mat3 RA = k.rotation(a_.body) * a_.axes;

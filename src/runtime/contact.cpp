@@ -4,11 +4,29 @@
 #include <cmath>
 #include <utility>
 
+#include <symdyn/runtime/element_properties.hpp>
+
 namespace symdyn::runtime {
+
+void check_plane(const std::string& element, const Plane& plane) {
+  check_property(element, "plane_point", plane.point);
+  check_direction(element, "plane_normal", plane.normal);
+}
 
 PlaneContact::PlaneContact(std::string name, int body, const Vec3& point, double radius,
                            const Plane& plane, const ContactProperties& p)
     : name_(std::move(name)), body_(body), point_(point), radius_(radius), plane_(plane), p_(p) {
+  const std::string me = this->name();
+  check_property(me, "point", point_);
+  check_property(me, "radius", radius_, Sign::non_negative);
+  check_plane(me, plane_);
+  // N = Kn delta^pk + Cd delta^pd deltad: without Kn > 0 a body sinks through the plane.
+  check_property(me, "stiffness", p_.stiffness, Sign::positive);
+  check_property(me, "stiffness_exponent", p_.stiffness_exponent, Sign::positive);
+  check_property(me, "damping", p_.damping, Sign::non_negative);
+  check_property(me, "damping_exponent", p_.damping_exponent, Sign::non_negative);
+  check_property(me, "friction", p_.friction, Sign::non_negative);
+  check_property(me, "slip_speed", p_.slip_speed, Sign::positive);
   plane_.normal.normalize();
 }
 
@@ -41,6 +59,15 @@ void PlaneContact::apply(const State& /*s*/, const Kinematics& k, Loads& loads) 
 SimpleTyre::SimpleTyre(std::string name, int body, const SimpleTyreProperties& p,
                        const Plane& ground)
     : name_(std::move(name)), body_(body), p_(p), ground_(ground) {
+  const std::string me = this->name();
+  check_property(me, "radius", p_.radius, Sign::positive);
+  check_property(me, "stiffness", p_.stiffness, Sign::positive);
+  check_property(me, "damping", p_.damping, Sign::non_negative);
+  check_property(me, "friction", p_.friction, Sign::non_negative);
+  check_property(me, "epsilon", p_.epsilon, Sign::positive);
+  check_direction(me, "axis", p_.axis);
+  check_property(me, "centre", p_.centre);
+  check_plane(me, ground_);
   ground_.normal.normalize();
   p_.axis.normalize();
 }

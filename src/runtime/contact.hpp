@@ -15,6 +15,10 @@ struct Plane {
   Vec3 normal = Vec3::UnitZ();
 };
 
+// A plane's point finite and its normal a direction (PropertyError naming
+// `element` and plane_point or plane_normal).
+void check_plane(const std::string& element, const Plane& plane);
+
 // How friction is regularized near zero slip speed v_s:
 //   linear: Ft = -mu N vt / max(|vt|, v_s)       (EasyDyn: linear below v_s)
 //   smooth: Ft = -mu N vt / sqrt(|vt|^2 + v_s^2)  (docs/models.md's contacts)

@@ -2,12 +2,18 @@
 
 #include <utility>
 
+#include <symdyn/runtime/element_properties.hpp>
+
 namespace symdyn::runtime {
 
 CoordinateSpringDamper::CoordinateSpringDamper(std::string name, int coordinate,
                                                double stiffness, double damping,
                                                double free_value)
-    : name_(std::move(name)), j_(coordinate), k_(stiffness), c_(damping), q0_(free_value) {}
+    : name_(std::move(name)), j_(coordinate), k_(stiffness), c_(damping), q0_(free_value) {
+  check_property(this->name(), "stiffness", k_, Sign::non_negative);
+  check_property(this->name(), "damping", c_, Sign::non_negative);
+  check_property(this->name(), "free_value", q0_);
+}
 
 void CoordinateSpringDamper::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {
   loads.add_generalized(j_, -k_ * (s.q(j_) - q0_) - c_ * s.qd(j_));
@@ -34,7 +40,10 @@ void CoordinateForce::apply(const State& s, const Kinematics& /*k*/, Loads& load
 CoordinateTracking::CoordinateTracking(std::string name, int coordinate, double kp, double kd,
                                        Reference r, Reference rd)
     : name_(std::move(name)), j_(coordinate), kp_(kp), kd_(kd), r_(std::move(r)),
-      rd_(std::move(rd)) {}
+      rd_(std::move(rd)) {
+  check_property(this->name(), "kp", kp_, Sign::non_negative);
+  check_property(this->name(), "kd", kd_, Sign::non_negative);
+}
 
 void CoordinateTracking::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {
   const double rd = rd_ ? rd_(s.t) : 0.0;

@@ -24,15 +24,18 @@ void Integrator::check_options(double t_begin, double t_end) const {
     fail(fmt::format("the final time {} must be finite and after the initial time {}", t_end,
                      t_begin));
   }
-  if (!(o.relative_tolerance > 0.0) || !(o.absolute_tolerance > 0.0)) {
-    fail(fmt::format("tolerances must be positive (relative {}, absolute {})",
+  const auto finite_positive = [](double v) { return v > 0.0 && std::isfinite(v); };
+  if (!finite_positive(o.relative_tolerance) || !finite_positive(o.absolute_tolerance)) {
+    fail(fmt::format("tolerances must be finite and positive (relative {}, absolute {})",
                      o.relative_tolerance, o.absolute_tolerance));
   }
   if (!(o.min_step >= 0.0) || !(o.max_step > 0.0) || o.min_step > o.max_step) {
     fail(fmt::format("need 0 <= min_step <= max_step, 0 < max_step (min_step {}, max_step {})",
                      o.min_step, o.max_step));
   }
-  if (!(o.initial_step >= 0.0)) fail(fmt::format("initial_step {} is negative", o.initial_step));
+  if (!(o.initial_step >= 0.0) || !std::isfinite(o.initial_step)) {
+    fail(fmt::format("initial_step {} must be finite and >= 0", o.initial_step));
+  }
   if (o.initial_step > 0.0 && o.initial_step < o.min_step) {
     fail(fmt::format("initial_step {:g} is below min_step {:g}", o.initial_step, o.min_step));
   }
@@ -44,8 +47,8 @@ void Integrator::check_options(double t_begin, double t_end) const {
   if (o.max_newton_iterations < 1) {
     fail(fmt::format("max_newton_iterations {} must be at least 1", o.max_newton_iterations));
   }
-  if (!(o.output_interval >= 0.0)) {
-    fail(fmt::format("output_interval {} is negative", o.output_interval));
+  if (!(o.output_interval >= 0.0) || !std::isfinite(o.output_interval)) {
+    fail(fmt::format("output_interval {} must be finite and >= 0", o.output_interval));
   }
   if (o.output_interval > 0.0 && !o.output_times.empty()) {
     fail("give either output_times or output_interval, not both");

@@ -4,13 +4,20 @@
 
 #include <utility>
 
+#include <symdyn/runtime/element_properties.hpp>
 #include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
 
 PointSpringDamper::PointSpringDamper(std::string name, BodyPoint a, BodyPoint b,
                                      double stiffness, double free_length, double damping)
-    : name_(std::move(name)), a_(a), b_(b), k_(stiffness), L0_(free_length), c_(damping) {}
+    : name_(std::move(name)), a_(a), b_(b), k_(stiffness), L0_(free_length), c_(damping) {
+  check_property(this->name(), "point_a", a_.point);
+  check_property(this->name(), "point_b", b_.point);
+  check_property(this->name(), "stiffness", k_, Sign::non_negative);
+  check_property(this->name(), "free_length", L0_, Sign::non_negative);
+  check_property(this->name(), "damping", c_, Sign::non_negative);
+}
 
 double PointSpringDamper::length(const Kinematics& k) const {
   return (k.point_position(b_.body, b_.point) - k.point_position(a_.body, a_.point)).norm();
@@ -40,11 +47,17 @@ double PointSpringDamper::potential_energy(const State& /*s*/, const Kinematics&
 }
 
 PointLoad::PointLoad(std::string name, BodyPoint at, const Vec3& force, const Vec3& torque)
-    : name_(std::move(name)), at_(at), force_(force), torque_(torque) {}
+    : name_(std::move(name)), at_(at), force_(force), torque_(torque) {
+  check_property(this->name(), "point", at_.point);
+  check_property(this->name(), "force", force_);
+  check_property(this->name(), "torque", torque_);
+}
 
 PointLoad::PointLoad(std::string name, BodyPoint at, Law law)
     : name_(std::move(name)), at_(at), force_(Vec3::Zero()), torque_(Vec3::Zero()),
-      law_(std::move(law)) {}
+      law_(std::move(law)) {
+  check_property(this->name(), "point", at_.point);
+}
 
 void PointLoad::apply(const State& s, const Kinematics& k, Loads& loads) const {
   Vec3 f = force_;

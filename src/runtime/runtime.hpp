@@ -10,6 +10,7 @@
 #include <symdyn/runtime/csv.hpp>
 #include <symdyn/runtime/dynamic_system.hpp>
 #include <symdyn/runtime/easyanim.hpp>
+#include <symdyn/runtime/element_properties.hpp>
 #include <symdyn/runtime/energy.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/force_element.hpp>

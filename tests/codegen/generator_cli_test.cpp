@@ -117,6 +117,29 @@ TEST_CASE("cli: --out that is a file is refused", "[bad_input][cli]") {
   std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("cli: an --out that cannot be written is refused before the derivation", "[bad_input][cli]") {
+  const auto dir = scratch_directory("out");
+  std::ofstream(dir / "file") << "x";
+  auto r = run_command({kPendulum, "--out", (dir / "file" / "gen").string()});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == fmt::format("error: --out: '{0}/file/gen' cannot be made: '{0}/file' is not a directory\n", dir.string()));
+  r = run_command({kPendulum, "--out", "/proc/gen"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "error: --out: '/proc/gen' cannot be written: the folder '/proc' is not writable\n");
+  // An emitted file that is a directory, or read-only, is not replaced.
+  std::filesystem::create_directories(dir / "gen" / "pendulum.hpp");
+  r = run_command({kPendulum, "--out", (dir / "gen").string(), "--basename", "pendulum"});
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains(fmt::format("--out: '{}' exists and is not a regular file", (dir / "gen" / "pendulum.hpp").string())));
+  std::ofstream(dir / "gen" / "locked.cpp") << "kept";
+  std::filesystem::permissions(dir / "gen" / "locked.cpp", std::filesystem::perms::owner_read);
+  r = run_command({kPendulum, "--out", (dir / "gen").string(), "--basename", "locked"});
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("locked.cpp' is read-only: it is not replaced"));
+  CHECK(read_text(dir / "gen" / "locked.cpp") == "kept");
+  std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("cli: malformed options exit with 2", "[bad_input][cli]") {
   auto r = generator(kPendulum, {"--partials", "sometimes"});
   CHECK(r.exit_code == 2);

@@ -53,10 +53,102 @@ class RuntimeErrors(unittest.TestCase):
             dp.System([nan_torque]).accelerations()
 
 
+class ForceElementConstants(unittest.TestCase):
+    """Each constant of a force element is finite and of the sign its law
+    needs: a ModelError naming the element and the property."""
+
+    def refused(self, force, message):
+        with self.assertRaisesRegex(dp.ModelError, message):
+            dp.System([force])
+
+    def test_negative_spring_stiffness(self):
+        self.refused(dp.CoordinateSpringDamper("q0", -10.0),
+                     r"coordinate spring 'q0': stiffness: expected a finite number >= 0, found -10")
+
+    def test_nan_damping(self):
+        self.refused(dp.CoordinateSpringDamper("q1", 10.0, math.nan, name="hinge"),
+                     r"coordinate spring 'hinge': damping: expected a finite number >= 0, found nan")
+
+    def test_contact_without_stiffness(self):
+        # The body would sink through the plane with zero force.
+        self.refused(dp.PlaneContact("rod2", stiffness=0.0, name="tip"),
+                     r"contact 'tip': stiffness: expected a finite number > 0, found 0")
+
+    def test_contact_negative_friction(self):
+        self.refused(dp.PlaneContact("rod2", stiffness=1e5, friction=-0.3),
+                     r"contact 'rod2': friction: expected a finite number >= 0, found -0.3")
+
+    def test_contact_plane_normal_zero(self):
+        self.refused(dp.PlaneContact("rod2", stiffness=1e5, plane_normal=[0, 0, 0]),
+                     r"contact 'rod2': plane_normal: expected a non-zero direction, found \(0, 0, 0\)")
+
+    def test_tyre_axis_zero(self):
+        self.refused(dp.SimpleTyre("rod2", axis=[0, 0, 0]),
+                     r"tyre 'rod2': axis: expected a non-zero direction")
+
+    def test_gim_tyre_section_wider_than_the_tyre(self):
+        self.refused(dp.GimTyre("rod2", r1=0.3, r2=0.5),
+                     r"Gim tyre 'rod2': r2: expected the section radius <= r1 = 0.3, found 0.5")
+
+    def test_bushing_axes_not_a_rotation(self):
+        self.refused(dp.Bushing("ground", "rod1", axes_a=[[2, 0, 0], [0, 1, 0], [0, 0, 1]]),
+                     r"bushing 'rod1': a/axes: expected orthonormal axes")
+
+    def test_bushing_negative_damping(self):
+        self.refused(dp.Bushing("ground", "rod1", damping=[1, 1, -1]),
+                     r"bushing 'rod1': damping: expected 3 finite numbers >= 0, found \(1, 1, -1\)")
+
+    def test_point_load_infinite_force(self):
+        self.refused(dp.PointLoad("rod2", force=[0, math.inf, 0]),
+                     r"load 'rod2': force: expected 3 finite numbers, found \(0, inf, 0\)")
+
+    def test_spring_negative_free_length(self):
+        self.refused(dp.PointSpringDamper(None, [0, 0, 0], "rod2", [0, 0, 0], 100.0, -1.0),
+                     r"spring 'rod2': free_length: expected a finite number >= 0, found -1")
+
+    def test_tracking_reference_not_finite(self):
+        with self.assertRaisesRegex(dp.ModelError, r"coordinate tracking 'q0': reference: expected a finite number"):
+            dp.CoordinateTracking("q0", 100.0, 10.0, reference=math.nan)
+
+
+class IntegratorOptions(unittest.TestCase):
+    def test_infinite_tolerance(self):
+        # Every step would be accepted: a silently wrong run.
+        with self.assertRaisesRegex(dp.OptionError, "tolerances must be finite and positive"):
+            dp.System().simulate(1.0, rtol=math.inf)
+
+    def test_final_time_not_finite(self):
+        with self.assertRaisesRegex(dp.OptionError, "the final time nan must be finite"):
+            dp.System().simulate(math.nan)
+
+    def test_interval_not_finite(self):
+        with self.assertRaisesRegex(dp.OptionError, "output_interval inf must be finite"):
+            dp.System().simulate(1.0, interval=math.inf)
+
+    def test_output_times_out_of_order(self):
+        with self.assertRaisesRegex(dp.OptionError, r"output times must increase \(0.2 after 0.5\)"):
+            dp.System().simulate(1.0, times=[0.5, 0.2])
+
+
 class ArgumentErrors(unittest.TestCase):
     def test_state_of_the_wrong_size(self):
         with self.assertRaisesRegex(ValueError, r"q: 2 numbers expected, got an array of shape \(3\)"):
             dp.System().mass_matrix([0.0, 1.0, 2.0])
+
+    def test_state_not_finite(self):
+        # positions() and the other kinematics returned NaN silently.
+        with self.assertRaisesRegex(ValueError, r"q: coordinate 'q1' is nan, not a finite number"):
+            dp.System().positions([0.0, math.nan])
+        with self.assertRaisesRegex(ValueError, r"qd: coordinate 'q0' is inf, not a finite number"):
+            dp.System().velocities([0.0, 0.0], [math.inf, 0.0])
+        with self.assertRaisesRegex(ValueError, r"qdd: coordinate 'q0' is nan"):
+            dp.System().body_accelerations([0.0, 0.0], [0.0, 0.0], [math.nan, 0.0])
+        with self.assertRaisesRegex(ValueError, r"t = nan is not a finite time"):
+            dp.System().mass_matrix(t=math.nan)
+
+    def test_simulate_from_a_state_not_finite(self):
+        with self.assertRaisesRegex(ValueError, r"q: coordinate 'q0' is nan"):
+            dp.System().simulate(1.0, q0=[math.nan, 0.0])
 
     def test_unknown_property(self):
         with self.assertRaisesRegex(TypeError, "SimpleTyre: unknown property 'radious'"):

@@ -370,7 +370,7 @@ TEST_CASE("bad input: integrator options are named", "[runtime][bad_input][integ
   IntegratorOptions o;
   o.absolute_tolerance = 0.0;
   CHECK(message_of<OptionError>([&] { make_integrator("dop853", o)->integrate(sys, s0, 1.0); }) ==
-        "integrator 'dop853': tolerances must be positive (relative 1e-06, absolute 0)");
+        "integrator 'dop853': tolerances must be finite and positive (relative 1e-06, absolute 0)");
   o = {};
   o.min_step = 1e-3;
   o.max_step = 1e-4;
@@ -387,6 +387,49 @@ TEST_CASE("bad input: integrator options are named", "[runtime][bad_input][integ
         "integrator 'dopri5': give either output_times or output_interval, not both");
   CHECK(message_of<OptionError>([&] { make_integrator("midpoint")->integrate(sys, s0, 1.0); }) ==
         "integrator 'midpoint': a fixed-step run needs initial_step > 0 (the step)");
+}
+
+TEST_CASE("bad input: integrator options that are not finite are named", "[runtime][bad_input][integrator]") {
+  MultibodySystem sys(Model::from<long_crank_asin>());
+  const State s0 = sys.initial_state();
+  const auto refused = [&](const IntegratorOptions& o) {
+    return message_of<OptionError>([&] { make_integrator("dopri5", o)->integrate(sys, s0, 1.0); });
+  };
+  IntegratorOptions o;
+  o.relative_tolerance = INFINITY;  // every step accepted: a silently wrong run
+  CHECK(refused(o) == "integrator 'dopri5': tolerances must be finite and positive (relative inf, absolute 1e-08)");
+  o = {};
+  o.absolute_tolerance = NAN;
+  CHECK(refused(o) == "integrator 'dopri5': tolerances must be finite and positive (relative 1e-06, absolute nan)");
+  o = {};
+  o.initial_step = INFINITY;
+  CHECK(refused(o) == "integrator 'dopri5': initial_step inf must be finite and >= 0");
+  o = {};
+  o.output_interval = NAN;
+  CHECK(refused(o) == "integrator 'dopri5': output_interval nan must be finite and >= 0");
+  o = {};
+  o.output_times = {0.5, NAN};
+  CHECK(refused(o) == "integrator 'dopri5': output time nan is outside [0, 1]");
+}
+
+TEST_CASE("bad input: a force element's constants are checked when it is made, naming it and the property",
+          "[runtime][bad_input]") {
+  CHECK(message_of<PropertyError>([] { PointLoad("push", {0, Vec3::Zero()}, Vec3(0, NAN, 0)); }) ==
+        "load 'push': force: expected 3 finite numbers, found (0, nan, 0) (nan at 1)");
+  ContactProperties contact;
+  contact.stiffness = 1e5;
+  CHECK(message_of<PropertyError>([&] { PlaneContact("foot", 0, Vec3::Zero(), 0.0, {Vec3::Zero(), Vec3::Zero()}, contact); }) ==
+        "contact 'foot': plane_normal: expected a non-zero direction, found (0, 0, 0)");
+  contact.stiffness = 0.0;
+  CHECK(message_of<PropertyError>([&] { PlaneContact("foot", 0, Vec3::Zero(), 0.0, {}, contact); }) ==
+        "contact 'foot': stiffness: expected a finite number > 0, found 0");
+  BodyFrame skewed;
+  skewed.axes << 1, 0.1, 0, 0, 1, 0, 0, 0, 1;
+  CHECK_THAT(message_of<PropertyError>([&] { Bushing("mount", skewed, BodyFrame{}, {}); }),
+             Catch::Matchers::StartsWith("bushing 'mount': a/axes: expected orthonormal axes"));
+  const PropertyError e("spring 's'", "damping", "expected a finite number >= 0, found -1");
+  CHECK(e.property() == "damping");
+  CHECK(e.detail() == "expected a finite number >= 0, found -1");
 }
 
 TEST_CASE("bad input: an initial state of the wrong size or not finite", "[runtime][bad_input][integrator]") {

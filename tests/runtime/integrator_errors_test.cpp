@@ -111,7 +111,7 @@ TEST_CASE("bad options are reported with the option named", "[integrator][errors
         "integrator 'rk4': a fixed-step run needs initial_step > 0 (the step)");
   o.relative_tolerance = -1.0;
   CHECK(fails_with("dopri5", o, 1.0) ==
-        "integrator 'dopri5': tolerances must be positive (relative -1, absolute 1e-08)");
+        "integrator 'dopri5': tolerances must be finite and positive (relative -1, absolute 1e-08)");
   o = {};
   o.output_times = {0.5, 2.0};
   CHECK(fails_with("newmark", o, 1.0) == "integrator 'newmark': output time 2 is outside [0, 1]");

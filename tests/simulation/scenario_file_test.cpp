@@ -77,20 +77,20 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path", "[sce
       {"{" + dp + R"j(, "initial": {"q": {"q7": 1}}})j",
        "test.json: /initial/q/q7: unknown coordinate 'q7' (coordinates: q0, q1)"},
       {"{" + dp + R"j(, "forces": [{"type": "spring", "name": "s"}]})j",
-       "test.json: /forces/0/type: unknown force element type 'spring' (types: coordinate_spring_damper, "
+       "test.json: /forces/0/type (force element 's'): unknown force element type 'spring' (types: coordinate_spring_damper, "
        "coordinate_force, coordinate_tracking, point_spring_damper, point_load, bushing, plane_contact, simple_tyre, "
        "gim_tyre)"},
       {"{" + dp + R"j(, "forces": [{"type": "coordinate_spring_damper", "name": "s", "coordinate": "q0", "stifness": 1}]})j",
-       "test.json: /forces/0/stifness: unknown key 'stifness' for a coordinate_spring_damper (expected: type, name, "
+       "test.json: /forces/0/stifness (force element 's'): unknown key 'stifness' for a coordinate_spring_damper (expected: type, name, "
        "enabled, coordinate, stiffness, damping, free_value)"},
       {"{" + dp + R"j(, "forces": [{"type": "plane_contact", "name": "c", "body": "rod3", "stiffness": 1}]})j",
-       "test.json: /forces/0/body: unknown body 'rod3' (bodies: rod1, rod2, or ground)"},
+       "test.json: /forces/0/body (force element 'c'): unknown body 'rod3' (bodies: rod1, rod2, or ground)"},
       {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "rod1", "coordinates": "q0", "value": 1}]})j",
-       "test.json: /forces/0/name: 'rod1' is a body's name: name the element otherwise"},
+       "test.json: /forces/0/name (force element 'rod1'): 'rod1' is a body's name: name the element otherwise"},
       {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "2 * (q0"}]})j",
-       "test.json: /forces/0/value: in '2 * (q0' at column 8: expected ')' at the end"},
+       "test.json: /forces/0/value (force element 'm'): in '2 * (q0' at column 8: expected ')' at the end"},
       {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "q0_ddot"}]})j",
-       "test.json: /forces/0/value: in 'q0_ddot' at column 1: 'q0_ddot': accelerations are not known here"},
+       "test.json: /forces/0/value (force element 'm'): in 'q0_ddot' at column 1: 'q0_ddot': accelerations are not known here"},
       {"{" + dp + R"j(, "outputs": [{"name": "tip", "value": "rod2.xx"}]})j",
        "test.json: /outputs/0/value: in 'rod2.xx' at column 1: unknown quantity 'xx' of body 'rod2' (valid: x, y, z,"},
       {"{" + dp + R"j(, "outputs": ["qddd"]})j",
@@ -102,13 +102,160 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path", "[sce
       {"{" + dp + R"j(, "t_end": 2, "events": [{"time": 1, "set": {"tau": 0}}]})j",
        "test.json: /events/0/set/tau: unknown variable 'tau' (variables: none)"},
       {"{" + dp + R"j(, "checks": [{"name": "c", "value": "q0", "band": [0, 1]}]})j",
-       "test.json: /checks/0/value: in 'q0' at column 1: 'q0' varies during the run: a check reads it through"},
+       "test.json: /checks/0/value (check 'c'): in 'q0' at column 1: 'q0' varies during the run: a check reads it through"},
       {"{" + dp + R"j(, "checks": [{"name": "c", "value": "mean(q0)", "band": [0, 1]}]})j",
-       "test.json: /checks/0/value: in 'mean(q0)' at column 1: unknown function 'mean' (statistics: start, end,"},
+       "test.json: /checks/0/value (check 'c'): in 'mean(q0)' at column 1: unknown function 'mean' (statistics: start, end,"},
       {"{" + dp + R"j(, "checks": [{"name": "c", "value": "end(q0)", "band": [0]}]})j",
-       "test.json: /checks/0/band: expected [low, high], found 1 entries"},
+       "test.json: /checks/0/band (check 'c'): expected [low, high], found 1 entries"},
       {R"j({"model": {"name": "double_pendulum", "module": "nowhere/double_pendulum.so"}})j",
        "model module 'nowhere/double_pendulum.so' not found"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.text);
+    CHECK_THAT(error_of(c.text), Contains(c.culprit));
+  }
+}
+
+TEST_CASE("scenario files: what a JSON reader hides is refused, naming the key, the element and the file",
+          "[scenario][bad_input]") {
+  struct Case {
+    std::string text, culprit;
+  };
+  const std::string dp = R"j("model": "double_pendulum")j";
+  const std::string contact = R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5)j";
+  const Case cases[] = {
+      // A key given twice: nlohmann's DOM keeps the last one silently.
+      {"{" + dp + R"j(, "t_end": 1, "t_end": 5})j", "test.json: /t_end: key 't_end' is given twice in this object"},
+      {"{" + dp + R"j(, "forces": [{"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5,
+          "damping": 10, "stiffness": 2e5}]})j",
+       "test.json: /forces/0/stiffness (force element 'foot'): key 'stiffness' is given twice in this object"},
+      {"{" + dp + R"j(, "initial": {"q": {"q0": 0.1, "q0": 0.2}}})j",
+       "test.json: /initial/q/q0: key 'q0' is given twice"},
+      // Numbers a double cannot hold, and NaN or Infinity as Python's json writes them.
+      {"{" + dp + ", \"forces\": [" + contact + R"j(, "damping": 1e400}]})j",
+       "test.json: /forces/0/damping (force element 'foot'): 1e400 is beyond the range of a double"},
+      {"{" + dp + ", \"forces\": [" + contact + R"j(, "friction": NaN}]})j",
+       "test.json: /forces/0/friction (force element 'foot'): NaN is not a number in JSON, and numbers here must be "
+       "finite"},
+      {"{" + dp + R"j(, "initial": {"qd": {"q1": -Infinity}}})j",
+       "test.json: /initial/qd/q1: -Infinity is not a number in JSON"},
+      {"{" + dp + R"j(, "t_end": 1e-400})j", "test.json: /t_end: 1e-400 is too small for a double (it would read as 0)"},
+      {"{" + dp + R"j(, "checks": [{"name": "e", "value": "end(q0)", "band": [0, -1e999]}]})j",
+       "test.json: /checks/0/band/1 (check 'e'): -1e999 is beyond the range of a double"},
+      // Other parse errors say where in the document they are.
+      {"{" + dp + R"j(, "forces": [{"type": "plane_contact" "name": "foot"}]})j", "expected '}' (in /forces/0)"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.text);
+    CHECK_THAT(error_of(c.text), Contains(c.culprit));
+  }
+}
+
+TEST_CASE("scenario files: a law's constants of the wrong sign are refused, naming the element and the key",
+          "[scenario][bad_input]") {
+  struct Case {
+    std::string element, culprit;
+  };
+  const Case cases[] = {
+      // A contact without stiffness lets the body sink through the plane with zero force.
+      {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": -1e5})j",
+       "test.json: /forces/0/stiffness (force element 'foot'): expected a finite number > 0, found -100000"},
+      {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 0})j",
+       "/forces/0/stiffness (force element 'foot'): expected a finite number > 0, found 0"},
+      {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "damping": -3})j",
+       "/forces/0/damping (force element 'foot'): expected a finite number >= 0, found -3"},
+      {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "friction": -0.5})j",
+       "/forces/0/friction (force element 'foot'): expected a finite number >= 0, found -0.5"},
+      {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "stiffness_exponent": 0})j",
+       "/forces/0/stiffness_exponent (force element 'foot'): expected a finite number > 0, found 0"},
+      {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "radius": -0.1})j",
+       "/forces/0/radius (force element 'foot'): expected a finite number >= 0, found -0.1"},
+      {R"j({"type": "coordinate_spring_damper", "name": "k", "coordinate": "q0", "stiffness": 10, "damping": -1})j",
+       "/forces/0/damping (force element 'k'): expected a finite number >= 0, found -1"},
+      {R"j({"type": "coordinate_spring_damper", "name": "k", "coordinate": "q0", "stiffness": -10})j",
+       "/forces/0/stiffness (force element 'k'): expected a finite number >= 0, found -10"},
+      {R"j({"type": "coordinate_tracking", "name": "servo", "coordinate": "q0", "kp": 100, "kd": -2})j",
+       "/forces/0/kd (force element 'servo'): expected a finite number >= 0, found -2"},
+      {R"j({"type": "point_spring_damper", "name": "s", "a": {"body": "ground"}, "b": {"body": "rod2"},
+           "stiffness": 100, "free_length": -0.5})j",
+       "/forces/0/free_length (force element 's'): expected a finite number >= 0, found -0.5"},
+      {R"j({"type": "bushing", "name": "mount", "a": {"body": "ground"}, "b": {"body": "rod1"},
+           "rotational_stiffness": [10, -10, 10]})j",
+       "/forces/0/rotational_stiffness (force element 'mount'): expected 3 finite numbers >= 0, found (10, -10, 10)"},
+      // Axes that are not a rotation make the bushing's angles meaningless.
+      {R"j({"type": "bushing", "name": "mount", "a": {"body": "ground", "axes": [[1, 0, 0], [0, 2, 0], [0, 0, 1]]},
+           "b": {"body": "rod1"}})j",
+       "/forces/0/a/axes (force element 'mount'): expected orthonormal axes"},
+      {R"j({"type": "bushing", "name": "mount", "a": {"body": "ground"},
+           "b": {"body": "rod1", "axes": [[1, 0, 0], [0, 1, 0], [0, 0, -1]]}})j",
+       "/forces/0/b/axes (force element 'mount'): expected right-handed axes"},
+      {R"j({"type": "simple_tyre", "name": "wheel", "body": "rod2", "axis": [0, 0, 0]})j",
+       "/forces/0/axis (force element 'wheel'): expected a non-zero direction, found (0, 0, 0)"},
+      {R"j({"type": "simple_tyre", "name": "wheel", "body": "rod2", "stiffness": 0})j",
+       "/forces/0/stiffness (force element 'wheel'): expected a finite number > 0, found 0"},
+      {R"j({"type": "gim_tyre", "name": "wheel", "body": "rod2", "r1": 0.3, "r2": 0.4})j",
+       "/forces/0/r2 (force element 'wheel'): expected the section radius <= r1 = 0.3, found 0.4"},
+      {R"j({"type": "gim_tyre", "name": "wheel", "body": "rod2", "mu_dynamic": -0.8})j",
+       "/forces/0/mu_dynamic (force element 'wheel'): expected a finite number >= 0, found -0.8"},
+      {R"j({"type": "gim_tyre", "name": "wheel", "body": "rod2", "Kz": -2e5})j",
+       "/forces/0/Kz (force element 'wheel'): expected a finite number > 0, found -200000"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.element);
+    CHECK_THAT(error_of(R"j({"model": "double_pendulum", "forces": [)j" + c.element + "]}"), Contains(c.culprit));
+  }
+}
+
+TEST_CASE("scenario files: a check band that no value could pass is refused before the run", "[scenario][bad_input]") {
+  const std::string dp = R"j({"model": "double_pendulum", "checks": [{"name": "energy", "value": "drift(total_energy)", )j";
+  CHECK_THAT(error_of(dp + R"j("band": [1e-3, 0]}]})j"),
+             Contains("test.json: /checks/0/band (check 'energy'): the band [0.001, 0] is reversed: its low end is above "
+                      "its high end, so no value passes; write [0, 0.001]"));
+  CHECK_THAT(error_of(dp + R"j("band": ["10 * rtol", "rtol"]}]})j"), Contains("/checks/0/band (check 'energy'): the band [1e-07, 1e-08] is reversed"));
+  CHECK_THAT(error_of(dp + R"j("band": [0, "1e308 * 10"]}]})j"),
+             Contains("/checks/0/band (check 'energy'): the band [0, inf] is not finite"));
+  // A band that reads a statistic is only known at the end: not refused here.
+  CHECK(error_of(dp + R"j("band": [0, "0.01 * start(total_energy)"]}]})j").empty());
+}
+
+TEST_CASE("scenario files: what would silently do nothing, do twice or read NaN is refused", "[scenario][bad_input]") {
+  struct Case {
+    std::string text, culprit;
+  };
+  const std::string dp = R"j("model": "double_pendulum")j";
+  const Case cases[] = {
+      // Elements that push nothing.
+      {"{" + dp + R"j(, "forces": [{"type": "point_load", "name": "push", "at": {"body": "ground"}, "force": [1, 0, 0]}]})j",
+       "/forces/0/at/body (force element 'push'): a load on the ground moves nothing: name a body"},
+      {"{" + dp + R"j(, "forces": [{"type": "plane_contact", "name": "floor", "body": "ground", "stiffness": 1e5}]})j",
+       "/forces/0/body (force element 'floor'): a contact on the ground moves nothing: name a body"},
+      {"{" + dp + R"j(, "forces": [{"type": "simple_tyre", "name": "wheel", "body": "ground"}]})j",
+       "/forces/0/body (force element 'wheel'): a tyre on the ground moves nothing"},
+      {"{" + dp + R"j(, "forces": [{"type": "point_spring_damper", "name": "s", "a": {"body": "rod1"},
+          "b": {"body": "rod1", "point": [0.5, 0, 0]}, "stiffness": 10, "free_length": 0}]})j",
+       "/forces/0/b/body (force element 's'): a spring with both ends on body 'rod1' moves nothing (its forces cancel)"},
+      {"{" + dp + R"j(, "forces": [{"type": "bushing", "name": "mount", "a": {"body": "ground"}, "b": {"body": "ground"}}]})j",
+       "/forces/0/b/body (force element 'mount'): a bushing between two points of the ground moves nothing"},
+      // A coordinate listed twice would get the force twice.
+      {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": ["q0", "q1", "q0"], "value": 1}]})j",
+       "/forces/0/coordinates/2 (force element 'm'): coordinate 'q0' is listed twice: its force would be applied twice"},
+      // Two CSV columns of one name.
+      {"{" + dp + R"j(, "outputs": ["q", {"name": "q0", "value": "2 * q0"}]})j",
+       "test.json: /outputs/1/value: the CSV already has a column 'q0': name this output otherwise"},
+      {"{" + dp + R"j(, "outputs": [{"name": "t", "value": "q0"}]})j", "/outputs/0/value: the CSV already has a column 't'"},
+      {"{" + dp + R"j(, "outputs": [{"name": "a", "value": "q0"}, {"name": "a", "value": "q1"}]})j",
+       "/outputs/1/value: the CSV already has a column 'a'"},
+      {"{" + dp + R"j(, "outputs": [{"body": "rod2", "quantity": "position"}, {"body": "rod2", "quantity": "position"}]})j",
+       "/outputs/1/quantity: the CSV already has a column 'rod2.x'"},
+      // Names that would shadow one another in expressions.
+      {"{" + dp + R"j(, "variables": {"rod1": 2}})j", "test.json: /variables/rod1: 'rod1' is a body's name: name the variable otherwise"},
+      {"{" + dp + R"j(, "variables": {"k": 2}, "forces": [{"type": "coordinate_force", "name": "k", "coordinates": "q0", "value": 1}]})j",
+       "/forces/0/name (force element 'k'): 'k' is a variable's name: name the element otherwise"},
+      // at() outside the run is never set: its check would read NaN.
+      {"{" + dp + R"j(, "t_end": 2, "checks": [{"name": "late", "value": "at(q0, 5)", "band": [-1, 1]}]})j",
+       "/checks/0/value (check 'late'): in 'at(q0, 5)' at column 1: at(): the time 5 is outside the run [0, t_end = 2]"},
+      {"{" + dp + R"j(, "checks": [{"name": "early", "value": "at(q0, -1)", "band": [-1, 1]}]})j",
+       "at(): the time -1 is outside the run"},
   };
   for (const Case& c : cases) {
     CAPTURE(c.text);

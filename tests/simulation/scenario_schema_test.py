@@ -37,6 +37,14 @@ bad = [
     dict(base, model={"name": "double_pendulum", "varient": "absolute"}),
     dict(base, events=[{"time": 1, "disabled": "motor"}]),
     {"t_end": 1},
+    # constants of the sign their law needs
+    dict(base, forces=[{"type": "plane_contact", "name": "c", "body": "rod2", "stiffness": 0}]),
+    dict(base, forces=[{"type": "plane_contact", "name": "c", "body": "rod2", "stiffness": 1, "friction": -1}]),
+    dict(base, forces=[{"type": "coordinate_spring_damper", "name": "s", "coordinate": "q0", "stiffness": 1,
+                        "damping": -1}]),
+    dict(base, forces=[{"type": "bushing", "name": "b", "a": {"body": "ground"}, "b": {"body": "rod1"},
+                        "stiffness": [1, -1, 1]}]),
+    dict(base, forces=[{"type": "gim_tyre", "name": "w", "body": "rod2", "Kz": -1}]),
 ]
 for scenario in bad:
     assert not validator.is_valid(scenario), scenario

@@ -3,9 +3,11 @@
 // (0 success, 1 failed run, 2 bad command line) and the culprit on stderr.
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -101,7 +103,7 @@ TEST_CASE("symdyn-sim: a bad scenario file is refused with its culprit, the earl
   const Case cases[] = {
       {"", "error: cannot read scenario file 'missing.json'", 2},
       {R"j({"model": "double_pendulum", "forces": [{"type": "plane_contact", "name": "c", "body": "rod3", "stiffness": 1}]})j",
-       "error: scenario.json: /forces/0/body: unknown body 'rod3' (bodies: rod1, rod2, or ground)", 2},
+       "error: scenario.json: /forces/0/body (force element 'c'): unknown body 'rod3' (bodies: rod1, rod2, or ground)", 2},
       {R"j({"model": "double_pendulum", "t_end": 1e9})j",
        "error: the run would write 1e+11 rows (t-end / interval), over --max-rows 1e+07", 2},
       {R"j({"model": {"name": "double_pendulum", "module": "pendulum.so"}})j",
@@ -197,4 +199,142 @@ TEST_CASE("symdyn-sim: --modes-about and --mode-amplitude need --modes", "[bad_i
     CHECK_THAT(r.err, Contains(fmt::format("{} requires --modes", option)));
     CHECK(read(dir / "results.csv") == "earlier results\n");
   }
+}
+
+TEST_CASE("symdyn-sim: results go to regular files only, refused before the run", "[bad_input][sim]") {
+  const auto dir = with_earlier_results();
+  const auto at = [&](const char* name) { return (dir / name).string(); };
+  std::filesystem::create_directory(dir / "folder");
+  REQUIRE(::mkfifo(at("pipe").c_str(), 0644) == 0);
+  std::ofstream(dir / "locked.csv") << "kept\n";
+  std::filesystem::permissions(dir / "locked.csv", std::filesystem::perms::owner_read | std::filesystem::perms::group_read);
+  std::filesystem::create_directory(dir / "anim.vol");
+  std::filesystem::create_symlink(dir / "nowhere" / "x.csv", dir / "dangling.csv");
+  struct Case {
+    std::vector<std::string> args;
+    std::string culprit;
+  };
+  const Case cases[] = {
+      // Written to FILE.partial and renamed over FILE, /dev/full became a regular file.
+      {{"--out", "/dev/full"}, "--out '/dev/full' is a character device: results are written to regular files only"},
+      {{"--html", "/dev/full"}, "--html '/dev/full' is a character device"},
+      {{"--glb", "/dev/null"}, "--glb '/dev/null' is a character device"},
+      {{"--out", at("pipe")}, fmt::format("--out '{}' is a FIFO: results are written to regular files only", at("pipe"))},
+      {{"--out", at("folder")}, fmt::format("--out '{}' is a directory: name a file in it", at("folder"))},
+      {{"--out", at("folder") + "/"}, "names a folder: name a file in it"},
+      {{"--out", ""}, "--out: expected a file name, found ''"},
+      {{"--easyanim", ""}, "--easyanim: expected a file name, found ''"},
+      {{"--modes", at("locked.csv")},
+       fmt::format("--modes '{}' is read-only: it is not replaced (make it writable, or name another file)",
+                   at("locked.csv"))},
+      {{"--out", at("locked.csv")}, "is read-only"},
+      {{"--html", "/proc/run.html"}, "--html '/proc/run.html' cannot be written: the folder '/proc' is not writable"},
+      {{"--plot", at("results.csv") + "/run.svg"},
+       fmt::format("--plot '{}/run.svg' cannot be made: '{}' is a regular file, not a folder", at("results.csv"),
+                   at("results.csv"))},
+      {{"--easyanim", at("anim")}, fmt::format("--easyanim '{}.vol' is a directory", at("anim"))},
+      {{"--out", at("dangling.csv")}, "is a symbolic link to nothing"},
+      {{"--modes", at("results.csv")},
+       fmt::format("--out '{0}' and --modes '{0}' are the same file: one would overwrite the other", at("results.csv"))},
+      {{"--html", at("run.view"), "--glb", at("run.view")}, "--html '" + at("run.view") + "' and --glb '"},
+      {{"--easyanim", at("results"), "--modes", at("results.van")}, "are the same file"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.args);
+    std::vector<std::string> args{kSim, "double_pendulum", "--t-end", "0.5"};
+    if (c.args.front() != "--out") args.insert(args.end(), {"--out", at("results.csv")});
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CommandResult r = run_command(args);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(c.culprit));
+    CHECK(r.out.empty());  // refused before the run: no summary
+    CHECK(read(dir / "results.csv") == "earlier results\n");
+    CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
+  }
+  // Each special file is left as it was.
+  CHECK(std::filesystem::is_character_file("/dev/full"));
+  CHECK(std::filesystem::is_fifo(dir / "pipe"));
+  CHECK(read(dir / "locked.csv") == "kept\n");
+  CHECK(std::filesystem::is_directory(dir / "anim.vol"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("symdyn-sim: a scenario file is never an output", "[bad_input][sim]") {
+  const auto dir = scratch_directory("sim_self");
+  const std::string scenario = R"j({"model": "double_pendulum", "t_end": 0.1})j";
+  std::ofstream(dir / "swing.json") << scenario;
+  for (const char* option : {"--out", "--html", "--modes"}) {
+    CAPTURE(option);
+    const CommandResult r = run_command({kSim, "swing.json", option, "swing.json"}, 120, dir);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(fmt::format("{} 'swing.json' is the scenario file: it would be overwritten", option)));
+    CHECK(read(dir / "swing.json") == scenario);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("symdyn-sim: numbers on the command line are finite and positive, said in a few digits", "[bad_input][sim]") {
+  const auto dir = with_earlier_results();
+  struct Case {
+    std::vector<std::string> args;
+    std::string culprit;
+  };
+  const Case cases[] = {
+      // CLI11's PositiveNumber lets NaN through, and printed DBL_MAX in 309 digits.
+      {{"--t-end", "nan"}, "--t-end: expected a finite number > 0, found 'nan'"},
+      {{"--t-end", "-1"}, "--t-end: expected a finite number > 0, found '-1'"},
+      {{"--tolerance", "inf"}, "--tolerance: expected a finite number > 0, found 'inf'"},
+      {{"--rtol", "0"}, "--rtol: expected a finite number > 0, found '0'"},
+      {{"--atol", "NaN"}, "--atol: expected a finite number > 0, found 'NaN'"},
+      {{"--interval", "1e999"}, "--interval: expected a finite number > 0, found '1e999'"},
+      {{"--step", "-0.001"}, "--step: expected a finite number > 0, found '-0.001'"},
+      {{"--max-rows", "nan"}, "--max-rows: expected a finite number > 0, found 'nan'"},
+      {{"--modes", (dir / "m.csv").string(), "--mode-amplitude", "0"}, "--mode-amplitude: expected a finite number > 0"},
+      {{"--t-end", "ten"}, "--t-end: expected a finite number > 0, found 'ten'"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.args);
+    std::vector<std::string> args{kSim, "double_pendulum", "--out", (dir / "results.csv").string()};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CommandResult r = run_command(args);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(c.culprit));
+    CHECK(r.err.find("0000000000") == std::string::npos);
+    CHECK(read(dir / "results.csv") == "earlier results\n");
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("symdyn-sim: outputs through a link, in new folders, with a quote in the name", "[sim]") {
+  const auto dir = scratch_directory("sim_paths");
+  std::ofstream(dir / "target.csv") << "earlier\n";
+  std::filesystem::create_symlink(dir / "target.csv", dir / "link.csv");
+  const CommandResult linked = run_command({kSim, "double_pendulum", "--t-end", "0.1", "--out", (dir / "link.csv").string()});
+  CHECK(linked.exit_code == 0);
+  CHECK(std::filesystem::is_symlink(dir / "link.csv"));  // the link kept, the file it names written
+  CHECK(read(dir / "target.csv").rfind("t,q0,q1,", 0) == 0);
+  // Missing folders are made when the run starts; gnuplot reads a name with a quote.
+  const auto nested = dir / "a" / "b";
+  std::vector<std::string> args{kSim, "double_pendulum", "--t-end", "0.1", "--out", (nested / "it's.csv").string()};
+  const bool gnuplot = std::system("command -v gnuplot >/dev/null 2>&1") == 0;
+  if (gnuplot) args.insert(args.end(), {"--plot", (nested / "it's.svg").string()});
+  const CommandResult made = run_command(args);
+  INFO(made.err);
+  CHECK(made.exit_code == 0);
+  CHECK(std::filesystem::file_size(nested / "it's.csv") > 0);
+  if (gnuplot) CHECK_THAT(read(nested / "it's.svg"), Contains("<svg"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("symdyn-sim: a directory or an empty file as the scenario is named as such", "[bad_input][sim]") {
+  const auto dir = scratch_directory("sim_scenario");
+  std::filesystem::create_directory(dir / "runs.json");
+  std::ofstream(dir / "empty.json") << "\n";
+  const CommandResult folder = run_command({kSim, "runs.json"}, 120, dir);
+  CHECK(folder.exit_code == 2);
+  CHECK_THAT(folder.err, Contains("error: scenario file 'runs.json' is a directory: name a JSON file"));
+  const CommandResult empty = run_command({kSim, "empty.json"}, 120, dir);
+  CHECK(empty.exit_code == 2);
+  CHECK_THAT(empty.err, Contains("error: empty.json: the file is empty: a scenario is a JSON object"));
+  std::filesystem::remove_all(dir);
 }

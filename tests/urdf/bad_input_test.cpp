@@ -86,3 +86,75 @@ TEST_CASE("URDF: closed loops are refused", "[urdf][errors]") {
     </robot>)";
   CHECK_THROWS_WITH(model::import_urdf(xml), Contains("URDF") && Contains("'b'"));
 }
+
+namespace {
+
+// A robot whose link "b" has the given <inertial> and whose joint "j" the given inside.
+std::string robot_with(const std::string& inertial, const std::string& inside) {
+  return R"(<robot name="r"><link name="a"/><link name="b">)" + inertial + "</link>" +
+         joint("j", "revolute", inside) + "</robot>";
+}
+
+std::string inertial(const std::string& mass, const std::string& ixx = "0.1", const std::string& origin = "") {
+  return "<inertial>" + origin + R"(<mass value=")" + mass + R"("/><inertia ixx=")" + ixx +
+         R"(" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>)";
+}
+
+const std::string kAxisAndLimit = R"(<axis xyz="0 0 1"/>)" + kLimit;
+
+}  // namespace
+
+TEST_CASE("URDF: numbers that are not finite are refused, naming the link or joint and the attribute",
+          "[urdf][errors]") {
+  struct Case {
+    std::string xml, culprit;
+  };
+  const Case cases[] = {
+      // urdfdom logged these and kept the link with mass 0 (a massless frame) or inertia 0.
+      {robot_with(inertial("nan"), kAxisAndLimit), R"(URDF link 'b': <inertial><mass value="nan">: 'nan' is not a finite number)"},
+      {robot_with(inertial("1", "inf"), kAxisAndLimit),
+       R"(URDF link 'b': <inertial><inertia ixx="inf">: 'inf' is not a finite number)"},
+      {robot_with(inertial("1e400"), kAxisAndLimit),
+       R"(URDF link 'b': <inertial><mass value="1e400">: '1e400' is beyond the range of a double)"},
+      // 1e-400 reads as 0: a link silently massless.
+      {robot_with(inertial("1e-400"), kAxisAndLimit), R"(URDF link 'b': <inertial><mass value="1e-400">: '1e-400' is beyond)"},
+      {robot_with(inertial("1", "0.1", R"(<origin xyz="0 0 0" rpy="0 NaN 0"/>)"), kAxisAndLimit),
+       R"(URDF link 'b': <inertial><origin rpy="0 NaN 0">: 'NaN' is not a finite number)"},
+      {robot_with(inertial("1"), R"(<origin xyz="0 1e999 0"/>)" + kAxisAndLimit),
+       R"(URDF joint 'j': <origin xyz="0 1e999 0">: '1e999' is beyond the range of a double)"},
+      {robot_with(inertial("1"), R"(<origin rpy="-inf 0 0"/>)" + kAxisAndLimit),
+       R"(URDF joint 'j': <origin rpy="-inf 0 0">: '-inf' is not a finite number)"},
+      {robot_with(inertial("1"), R"(<axis xyz="0 0 nan"/>)" + kLimit),
+       R"(URDF joint 'j': <axis xyz="0 0 nan">: 'nan' is not a finite number)"},
+      {robot_with(inertial("1"), R"(<axis xyz="0 0 1"/><limit lower="-inf" upper="1" velocity="1" effort="1"/>)"),
+       R"(URDF joint 'j': <limit lower="-inf">: '-inf' is not a finite number)"},
+      {robot_with(inertial("1"), R"(<axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="nan" effort="1"/>)"),
+       R"(URDF joint 'j': <limit velocity="nan">)"},
+      {robot_with(inertial("1"), kAxisAndLimit + R"(<dynamics damping="inf" friction="0"/>)"),
+       R"(URDF joint 'j': <dynamics damping="inf">)"},
+      {R"(<robot name="r"><link name="a"/><link name="b">)" + inertial("1") +
+           R"(<visual><origin xyz="nan 0 0"/><geometry><box size="1 1 1"/></geometry></visual></link>)" +
+           joint("j", "revolute", kAxisAndLimit) + "</robot>",
+       R"(URDF link 'b': <visual><origin xyz="nan 0 0">: 'nan' is not a finite number)"},
+      {R"(<robot name="r"><link name="a"/><link name="b">)" + inertial("1") +
+           R"(<collision><geometry><cylinder radius="0.1" length="inf"/></geometry></collision></link>)" +
+           joint("j", "revolute", kAxisAndLimit) + "</robot>",
+       R"(URDF link 'b': <collision><geometry><cylinder length="inf">)"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.xml);
+    CHECK_THROWS_WITH(model::import_urdf(c.xml), Contains(c.culprit));
+  }
+}
+
+TEST_CASE("URDF: a number urdfdom cannot read is refused with its message, not read as 0", "[urdf][errors]") {
+  // urdfdom logs "mass [1,5] is not a float" and keeps the link, massless.
+  CHECK_THROWS_WITH(model::import_urdf(robot_with(inertial("1,5"), kAxisAndLimit)),
+                    Contains("URDF") && Contains("mass [1,5] is not a float") && Contains("Link [b]"));
+  CHECK_THROWS_WITH(model::import_urdf(robot_with(inertial("1", "0.1x"), kAxisAndLimit)),
+                    Contains("URDF") && Contains("Link [b]"));
+}
+
+TEST_CASE("URDF: the robot's name is read through the same checks", "[urdf][errors]") {
+  CHECK_THROWS_WITH(model::urdf_robot_name(robot_with(inertial("abc"), kAxisAndLimit)), Contains("Link [b]"));
+}

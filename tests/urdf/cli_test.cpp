@@ -2,6 +2,9 @@
 // codes and messages are those of every generator (1: the robot, 2: the command line).
 #include <catch2/catch.hpp>
 
+#include <filesystem>
+#include <fstream>
+
 #include "codegen/run_command.hpp"
 
 using namespace symdyn::testing;
@@ -35,5 +38,22 @@ TEST_CASE("symdyn-urdf: a missing file exits with 1 naming it, a missing --urdf 
   CHECK_THAT(missing.err, Contains("'/nonexistent/arm.urdf'"));
   CHECK(run_command({kGenerator, "--out", out.string()}).exit_code == 2);
   CHECK(run_command({kGenerator, "--urdf", kArm, "--gravity", "0", "0"}).exit_code == 2);
+  std::filesystem::remove_all(out);
+}
+
+TEST_CASE("symdyn-urdf: a gravity that is not finite is refused naming --gravity, a NaN in the file naming the link",
+          "[urdf][cli][errors]") {
+  const auto out = scratch_directory("urdf_cli");
+  const CommandResult gravity = run_command({kGenerator, "--urdf", kArm, "--out", out.string(), "--gravity", "0", "nan", "-9.81"});
+  CHECK(gravity.exit_code == 2);
+  CHECK_THAT(gravity.err, Contains("--gravity: expected a finite number, found 'nan'"));
+  const auto file = out / "bad.urdf";
+  std::ofstream(file) << R"(<robot name="r"><link name="a"/><link name="b"><inertial><mass value="nan"/>
+    <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    <joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint></robot>)";
+  const CommandResult nan = run_command({kGenerator, "--urdf", file.string(), "--out", (out / "gen").string()});
+  CHECK(nan.exit_code == 1);
+  CHECK_THAT(nan.err, Contains(file.string()) && Contains("link 'b'") && Contains("mass value=\"nan\""));
+  CHECK_FALSE(std::filesystem::exists(out / "gen"));
   std::filesystem::remove_all(out);
 }

@@ -259,3 +259,19 @@ TEST_CASE("URDF: a floating joint gives six coordinates named after it", "[urdf]
   by_hand.gravity(0, 0, -9.81);
   check_against_hand_written(robot.model, by_hand);
 }
+
+TEST_CASE("URDF: rpy angles are read as written, a pitch near ±90° included", "[urdf]") {
+  // urdfdom keeps rpy as a quaternion; its getRPY rounds a pitch within 0.0045
+  // rad of ±90° to ±π/2 (1.569 would become 1.5707963...).
+  const std::string xml = R"(<robot name="tilted"><link name="world"/>
+    <joint name="hinge" type="continuous"><parent link="world"/><child link="rod"/>
+      <origin xyz="0 0 1" rpy="0.3 1.569 -0.2"/><axis xyz="0 1 0"/></joint>
+    <link name="rod"><inertial><origin xyz="0 0 -0.5" rpy="0.1 -1.5705 0.4"/><mass value="1"/>
+      <inertia ixx="0.0833" iyy="0.0833" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)";
+  model::Model by_hand("tilted");
+  const Expr q = by_hand.coordinate("hinge");
+  by_hand.body("rod").mass(1).inertia(0.0833, 0.0833, 0.001)
+      .motion(origin(0, 0, 1, 0.3, 1.569, -0.2) * model::Troty(q) * origin(0, 0, -0.5, 0.1, -1.5705, 0.4));
+  by_hand.gravity(0, 0, -9.81);
+  check_against_hand_written(model::import_urdf(xml).model, by_hand);
+}
