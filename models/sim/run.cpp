@@ -538,6 +538,7 @@ RunResult Simulation::Impl::run() {
   bar.finish();
   r.statistics = run.statistics;
   r.segments = run.segments;
+  r.jacobians = system->jacobian_method();
 
   for (std::size_t k = 0; k < statistics.size(); ++k) statistic_values[k] = statistics[k].value;
   for (const auto& c : checks) {
@@ -576,6 +577,7 @@ std::string summary(const RunResult& run) {
   out += fmt::format("  steps {} (rejected {}), evaluations: {} accelerations, {} residuals, {} Jacobians; {:.3f} s\n",
                      st.steps, st.rejected_steps, st.rhs_evaluations, st.residual_evaluations,
                      st.jacobian_evaluations, run.wall_seconds);
+  if (st.jacobian_evaluations > 0) out += fmt::format("  Jacobians: {}\n", run.jacobians);
   const State& s = run.final;
   std::string q, qd;
   for (Eigen::Index j = 0; j < s.q.size(); ++j) {

@@ -71,6 +71,7 @@ struct RunResult {
   runtime::State initial, final;
   EnergyDrift energy;
   runtime::Statistics statistics;  // summed over the segments
+  std::string jacobians;           // how they were computed (MultibodySystem::jacobian_method)
   double wall_seconds = 0.0;
   std::vector<Check> checks;
 };

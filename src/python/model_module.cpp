@@ -749,6 +749,25 @@ py::object dynamics_derivatives(System& self, const py::object& q, const py::obj
   return namespace_of(out);
 }
 
+// One rk4 step of h from (q, qd) with generalized forces u (held over the
+// step; default zero) and its exact derivatives A = dx1/dx0, B = dx1/du.
+py::object step_derivatives(System& self, const py::object& q, const py::object& qd, const py::object& u, double h,
+                            double t, const std::vector<Force>& forces) {
+  MultibodySystem& system = self.with(forces);
+  const Eigen::Index n = system.num_coordinates();
+  const Vector input = u.is_none() ? Vector::Zero(n) : u.cast<Vector>();
+  runtime::StepDerivatives d;
+  runtime::rk4_step_derivatives(system, state_arg(system, t, q, qd), input, h, d);
+  py::dict out;
+  out["q"] = d.next.q;
+  out["qd"] = d.next.qd;
+  out["t"] = d.next.t;
+  out["A"] = d.A;
+  out["B"] = d.B;
+  out["method"] = system.jacobian_method();
+  return namespace_of(out);
+}
+
 py::object modes(System& self, const py::object& q, const py::object& qd, double t,
                  const py::iterable& locked, const std::vector<Force>& forces) {
   const runtime::Linearization lin = linearization(self, q, qd, t, locked, forces);
@@ -870,6 +889,12 @@ void define_system(py::module_& module, ModelFactory make_model) {
            "The forward dynamics' derivatives at (q, qd), generalized forces u on the coordinates: qdd, "
            "dqdd_dq, dqdd_dqd, dqdd_dtau (nq x nq each), the continuous-time A (2nq x 2nq) and B (2nq x nq) of "
            "xd = f(x, u), x = (q, qd), and method: exact where the model was emitted with its derivatives.")
+      .def("step_derivatives", &step_derivatives, "q"_a = none, "qd"_a = none, "u"_a = none, "h"_a = 0.01,
+           "t"_a = 0.0, "forces"_a = no_forces,
+           "One step of h of the classical Runge-Kutta method (the rk4 integrator's) from (q, qd), with "
+           "generalized forces u on the coordinates held over the step (default zero), and its exact "
+           "derivatives: q, qd, t at the end, A = d(q1, qd1)/d(q0, qd0) (2nq x 2nq), B = d(q1, qd1)/du "
+           "(2nq x nq), method.")
       .def("modes", &modes, "q"_a = none, "qd"_a = none, "t"_a = 0.0, "locked"_a = empty,
            "forces"_a = no_forces,
            "Modes of the linearization, sorted by |pole|: poles, natural_frequency_hz, "

@@ -12,6 +12,7 @@
 
 #include <symdyn/runtime/dynamic_system.hpp>
 #include <symdyn/runtime/kinematics.hpp>
+#include <symdyn/runtime/kinematics_derivatives.hpp>
 
 namespace symdyn::runtime {
 
@@ -61,6 +62,9 @@ class Loads {
   bool on_bodies_ = false;
 };
 
+// How a force element's generalized forces are differentiated (ForceElement::load_derivatives).
+enum class LoadDerivatives { differenced, exact, exact_with_kinematics_derivatives };
+
 // What a force element sees: the state (t, q, qd, y) and the kinematics of
 // that state up to the level it declares by reads(). The runtime evaluates
 // no more than the attached elements read: an element of level `none` sees
@@ -76,14 +80,19 @@ class ForceElement {
   virtual KinematicsLevel reads() const { return KinematicsLevel::velocities; }
   // Adds this element's loads. Must not allocate (it runs in the hot path).
   virtual void apply(const State& s, const Kinematics& k, Loads& loads) const = 0;
-  // Whether add_load_derivatives() gives this element's derivatives. Without
-  // them the runtime differentiates this element's part alone by central
-  // differences, and says so (MultibodySystem::jacobian_method).
-  virtual bool has_load_derivatives() const { return false; }
-  // Adds dQ/dq and dQ/dqd (nq x nq each) of this element's generalized forces
-  // Q (its loads projected: Q_j = Σ_i F_i·dv_ij + M_i·dw_ij + Q_j) at the state,
-  // exactly. Called only where has_load_derivatives(); must not allocate.
-  virtual void add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/, Matrix& /*dQ_dq*/,
+  // How this element's generalized forces Q (its loads projected: Q_j =
+  // Σ_i F_i·dv_ij + M_i·dw_ij + Q_j) are differentiated for exact Jacobians
+  // (MultibodySystem::jacobians): by central differences of its Q alone (the
+  // default, named by MultibodySystem::jacobian_method), or exactly by
+  // add_load_derivatives, from the state and kinematics alone or also from
+  // the derivatives of the kinematics (where the model has them; else
+  // differenced).
+  virtual LoadDerivatives load_derivatives() const { return LoadDerivatives::differenced; }
+  // Adds dQ/dq and dQ/dqd (nq x nq each) of this element at the state, exactly;
+  // dk holds the kinematics' derivatives where load_derivatives() asks for them.
+  // Called only where the element is not differenced; must not allocate.
+  virtual void add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/,
+                                    const KinematicsDerivatives& /*dk*/, Matrix& /*dQ_dq*/,
                                     Matrix& /*dQ_dqd*/) const {}
   // Elastic energy stored in the element (0 for non-conservative elements).
   virtual double potential_energy(const State& /*s*/, const Kinematics& /*k*/) const {

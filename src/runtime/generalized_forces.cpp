@@ -19,7 +19,8 @@ void CoordinateSpringDamper::apply(const State& s, const Kinematics& /*k*/, Load
   loads.add_generalized(j_, -k_ * (s.q(j_) - q0_) - c_ * s.qd(j_));
 }
 
-void CoordinateSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/, Matrix& dQ_dq,
+void CoordinateSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/,
+                                                  const KinematicsDerivatives& /*dk*/, Matrix& dQ_dq,
                                                   Matrix& dQ_dqd) const {
   dQ_dq(j_, j_) -= k_;
   dQ_dqd(j_, j_) -= c_;
@@ -50,7 +51,8 @@ void CoordinateTracking::apply(const State& s, const Kinematics& /*k*/, Loads& l
   loads.add_generalized(j_, -kp_ * (s.q(j_) - r_(s.t)) - kd_ * (s.qd(j_) - rd));
 }
 
-void CoordinateTracking::add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/, Matrix& dQ_dq,
+void CoordinateTracking::add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/,
+                                              const KinematicsDerivatives& /*dk*/, Matrix& dQ_dq,
                                               Matrix& dQ_dqd) const {
   dQ_dq(j_, j_) -= kp_;
   dQ_dqd(j_, j_) -= kd_;

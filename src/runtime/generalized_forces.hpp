@@ -18,8 +18,9 @@ class CoordinateSpringDamper : public ForceElement {
   KinematicsLevel reads() const override { return KinematicsLevel::none; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
   // dQ/dq_j = -k, dQ/dqd_j = -c
-  bool has_load_derivatives() const override { return true; }
-  void add_load_derivatives(const State& s, const Kinematics& k, Matrix& dQ_dq, Matrix& dQ_dqd) const override;
+  LoadDerivatives load_derivatives() const override { return LoadDerivatives::exact; }
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk, Matrix& dQ_dq,
+                            Matrix& dQ_dqd) const override;
   // 1/2 k (q - free_value)^2
   double potential_energy(const State& s, const Kinematics& k) const override;
 
@@ -57,8 +58,9 @@ class CoordinateTracking : public ForceElement {
   KinematicsLevel reads() const override { return KinematicsLevel::none; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
   // dQ/dq_j = -kp, dQ/dqd_j = -kd
-  bool has_load_derivatives() const override { return true; }
-  void add_load_derivatives(const State& s, const Kinematics& k, Matrix& dQ_dq, Matrix& dQ_dqd) const override;
+  LoadDerivatives load_derivatives() const override { return LoadDerivatives::exact; }
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk, Matrix& dQ_dq,
+                            Matrix& dQ_dqd) const override;
 
  private:
   std::string name_;

@@ -345,6 +345,12 @@ void Model::inverse_dynamics_derivatives(double t, const double* q, const double
   dtau_dqd.transposeInPlace();
 }
 
+void Model::kinematics_derivatives(double t, const double* q, const double* qd, KinematicsDerivatives& dk) const {
+  if (d_.kinematics_derivatives == nullptr) missing("kinematics_derivatives");
+  d_.kinematics_derivatives(t, q, qd, param_.data(), dk.dv_dq_data(), dk.dw_dq_data(), dk.ddv_dq_data(),
+                            dk.ddw_dq_data());
+}
+
 int Model::forward_dynamics(double t, const double* q, const double* qd, const double* tau, double* qdd) const {
   if (d_.forward_dynamics == nullptr) missing("forward_dynamics");
   return d_.forward_dynamics(t, q, qd, tau, param_.data(), qdd);

@@ -23,6 +23,7 @@
 #include <symdyn/runtime/dynamic_system.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/kinematics.hpp>
+#include <symdyn/runtime/kinematics_derivatives.hpp>
 #include <symdyn/runtime/relative_motion.hpp>
 
 namespace symdyn::runtime {
@@ -67,6 +68,10 @@ using InverseDynamicsFn = void (*)(double t, const double* q, const double* qd, 
 using InverseDynamicsDerivativesFn = void (*)(double t, const double* q, const double* qd,
                                               const double* qdd, const double* param,
                                               double* dtau_dq, double* dtau_dqd);
+// The derivatives with respect to q of v, w (nbody x nq x 3 each) and of the
+// partial velocities (nbody x nq x nq x 3 each) (runtime/kinematics_derivatives.hpp).
+using KinematicsDerivativesFn = void (*)(double t, const double* q, const double* qd, const double* param,
+                                         double* dv_dq, double* dw_dq, double* ddv_dq, double* ddw_dq);
 // qdd = M⁻¹·(tau - h) (nq) by the articulated-body algorithm; returns -1, or the
 // first coordinate whose pivot failed (then qdd is not to be used).
 using ForwardDynamicsFn = int (*)(double t, const double* q, const double* qd, const double* tau,
@@ -80,6 +85,10 @@ concept has_inverse_dynamics = requires(double t, const double* c, double* o) {
 template <class G>
 concept has_inverse_dynamics_derivatives = requires(double t, const double* c, double* o) {
   G::inverse_dynamics_derivatives(t, c, c, c, c, o, o);
+};
+template <class G>
+concept has_kinematics_derivatives = requires(double t, const double* c, double* o) {
+  G::kinematics_derivatives(t, c, c, c, o, o, o, o);
 };
 template <class G>
 concept has_forward_dynamics = requires(double t, const double* c, double* o) {
@@ -206,6 +215,7 @@ struct ModelDescription {
   InverseDynamicsFn inverse_dynamics = nullptr;
   ForwardDynamicsFn forward_dynamics = nullptr;  // only where the generator chose it
   InverseDynamicsDerivativesFn inverse_dynamics_derivatives = nullptr;  // only where asked for
+  KinematicsDerivativesFn kinematics_derivatives = nullptr;              // likewise
   // Cold diagnostics; empty or null for code emitted before them.
   std::vector<std::string> dependent_names;  // (ndep)
   std::vector<DomainCheck> domain_checks;
@@ -273,6 +283,7 @@ class Model {
   bool has_inverse_dynamics() const { return d_.inverse_dynamics != nullptr; }
   bool has_forward_dynamics() const { return d_.forward_dynamics != nullptr; }
   bool has_inverse_dynamics_derivatives() const { return d_.inverse_dynamics_derivatives != nullptr; }
+  bool has_kinematics_derivatives() const { return d_.kinematics_derivatives != nullptr; }
 
   // A kinematics buffer of the right sizes for this model.
   Kinematics make_kinematics() const { return Kinematics(d_.nq, d_.nbody, d_.ndep); }
@@ -308,6 +319,9 @@ class Model {
   // dtau/dq and dtau/dqd (nq x nq each) at (q, qd, qdd), exact (emitted).
   void inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
                                     Matrix& dtau_dq, Matrix& dtau_dqd) const;
+  // The derivatives of the kinematics with respect to q at (t, q, qd), exact (emitted).
+  void kinematics_derivatives(double t, const double* q, const double* qd, KinematicsDerivatives& dk) const;
+  KinematicsDerivatives make_kinematics_derivatives() const { return KinematicsDerivatives(d_.nq, d_.nbody); }
   // qdd = M⁻¹·(tau - h) (nq each) without M; -1, or the coordinate of the first
   // failed pivot (qdd then unusable: the mass matrix names the culprit).
   int forward_dynamics(double t, const double* q, const double* qd, const double* tau, double* qdd) const;
@@ -417,6 +431,7 @@ ModelDescription Model::describe() {
       if constexpr (detail::has_inverse_dynamics_derivatives<G>) {
         d.inverse_dynamics_derivatives = &G::inverse_dynamics_derivatives;
       }
+      if constexpr (detail::has_kinematics_derivatives<G>) d.kinematics_derivatives = &G::kinematics_derivatives;
       bool forward = true;
       if constexpr (requires { G::has_forward_dynamics; }) forward = G::has_forward_dynamics;
       if constexpr (detail::has_forward_dynamics<G>) {

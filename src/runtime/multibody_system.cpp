@@ -38,6 +38,7 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   M_ = Matrix::Zero(nq, nq);
   DwJ_.resize(nq, 3);
   solver_ = SpdSolver(nq);
+  if (model_.has_kinematics_derivatives()) dk_ = model_.make_kinematics_derivatives();
 }
 
 void MultibodySystem::set_source(EquationsSource source) {
@@ -515,10 +516,19 @@ std::string MultibodySystem::jacobian_method() const {
   if (!exact_jacobians()) return "central differences of the residual";
   std::string differenced;
   for (const auto& e : elements_) {
-    if (!e->has_load_derivatives()) differenced += (differenced.empty() ? "" : ", ") + e->name();
+    if (!exact_loads(*e)) differenced += (differenced.empty() ? "" : ", ") + e->name();
   }
   if (differenced.empty()) return "exact (emitted derivatives)";
   return "exact (emitted derivatives), but by central differences for " + differenced;
+}
+
+bool MultibodySystem::exact_loads(const ForceElement& e) const {
+  switch (e.load_derivatives()) {
+    case LoadDerivatives::exact: return true;
+    case LoadDerivatives::exact_with_kinematics_derivatives: return model_.has_kinematics_derivatives();
+    case LoadDerivatives::differenced: return false;
+  }
+  return false;
 }
 
 // C -= dQ/dqd, K -= dQ/dq of the force elements' generalized forces Q: exact
@@ -529,14 +539,19 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
   Matrix &dQ_dq = load_dq_, &dQ_dqd = load_dqd_;
   dQ_dq.setZero(n, n);
   dQ_dqd.setZero(n, n);
-  bool differenced = false;
-  evaluate_loads_kinematics(s);
+  bool differenced = false, kinematics_derivatives = false;
   for (const auto& e : elements_) {
-    if (e->has_load_derivatives()) {
-      e->add_load_derivatives(s, k_, dQ_dq, dQ_dqd);
-    } else {
-      differenced = true;
-    }
+    differenced = differenced || !exact_loads(*e);
+    kinematics_derivatives = kinematics_derivatives || (exact_loads(*e) && e->load_derivatives() ==
+                                                                               LoadDerivatives::exact_with_kinematics_derivatives);
+  }
+  evaluate_loads_kinematics(s);
+  if (kinematics_derivatives) {
+    model_.kinematics_derivatives(s.t, s.q.data(), s.qd.data(), dk_);
+    if (!dk_.all_finite()) derivatives_not_finite(s);
+  }
+  for (const auto& e : elements_) {
+    if (exact_loads(*e)) e->add_load_derivatives(s, k_, dk_, dQ_dq, dQ_dqd);
   }
   if (differenced) {
     State& p = jacobian_state_;
@@ -582,7 +597,7 @@ void MultibodySystem::differenced_forces(const State& s, Vector& Q) {
   evaluate_loads_kinematics(s);
   loads_.clear();
   for (const auto& e : elements_) {
-    if (!e->has_load_derivatives()) e->apply(s, k_, loads_);
+    if (!exact_loads(*e)) e->apply(s, k_, loads_);
   }
   if (!(loads_.F.allFinite() && loads_.M.allFinite() && loads_.Q.allFinite())) compute_loads(s);  // names the culprit
   project_loads(Q);
@@ -653,8 +668,25 @@ void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd
   }
 }
 
-void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix) {
+void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix,
+                                           const Vector& tau) {
   accelerations(s, out.qdd, jacobian_yd_);
+  if (tau.size() > 0) {
+    // qdd += M⁻¹·tau: the residual M·qdd + h - Q - tau vanishes there.
+    if (tau.size() != model_.nq() || !all_finite(tau.data(), tau.size())) {
+      throw ModelError(fmt::format("model '{}': generalized forces tau must be {} finite values ({} given)",
+                                   model_.name(), model_.nq(), tau.size()));
+    }
+    mass_matrix(s, derivative_M_);
+    if (!solver_.factor(derivative_M_)) {
+      M_ = derivative_M_;
+      mass_matrix_refused(s);
+    }
+    Vector& added = jacobian_fp_;
+    added = tau;
+    solver_.solve_in_place(added);
+    out.qdd += added;
+  }
   acceleration_derivatives(s, out.qdd, out.dqdd_dq, out.dqdd_dqd);
   if (!with_input_matrix) {
     out.dqdd_dtau.resize(0, 0);

@@ -115,7 +115,7 @@ class MultibodySystem : public DynamicSystem {
   // M = df/dqdd, C = df/dqd, K = df/dq at (s, qdd). Exact where the model was
   // emitted with inverse_dynamics_derivatives (and the source is emitted): C
   // and K are dtau/dqd and dtau/dq less the force elements' dQ/dqd and dQ/dq,
-  // exact from the elements that give them (ForceElement::add_load_derivatives),
+  // exact from the elements that give them (ForceElement::load_derivatives),
   // the others' part by central differences of their Q alone; otherwise M exact (from the
   // chosen source), C and K by central differences of the residual (relative
   // step 1e-6 with floor 1e-6). jacobian_method() says which, for run summaries.
@@ -127,12 +127,14 @@ class MultibodySystem : public DynamicSystem {
   bool exact_acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
                                       Matrix& dqdd_dqd) override;
 
-  // The derivatives of the forward dynamics qdd(q, qd, tau) at s, force
-  // elements included, tau generalized forces added on the coordinates:
+  // The forward dynamics qdd(q, qd, tau) at s and its derivatives, force
+  // elements included, tau (nq) generalized forces added to theirs on the
+  // coordinates (a control input; empty: none):
   //   dqdd/dq = -M⁻¹·K,  dqdd/dqd = -M⁻¹·C,  dqdd/dtau = M⁻¹
   // (K, C of jacobians() at qdd), by solves with M's factorization; M⁻¹ is
   // formed only with `with_input_matrix`. Exact as jacobians() is.
-  void dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix = false);
+  void dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix = false,
+                            const Vector& tau = Vector());
 
   // The pieces, each evaluated at the state s (nq x nq and nq).
   void mass_matrix(const State& s, Matrix& M);
@@ -206,6 +208,8 @@ class MultibodySystem : public DynamicSystem {
   // dqdd/dq and dqdd/dqd from jacobians() at (s, qdd): -M⁻¹·K and -M⁻¹·C by solves.
   void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq, Matrix& dqdd_dqd);
   void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
+  // Whether the element's part of jacobians() is exact (else differenced).
+  bool exact_loads(const ForceElement& e) const;
   void evaluate_loads_kinematics(const State& s);
   void differenced_forces(const State& s, Vector& Q);
   [[noreturn, gnu::cold, gnu::noinline]] void derivatives_not_finite(const State& s) const;
@@ -236,6 +240,7 @@ class MultibodySystem : public DynamicSystem {
   Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
   Matrix derivative_M_;                                    // dynamics_derivatives(): M
   Matrix load_dq_, load_dqd_;                              // the force elements' dQ/dq, dQ/dqd
+  KinematicsDerivatives dk_;                               // where the model has them
 };
 
 // Largest absolute differences between the assembled and the emitted mass

@@ -41,6 +41,37 @@ void PointSpringDamper::apply(const State& s, const Kinematics& k, Loads& loads)
   loads.add_force_at(a_.body, k, Pa, tension * u);
 }
 
+// With Δ = P_b - P_a, L = |Δ|, u = Δ/L, G_j = ∂Δ/∂q_j and g_j = u·G_j = ∂L/∂q_j:
+//   ∂u/∂q_k = (G_k - u·g_k)/L,   ∂Ld/∂q_k = ∂u/∂q_k·ΔṖ + u·∂ΔṖ/∂q_k,   ∂Ld/∂qd_k = g_k,
+//   ∂²L/∂q_j∂q_k = (G_j·G_k - g_j·g_k)/L + u·∂G_j/∂q_k.
+void PointSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematics& k, const KinematicsDerivatives& dk,
+                                             Matrix& dQ_dq, Matrix& dQ_dqd) const {
+  const Vec3 Pa = k.point_position(a_.body, a_.point), Pb = k.point_position(b_.body, b_.point);
+  const Vec3 ra = k.to_global(a_.body, a_.point), rb = k.to_global(b_.body, b_.point);  // from G
+  const Vec3 d = Pb - Pa;
+  const double L = d.norm();
+  const Vec3 u = d / L;
+  const Vec3 dPd = k.point_velocity(b_.body, b_.point) - k.point_velocity(a_.body, a_.point);
+  const double tension = k_ * (L - L0_) + c_ * u.dot(dPd);
+  const auto G = [&](int j) { return Vec3(dk.point_partial(k, b_.body, rb, j) - dk.point_partial(k, a_.body, ra, j)); };
+  for (int kk = 0; kk < k.nq(); ++kk) {
+    const Vec3 Gk = G(kk);
+    const double gk = u.dot(Gk);
+    const Vec3 du = (Gk - u * gk) / L;
+    const double dLd = du.dot(dPd) + u.dot(dk.point_velocity_derivative(k, b_.body, rb, kk) -
+                                           dk.point_velocity_derivative(k, a_.body, ra, kk));
+    const double dT_dq = k_ * gk + c_ * dLd, dT_dqd = c_ * gk;
+    for (int j = 0; j < k.nq(); ++j) {
+      const Vec3 Gj = G(j);
+      const double gj = u.dot(Gj);
+      const Vec3 dGj = dk.point_partial_derivative(k, b_.body, rb, j, kk) - dk.point_partial_derivative(k, a_.body, ra, j, kk);
+      const double d2L = (Gj.dot(Gk) - gj * gk) / L + u.dot(dGj);
+      dQ_dq(j, kk) -= dT_dq * gj + tension * d2L;
+      dQ_dqd(j, kk) -= dT_dqd * gj;
+    }
+  }
+}
+
 double PointSpringDamper::potential_energy(const State& /*s*/, const Kinematics& k) const {
   const double e = length(k) - L0_;
   return 0.5 * k_ * e * e;
@@ -65,6 +96,18 @@ void PointLoad::apply(const State& s, const Kinematics& k, Loads& loads) const {
   if (law_) law_(s, k, f, m);
   loads.add_force_at(at_.body, k, k.point_position(at_.body, at_.point), f);
   loads.add_moment(at_.body, m);
+}
+
+void PointLoad::add_load_derivatives(const State& /*s*/, const Kinematics& k, const KinematicsDerivatives& dk,
+                                     Matrix& dQ_dq, Matrix& /*dQ_dqd*/) const {
+  if (at_.body == ground) return;
+  const Vec3 r = k.to_global(at_.body, at_.point);
+  for (int j = 0; j < k.nq(); ++j) {
+    for (int kk = 0; kk < k.nq(); ++kk) {
+      dQ_dq(j, kk) += force_.dot(dk.point_partial_derivative(k, at_.body, r, j, kk)) +
+                      torque_.dot(dk.ddw_dq(at_.body, j, kk));
+    }
+  }
 }
 
 UserForce::UserForce(std::string name, Callback callback, KinematicsLevel reads)

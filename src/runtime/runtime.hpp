@@ -25,3 +25,4 @@
 #include <symdyn/runtime/point_forces.hpp>
 #include <symdyn/runtime/scene.hpp>
 #include <symdyn/runtime/statics.hpp>
+#include <symdyn/runtime/step_derivatives.hpp>

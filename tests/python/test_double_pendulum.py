@@ -210,6 +210,30 @@ class Derivatives(unittest.TestCase):
         np.testing.assert_allclose(d.B[2:, :], np.linalg.inv(mass_matrix(q, **UNIT)), rtol=1e-12)
         np.testing.assert_allclose(d.B[:2, :], np.zeros((2, 2)))
 
+    def test_rk4_step_derivatives_against_differences(self):
+        system = double_pendulum_absolute.System()
+        q, qd, u, h = np.array([0.3, -0.7]), np.array([1.1, -0.4]), np.array([0.5, -0.2]), 0.02
+        d = system.step_derivatives(q=q, qd=qd, u=u, h=h)
+
+        def step(x, v):
+            e = system.step_derivatives(q=x[:2], qd=x[2:], u=v, h=h)
+            return np.concatenate([e.q, e.qd])
+
+        x = np.concatenate([q, qd])
+        eye4, eye2 = np.eye(4), np.eye(2)
+
+        def richardson(f, k):
+            def central(s):
+                return (f(s) - f(-s)) / (2 * s)
+
+            return (4 * central(5e-4) - central(1e-3)) / 3
+
+        A = np.column_stack([richardson(lambda s: step(x + s * eye4[j], u), j) for j in range(4)])
+        B = np.column_stack([richardson(lambda s: step(x, u + s * eye2[j]), j) for j in range(2)])
+        np.testing.assert_allclose(d.A, A, rtol=1e-8, atol=1e-9)
+        np.testing.assert_allclose(d.B, B, rtol=1e-8, atol=1e-9)
+        self.assertAlmostEqual(d.t, h)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -19,9 +19,11 @@
 #include "all_models.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
+#include <symdyn/runtime/step_derivatives.hpp>
 
 namespace {
 
@@ -85,12 +87,22 @@ void residual_jacobians_by_differences(MultibodySystem& system, const State& s, 
 
 double max_abs(const Matrix& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
 
-// A spring-damper on every coordinate and, on the first body, a point spring to
-// the ground (differenced: it gives no derivatives of its own).
+// A spring-damper on every coordinate; on the first body a point spring-damper
+// to the ground, on the last one a constant load, between the two a spring
+// (exact with the kinematics' derivatives); a user force (differenced).
 void add_force_elements(MultibodySystem& system) {
   for (int j = 0; j < system.model().nq(); ++j) {
     system.add<CoordinateSpringDamper>(fmt::format("c{}", j), j, 3.0 + j, 0.5 + 0.1 * j);
   }
+  const int last = system.model().nbody() - 1;
+  system.add<PointLoad>("push", BodyPoint{last, Vec3(0.05, -0.1, 0.2)}, Vec3(3.0, -2.0, 1.0), Vec3(0.5, 0.2, -0.3));
+  if (last > 0) {
+    system.add<PointSpringDamper>("link", BodyPoint{0, Vec3(0.0, 0.1, 0.0)}, BodyPoint{last, Vec3(0.1, 0.0, 0.05)},
+                                  50.0, 0.2, 0.7);
+  }
+  system.add<UserForce>("drag", [](const State& s, const Kinematics&, Loads& loads) {
+    loads.add_generalized(0, -0.3 * s.qd(0) * std::abs(s.qd(0)));
+  }, KinematicsLevel::none);
   system.add<PointSpringDamper>("strut", BodyPoint{0, Vec3(0.1, 0.0, 0.0)}, BodyPoint{ground, Vec3(0.0, 1.0, 0.5)},
                                 200.0, 3.0, 0.4);
 }
@@ -228,7 +240,52 @@ TEST_CASE("jacobian_method names the force elements differenced", "[models][deri
   CHECK(system.jacobian_method() == "exact (emitted derivatives)");
   system.add<PointSpringDamper>("strut", BodyPoint{1, Vec3(0.5, 0.0, 0.0)}, BodyPoint{ground, Vec3(0.0, 1.0, 0.0)},
                                 10.0, 1.0, 0.1);
-  CHECK(system.jacobian_method() == "exact (emitted derivatives), but by central differences for spring 'strut'");
+  CHECK(system.jacobian_method() == "exact (emitted derivatives)");
+  system.add<PointLoad>("wind", BodyPoint{1, Vec3::Zero()},
+                        [](const State&, const Kinematics&, Vec3& f, Vec3&) { f = Vec3(1.0, 0.0, 0.0); });
+  CHECK(system.jacobian_method() == "exact (emitted derivatives), but by central differences for load 'wind'");
   MultibodySystem assembled(Model::from<symdyn_generated::double_pendulum_absolute>(), EquationsSource::assembled);
   CHECK(assembled.jacobian_method() == "central differences of the residual");
+}
+
+TEST_CASE("one rk4 step and its derivatives: the integrator's step, and Richardson differences of it",
+          "[models][derivatives]") {
+  MultibodySystem system(Model::from<symdyn_generated::slider_crank_dependent>());
+  system.add<CoordinateSpringDamper>("crank", 0, 5.0, 0.2);
+  State s = system.initial_state();
+  s.t = 0.3;
+  s.q(0) = 0.7;
+  s.qd(0) = 4.0;
+  Vector u(1);
+  u << 1.5;
+  const double h = 0.01;
+  StepDerivatives d;
+  rk4_step_derivatives(system, s, u, h, d);
+  // The rk4 integrator's step from the same state, u as a constant coordinate force.
+  MultibodySystem driven(Model::from<symdyn_generated::slider_crank_dependent>());
+  driven.add<CoordinateSpringDamper>("crank", 0, 5.0, 0.2);
+  driven.add<CoordinateForce>("u", 0, [&](double, double, double, const State&) { return u(0); });
+  IntegratorOptions options;
+  options.initial_step = h;
+  const State one = make_integrator("rk4", options)->integrate(driven, s, s.t + h);
+  CHECK(std::abs(one.q(0) - d.next.q(0)) < 1e-15 * std::max(1.0, std::abs(one.q(0))));
+  CHECK(std::abs(one.qd(0) - d.next.qd(0)) < 1e-14 * std::max(1.0, std::abs(one.qd(0))));
+  // Richardson differences of the step's end state.
+  const auto next = [&](const State& from, const Vector& input) {
+    StepDerivatives e;
+    rk4_step_derivatives(system, from, input, h, e);
+    Vector x(2);
+    x << e.next.q(0), e.next.qd(0);
+    return x;
+  };
+  const auto of_q = [&](double x) { State p = s; p.q(0) = x; return next(p, u); };
+  const auto of_qd = [&](double x) { State p = s; p.qd(0) = x; return next(p, u); };
+  const auto of_u = [&](double x) { Vector v(1); v << x; return next(s, v); };
+  Matrix A(2, 2), B(2, 1);
+  A.col(0) = richardson(of_q, s.q(0), 1.0);
+  A.col(1) = richardson(of_qd, s.qd(0), 1.0);
+  B.col(0) = richardson(of_u, u(0), 1.0);
+  INFO("A\n" << d.A << "\ndifferences\n" << A << "\nB\n" << d.B << "\ndifferences\n" << B);
+  CHECK(max_abs(d.A - A) < 1e-9 * std::max(1.0, max_abs(A)));
+  CHECK(max_abs(d.B - B) < 1e-9 * std::max(1.0, max_abs(B)));
 }

@@ -108,6 +108,20 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
     if constexpr (requires { G::inverse_dynamics; }) {
       if (name == "inverse_dynamics") G::inverse_dynamics(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, h.data()), take({&h});
     }
+    if constexpr (requires { G::inverse_dynamics_derivatives; }) {
+      if (name == "inverse_dynamics_derivatives") {
+        std::vector<double> dq(G::nq * G::nq), dqd(dq);
+        G::inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dq.data(), dqd.data());
+        take({&dq, &dqd});
+      }
+    }
+    if constexpr (requires { G::kinematics_derivatives; }) {
+      if (name == "kinematics_derivatives") {
+        std::vector<double> dv_dq(G::nbody * G::nq * 3), dw_dq(dv_dq), ddv(G::nbody * G::nq * G::nq * 3), ddw(ddv);
+        G::kinematics_derivatives(s.t, s.q.data(), s.qd.data(), p, dv_dq.data(), dw_dq.data(), ddv.data(), ddw.data());
+        take({&dv_dq, &dw_dq, &ddv, &ddw});
+      }
+    }
     // The generalized forces tau of a state are its qdd (program_inputs).
     if constexpr (requires { G::forward_dynamics_pivots; }) {
       if (name == "forward_dynamics_pivots") {
@@ -244,7 +258,11 @@ void check_emitted(const EmittedSetup& setup) {
       if (!f.program) continue;
       INFO("entry point " << f.name);
       const std::vector<double> in = program_inputs(f, s, {G::param_defaults, G::param_defaults + G::nparam});
-      CHECK(gap(call_entry<G>(f.name, s), f.program->evaluate<double>(in)) < 1e-14);
+      const double worst = gap(call_entry<G>(f.name, s), f.program->evaluate<double>(in));
+      INFO("gap " << worst);
+      // The derivatives' long sums of products, printed as shared parts, differ from the
+      // interpreter's by tens of ulps (chain_8: 1.2e-14).
+      CHECK(worst < (f.name.ends_with("_derivatives") ? 1e-13 : 1e-14));
     }
     if constexpr (G::has_equations_of_motion) {
       // M·qdd + h against the residual assembled numerically in the global frame:

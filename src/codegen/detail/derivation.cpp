@@ -198,7 +198,7 @@ Derivation Deriver::derive(bool simplify) {
   }
   std::optional<DynamicsDerivatives> derivatives;
   if (dynamics && selection_.needs_derivatives(options_.derivatives)) {
-    derivatives = derive_derivatives(*dynamics, d.definitions);
+    derivatives = derive_derivatives(*dynamics, k, d.definitions);
     d.definitions.insert(d.definitions.end(), derivatives->definitions.begin(), derivatives->definitions.end());
     if (derivatives_reason_.empty()) derivatives_reason_ = derivatives->reason;  // the first derivation's, as choice_
   }
@@ -247,14 +247,14 @@ bool Deriver::derivable(const Needs& needs, const Quantities& quantities) const 
 }
 
 // dtau/dq and dtau/dqd, each form of tau weighed by its own program's operations.
-DynamicsDerivatives Deriver::derive_derivatives(const model::Dynamics& dynamics,
+DynamicsDerivatives Deriver::derive_derivatives(const model::Dynamics& dynamics, const model::Kinematics& kinematics,
                                                 const std::vector<symbolic::Definition>& definitions) const {
   const std::vector<Input> inputs{Input::t, Input::q, Input::qd, Input::qdd, Input::param};
   const OperationCounter operations = [&](const std::vector<Expr>& outputs,
                                           const std::vector<symbolic::Definition>& defined) {
     return symbolic::compile_program(inputs_.of(inputs), outputs, defined).operation_count().total();
   };
-  return derive_dynamics_derivatives(dynamics, inputs_[Input::q], inputs_[Input::qd], inputs_[Input::qdd],
+  return derive_dynamics_derivatives(dynamics, kinematics, inputs_[Input::q], inputs_[Input::qd], inputs_[Input::qdd],
                                      definitions, operations);
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <unordered_set>
 
 #include <symdyn/symbolic/jacobian.hpp>
 
@@ -41,9 +42,47 @@ DynamicsDerivatives split(const symbolic::ChainJacobian& J, std::size_t nq) {
   return d;
 }
 
+// ∂v/∂q, ∂w/∂q, ∂(dv/dqd)/∂q and ∂(dw/dqd)/∂q of every body into d, in one
+// sweep per coordinate; a derivative of a defined symbol that tau's already
+// has (the same symbol, of the same value) is not defined again.
+void add_kinematics_derivatives(const model::Kinematics& k, const std::vector<Expr>& q,
+                                const std::vector<symbolic::Definition>& definitions, DynamicsDerivatives& d) {
+  if (k.bodies.empty() || k.bodies.front().dv_dqd.empty()) return;  // numeric partial velocities
+  const std::size_t nq = q.size();
+  std::vector<Expr> outputs;  // v, w (nbody x 3 each), then dv, dw (nbody x nq x 3 each)
+  for (const auto& b : k.bodies) outputs.insert(outputs.end(), b.v.begin(), b.v.end());
+  for (const auto& b : k.bodies) outputs.insert(outputs.end(), b.w.begin(), b.w.end());
+  for (const auto& b : k.bodies) {
+    for (const model::Vec3& v : b.dv_dqd) outputs.insert(outputs.end(), v.begin(), v.end());
+  }
+  for (const auto& b : k.bodies) {
+    for (const model::Vec3& v : b.dw_dqd) outputs.insert(outputs.end(), v.begin(), v.end());
+  }
+  const symbolic::ChainJacobian J = symbolic::chain_jacobian(outputs, q, definitions);
+  // J.entries[o·nq + k] = ∂output_o/∂q_k: reordered so that k comes before the vector's component.
+  const std::size_t nb = k.bodies.size();
+  const auto take = [&](std::size_t first, std::size_t vectors, std::vector<Expr>& out) {
+    for (std::size_t vec = 0; vec < vectors; ++vec) {
+      for (std::size_t j = 0; j < nq; ++j) {
+        for (std::size_t c = 0; c < 3; ++c) out.push_back(J.entries[(first + 3 * vec + c) * nq + j]);
+      }
+    }
+  };
+  take(0, nb, d.dv_dq);
+  take(3 * nb, nb, d.dw_dq);
+  take(6 * nb, nb * nq, d.ddv_dq);
+  take(6 * nb + 3 * nb * nq, nb * nq, d.ddw_dq);
+  std::unordered_set<Expr> defined;
+  for (const symbolic::Definition& def : d.definitions) defined.insert(def.symbol);
+  for (const symbolic::Definition& def : J.definitions) {
+    if (!defined.contains(def.symbol)) d.definitions.push_back(def);
+  }
+}
+
 }  // namespace
 
-DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const std::vector<Expr>& q,
+DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const model::Kinematics& kinematics,
+                                                const std::vector<Expr>& q,
                                                 const std::vector<Expr>& qd, const std::vector<Expr>& qdd,
                                                 const std::vector<symbolic::Definition>& definitions,
                                                 const OperationCounter& operations) {
@@ -75,6 +114,7 @@ DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics,
                                     "against {}, more than {} times)",
                                     best->reason, best_operations, forms[1].name, forms[1].operations,
                                     forms[0].operations, kDerivativeFormRatio);
+  add_kinematics_derivatives(kinematics, q, definitions, *best);
   return std::move(*best);
 }
 

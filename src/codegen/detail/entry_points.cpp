@@ -176,6 +176,19 @@ std::vector<EntryPointSpec> make_catalogue() {
        .outputs = {{"dtau_dq", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dq)},
                    {"dtau_dqd", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dqd)}},
        .needs = {.absolute_motion = true, .equations_of_motion = true, .derivatives = true}},
+      {.name = "kinematics_derivatives",
+       .doc = "The derivatives with respect to q of every body's velocities and partial velocities (for the\n"
+              "exact derivatives of force elements): dv_dq[(i * nq + k) * 3 + c] = dv_ic/dq_k, and\n"
+              "ddv_dq[((i * nq + j) * nq + k) * 3 + c] = d(dv_i/dqd_j)_c/dq_k; dw_dq, ddw_dq likewise.",
+       .inputs = {t, q, qd, param},
+       .outputs = {{"dv_dq", "nbody x nq x 3", derivatives(&DynamicsDerivatives::dv_dq)},
+                   {"dw_dq", "nbody x nq x 3", derivatives(&DynamicsDerivatives::dw_dq)},
+                   {"ddv_dq", "nbody x nq x nq x 3", derivatives(&DynamicsDerivatives::ddv_dq)},
+                   {"ddw_dq", "nbody x nq x nq x 3", derivatives(&DynamicsDerivatives::ddw_dq)}},
+       .needs = {.absolute_motion = true,
+                 .partials = Partials::symbolic,
+                 .equations_of_motion = true,
+                 .derivatives = true}},
       {.name = "forward_dynamics_pivots",
        .doc = "qdd = M^-1 (tau - h) by the articulated-body algorithm, with each coordinate's pivot d of\n"
               "the LDL^T factorization of its body's D = S^T I^A S and the diagonal entry of D it came from.",
