@@ -135,12 +135,13 @@ void energy(benchmark::State& bench, const std::string& name, double h, double t
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The tolerances each integrator is measured at: the second-order implicit methods
-  // need a million steps at 1e-8 on the slider-crank, so they stop there.
+  // The tolerances each integrator is measured at: the second-order implicit methods, whose
+  // error falls in proportion to the tolerance, need 19 million steps at 1e-8 on the
+  // slider-crank, so they stop there.
   const std::map<std::string, std::vector<double>> settings = {
       {"dop853", {1e-6, 1e-8, 1e-10, 1e-12}},  {"dopri5", {1e-6, 1e-8, 1e-10, 1e-12}},
       {"cvode", {1e-6, 1e-8, 1e-10, 1e-12}},   {"arkode", {1e-6, 1e-8, 1e-10}},
-      {"newmark", {1e-4, 1e-6, 1e-8, 1e-10}},  {"generalized-alpha", {1e-4, 1e-6, 1e-8, 1e-10}},
+      {"newmark", {1e-4, 1e-6, 1e-8}},         {"generalized-alpha", {1e-4, 1e-6, 1e-8}},
       {"rk4", {1e-2, 1e-3, 1e-4}},             {"midpoint", {1e-2, 1e-3, 1e-4}},
   };
   for (std::size_t problem = 0; problem < all_problems().size(); ++problem) {
@@ -155,7 +156,8 @@ int main(int argc, char** argv) {
     }
   }
   // global_tolerance 1e-5 from tolerance 1e-8; newmark and generalized-alpha only on
-  // the double pendulum (on the slider-crank they would need 10^8 steps).
+  // the double pendulum (on the slider-crank they would need 10^8 steps at their tightest
+  // tolerance).
   for (std::size_t problem = 0; problem < all_problems().size(); ++problem) {
     for (const std::string name : {"dop853", "dopri5", "cvode", "arkode", "newmark", "generalized-alpha"}) {
       if (problem == 0 && (name == "newmark" || name == "generalized-alpha")) continue;

@@ -3,6 +3,10 @@
 work_precision.md and one log-log diagram per problem (PNG and SVG, gnuplot).
 
     report.py RESULTS.tsv OUTDIR
+    report.py --merge PARTIAL.tsv COMMIT RESULTS.tsv
+
+--merge: the rows of PARTIAL.tsv (a run with --integrator) replace those of the same
+integrators in RESULTS.tsv, in place; a meta row names them, the commit and the load.
 """
 import collections
 import os
@@ -84,7 +88,44 @@ def goal(runs):
     return met, fastest, lines
 
 
+def merge(partial, commit, results):
+    new = [line.rstrip("\n").split("\t") for line in open(partial)]
+    load = {f[1]: f[2] for f in new if f[0] == "meta"}
+    rows = [f for f in new if f[0] in ("run", "fail")]
+    # The new rows' errors are against the references of their own run.
+    references = {f[1]: f for f in new if f[0] == "reference"}
+    names = sorted({(f[2], f[3]) for f in rows})
+    label = ", ".join(i for _, i in names)
+    kept = []
+    for line in open(results):
+        f = line.rstrip("\n").split("\t")
+        if f[0] in ("run", "fail") and (f[2], f[3]) in names:
+            continue
+        if f[0] == "meta" and f[1] == label:
+            continue
+        kept.append(f)
+    # Each integrator's rows after the row before its first old one, else at the end of the problem.
+    out = [f for f in kept if f[0] == "meta"]
+    out.append(["meta", label, f"measured again at {commit}, load {load.get('load', '?')} before, "
+                                f"{load.get('load_after', '?')} after, with the references; the other rows at the "
+                                "commit above"])
+    problems = [f[1] for f in kept if f[0] == "reference"]
+    for p in problems:
+        body = [f for f in kept if f[0] != "meta" and f[1] == p]
+        out += [references.get(p, f) for f in body if f[0] == "reference"]
+        out += [f for f in rows if f[0] == "run" and f[1] == p]
+        out += [f for f in body if f[0] == "run"]
+    out += [f for f in kept if f[0] == "fail" and f[1] in problems] + [f for f in rows if f[0] == "fail"]
+    out += [f for f in kept if f[0] == "check"]
+    with open(results, "w") as w:
+        for f in out:
+            w.write("\t".join(f) + "\n")
+
+
 def main():
+    if sys.argv[1] == "--merge":
+        merge(sys.argv[2], sys.argv[3], sys.argv[4])
+        return
     tsv, outdir = sys.argv[1], sys.argv[2]
     meta, refs, runs, fails, checks = read(tsv)
     problems = list(refs)

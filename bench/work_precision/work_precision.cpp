@@ -5,8 +5,9 @@
 // integrators on the same mechanism (bench/peers/mechanism.hpp). The problems are
 // those of models/scenarios (problems.hpp).
 //
-//   symdyn_bench_work_precision [--reps N] [--budget S] [--problem NAME]...
+//   symdyn_bench_work_precision [--reps N] [--budget S] [--problem NAME]... [--integrator NAME]...
 //   (bench/work_precision/run.sh runs it and writes bench/results/work_precision.*)
+// --integrator: only these of symdyn's integrators, and no peer.
 //
 // Output: tab-separated rows on stdout,
 //   reference <problem> <agreement> <description>
@@ -140,7 +141,12 @@ struct Options {
   int reps = 5;
   double budget = 1.0;  // s of CPU for one run: tighter settings of the same sweep are skipped
   std::vector<std::string> problems;
+  std::vector<std::string> integrators;  // empty: every one, and the peers
 };
+
+bool chosen(const std::vector<std::string>& names, const std::string& name) {
+  return names.empty() || std::find(names.begin(), names.end(), name) != names.end();
+}
 
 void sweep_symdyn(const Problem& p, System& s, const State& ref, const std::string& integrator, const Options& opt) {
   const bool fixed = fixed_step(integrator);
@@ -248,8 +254,11 @@ Options parse(int argc, char** argv) {
       o.budget = std::stod(argv[++i]);
     } else if (i + 1 < argc && a == "--problem") {
       o.problems.emplace_back(argv[++i]);
+    } else if (i + 1 < argc && a == "--integrator") {
+      o.integrators.emplace_back(argv[++i]);
     } else {
-      throw std::invalid_argument("usage: symdyn_bench_work_precision [--reps N] [--budget S] [--problem NAME]...");
+      throw std::invalid_argument(
+          "usage: symdyn_bench_work_precision [--reps N] [--budget S] [--problem NAME]... [--integrator NAME]...");
     }
   }
   return o;
@@ -260,16 +269,17 @@ Options parse(int argc, char** argv) {
 int main(int argc, char** argv) try {
   const Options opt = parse(argc, argv);
   for (const Problem& p : all_problems) {
-    if (!opt.problems.empty() && std::find(opt.problems.begin(), opt.problems.end(), p.name) == opt.problems.end())
-      continue;
+    if (!chosen(opt.problems, p.name)) continue;
     System s = make_system(p.model);
     const State ref = solve(s, "dop853", 1e-13, p.t_end);
     const State second = solve(s, "dopri5", 1e-13, p.t_end);
     const double agreement = max_error(second.q, second.qd, ref);
     fmt::print("reference\t{}\t{:.3e}\tdop853 at 1e-13 against dopri5 at 1e-13\n", p.name, agreement);
     std::fflush(stdout);
-    for (const std::string& integrator : symdyn::runtime::integrator_names()) sweep_symdyn(p, s, ref, integrator, opt);
-    if (p.name == "double_pendulum_1s") peers_on(p, s, ref, opt);
+    for (const std::string& integrator : symdyn::runtime::integrator_names()) {
+      if (chosen(opt.integrators, integrator)) sweep_symdyn(p, s, ref, integrator, opt);
+    }
+    if (p.name == "double_pendulum_1s" && opt.integrators.empty()) peers_on(p, s, ref, opt);
   }
   return 0;
 } catch (const std::exception& e) {

@@ -124,9 +124,8 @@ struct Output {
   Vector qdd, yd;
 };
 
-constexpr double kTightening = 100.0;        // between two runs: two decades
-constexpr double kTightestTolerance = 1e-14;  // below it rounding, not the method, sets the error
-constexpr double kAssumedFall = 0.1;         // error ratio per two decades until one is observed
+constexpr double kTightening = 100.0;  // between two runs: two decades
+constexpr double kAssumedFall = 0.1;   // error ratio per two decades until one is observed
 
 // The largest difference of two states in every component: q and qd divided by q_scale.
 double difference(const State& a, const State& b, const std::vector<double>& q_scale) {
@@ -162,12 +161,14 @@ void add(Statistics& total, const Statistics& run) {
 
 }  // namespace
 
-// Run k at tolerances tol/100^k. The difference d_k of runs k-1 and k is about the
-// error of run k-1 (run k is far better); the error of run k is then d_k·r/(1 - r),
-// r the error's fall per two decades: observed, d_k/d_(k-1), from the third run on,
-// assumed 0.1 before (the fall every adaptive integrator shows on the reference
-// problems, tests/simulation/integrator_accuracy_test.cpp). A fall slower than 1/2
-// is not yet the method's order: tighten again.
+// Run k at tolerances tol/100^k, but not below tightest_tolerance() (the last
+// tightening then smaller, F_k < 100). The difference d_k of runs k-1 and k is about the
+// error of run k-1 (run k is far better); the error of run k is then d_k·r_k/(1 - r_k),
+// r_k its fall from run k-1. The error goes as tol^a: r_k = F_k^-a, a observed from the
+// fall of the step before (d_k/d_(k-1) over F_(k-1)) from the third run on, and from the
+// fall 0.1 per two decades before (the fall every adaptive integrator shows on the
+// reference problems, tests/simulation/integrator_accuracy_test.cpp). A fall slower
+// than 1/2 per two decades is not yet the method's order: tighten again.
 State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& initial, double t_end) {
   const IntegratorOptions user = options_;
   struct Restore {  // the user's options back, however the runs end
@@ -185,8 +186,11 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
   total.runs = 0;
   State previous;
   double previous_difference = 0.0;
+  double exponent = std::log(1.0 / kAssumedFall) / std::log(kTightening);  // a: error ~ tol^a
+  double scale = 1.0;                // of both tolerances, run k
+  double tightening = 1.0;           // F_k
+  double previous_tightening = 1.0;  // F_(k-1)
   for (int k = 0;; ++k) {
-    const double scale = std::pow(kTightening, -k);
     options_.relative_tolerance = user.relative_tolerance * scale;
     options_.absolute_tolerance = user.absolute_tolerance * scale;
     outputs.clear();
@@ -209,8 +213,11 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
     total.last_relative_tolerance = options_.relative_tolerance;
     if (k > 0) {
       const double d = difference(previous, end, previous_outputs, outputs, user.q_scale);
-      const double fall = k == 1 ? kAssumedFall : d / previous_difference;
-      const double estimate = fall < 0.5 ? d * fall / (1.0 - fall) : std::numeric_limits<double>::infinity();
+      // d_k/d_(k-1) is the fall of run k-1, over the tightening before it.
+      if (k >= 2) exponent = -std::log(d / previous_difference) / std::log(previous_tightening);
+      const double fall = std::pow(tightening, -exponent);
+      const bool order = std::pow(kTightening, -exponent) < 0.5;
+      const double estimate = order ? d * fall / (1.0 - fall) : std::numeric_limits<double>::infinity();
       total.global_error_estimate = estimate;
       if (estimate <= user.global_tolerance) {
         stats_ = total;
@@ -220,8 +227,11 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
         return end;
       }
       previous_difference = d;
+      previous_tightening = tightening;
     }
-    if (std::max(options_.relative_tolerance, options_.absolute_tolerance) / kTightening < kTightestTolerance) {
+    const double tightest = tightest_tolerance() / std::max(user.relative_tolerance, user.absolute_tolerance);
+    const double next = std::max(scale / kTightening, std::min(scale, tightest));
+    if (!(next < scale)) {
       stats_ = total;
       throw NumericError(fmt::format(
           "integrator '{}': global_tolerance {:g} not reached: at a local tolerance of {:g} the error is "
@@ -229,6 +239,8 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
           name(), user.global_tolerance, total.last_relative_tolerance, total.global_error_estimate,
           previous_difference));
     }
+    tightening = scale / next;
+    scale = next;
     previous = std::move(end);
     std::swap(outputs, previous_outputs);
   }
@@ -312,6 +324,7 @@ std::string non_finite_entry(const DynamicSystem& system, const char* quantity, 
 
 std::string non_finite_value(const DynamicSystem& system, const State& s, const Vector& qdd,
                              const Vector& yd) {
+  if (s.q.allFinite() && s.qd.allFinite() && s.y.allFinite() && qdd.allFinite() && yd.allFinite()) return {};
   struct Entry {
     const char* quantity;
     const Vector& v;

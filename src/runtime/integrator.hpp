@@ -190,6 +190,10 @@ class Integrator {
   const OutputInstants& output_instants() const { return instants_; }
   bool output_every_step() const { return instants_.empty(); }
 
+  // The relative tolerance below which a run gets no more accurate: global_tolerance
+  // tightens no further (1e-14, where rounding takes over, unless the method says otherwise).
+  virtual double tightest_tolerance() const { return 1e-14; }
+
   // Delivers one output after checking every value is finite.
   void emit(DynamicSystem& system, const State& s, const Vector& qdd, const Vector& yd);
   void progress(double t) const;

@@ -31,6 +31,10 @@ std::array<double, 3> evaluate(const double (&c)[6], double th) {
   return {p, dp, ddp};
 }
 
+std::string limited_by(const std::string& limit) {
+  return limit.empty() ? limit : "; the step is set by " + limit;
+}
+
 }  // namespace
 
 void SteppingIntegrator::interpolate(double t, State& s, Vector& qdd, Vector& yd) {
@@ -153,8 +157,9 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
       if (h < options_.min_step) {
         throw NumericError(at_time(
             t_previous,
-            fmt::format("step size {} below min_step {} (integrator '{}'){}", h, options_.min_step,
-                        name(), last_failure.empty() ? "" : "; last failure: " + last_failure)));
+            fmt::format("step size {} below min_step {} (integrator '{}'){}{}", h, options_.min_step,
+                        name(), limited_by(step_limit()),
+                        last_failure.empty() ? "" : "; last failure: " + last_failure)));
       }
       continue;
     }
@@ -170,8 +175,8 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
     h = shortened && outcome.next_step >= step ? std::max(outcome.next_step, h) : outcome.next_step;
     h = std::min(h, options_.max_step);
     if (h < options_.min_step) {
-      throw NumericError(at_time(current_.t, fmt::format("step size {} below min_step {} (integrator '{}')",
-                                                         h, options_.min_step, name())));
+      throw NumericError(at_time(current_.t, fmt::format("step size {} below min_step {} (integrator '{}'){}",
+                                                         h, options_.min_step, name(), limited_by(step_limit()))));
     }
   }
   return current_;

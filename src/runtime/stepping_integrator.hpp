@@ -80,6 +80,10 @@ class SteppingIntegrator : public Integrator {
   // Whether the method only has fixed steps (rk4), whatever options_.fixed_step says.
   virtual bool fixed_step_only() const { return false; }
 
+  // What set the last step size, for the message of a step below min_step: "" or,
+  // say, "the local error of qd of coordinate 'crank'".
+  virtual std::string step_limit() const { return {}; }
+
   // Dense output: the state, qdd and yd at t in the last accepted step, from
   // previous_ to current_. By default the quintic Hermite interpolant of q from
   // (q, qd, qdd) at both ends (its derivative gives qd), the cubic ones of qd from

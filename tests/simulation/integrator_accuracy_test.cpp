@@ -61,8 +61,9 @@ TEST_CASE("double pendulum, 100 s: each adaptive integrator's error falls with i
       {"dopri5", {1e-6, 1e-8, 1e-10}, 1e-5},
       {"cvode", {1e-6, 1e-8, 1e-10}, 1e-4},
       {"arkode", {1e-6, 1e-8, 1e-10}, 1e-6},
-      {"newmark", {1e-6, 1e-8, 1e-10}, 1e-4},
-      {"generalized-alpha", {1e-6, 1e-8, 1e-10}, 1e-4},
+      // Their error falls in proportion to the tolerance: 1e-8 does what 1e-10 does for the others.
+      {"newmark", {1e-4, 1e-6, 1e-8}, 1e-5},
+      {"generalized-alpha", {1e-4, 1e-6, 1e-8}, 1e-5},
   };
   for (const auto& e : expectations) check_convergence(p, ref, e);
 }
@@ -101,18 +102,18 @@ TEST_CASE("global_tolerance 1e-5 from tolerance 1e-8: dop853 and dopri5 end with
   }
 }
 
-// Hidden from the default run (about 40 s): newmark and generalized-alpha need 4
-// million steps at 1e-10 on the slider-crank, where they first come out of the
-// lost-phase range. Run with: simulation_tests "[slow]"; the same figures come from
-// bench/integrator_accuracy.cpp (accuracy/slider_crank/newmark/...).
+// Hidden from the default run: newmark and generalized-alpha need millions of steps on
+// the slider-crank before they come out of the lost-phase range. Run with:
+// simulation_tests "[slow]"; the same figures come from bench/integrator_accuracy.cpp
+// (accuracy/slider_crank/newmark/...).
 TEST_CASE("slider-crank, 100 s: the second-order implicit methods' error falls with the tolerance",
           "[models][accuracy][.slow]") {
   auto ps = problems();
   Problem& p = ps[0];
   const Reference ref = reference(p);
   const Expectation expectations[] = {
-      {"newmark", {1e-8, 1e-10}, 0.2},
-      {"generalized-alpha", {1e-8, 1e-10}, 0.2},
+      {"newmark", {1e-6, 1e-8}, 1e-2},
+      {"generalized-alpha", {1e-6, 1e-8}, 1e-2},
   };
   for (const auto& e : expectations) check_convergence(p, ref, e);
 }
