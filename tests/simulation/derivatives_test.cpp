@@ -17,6 +17,7 @@
 #include <unsupported/Eigen/Polynomials>
 
 #include "all_models.hpp"
+#include "random_state.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/integrator.hpp>
@@ -29,28 +30,8 @@ namespace {
 
 using namespace symdyn::runtime;
 
-constexpr double q_spread = 0.2;
-constexpr double qd_spread = 2.0;
-
-// A random state near the initial one where the model is defined (closed
-// loops: acos within its domain); states where it is not are drawn again.
-State random_state(MultibodySystem& system, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int attempt = 0; attempt < 1000; ++attempt) {
-    State s = system.model().initial_state();
-    for (int j = 0; j < system.model().nq(); ++j) {
-      s.q(j) += q_spread * u(rng);
-      s.qd(j) += qd_spread * u(rng);
-    }
-    try {
-      system.evaluate_kinematics(s);
-      return s;
-    } catch (const NumericError&) {
-    }
-  }
-  FAIL("model " << system.model().name() << ": no state with finite kinematics near the initial one");
-  return {};
-}
+using symdyn::testing::max_abs;
+using symdyn::testing::random_state;
 
 // d g(x)/d x_j of a vector function of one component, by central differences
 // at h and h/2 combined by Richardson's extrapolation: error O(h⁴) + rounding/h.
@@ -84,8 +65,6 @@ void residual_jacobians_by_differences(MultibodySystem& system, const State& s, 
     C.col(j) = richardson(f_of(&State::qd), s.qd(j), 1.0);
   }
 }
-
-double max_abs(const Matrix& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
 
 // A spring-damper on every coordinate; on the first body a point spring-damper
 // to the ground, on the last one a constant load, between the two a spring

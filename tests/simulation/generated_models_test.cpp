@@ -10,6 +10,7 @@
 #include <string>
 
 #include "all_models.hpp"
+#include "random_state.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/relative_motion.hpp>
@@ -18,34 +19,10 @@ namespace {
 
 using namespace symdyn::runtime;
 
-// Small perturbations: the dependent parameters of closed-loop models (amru5's
-// acos) are defined only near the assembled configuration.
-constexpr double q_spread = 0.2;
-constexpr double qd_spread = 2.0;
 constexpr int states_per_model = 100;
 
-// A random state near the initial one where the model is defined (closed
-// loops: acos within its domain); states where it is not are drawn again.
-State random_state(MultibodySystem& system, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int attempt = 0; attempt < 1000; ++attempt) {
-    State s = system.model().initial_state();
-    s.t = 0.5 * (1.0 + u(rng));
-    for (int j = 0; j < system.model().nq(); ++j) {
-      s.q(j) += q_spread * u(rng);
-      s.qd(j) += qd_spread * u(rng);
-    }
-    try {
-      system.evaluate_kinematics(s);
-      return s;
-    } catch (const NumericError&) {
-    }
-  }
-  FAIL("model " << system.model().name() << ": no state with finite kinematics near the initial one");
-  return {};
-}
-
-double max_abs(const Matrix& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
+using symdyn::testing::max_abs;
+using symdyn::testing::random_state;
 
 }  // namespace
 

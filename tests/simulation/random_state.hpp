@@ -1,0 +1,39 @@
+#pragma once
+// Random states of a generated model for the simulation tests, and a matrix norm.
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+
+namespace symdyn::testing {
+
+// A random state near the initial one, t in [0, 1], where the model is
+// defined: small perturbations, since the dependent parameters of closed-loop
+// models (amru5's acos) are defined only near the assembled configuration;
+// states where the kinematics are not finite are drawn again.
+inline runtime::State random_state(runtime::MultibodySystem& system, std::mt19937& rng) {
+  constexpr double q_spread = 0.2, qd_spread = 2.0;
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    runtime::State s = system.model().initial_state();
+    s.t = 0.5 * (1.0 + u(rng));
+    for (int j = 0; j < system.model().nq(); ++j) {
+      s.q(j) += q_spread * u(rng);
+      s.qd(j) += qd_spread * u(rng);
+    }
+    try {
+      system.evaluate_kinematics(s);
+      return s;
+    } catch (const runtime::NumericError&) {
+    }
+  }
+  FAIL("model " << system.model().name() << ": no state with finite kinematics near the initial one");
+  return {};
+}
+
+inline double max_abs(const runtime::Matrix& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
+
+}  // namespace symdyn::testing
