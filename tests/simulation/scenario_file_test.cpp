@@ -19,6 +19,7 @@
 #include "codegen/run_command.hpp"
 #include "run.hpp"
 #include <symdyn/runtime/breakpoints.hpp>
+#include <symdyn/runtime/model_module.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
@@ -374,8 +375,8 @@ TEST_CASE("model modules: a module runs as the built-in model, the wrong ones ar
              Contains(fmt::format("model module '{}' holds model 'chain_2', the scenario names 'double_pendulum'",
                                   MODULE_CHAIN_2)));
   CHECK_THAT(module_error(MODULE_OTHER_ABI),
-             Contains(fmt::format("model module '{}' was built for module interface 2, this symdyn-sim reads 1",
-                                  MODULE_OTHER_ABI)));
+             Contains(fmt::format("model module '{}' was built for module interface {}, this symdyn-sim reads {}",
+                                  MODULE_OTHER_ABI, runtime::model_module_abi + 1, runtime::model_module_abi)));
   const auto dir = testing::scratch_directory("module");
   std::ofstream(dir / "text.so") << "not a library\n";
   CHECK_THAT(module_error((dir / "text.so").string()),
