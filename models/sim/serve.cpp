@@ -308,8 +308,18 @@ int serve(std::istream& in, std::ostream& out) {
         reply = batch->loaded();
       } else if (request.contains("run")) {
         reply = batch ? batch->run(request) : error_reply("request: no sweep loaded");
+      } else if (request.contains("runs") && request["runs"].is_array() && !request["runs"].empty()) {
+        // A row per run, written together: the driver wakes once per batch.
+        if (!batch) {
+          reply = error_reply("request: no sweep loaded");
+        } else {
+          for (const json& run : request["runs"]) {
+            if (!reply.empty()) reply += '\n';
+            reply += batch->run(run);
+          }
+        }
       } else {
-        reply = error_reply("request: expected \"load\" or \"run\"");
+        reply = error_reply("request: expected \"load\", \"run\" or \"runs\"");
       }
     } catch (const std::exception& e) {
       reply = error_reply(e.what());

@@ -13,6 +13,8 @@
 //   <- {"loaded": {"columns": ["end(q0)", ...], "series": ["t", "q0", ...]}}   or   {"error": "..."}
 //   -> {"run": 7, "values": [2e5, 5]}
 //   <- {"run": 7, "status": "ok", "error": "", "values": [...], "cpu": 0.0121, "wall": 0.0123, "series": "t,q0\n..."}
+//   -> {"runs": [{"run": 8, "values": [...]}, {"run": 9, "values": [...]}]}
+//   <- one such line per run, written together when the last is made
 //
 // "load" reads the scenario, checks every target path against it and every
 // kept quantity (errors name the sweep file's key: `origin`, then `at` or

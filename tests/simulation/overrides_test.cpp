@@ -188,6 +188,13 @@ TEST_CASE("serve: the engine's rows are the runs' own numbers, failures kept", "
   CHECK_THAT(replies[2]["error"].get<std::string>(), Contains("spring.json: /forces/0/stiffness"));
   CHECK(replies[2]["values"][0].is_null());  // NaN, read by nlohmann as null
   CHECK(replies[3]["values"] == row["values"]);  // the next run is as the first
+
+  // A batch: the same rows, one line each.
+  const json runs = {{"runs", {{{"run", 0}, {"values", {35.0}}}, {{"run", 1}, {"values", {-1.0}}}}}};
+  const auto batch = serve({load(keep), runs});
+  REQUIRE(batch.size() == 3);
+  CHECK(batch[1]["values"] == row["values"]);
+  CHECK(batch[2]["status"] == "failed");
 }
 
 TEST_CASE("serve: a bad sweep is refused at load, naming the sweep's key", "[scenario][sweep][bad_input]") {
@@ -206,7 +213,7 @@ TEST_CASE("serve: a bad sweep is refused at load, naming the sweep's key", "[sce
       {load({{"values", {{"end(q0)", "end(q1)"}}}}), "sweep.json: /keep/values/end(q0): a second column named 'end(q0)'"},
       {load({{"at", {{"times", {9.0}}, {"of", {"q0"}}}}}), "sweep.json: /keep/at/of/0: in 'at(q0, 9)'"},
       {json{{"run", 0}, {"values", json::array()}}, "request: no sweep loaded"},
-      {json{{"ask", 0}}, "request: expected \"load\" or \"run\""},
+      {json{{"ask", 0}}, "request: expected \"load\", \"run\" or \"runs\""},
   };
   for (const Case& c : cases) {
     CAPTURE(c.culprit);

@@ -3,7 +3,9 @@
 Each worker thread (a local worker, or a thread of a Dask worker) keeps one
 engine process for its life: a run costs a request and a reply on a pipe,
 never a process start. execute() is the one function that makes runs: the
-local workers call it, and so does every Dask task, on whatever machine.
+local workers call it, and so does every Dask task, on whatever machine. It
+sends its runs in one request, so that the driver wakes once for all of them
+(a wake-up after a run costs more CPU than the request and the reply).
 
 An engine that dies during a run (a crash in a model module, a kill) is
 started again and the run retried once; a run that kills it twice is
@@ -104,6 +106,21 @@ class Engine:
         # Integers read as floats: "-0" keeps its sign, and every number is a double as the engine wrote it.
         return json.loads(line, parse_int=float)
 
+    def request_runs(self, runs):
+        """Several runs in one request: their replies come together (the
+        driver wakes once for them). _EngineDied when it dies among them."""
+        if self.process is None or self.process.poll() is not None:
+            self._start()
+        try:
+            self.process.stdin.write(json.dumps({"runs": runs}) + "\n")
+            self.process.stdin.flush()
+            lines = [self.process.stdout.readline() for _ in runs]
+        except (BrokenPipeError, ConnectionResetError):
+            lines = [""]
+        if not all(lines):
+            raise _EngineDied(self._death())
+        return [json.loads(line, parse_int=float) for line in lines]
+
     def load(self, sweep, fingerprint):
         if self.loaded == fingerprint and self.process is not None:
             return self.columns
@@ -184,17 +201,37 @@ def execute(payload, fingerprint, runs, program, timeout=None, stop=None):
     sweep = _sweep(payload, fingerprint)
     engine = thread_engine(find_program(program))
     ncolumns = len(engine.load(sweep, fingerprint))
-    out = []
+    out, todo = {}, []
     for run in runs:
         inputs = sweep.inputs(run)
         try:
             values = sweep.values(run, inputs)
         except RunInputError as e:
-            out.append(failed_row(sweep, run, "failed", str(e), ncolumns))
+            out[run] = failed_row(sweep, run, "failed", str(e), ncolumns)
             continue
-        head = ([sweep.run_seed(run)] if sweep.random else []) + inputs
-        out.append(_run(engine, sweep, fingerprint, run, values, head, ncolumns, timeout, stop))
-    return out
+        todo.append((run, ([sweep.run_seed(run)] if sweep.random else []) + inputs, values))
+    if len(todo) > 1 and timeout is None:
+        # All in one request; if the engine dies among them, each is made alone
+        # below, which finds the run that kills it.
+        try:
+            replies = engine.request_runs([{"run": run, "values": values} for run, _, values in todo])
+        except _EngineDied:
+            if stop is not None and stop.is_set():
+                raise
+            replies = []
+        for (run, head, _), reply in zip(todo, replies):
+            out[run] = _row(engine, run, head, reply)
+        todo = todo[len(replies):]
+    for run, head, values in todo:
+        out[run] = _run(engine, sweep, fingerprint, run, values, head, ncolumns, timeout, stop)
+    return [out[run] for run in runs]
+
+
+def _row(engine, run, head, reply):
+    if "run" not in reply:  # a request the engine could not read: a bug, not a run's failure
+        raise EngineError(f"run {run}: {reply['error']}")
+    row = (run, reply["status"], reply["error"], *head, *reply["values"])
+    return row, (reply["cpu"], reply["wall"], worker_name(engine)), reply.get("series")
 
 
 def _run(engine, sweep, fingerprint, run, values, head, ncolumns, timeout, stop):
@@ -211,8 +248,5 @@ def _run(engine, sweep, fingerprint, run, values, head, ncolumns, timeout, stop)
                 raise
             died = e
             continue
-        if "run" not in reply:  # a request the engine could not read: a bug, not a run's failure
-            raise EngineError(f"run {run}: {reply['error']}")
-        row = (run, reply["status"], reply["error"], *head, *reply["values"])
-        return row, (reply["cpu"], reply["wall"], worker_name(engine)), reply.get("series")
+        return _row(engine, run, head, reply)
     return failed_row(sweep, run, "crashed", f"{died}, twice, running it", ncolumns)

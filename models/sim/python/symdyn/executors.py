@@ -6,7 +6,9 @@ rows through sink(rows), in the order runs finish.
 
 LocalWorkers: one thread per worker, each with its own engine process (the
 runtime's systems are not shared between threads); a thread takes the next
-run as soon as it is free. Nothing to start.
+runs as soon as it is free: one at first, then as many as last about
+batch_seconds (0.2 s), never more than a share of what is left that keeps
+every worker busy to the end. Nothing to start.
 
 DaskWorkers: a running Dask scheduler's workers, on any number of machines.
 Runs go in tasks of a few runs each, sized so that a task lasts about
@@ -24,9 +26,18 @@ import threading
 from .engine import EngineError, close_thread_engines, execute, failed_row, thread_engine
 
 
+def batch_size(seconds, rows, left, workers):
+    """Runs in the next batch (or task): as many as last `seconds` at the pace
+    of `rows` (those of the last batch), at most left / (2 workers)."""
+    walls = [t[1] for _, t, _ in rows if t[1] > 0.0]
+    size = int(seconds * len(walls) / sum(walls)) if walls else 1
+    return max(1, min(size, 10_000, left // (2 * workers)))
+
+
 class LocalWorkers:
-    def __init__(self, workers, program, timeout=None):
+    def __init__(self, workers, program, timeout=None, batch_seconds=0.2):
         self.workers, self.program, self.timeout = workers, program, timeout
+        self.batch_seconds = batch_seconds
 
     def describe(self):
         return f"{self.workers} local worker{'s' if self.workers != 1 else ''}"
@@ -34,6 +45,7 @@ class LocalWorkers:
     def run(self, sweep, fingerprint, pending, ncolumns, sink):
         payload = sweep.payload()
         runs = iter(pending)
+        left = [len(pending)]
         lock = threading.Lock()
         results = queue.Queue()
         stop = threading.Event()
@@ -43,13 +55,16 @@ class LocalWorkers:
             try:
                 with lock:
                     engines.append(thread_engine(self.program))
+                size = 1
                 while not stop.is_set():
                     with lock:
-                        run = next(runs, None)
-                    if run is None:
+                        batch = list(itertools.islice(runs, size))
+                        left[0] -= len(batch)
+                    if not batch:
                         break
-                    rows = execute(payload, fingerprint, [run], self.program, self.timeout, stop)
+                    rows = execute(payload, fingerprint, batch, self.program, self.timeout, stop)
                     results.put(("rows", rows))
+                    size = batch_size(self.batch_seconds, rows, left[0], self.workers)
             except BaseException as e:  # handed to the driver's thread
                 results.put(("error", e))
             finally:
@@ -63,15 +78,24 @@ class LocalWorkers:
         running, error = len(threads), None
         try:
             while running:
-                kind, value = results.get()
-                if kind == "rows":
-                    if not stop.is_set():
-                        sink(value)
-                elif kind == "error":
-                    stop.set()
-                    error = error or value
-                else:
-                    running -= 1
+                # What has come meanwhile goes to the outputs in one batch.
+                batch = [results.get()]
+                while True:
+                    try:
+                        batch.append(results.get_nowait())
+                    except queue.Empty:
+                        break
+                rows = []
+                for kind, value in batch:
+                    if kind == "rows":
+                        rows.extend(value)
+                    elif kind == "error":
+                        stop.set()
+                        error = error or value
+                    else:
+                        running -= 1
+                if rows and not stop.is_set():
+                    sink(rows)
         except BaseException:  # KeyboardInterrupt: no row after this one, engines stopped
             stop.set()
             with lock:
@@ -126,8 +150,7 @@ class DaskWorkers:
 
             def fill():
                 while len(futures) < 2 * self.threads:
-                    size = max(1, min(chunk, left // (2 * self.threads)))
-                    batch = list(itertools.islice(runs, size))
+                    batch = list(itertools.islice(runs, max(1, min(chunk, left // (2 * self.threads)))))
                     if not batch:
                         return
                     submit(batch)
@@ -153,9 +176,7 @@ class DaskWorkers:
                     f.release()
                 left -= len(rows)
                 sink(rows)
-                walls = [t[1] for _, t, _ in rows if t[1] > 0.0]
-                if walls:
-                    chunk = max(1, min(10_000, int(self.chunk_seconds * len(walls) / sum(walls))))
+                chunk = batch_size(self.chunk_seconds, rows, left, self.threads)
                 fill()
         finally:
             for f, _ in futures.values():

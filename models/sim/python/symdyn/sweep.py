@@ -132,11 +132,12 @@ def sweep(sweep, workers=None, scheduler=None, out=(), restart=False, progress=N
 
 
 def _resume(spec, columns, outputs, restart):
-    """The rows every output already has (FILE.partial of an earlier start),
-    their inputs checked against this sweep's."""
+    """The rows of an earlier start (the outputs' FILE.partial) to keep: each
+    run the outputs that have it agree on, and that every output has or can
+    take from another; their inputs checked against this sweep's."""
     found = [(o, o.resume(restart)) for o in outputs]
     have = [(o, rows) for o, rows in found if rows is not None]
-    if not have or any(rows is None and not o.replays() for o, rows in found):
+    if not have:
         return {}
     for o, rows in have:
         for k, row in rows.items():
@@ -144,6 +145,12 @@ def _resume(spec, columns, outputs, restart):
             if fresh is None or not same_values(row[columns.inputs], fresh):
                 raise OutputError(f"{o.partial}: run {k} has other inputs than this sweep gives it: the sweep "
                                   "changed since; remove the file, or start over with --restart")
-    first = have[0][1]
-    return {k: first[k] for k in sorted(first)
-            if all(k in rows and same_values(rows[k], first[k]) for _, rows in have[1:])}
+    kept = {}
+    for k in sorted(set().union(*(rows for _, rows in have))):
+        present = [rows[k] for _, rows in have if k in rows]
+        if not all(same_values(present[0], row) for row in present[1:]):
+            continue  # written by halves when the driver was killed: made again
+        if any(not o.replays() for o, rows in found if rows is None or k not in rows):
+            continue  # an output lacks it and cannot take it from another (series)
+        kept[k] = present[0]
+    return kept

@@ -12,7 +12,9 @@ to FILE when every run is in:
   each batch; at the end sorted by run into FILE. A torn last line (the
   driver killed while writing it) is dropped when resuming.
 - HDF5 (h5py): the compound dataset "runs" has one row per run from the
-  start, empty status until the run is in, and each row is written in place;
+  start, empty status until the run is in, and each row is written in place
+  (at least once a second: a kill loses the last second's rows here, which
+  the CSV has, and they are made again);
   "timing" (cpu and wall seconds, worker) beside it, "series/<run>" the time
   series when kept; attributes: the sweep and scenario texts, their
   fingerprint, runs, seed, complete.
@@ -28,6 +30,7 @@ import io
 import math
 import os
 import sys
+import time
 
 try:
     import h5py
@@ -161,7 +164,7 @@ class Hdf5Output:
         for r in table:
             if r["status"]:
                 rows[int(r["run"])] = tuple(_plain(v) for v in r)
-        self.reopen = True
+        self.reopen, self.had = True, set(rows)
         return rows
 
     def replays(self):
@@ -171,14 +174,16 @@ class Hdf5Output:
 
     def start(self, kept_rows):
         """Opens FILE.partial: the earlier one with its rows not in `kept_rows`
-        cleared, or a new one with `kept_rows` written (their timing 0)."""
+        cleared and those it lacks written, or a new one with `kept_rows`
+        written (the timing of rows written so: 0)."""
         fresh = not self.reopen
         self.file = h5py.File(self.partial, "w" if fresh else "r+")
+        self.waiting, self.written = [], time.monotonic()
         n = self.sweep.runs
         if fresh:
-            runs = self.file.create_dataset("runs", shape=(n,), dtype=self.dtype)
-            runs["run"] = np.arange(n, dtype=np.int64)
-            self.file.create_dataset("timing", shape=(n,), dtype=self.timing_dtype)
+            self.runs = self.file.create_dataset("runs", shape=(n,), dtype=self.dtype)
+            self.runs["run"] = np.arange(n, dtype=np.int64)
+            self.timing = self.file.create_dataset("timing", shape=(n,), dtype=self.timing_dtype)
             if self.series:
                 self.file.create_group("series")
             attrs = self.file.attrs
@@ -188,31 +193,48 @@ class Hdf5Output:
             rows = list(kept_rows.values())
             self.write(rows, [(0.0, 0.0, "")] * len(rows))
         else:
-            status = self.file["runs"]["status"]
+            self.runs, self.timing = self.file["runs"], self.file["timing"]
+            status = self.runs["status"]
             clear = [k for k in range(n) if status[k] and k not in kept_rows]
             if clear:
                 empty = np.zeros(len(clear), dtype=self.dtype)
                 empty["run"] = clear
-                self.file["runs"][clear] = empty
+                self.runs[clear] = empty
+            missing = [row for k, row in kept_rows.items() if k not in self.had]  # from the CSV
+            self.write(missing, [(0.0, 0.0, "")] * len(missing))
             for k in clear:
                 if self.series and str(k) in self.file["series"]:
                     del self.file["series"][str(k)]
         self.file.flush()
 
     def write(self, rows, timings=None, series=None):
+        """Rows are kept until a second has passed since the last write to the
+        file, or 4096 are waiting (writing a few rows costs about as much as
+        writing many); close() writes the rest."""
         rows = list(rows)
-        if not rows:
-            return
-        order = sorted(range(len(rows)), key=lambda k: rows[k][0])
-        index = [rows[k][0] for k in order]
-        self.file["runs"][index] = np.array([rows[k] for k in order], dtype=self.dtype)
-        if timings is not None:
-            self.file["timing"][index] = np.array([timings[k] for k in order], dtype=self.timing_dtype)
+        timings = list(timings) if timings is not None else [(0.0, 0.0, "")] * len(rows)
+        self.waiting.extend(zip(rows, timings))
         if self.series and series is not None:
             for row, text in zip(rows, series):
                 if text is not None:
                     self._write_series(row[0], text)
+        if len(self.waiting) >= 4096 or time.monotonic() - self.written >= 1.0:
+            self._write_waiting()
+
+    def _write_waiting(self):
+        if self.waiting:
+            self.waiting.sort(key=lambda w: w[0][0])
+            runs = np.array([w[0] for w in self.waiting], dtype=self.dtype)
+            timing = np.array([w[1] for w in self.waiting], dtype=self.timing_dtype)
+            index = runs["run"]
+            # Consecutive runs in one slice each: far faster than a list of points.
+            breaks = np.flatnonzero(np.diff(index) != 1) + 1
+            for a, b in zip(np.concatenate(([0], breaks)), np.concatenate((breaks, [len(index)]))):
+                self.runs[index[a]:index[b - 1] + 1] = runs[a:b]
+                self.timing[index[a]:index[b - 1] + 1] = timing[a:b]
+            self.waiting = []
         self.file.flush()
+        self.written = time.monotonic()
 
     def _write_series(self, run, text):
         lines = text.splitlines()
@@ -225,10 +247,12 @@ class Hdf5Output:
 
     def close(self):
         if self.file is not None:
+            self._write_waiting()
             self.file.close()
             self.file = None
 
     def finish(self):
+        self._write_waiting()
         self.file.attrs["complete"] = True
         self.close()
         os.replace(self.partial, self.path)
