@@ -2,6 +2,7 @@
 bit for bit, from one worker or two; a run's row the same as symdyn-sim's
 own run of it; failures recorded and the sweep going on; a sweep stopped (an
 exception, a kill of the driver) resumed where it stopped."""
+import contextlib
 import io
 import json
 import os
@@ -218,6 +219,27 @@ class NothingLostNothingSilent(unittest.TestCase):
             symdyn.sweep(sweep, workers=1, out=out[:1])
         restarted = symdyn.sweep(sweep, workers=1, out=out, restart=True)
         self.assertEqual((restarted.resumed, restarted.made), (0, 6))
+
+
+class Documentation(unittest.TestCase):
+    def test_the_example_of_docs_sweeps_md_python_runs_as_written(self):
+        with open(os.path.join(os.environ["SYMDYN_DOCS"], "sweeps.md")) as f:
+            text = f.read()
+        text = text[text.index("## Python\n"):]
+        block = text[text.index("```python\n") + 10:]
+        block = block[:block.index("```")]
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            exec(compile(block, "docs/sweeps.md", "exec"), {})
+        lines = printed.getvalue().splitlines()
+        self.assertEqual(lines[0], "['run', 'status', 'error', 'tolerance', 'end(q0)', 'steps']")
+        self.assertEqual(len(lines), 6)
+        rows = [line.split() for line in lines[1:]]
+        self.assertEqual([r[0] for r in rows], ["ok"] * 5)
+        self.assertEqual([float(r[1]) for r in rows], [1e-10, 1e-9, 1e-8, 1e-7, 1e-6])
+        self.assertTrue(rows[0][2].startswith("39.17129013"), rows[0])
+        steps = [float(r[3]) for r in rows]
+        self.assertEqual(steps, sorted(steps, reverse=True))
 
 
 class ProgressBar(unittest.TestCase):

@@ -38,6 +38,7 @@ class LocalWorkers:
     def __init__(self, workers, program, timeout=None, batch_seconds=0.2):
         self.workers, self.program, self.timeout = workers, program, timeout
         self.batch_seconds = batch_seconds
+        self.tasks = 0  # batches made
 
     def describe(self):
         return f"{self.workers} local worker{'s' if self.workers != 1 else ''}"
@@ -64,6 +65,8 @@ class LocalWorkers:
                         break
                     rows = execute(payload, fingerprint, batch, self.program, self.timeout, stop)
                     results.put(("rows", rows))
+                    with lock:
+                        self.tasks += 1
                     size = batch_size(self.batch_seconds, rows, left[0], self.workers)
             except BaseException as e:  # handed to the driver's thread
                 results.put(("error", e))
@@ -112,6 +115,7 @@ class DaskWorkers:
         self.address, self.program, self.timeout = address, program, timeout
         self.chunk_seconds, self.connect_timeout = chunk_seconds, connect_timeout
         self.threads = 0
+        self.tasks = 0  # submitted
 
     def describe(self):
         return f"the Dask cluster at {self.address} ({self.threads} worker threads)"
@@ -147,6 +151,7 @@ class DaskWorkers:
                                   pure=False)
                 futures[f.key] = (f, batch)
                 done.add(f)
+                self.tasks += 1
 
             def fill():
                 while len(futures) < 2 * self.threads:

@@ -24,11 +24,13 @@ from .table import Columns, OutputError, open_output, same_values
 
 class SweepResult:
     """What a sweep did: columns, counts by status, the runs made now and
-    before (resumed), the files written, and the rows when kept in memory."""
+    before (resumed), the files written, the rows when kept in memory, and the
+    batches (tasks) the runs went in."""
 
-    def __init__(self, columns, counts, made, resumed, outputs, rows, seconds, where):
+    def __init__(self, columns, counts, made, resumed, outputs, rows, seconds, where, tasks):
         self.columns, self.counts, self.made, self.resumed = columns, counts, made, resumed
         self.outputs, self.rows, self.seconds, self.where = outputs, rows, seconds, where
+        self.tasks = tasks  # batches of runs sent to engines (Dask tasks)
 
     @property
     def ok(self):
@@ -128,7 +130,7 @@ def sweep(sweep, workers=None, scheduler=None, out=(), restart=False, progress=N
         o.finish()
     ordered = [rows[k] for k in range(spec.runs)] if rows is not None else None
     return SweepResult(columns.names, dict(counts), len(pending), len(kept_rows), [o.path for o in outputs],
-                       ordered, time.monotonic() - start, executor.describe())
+                       ordered, time.monotonic() - start, executor.describe(), executor.tasks)
 
 
 def _resume(spec, columns, outputs, restart):
