@@ -152,6 +152,15 @@ class NothingLostNothingSilent(unittest.TestCase):
         self.assertEqual([r for k, r in enumerate(crashed.rows) if k != 4],
                          [r for k, r in enumerate(fine.rows) if k != 4])
 
+    def test_a_run_past_the_timeout_is_stopped_and_recorded(self):
+        folder = scratch(self)
+        sweep = copy_sweep(folder, "trike_tyres.json",
+                           lambda d: d["factors"]["speed"].update(values=[5]) or d["set"].update(t_end=600))
+        result = symdyn.sweep(sweep, workers=2, timeout=0.05, keep_rows=True)
+        self.assertEqual(result.counts, {"failed": 3})
+        for row in result.rows:
+            self.assertEqual(row[2], "stopped after 0.05 s (the sweep's timeout); its engine was killed")
+
     def test_resume_after_an_exception(self):
         folder = scratch(self)
         sweep = copy_sweep(folder, "slider_crank_monte_carlo.json")
@@ -173,7 +182,13 @@ class NothingLostNothingSilent(unittest.TestCase):
         # A line torn by a kill at the end of the CSV: dropped when resuming.
         with open(out[0] + ".partial", "a") as f:
             f.write("39,ok,,123")
-        resumed = symdyn.sweep(sweep, workers=2, out=out)
+        # An HDF5 file a kill left unreadable: made again from the CSV's rows, saying so.
+        with open(out[1] + ".partial", "r+b") as f:
+            f.write(b"\0" * 512)
+        warnings = io.StringIO()
+        with contextlib.redirect_stderr(warnings):
+            resumed = symdyn.sweep(sweep, workers=2, out=out)
+        self.assertIn(f"warning: {out[1]}.partial cannot be read", warnings.getvalue())
         self.assertGreaterEqual(resumed.resumed, 5)
         self.assertEqual(resumed.resumed + resumed.made, 40)
         whole = symdyn.sweep(sweep, workers=1, out=outputs(folder, "whole"))
