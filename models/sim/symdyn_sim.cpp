@@ -44,9 +44,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -384,8 +384,6 @@ int simulate(Arguments& args) {
   return ok ? 0 : 1;
 }
 
-}  // namespace
-
 // --sweep: the Python package symdyn runs the sweep, with this program as its
 // engine (SYMDYN_SIM). SYMDYN_PYTHON overrides the interpreter.
 int sweep(int argc, char** argv) {
@@ -406,6 +404,8 @@ int sweep(int argc, char** argv) {
                            python, std::strerror(errno));
   return 2;
 }
+
+}  // namespace
 
 int main(int argc, char** argv) {
   for (int k = 1; k < argc; ++k) {

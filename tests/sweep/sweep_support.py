@@ -13,7 +13,6 @@ import tempfile
 import time
 
 import h5py
-import numpy as np
 
 SWEEPS = os.environ["SYMDYN_SWEEPS"]
 SIM = os.environ["SYMDYN_SIM"]

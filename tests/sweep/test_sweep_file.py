@@ -9,7 +9,7 @@ import unittest
 
 import symdyn
 from symdyn.sweep_file import Sweep
-from sweep_support import SWEEPS, copy_sweep, run_cli, scratch, write_json
+from sweep_support import SWEEPS, run_cli, scratch, write_json
 
 TRIKE = {
     "scenario": "trike",

@@ -4,7 +4,6 @@ own run of it; failures recorded and the sweep going on; a sweep stopped (an
 exception, a kill of the driver) resumed where it stopped."""
 import contextlib
 import io
-import json
 import os
 import signal
 import subprocess
