@@ -457,6 +457,15 @@ std::vector<std::string> element_types() {
   return out;
 }
 
+std::vector<std::string> element_members(std::string_view type) {
+  const auto row = std::find_if(std::begin(kElementTypes), std::end(kElementTypes),
+                                [&](const ElementType& t) { return type == t.type; });
+  if (row == std::end(kElementTypes)) return {};
+  std::vector<std::string> out{"enabled"};
+  out.insert(out.end(), row->keys.begin(), row->keys.end());
+  return out;
+}
+
 std::shared_ptr<ScenarioElement> make_element(const Node& node, const ElementContext& context) {
   const Node type = node["type"];
   const std::string name = type.string();

@@ -26,6 +26,10 @@ std::shared_ptr<ScenarioElement> make_element(const Node& node, const ElementCon
 // The element types, for messages and the documentation test.
 std::vector<std::string> element_types();
 
+// The members a type takes besides type and name ("enabled" first); empty for
+// an unknown type.
+std::vector<std::string> element_members(std::string_view type);
+
 // An expression-valued member: a number or a text (ScenarioError at the
 // member's path when it does not parse or names something unknown).
 Expression read_expression(const Node& node, const Resolver& resolver);

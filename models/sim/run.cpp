@@ -105,6 +105,7 @@ struct Simulation::Impl {
   std::vector<Statistic> statistics;
   std::vector<double> statistic_values;
   std::vector<CheckSpec> checks;
+  std::vector<Expression> kept;  // Simulation::keep
   std::vector<std::pair<std::string, Expression>> channels;
   std::vector<Node> channel_nodes;  // where each channel was asked for
   runtime::CsvRecorder::Columns groups;
@@ -544,6 +545,7 @@ RunResult Simulation::Impl::run() {
   for (const auto& c : checks) {
     r.checks.push_back({c.name, c.value.evaluate(env), c.unit, c.low.evaluate(env), c.high.evaluate(env)});
   }
+  for (const Expression& e : kept) r.values.push_back(e.evaluate(env));
   return r;
 }
 
@@ -557,6 +559,11 @@ Simulation::~Simulation() = default;
 double Simulation::expected_rows() const { return impl_->expected_rows(); }
 
 runtime::MultibodySystem& Simulation::system() { return *impl_->system; }
+
+void Simulation::keep(const Node& value) {
+  impl_->kept.push_back(read_expression(value, impl_->check_resolver()));
+  impl_->statistic_values.resize(impl_->statistics.size(), 0.0);
+}
 
 RunResult Simulation::run() { return impl_->run(); }
 

@@ -74,6 +74,7 @@ struct RunResult {
   std::string jacobians;           // how they were computed (MultibodySystem::jacobian_method)
   double wall_seconds = 0.0;
   std::vector<Check> checks;
+  std::vector<double> values;  // of Simulation::keep, in the order asked
 };
 
 class Simulation {
@@ -90,6 +91,10 @@ class Simulation {
   double expected_rows() const;
   // The system the run integrates (its model draws an animation's scene).
   runtime::MultibodySystem& system();
+  // A number to compute as the run goes, written as a check's value is (a
+  // statistic of the outputs' names: "maximum(q2)", "at(chassis.ux, 2)");
+  // RunResult::values gives it. Throws ScenarioError at `value`'s key.
+  void keep(const Node& value);
   // Throws NumericError (from the integrator, naming the time and the culprit).
   RunResult run();
 

@@ -348,10 +348,15 @@ void read_event_times(const Node& root, Scenario& s) {
 }  // namespace
 
 Scenario parse_scenario(std::string_view text, std::string origin, std::filesystem::path directory) {
+  nlohmann::json document = read_document(text, origin);
+  return scenario_from_document(std::move(document), std::move(origin), std::move(directory));
+}
+
+Scenario scenario_from_document(nlohmann::json document, std::string origin, std::filesystem::path directory) {
   Scenario s;
   s.origin = std::move(origin);
   s.directory = std::move(directory);
-  s.document = read_document(text, s.origin);
+  s.document = std::move(document);
   const Node root = s.root();
   root.allow_only({"$schema", "description", "model", "parameters", "initial", "variables", "forces", "events",
                    "integrator", "t_end", "output_interval", "outputs", "checks"});

@@ -101,6 +101,8 @@ struct Scenario {
 // object, a number a double cannot hold, bad structure).
 Scenario load_scenario(const std::filesystem::path& file);
 Scenario parse_scenario(std::string_view text, std::string origin, std::filesystem::path directory = {});
+// The same from a document already read (a scenario changed by overrides.hpp).
+Scenario scenario_from_document(nlohmann::json document, std::string origin, std::filesystem::path directory = {});
 
 // The reference models built into symdyn-sim, each generated variant a factory.
 struct BuiltinModel {

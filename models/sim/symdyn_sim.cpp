@@ -6,6 +6,17 @@
 //              [--html FILE] [--glb FILE] [--plot FILE.png|FILE.svg] [--easyanim STEM]
 //              [--modes FILE.csv] [--modes-about equilibrium|initial] [--mode-amplitude A]
 //   symdyn-sim --list
+//   symdyn-sim --sweep SWEEP.json [--workers N | --scheduler ADDRESS] [--out FILE]... [--restart]
+//   symdyn-sim --serve
+//
+// --set PATH=VALUE (repeatable) changes the scenario before the run, as a
+// sweep does (overrides.hpp: forces.spring.stiffness=2e4, initial.qd.q0=5,
+// integrator.name=cvode).
+//
+// --sweep runs a sweep file (docs/sweeps.md) with the Python package symdyn:
+// every argument goes to it (python3 -m symdyn, the interpreter the build was
+// given), which runs this program with --serve once per worker: the engine
+// (serve.hpp) that runs the scenario with each run's changes.
 //
 // --html writes the HTML viewer of the run (the bodies as their inertia boxes,
 // the coordinates plotted beside them), --glb the animation as glTF, --plot the
@@ -33,16 +44,22 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
 
+#include <unistd.h>
+
 #include "output_files.hpp"
+#include "overrides.hpp"
 #include "run.hpp"
+#include "serve.hpp"
 #include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/html_viewer.hpp>
@@ -63,7 +80,9 @@ struct Arguments {
   std::string modes_about = "equilibrium";
   double mode_amplitude = 0.2;  // rad or m: the largest coordinate's swing in a mode's clip
   double max_rows = 1e7;  // about 1 GB of CSV
+  std::vector<std::string> set;  // --set PATH=VALUE
   bool list = false;
+  bool serve = false;
   sim::RunOptions run;
 };
 
@@ -276,9 +295,21 @@ void check_outputs(const Arguments& args, const std::filesystem::path& csv) {
   }
 }
 
+// The scenario named on the command line, changed by --set.
+sim::Scenario read_scenario(const Arguments& args) {
+  sim::Scenario scenario = is_file(args.scenario) ? sim::load_scenario(args.scenario) : sim::find_builtin(args.scenario);
+  if (args.set.empty()) return scenario;
+  std::vector<sim::Override> changes;
+  for (const std::string& s : args.set) changes.push_back(sim::parse_override(s));
+  try {
+    return sim::with_overrides(scenario, sim::make_model(scenario, args.run.variant), changes);
+  } catch (const sim::OverrideError& e) {
+    throw runtime::OptionError(fmt::format("--set {}", e.what()));
+  }
+}
+
 int simulate(Arguments& args) {
-  const sim::Scenario scenario =
-      is_file(args.scenario) ? sim::load_scenario(args.scenario) : sim::find_builtin(args.scenario);
+  const sim::Scenario scenario = read_scenario(args);
   // Rows go to <file>.partial as they come, renamed to <file> when the run ends
   // (through a symbolic link, to the file it names).
   std::filesystem::path path = args.out.empty() ? scenario.name + ".csv" : args.out;
@@ -353,13 +384,43 @@ int simulate(Arguments& args) {
   return ok ? 0 : 1;
 }
 
+// --sweep: the Python package symdyn runs the sweep, with this program as its
+// engine (SYMDYN_SIM). SYMDYN_PYTHON overrides the interpreter.
+int sweep(int argc, char** argv) {
+  const char* python = std::getenv("SYMDYN_PYTHON");
+  if (python == nullptr || *python == '\0') python = SYMDYN_PYTHON_EXECUTABLE;
+  std::string path = SYMDYN_PYTHON_PACKAGE_DIR;
+  if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += std::string(":") + old;
+  std::error_code ec;
+  const std::string self = std::filesystem::canonical("/proc/self/exe", ec).string();
+  setenv("PYTHONPATH", path.c_str(), 1);
+  if (!ec) setenv("SYMDYN_SIM", self.c_str(), 1);
+  std::vector<char*> command{const_cast<char*>(python), const_cast<char*>("-m"), const_cast<char*>("symdyn")};
+  for (int k = 1; k < argc; ++k) command.push_back(argv[k]);
+  command.push_back(nullptr);
+  execv(python, command.data());
+  std::cerr << fmt::format("error: --sweep: cannot run {} ({}); set SYMDYN_PYTHON to a python3 with symdyn's "
+                           "dependencies (docs/sweeps.md)\n",
+                           python, std::strerror(errno));
+  return 2;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int k = 1; k < argc; ++k) {
+    const std::string_view a = argv[k];
+    if (a == "--sweep" || a.starts_with("--sweep=")) return sweep(argc, argv);
+  }
   Arguments args;
   CLI::App app{"symdyn-sim: runs a scenario (a JSON file, or a reference model's name) on generated code"};
   app.add_option("scenario", args.scenario, "scenario file (*.json) or built-in model name (see --list)");
   app.add_flag("--list", args.list, "list the built-in scenarios and their models' variants");
+  app.add_option("--set", args.set, "change the scenario: PATH=VALUE (forces.spring.stiffness=2e4; docs/sweeps.md)");
+  std::string sweep_file;  // for --help only: --sweep is handed over before parsing
+  app.add_option("--sweep", sweep_file,
+                 "run a sweep file (docs/sweeps.md); every other argument is the sweep's (--sweep FILE --help)");
+  app.add_flag("--serve", args.serve, "run scenarios on requests from stdin (the engine of sweeps; serve.hpp)");
   app.add_option("--variant", args.run.variant, "generated variant (default: the scenario's, else the model's first)");
   app.add_option("--t-end", args.run.t_end, "end time in s (default: the scenario's)")->check(kPositive);
   app.add_option("--integrator", args.run.integrator,
@@ -388,7 +449,7 @@ int main(int argc, char** argv) {
       ->check(kPositive);
   try {
     app.parse(argc, argv);
-    if (!args.list && args.scenario.empty()) throw CLI::RequiredError("scenario");
+    if (!args.list && !args.serve && args.scenario.empty()) throw CLI::RequiredError("scenario");
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
@@ -396,6 +457,10 @@ int main(int argc, char** argv) {
     if (args.list) {
       list_scenarios();
       return 0;
+    }
+    if (args.serve) {
+      std::ios::sync_with_stdio(false);
+      return sim::serve(std::cin, std::cout);
     }
     return simulate(args);
   } catch (const runtime::OptionError& e) {
