@@ -1,5 +1,6 @@
 # symdyn_add_model(<target> <model.cpp> [MODEL <name>] [VARIANT <v>]
-#                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM] [DERIVATIVES] [PART_SIZE n]
+#                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM]
+#                  [DERIVATIVES | DYNAMICS_DERIVATIVES] [PART_SIZE n]
 #                  [DYNAMICS auto|mass-matrix|recursive] [ONLY <entry point>...]
 #                  [PYTHON] [SIM_MODULE])
 #
@@ -14,9 +15,12 @@
 #
 # The emitted header is <target>.hpp; the struct inside is symdyn_generated::<target>.
 # ONLY emits those entry points alone (generator --only), to call directly.
-# DERIVATIVES also emits the exact derivatives of the equations of motion
-# (generator --derivatives), which the runtime then uses wherever it needs a
-# Jacobian (implicit integrators, statics, linearization and modes, control).
+# DERIVATIVES also emits the exact derivatives of the equations of motion and of
+# the kinematics force elements read (generator --derivatives), which the runtime
+# then uses wherever it needs a Jacobian (implicit integrators, statics,
+# linearization and modes, control); DYNAMICS_DERIVATIVES those of the equations
+# of motion alone (--dynamics-derivatives: they grow as nq², the kinematics' as
+# nbody·nq²), the force elements at body points then differenced.
 # Every target with equations of motion (no NO_EOM, no ONLY) is appended to the global
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
@@ -24,7 +28,7 @@
 include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 
 function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;DERIVATIVES;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "ONLY" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;DERIVATIVES;DYNAMICS_DERIVATIVES;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "ONLY" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
   get_filename_component(model_path ${model_source} ABSOLUTE)
   set(generator symdyn_generator_${model_name})
@@ -51,6 +55,8 @@ function(symdyn_add_model target model_source)
   endif()
   if(ARG_DERIVATIVES)
     list(APPEND flags --derivatives)
+  elseif(ARG_DYNAMICS_DERIVATIVES)
+    list(APPEND flags --dynamics-derivatives)
   endif()
   if(ARG_DYNAMICS)
     list(APPEND flags --dynamics ${ARG_DYNAMICS})

@@ -50,14 +50,20 @@ inline constexpr std::size_t kSplitAbove = 500;
 // factorization and solve.
 enum class DynamicsMethod { automatic, mass_matrix, recursive };
 
+// Which exact derivatives are emitted (Options::derivatives), each level including the one before.
+enum class Derivatives { none, dynamics, all };
+
 struct Options {
   bool simplify = true;             // trigonometric simplification of the relative kinematics; the code
                                     // keeps the shorter of the simplified and plain programs (detail/derivation.cpp)
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
   bool equations_of_motion = true;  // emit mass_matrix, bias_forces and inverse_dynamics
-  // Also emit inverse_dynamics_derivatives: dtau/dq and dtau/dqd, exact, which
-  // the runtime uses wherever it needs a Jacobian (docs/runtime.md).
-  bool derivatives = false;
+  // Also emit exact derivatives, which the runtime uses wherever it needs a
+  // Jacobian (docs/runtime.md): of the equations of motion
+  // (inverse_dynamics_derivatives, growing as nq²), and with `all` of the
+  // kinematics force elements at body points read (kinematics_derivatives,
+  // growing as nbody·nq²: chain_64's are too long to compile quickly).
+  Derivatives derivatives = Derivatives::none;
   // recursive: forward_dynamics where the articulated-body algorithm applies
   // (else the mass matrix, GeneratedCode::dynamics says why).
   DynamicsMethod dynamics = DynamicsMethod::automatic;

@@ -41,6 +41,7 @@ struct Arguments {
   bool no_simplify = false;
   bool no_eom = false;
   bool derivatives = false;
+  bool dynamics_derivatives = false;
   bool list = false;
   bool stats = false;
   bool describe = false;
@@ -161,7 +162,9 @@ Job check_arguments(const Arguments& args) {
   job.options.simplify = !args.no_simplify;
   job.options.symbolic_partials = args.partials == "symbolic";
   job.options.equations_of_motion = !args.no_eom;
-  job.options.derivatives = args.derivatives;
+  job.options.derivatives = args.derivatives            ? codegen::Derivatives::all
+                            : args.dynamics_derivatives ? codegen::Derivatives::dynamics
+                                                        : codegen::Derivatives::none;
   job.options.dynamics = args.dynamics == "recursive"     ? codegen::DynamicsMethod::recursive
                          : args.dynamics == "mass-matrix" ? codegen::DynamicsMethod::mass_matrix
                                                           : codegen::DynamicsMethod::automatic;
@@ -311,8 +314,11 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
       ->capture_default_str();
   app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix, bias forces and inverse dynamics");
   app.add_flag("--derivatives", args.derivatives,
-               "also emit inverse_dynamics_derivatives: dtau/dq and dtau/dqd, exact, which the runtime uses "
-               "wherever it needs a Jacobian");
+               "also emit the exact derivatives of the equations of motion (inverse_dynamics_derivatives) and of "
+               "the kinematics force elements read (kinematics_derivatives), which the runtime uses wherever it "
+               "needs a Jacobian");
+  app.add_flag("--dynamics-derivatives", args.dynamics_derivatives,
+               "only those of the equations of motion: growing as nq², where the kinematics' grow as nbody·nq²");
   app.add_option("--dynamics", args.dynamics,
                  "accelerations by the mass matrix (Cholesky at run time) or the emitted recursive forward "
                  "dynamics where it applies; auto: the one of fewer operations")

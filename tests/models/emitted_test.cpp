@@ -21,7 +21,8 @@ void check_against_model() {
   const TestPlan plan = test_plan(G::model);
   INFO(G::model << " " << G::variant);
   EmittedSetup setup{G::model, G::variant, {}};
-  setup.options.derivatives = G::has_inverse_dynamics_derivatives;  // as generated: the program shares them
+  // As generated (DERIVATIVES): the program shares them.
+  if (G::has_inverse_dynamics_derivatives) setup.options.derivatives = codegen::Derivatives::all;
   setup.trials = std::max(2, plan.states);
   setup.amplitude = plan.amplitude;
   // amru5's generation takes seconds; its printed programs

@@ -23,7 +23,7 @@ GeneratedCode emit_code(const TextContext& c, Derivation&& d, const std::optiona
   code.source += domain_arguments_text(c);
   // The guard's name depends on everything emitted, so it is computed last.
   const std::string header = header_text(c, d.entries, code.functions, choice, derivatives);
-  const auto differentiated = [](const EntryPoint& e) { return e.spec->needs.derivatives; };
+  const auto differentiated = [](const EntryPoint& e) { return e.spec->needs.derivatives != Derivatives::none; };
   if (std::any_of(d.entries.begin(), d.entries.end(), differentiated)) code.derivatives = derivatives;
   const std::string closing = fmt::format("}}  // namespace {}\n", c.options.name_space);
   const std::string unique =

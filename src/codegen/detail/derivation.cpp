@@ -197,8 +197,9 @@ Derivation Deriver::derive(bool simplify) {
     d.definitions.insert(d.definitions.end(), dynamics->definitions.begin(), dynamics->definitions.end());
   }
   std::optional<DynamicsDerivatives> derivatives;
-  if (dynamics && selection_.needs_derivatives(options_.derivatives)) {
-    derivatives = derive_derivatives(*dynamics, k, d.definitions);
+  if (const Derivatives level = selection_.needs_derivatives(options_.derivatives);
+      dynamics && level != Derivatives::none) {
+    derivatives = derive_derivatives(*dynamics, level == Derivatives::all ? &k : nullptr, d.definitions);
     d.definitions.insert(d.definitions.end(), derivatives->definitions.begin(), derivatives->definitions.end());
     if (derivatives_reason_.empty()) derivatives_reason_ = derivatives->reason;  // the first derivation's, as choice_
   }
@@ -243,11 +244,12 @@ bool Deriver::derivable(const Needs& needs, const Quantities& quantities) const 
                         (needs.partials == Partials::symbolic) == options_.symbolic_partials;
   const bool recursive = dynamics && !dynamics->forward.empty() && options_.dynamics != DynamicsMethod::mass_matrix;
   return partials && (!needs.equations_of_motion || dynamics) && (!needs.recursive_dynamics || recursive) &&
-         (!needs.derivatives || quantities.derivatives);
+         (needs.derivatives == Derivatives::none ||
+          (quantities.derivatives && (needs.derivatives == Derivatives::dynamics || quantities.derivatives->kinematics)));
 }
 
 // dtau/dq and dtau/dqd, each form of tau weighed by its own program's operations.
-DynamicsDerivatives Deriver::derive_derivatives(const model::Dynamics& dynamics, const model::Kinematics& kinematics,
+DynamicsDerivatives Deriver::derive_derivatives(const model::Dynamics& dynamics, const model::Kinematics* kinematics,
                                                 const std::vector<symbolic::Definition>& definitions) const {
   const std::vector<Input> inputs{Input::t, Input::q, Input::qd, Input::qdd, Input::param};
   const OperationCounter operations = [&](const std::vector<Expr>& outputs,

@@ -56,7 +56,8 @@ class Deriver {
   void compile_programs(Derivation& d) const;
   std::vector<EntryPoint> build_entry_points(const Quantities& quantities) const;
   bool derivable(const Needs& needs, const Quantities& quantities) const;
-  DynamicsDerivatives derive_derivatives(const model::Dynamics& dynamics, const model::Kinematics& kinematics,
+  // `kinematics`: also the kinematics' derivatives (Derivatives::all), else null.
+  DynamicsDerivatives derive_derivatives(const model::Dynamics& dynamics, const model::Kinematics* kinematics,
                                          const std::vector<symbolic::Definition>& definitions) const;
   std::optional<symbolic::Program> compile(const EntryPoint& e,
                                            const std::vector<symbolic::Definition>& definitions) const;

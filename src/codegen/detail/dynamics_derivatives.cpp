@@ -48,6 +48,7 @@ DynamicsDerivatives split(const symbolic::ChainJacobian& J, std::size_t nq) {
 void add_kinematics_derivatives(const model::Kinematics& k, const std::vector<Expr>& q,
                                 const std::vector<symbolic::Definition>& definitions, DynamicsDerivatives& d) {
   if (k.bodies.empty() || k.bodies.front().dv_dqd.empty()) return;  // numeric partial velocities
+  d.kinematics = true;
   const std::size_t nq = q.size();
   std::vector<Expr> outputs;  // v, w (nbody x 3 each), then dv, dw (nbody x nq x 3 each)
   for (const auto& b : k.bodies) outputs.insert(outputs.end(), b.v.begin(), b.v.end());
@@ -81,7 +82,7 @@ void add_kinematics_derivatives(const model::Kinematics& k, const std::vector<Ex
 
 }  // namespace
 
-DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const model::Kinematics& kinematics,
+DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const model::Kinematics* kinematics,
                                                 const std::vector<Expr>& q,
                                                 const std::vector<Expr>& qd, const std::vector<Expr>& qdd,
                                                 const std::vector<symbolic::Definition>& definitions,
@@ -114,7 +115,7 @@ DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics,
                                     "against {}, more than {} times)",
                                     best->reason, best_operations, forms[1].name, forms[1].operations,
                                     forms[0].operations, kDerivativeFormRatio);
-  add_kinematics_derivatives(kinematics, q, definitions, *best);
+  if (kinematics) add_kinematics_derivatives(*kinematics, q, definitions, *best);
   return std::move(*best);
 }
 

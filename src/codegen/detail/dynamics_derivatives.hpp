@@ -27,6 +27,7 @@ struct DynamicsDerivatives {
   // and angular velocity, [i][k][c] = ∂v_ic/∂q_k (nbody x nq x 3), and of its
   // partial velocities, [i][j][k][c] = ∂(dv_ij)_c/∂q_k (nbody x nq x nq x 3).
   std::vector<model::Expr> dv_dq, dw_dq, ddv_dq, ddw_dq;
+  bool kinematics = false;  // they were derived
   std::vector<symbolic::Definition> definitions;  // the derivatives of the defined symbols they read
   std::string reason;                              // which form, and why: for --stats and the header
 };
@@ -42,8 +43,8 @@ using OperationCounter =
     std::function<std::size_t(const std::vector<model::Expr>& outputs, const std::vector<symbolic::Definition>&)>;
 
 // `q`, `qd`, `qdd`: the coordinates' symbols; `definitions`: those tau and the
-// kinematics read, each after those it uses.
-DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const model::Kinematics& kinematics,
+// kinematics read, each after those it uses. `kinematics`: also theirs, or null.
+DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const model::Kinematics* kinematics,
                                                 const std::vector<model::Expr>& q,
                                                 const std::vector<model::Expr>& qd,
                                                 const std::vector<model::Expr>& qdd,

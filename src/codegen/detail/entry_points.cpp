@@ -175,7 +175,7 @@ std::vector<EntryPointSpec> make_catalogue() {
        .inputs = {t, q, qd, qdd, param},
        .outputs = {{"dtau_dq", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dq)},
                    {"dtau_dqd", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dqd)}},
-       .needs = {.absolute_motion = true, .equations_of_motion = true, .derivatives = true}},
+       .needs = {.absolute_motion = true, .equations_of_motion = true, .derivatives = Derivatives::dynamics}},
       {.name = "kinematics_derivatives",
        .doc = "The derivatives with respect to q of every body's velocities and partial velocities (for the\n"
               "exact derivatives of force elements): dv_dq[(i * nq + k) * 3 + c] = dv_ic/dq_k, and\n"
@@ -188,7 +188,7 @@ std::vector<EntryPointSpec> make_catalogue() {
        .needs = {.absolute_motion = true,
                  .partials = Partials::symbolic,
                  .equations_of_motion = true,
-                 .derivatives = true}},
+                 .derivatives = Derivatives::all}},
       {.name = "forward_dynamics_pivots",
        .doc = "qdd = M^-1 (tau - h) by the articulated-body algorithm, with each coordinate's pivot d of\n"
               "the LDL^T factorization of its body's D = S^T I^A S and the diagonal entry of D it came from.",

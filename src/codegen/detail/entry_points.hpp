@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <symdyn/codegen/detail/dynamics_derivatives.hpp>
+#include <symdyn/codegen/generate.hpp>
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/kinematics.hpp>
 #include <symdyn/model/model.hpp>
@@ -68,7 +69,7 @@ struct Needs {
   Partials partials = Partials::either;  // emitted only with these partial velocities
   bool equations_of_motion = false;      // Options::equations_of_motion: model::Dynamics derived
   bool recursive_dynamics = false;       // the articulated-body algorithm applies and was chosen (DynamicsChoice)
-  bool derivatives = false;              // Options::derivatives (or named alone): DynamicsDerivatives derived
+  Derivatives derivatives = Derivatives::none;  // at least this Options::derivatives (or named alone)
 };
 
 // A hand-written C++ body, in place of a program.

@@ -36,9 +36,13 @@ bool Selection::needs_equations_of_motion() const {
   return any_row([&](const EntryPointSpec& e) { return e.needs.equations_of_motion && selected(e.name); });
 }
 
-bool Selection::needs_derivatives(bool asked) const {
+Derivatives Selection::needs_derivatives(Derivatives asked) const {
   if (wanted_.empty()) return asked;
-  return any_row([&](const EntryPointSpec& e) { return e.needs.derivatives && selected(e.name); });
+  Derivatives most = Derivatives::none;
+  for (const EntryPointSpec& e : catalogue()) {
+    if (selected(e.name)) most = std::max(most, e.needs.derivatives);
+  }
+  return most;
 }
 
 void Selection::apply(std::vector<EntryPoint>& entries, const std::optional<DynamicsChoice>& choice) const {

@@ -22,9 +22,9 @@ class Selection {
   bool selected(std::string_view name) const;
   bool needs_absolute_motion() const;      // a name not in the catalogue counts as needing it
   bool needs_equations_of_motion() const;  // whether Options::equations_of_motion asks for them or not
-  // Whether the derivatives of the equations of motion are derived: asked
-  // for (Options::derivatives) with every entry point, or one needing them named.
-  bool needs_derivatives(bool asked) const;
+  // Which derivatives are derived: those asked for (Options::derivatives)
+  // with every entry point, else the most that a named entry point needs.
+  Derivatives needs_derivatives(Derivatives asked) const;
 
   // Throws model::ModelError naming a wanted entry point that is not among
   // `entries` (those derived with these options), with the list of those
