@@ -165,10 +165,13 @@ struct Simulation::Impl {
     o.relative_tolerance = options.rtol.value_or(tolerance.value_or(scenario.rtol));
     o.absolute_tolerance = options.atol.value_or(tolerance.value_or(scenario.atol));
     o.output_interval = options.output_interval.value_or(scenario.output_interval);
+    o.global_tolerance = options.global_tolerance.value_or(scenario.global_tolerance.value_or(0.0));
     if (options.step || scenario.step) {
       o.initial_step = options.step.value_or(scenario.step.value_or(0.0));
     } else if (integrator == "rk4" || integrator == "midpoint") {
-      o.initial_step = o.output_interval / 10.0;
+      throw runtime::OptionError(fmt::format(
+          "integrator '{}' takes a fixed step: give one (--step, or the scenario's integrator \"step\"){}", integrator,
+          o.global_tolerance > 0.0 ? "; with a global tolerance it is the first of the halved steps" : ""));
     }
     names.rtol = o.relative_tolerance;
     names.atol = o.absolute_tolerance;
@@ -495,6 +498,7 @@ RunResult Simulation::Impl::run() {
   r.integrator = integrator;
   r.tolerance = integrator_options.relative_tolerance;
   r.absolute_tolerance = integrator_options.absolute_tolerance;
+  r.global_tolerance = integrator_options.global_tolerance;
 
   std::ostringstream unused;
   runtime::CsvRecorder csv(options.csv != nullptr ? *options.csv : unused, *system, groups);
@@ -585,6 +589,15 @@ std::string summary(const RunResult& run) {
                      st.steps, st.rejected_steps, st.rhs_evaluations, st.residual_evaluations,
                      st.jacobian_evaluations, run.wall_seconds);
   if (st.jacobian_evaluations > 0) out += fmt::format("  Jacobians: {}\n", run.jacobians);
+  if (run.global_tolerance > 0.0) {
+    const std::string last = st.last_step > 0.0 ? fmt::format("step {:g} s", st.last_step)
+                                                 : fmt::format("tolerance {:g}", st.last_relative_tolerance);
+    out += fmt::format("  global error: estimated {:.3g}, global tolerance {:g} {} ({} runs, the last at {})\n",
+                       st.global_error_estimate, run.global_tolerance, st.global_tolerance_met ? "met" : "NOT MET",
+                       st.runs, last);
+  } else {
+    out += "  global error: not estimated (the tolerance bounds each step's error; --global-tolerance estimates it)\n";
+  }
   const State& s = run.final;
   std::string q, qd;
   for (Eigen::Index j = 0; j < s.q.size(); ++j) {

@@ -31,7 +31,10 @@ struct RunOptions {
   std::optional<double> rtol;             // relative only, over tolerance
   std::optional<double> atol;             // absolute only, over tolerance
   std::optional<double> output_interval;  // default: the scenario's
-  std::optional<double> step;             // initial (rk4, midpoint: fixed) step; their default: interval / 10
+  // The initial step; rk4 and midpoint: the fixed step, required (a default from the
+  // output interval would make the interval change the result).
+  std::optional<double> step;
+  std::optional<double> global_tolerance;  // default: the scenario's, else none (0)
   // Emitted M and h when the model has them, else assembled from the kinematics.
   bool assembled = false;
   std::ostream* csv = nullptr;  // CSV of every output instant, if given
@@ -64,6 +67,7 @@ struct RunResult {
   std::string model, variant, integrator, equations;
   double t_end = 0.0, tolerance = 0.0;  // tolerance: the relative one
   double absolute_tolerance = 0.0;
+  double global_tolerance = 0.0;  // 0: none asked (statistics.global_error_estimate is NaN)
   std::vector<std::string> columns;      // of the CSV
   std::vector<std::string> coordinates;  // the model's q names
   long rows = 0;                     // output instants, t = 0 .. t_end, each once

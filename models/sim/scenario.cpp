@@ -317,7 +317,7 @@ void read_model(const Node& root, Scenario& s) {
   s.module = m.string_or("module", "");
 }
 
-// integrator: "name" | {"name", "tolerance", "rtol", "atol", "step"}
+// integrator: "name" | {"name", "tolerance", "rtol", "atol", "step", "global_tolerance"}
 void read_integrator(const Node& root, Scenario& s) {
   const auto i = root.optional("integrator");
   if (!i) return;
@@ -325,12 +325,13 @@ void read_integrator(const Node& root, Scenario& s) {
     s.integrator = i->string();
     return;
   }
-  i->allow_only({"name", "tolerance", "rtol", "atol", "step"});
+  i->allow_only({"name", "tolerance", "rtol", "atol", "step", "global_tolerance"});
   s.integrator = i->string_or("name", s.integrator);
   if (const auto t = i->optional("tolerance")) s.rtol = s.atol = t->positive();
   if (const auto t = i->optional("rtol")) s.rtol = t->positive();
   if (const auto t = i->optional("atol")) s.atol = t->positive();
   if (const auto t = i->optional("step")) s.step = t->positive();
+  if (const auto t = i->optional("global_tolerance")) s.global_tolerance = t->positive();
 }
 
 void read_event_times(const Node& root, Scenario& s) {

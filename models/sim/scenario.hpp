@@ -92,6 +92,7 @@ struct Scenario {
   std::string integrator = "dopri5";
   double rtol = 1e-8, atol = 1e-8;
   std::optional<double> step;
+  std::optional<double> global_tolerance;
   std::vector<double> event_times;  // sorted, for the row estimate
 
   Node root() const { return Node(document, origin); }

@@ -2,7 +2,7 @@
 // the time history as CSV and prints a summary with the scenario's checks.
 //
 //   symdyn-sim <scenario.json | model> [--variant V] [--t-end T] [--integrator I] [--tolerance X]
-//              [--rtol R] [--atol A] [--interval DT] [--step H] [--assembled] [--out FILE] [--max-rows N]
+//              [--rtol R] [--atol A] [--interval DT] [--step H] [--global-tolerance G] [--assembled] [--out FILE] [--max-rows N]
 //              [--html FILE] [--glb FILE] [--plot FILE.png|FILE.svg] [--easyanim STEM]
 //              [--modes FILE.csv] [--modes-about equilibrium|initial] [--mode-amplitude A]
 //   symdyn-sim --list
@@ -429,7 +429,14 @@ int main(int argc, char** argv) {
   app.add_option("--rtol", args.run.rtol, "relative tolerance (over --tolerance)")->check(kPositive);
   app.add_option("--atol", args.run.atol, "absolute tolerance (over --tolerance)")->check(kPositive);
   app.add_option("--interval", args.run.output_interval, "output interval in s")->check(kPositive);
-  app.add_option("--step", args.run.step, "initial step in s (rk4: the fixed step)")->check(kPositive);
+  app.add_option("--step", args.run.step,
+                 "initial step in s; rk4, midpoint: the fixed step, required (with --global-tolerance: the first, halved "
+                 "until met)")
+      ->check(kPositive);
+  app.add_option("--global-tolerance", args.run.global_tolerance,
+                 "bound on the error of the result, estimated by solving again (tighter tolerances, or halved fixed "
+                 "steps); the summary says whether it was met")
+      ->check(kPositive);
   app.add_flag("--assembled", args.run.assembled, "assemble M and h from the kinematics instead of the emitted ones");
   app.add_option("--out", args.out, "CSV file (default: <scenario>.csv)")->check(kFileName);
   app.add_option("--html", args.html, "write the HTML viewer of the run (open it in a browser)")->check(kFileName);

@@ -626,6 +626,11 @@ py::object statistics_of(const runtime::Statistics& s) {
   d["residual_evaluations"] = s.residual_evaluations;
   d["jacobian_evaluations"] = s.jacobian_evaluations;
   d["newton_iterations"] = s.newton_iterations;
+  // With global_tolerance: the runs made, the estimate of the result's error (NaN
+  // without: none) and whether it is within the global tolerance.
+  d["runs"] = s.runs;
+  d["global_error_estimate"] = s.global_error_estimate;
+  d["global_tolerance_met"] = s.global_tolerance_met;
   return namespace_of(d);
 }
 
@@ -653,7 +658,7 @@ py::object result_of(const Recording& r, Eigen::Index nq, const Model& m, std::s
 py::object simulate(System& self, double t_end, const std::string& integrator, double rtol,
                     double atol, double interval, const py::object& times, const py::object& q0,
                     const py::object& qd0, double t0, double step, double max_step,
-                    bool fixed_step, const std::vector<Force>& forces) {
+                    bool fixed_step, double global_tolerance, const std::vector<Force>& forces) {
   MultibodySystem& system = self.with(forces);
   const State initial = state_arg(system, t0, q0, qd0);
   runtime::IntegratorOptions o;
@@ -664,6 +669,7 @@ py::object simulate(System& self, double t_end, const std::string& integrator, d
   o.initial_step = step;
   o.max_step = max_step;
   o.fixed_step = fixed_step;
+  o.global_tolerance = global_tolerance;
   Recording r;
   o.on_output = [&](const State& s, const Vector& qdd, const Vector&) {
     r.t.push_back(s.t);
@@ -870,12 +876,14 @@ void define_system(py::module_& module, ModelFactory make_model) {
       .def("simulate", &simulate, "t_end"_a, "integrator"_a = "dopri5", "rtol"_a = 1e-6,
            "atol"_a = 1e-8, "interval"_a = 0.0, "times"_a = none, "q0"_a = none, "qd0"_a = none,
            "t0"_a = 0.0, "step"_a = 0.0, "max_step"_a = std::numeric_limits<double>::infinity(),
-           "fixed_step"_a = false, "forces"_a = no_forces,
+           "fixed_step"_a = false, "global_tolerance"_a = 0.0, "forces"_a = no_forces,
            "Integrates from t0 to t_end. Outputs every `interval`, at `times`, or (both unset) "
            "every accepted step. Returns t (nt), q, qd, qdd (nt x nq), energies.kinetic, "
            ".gravitational, .elastic, .total (nt), q_names, integrator and statistics. "
            "Integrators: newmark, generalized-alpha, rk4, dopri5, dop853, midpoint, cvode, "
-           "arkode (rk4 and midpoint need step).")
+           "arkode (rk4 and midpoint need step). global_tolerance > 0: solved again (tighter "
+           "tolerances, or halved fixed steps) until the estimated error of the result is below "
+           "it: statistics.global_error_estimate, .global_tolerance_met, .runs.")
       .def("solve_statics", &solve_statics, "q"_a = none, "locked"_a = empty, "tolerance"_a = 1e-8,
            "mass_weight"_a = 100.0, "max_iterations"_a = 500, "forces"_a = no_forces,
            "Static equilibrium from q (qd = 0), locked coordinates held. Returns q, iterations, "

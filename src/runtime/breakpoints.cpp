@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <utility>
 
 #include <symdyn/runtime/errors.hpp>
@@ -22,7 +23,20 @@ void check_breakpoints(const std::vector<double>& breakpoints, double t_begin, d
   }
 }
 
-void add(Statistics& sum, const Statistics& s) {
+// The work of the segments summed; with global_tolerance, the estimates of their
+// errors too (each segment starts from the previous one's result, so an error
+// carried over is in neither estimate: the sum assumes it is carried unamplified).
+void add(Statistics& sum, const Statistics& s, bool first, double global_tolerance) {
+  if (first) {
+    sum.global_error_estimate = s.global_error_estimate;
+    sum.runs = s.runs;
+  } else {
+    sum.global_error_estimate += s.global_error_estimate;
+    sum.runs = std::max(sum.runs, s.runs);
+  }
+  sum.last_relative_tolerance = s.last_relative_tolerance;
+  sum.last_step = s.last_step;
+  sum.global_tolerance_met = global_tolerance > 0.0 && sum.global_error_estimate <= global_tolerance;
   sum.steps += s.steps;
   sum.rejected_steps += s.rejected_steps;
   sum.rhs_evaluations += s.rhs_evaluations;
@@ -53,7 +67,7 @@ SegmentedRun integrate_with_breakpoints(Integrator& integrator, DynamicSystem& s
       const double t_stop = k < breakpoints.size() ? breakpoints[k] : t_end;
       skip_first = k > 0;
       run.final = integrator.integrate(system, run.final, t_stop);
-      add(run.statistics, integrator.statistics());
+      add(run.statistics, integrator.statistics(), k == 0, integrator.options().global_tolerance);
       ++run.segments;
       if (k < breakpoints.size()) {
         run.final.t = t_stop;  // exactly, whatever the last step's rounding

@@ -23,7 +23,7 @@ namespace symdyn::runtime {
 
 struct SegmentedRun {
   State final;
-  Statistics statistics;  // summed over the segments
+  Statistics statistics;  // summed over the segments (global_error_estimate too)
   int segments = 0;
 };
 

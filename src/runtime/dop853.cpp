@@ -61,6 +61,7 @@ class Dop853 final : public detail::ExplicitIntegrator {
     rejected_ = false;
   }
   double first_step(double t_end) override { return starting_step(t_end, 8, k_[1]); }
+  int order() const override { return 8; }
   detail::StepOutcome attempt(double h, bool fixed) override;
   void interpolate(double t, State& s, Vector& qdd, Vector& yd) override;
   std::string stage(int i, double t, double h);

@@ -104,7 +104,15 @@ State Integrator::integrate(DynamicSystem& system, const State& initial, double 
   const std::string bad = detail::non_finite_value(system, initial, Vector(), Vector());
   if (!bad.empty()) throw NumericError(detail::at_time(initial.t, bad + " (initial state)"));
   ErrorWeights(options_, name(), n, m);  // checks q_scale before the run
-  if (options_.global_tolerance > 0.0) return run_to_global_tolerance(system, initial, t_end);
+  if (options_.global_tolerance > 0.0) {
+    if (fixed_step_order() > 0) return run_by_step_halving(system, initial, t_end);
+    if (options_.fixed_step) {
+      throw OptionError(fmt::format("integrator '{}': global_tolerance at a fixed step needs the method's order, "
+                                    "which '{}' does not give: drop fixed_step or global_tolerance",
+                                    name(), name()));
+    }
+    return run_to_global_tolerance(system, initial, t_end);
+  }
   return run_once(system, initial, t_end);
 }
 
@@ -220,6 +228,7 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
       const double estimate = order ? d * fall / (1.0 - fall) : std::numeric_limits<double>::infinity();
       total.global_error_estimate = estimate;
       if (estimate <= user.global_tolerance) {
+        total.global_tolerance_met = true;
         stats_ = total;
         if (user.on_output) {
           for (const Output& o : outputs) user.on_output(o.s, o.qdd, o.yd);
@@ -241,6 +250,91 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
     }
     tightening = scale / next;
     scale = next;
+    previous = std::move(end);
+    std::swap(outputs, previous_outputs);
+  }
+}
+
+// Run k at the step h/2^k. The difference d_k of runs k-1 and k is the error of
+// run k-1 less that of run k; with the error C·h^p, run k's is d_k/(2^p - 1)
+// (Richardson). Where the error does not yet fall as h^p (a step too long for the
+// asymptotic regime, an interpolated output of lower order than the method), the
+// fall r_k = d_k/d_(k-1) observed is slower than 2^-p, and run k's error is
+// d_k·r_k/(1 - r_k) as for a geometric series: the larger of the two is the
+// estimate, so a run is accepted from the third one on, when r_k is known. A fall
+// slower than 3/4 per halving is no convergence: halve again.
+State Integrator::run_by_step_halving(DynamicSystem& system, const State& initial, double t_end) {
+  constexpr int kMaxHalvings = 12;
+  constexpr double kSlowestFall = 0.75;
+  const IntegratorOptions user = options_;
+  struct Restore {
+    IntegratorOptions& options;
+    const IntegratorOptions& user;
+    ~Restore() { options = user; }
+  } restore{options_, user};
+  std::vector<Output> outputs, previous_outputs;
+  if (user.on_output) {
+    options_.on_output = [&outputs](const State& s, const Vector& qdd, const Vector& yd) {
+      outputs.push_back({s, qdd, yd});
+    };
+  }
+  const double richardson = 1.0 / (std::pow(2.0, fixed_step_order()) - 1.0);
+  Statistics total;
+  total.runs = 0;
+  State previous;
+  double previous_difference = 0.0;
+  const auto not_reached = [&](const std::string& why) {
+    stats_ = total;
+    const std::string reached =
+        total.runs >= 3 ? fmt::format("the run at a step of {:g} s is estimated {:g} off", total.last_step,
+                                      total.global_error_estimate)
+                        : fmt::format("{} run(s), down to a step of {:g} s, too few for an estimate", total.runs,
+                                      total.last_step);
+    return NumericError(fmt::format("integrator '{}': global_tolerance {:g} not reached by step halving from "
+                                    "initial_step {:g} ({}): {}",
+                                    name(), user.global_tolerance, user.initial_step, why, reached));
+  };
+  for (int k = 0;; ++k) {
+    options_.initial_step = std::ldexp(user.initial_step, -k);
+    if (k > 0 && options_.initial_step < user.min_step) {
+      throw not_reached(fmt::format("the next step {:g} s is below min_step {:g}", options_.initial_step,
+                                    user.min_step));
+    }
+    if (k > 0 && (t_end - initial.t) / options_.initial_step > static_cast<double>(user.max_steps)) {
+      throw not_reached(fmt::format("a step of {:g} s would take more than max_steps {}", options_.initial_step,
+                                    user.max_steps));
+    }
+    outputs.clear();
+    State end;
+    try {
+      end = run_once(system, initial, t_end);
+    } catch (const NumericError& e) {
+      if (k == 0) throw;
+      throw not_reached(fmt::format("the run at a step of {:g} s failed: {}", options_.initial_step, e.what()));
+    }
+    add(total, stats_);
+    ++total.runs;
+    total.last_step = options_.initial_step;
+    total.last_relative_tolerance = options_.relative_tolerance;
+    if (k > 0) {
+      const double d = difference(previous, end, previous_outputs, outputs, user.q_scale);
+      if (k >= 2) {
+        const double fall = previous_difference > 0.0 ? d / previous_difference : (d > 0.0 ? 1.0 : 0.0);
+        total.global_error_estimate = fall < kSlowestFall
+                                          ? d * std::max(richardson, fall / (1.0 - fall))
+                                          : std::numeric_limits<double>::infinity();
+        if (total.global_error_estimate <= user.global_tolerance) {
+          total.global_tolerance_met = true;
+          stats_ = total;
+          if (user.on_output) {
+            for (const Output& o : outputs) user.on_output(o.s, o.qdd, o.yd);
+          }
+          return end;
+        }
+      }
+      previous_difference = d;
+    }
+    if (k == kMaxHalvings) throw not_reached(fmt::format("{} halvings", kMaxHalvings));
     previous = std::move(end);
     std::swap(outputs, previous_outputs);
   }

@@ -94,13 +94,20 @@ struct IntegratorOptions {
 
   // 0 (default): the tolerances above bound each step's error, not the error at
   // t_end, which grows with the number of steps and, in a mechanism whose period
-  // depends on its energy, with time. > 0: a bound on the error of the result in every
-  // component (|Δq_i| and |Δqd_i| divided by q_scale[i], |Δy_j|; at t_end and at each
-  // fixed output instant), estimated by solving again: the run is repeated with both
-  // tolerances divided by 100 until the estimated error of the last run is below it
-  // (docs/integrators.md, "The error at t_end"). Costs 2 or more runs; outputs are held
-  // and only the last run's are delivered. A NumericError when a local tolerance of
-  // 1e-14 does not get there or a tighter run fails.
+  // depends on its energy, with time; the run has no estimate of its global error.
+  // > 0: a bound on the error of the result in every component (|Δq_i| and |Δqd_i|
+  // divided by q_scale[i], |Δy_j|; at t_end and at each fixed output instant),
+  // estimated by solving again (docs/integrators.md, "The error at t_end"):
+  // - adaptive runs are repeated with both tolerances divided by 100,
+  // - fixed-step runs (rk4, midpoint, fixed_step) with the step halved, the error
+  //   of the finer run estimated by Richardson, |x_h - x_h/2| / (2^p - 1) for a
+  //   method of order p (or the fall observed between runs when slower), from the
+  //   third run on,
+  // until the estimated error of the last run is below it. Costs 2 or more runs (3
+  // or more at a fixed step); outputs are held and only the last run's are
+  // delivered. A NumericError naming the estimate reached when a local tolerance
+  // of 1e-14, 12 halvings, min_step or max_steps do not get there or a run fails;
+  // an OptionError before the run for a fixed step of unknown order (arkode).
   double global_tolerance = 0.0;
 
   double initial_step = 0.0;  // 0: the integrator chooses (rk4 requires it > 0)
@@ -142,10 +149,14 @@ struct Statistics {
   long jacobian_evaluations = 0;    // iteration matrices evaluated (jacobians, or CVODE's)
   long newton_iterations = 0;       // linear solves with the iteration matrix
   // With global_tolerance: the runs made (their work summed above), the local
-  // tolerance of the last one and the estimated error of its result.
+  // tolerance of the last one (and its step, at a fixed step) and the estimated
+  // error of its result, whether below global_tolerance (a run that returns has met
+  // it; one that throws has not). Without: one run, the estimate NaN (none).
   int runs = 1;
   double last_relative_tolerance = 0.0;
-  double global_error_estimate = 0.0;
+  double last_step = 0.0;  // fixed-step runs only
+  double global_error_estimate = std::numeric_limits<double>::quiet_NaN();
+  bool global_tolerance_met = false;
 };
 
 class Integrator {
@@ -194,6 +205,10 @@ class Integrator {
   // tightens no further (1e-14, where rounding takes over, unless the method says otherwise).
   virtual double tightest_tolerance() const { return 1e-14; }
 
+  // The order p of this run's global error in its fixed step h (error ~ h^p); 0 when
+  // the run adapts its steps, or takes fixed steps of an order it does not know.
+  virtual int fixed_step_order() const { return 0; }
+
   // Delivers one output after checking every value is finite.
   void emit(DynamicSystem& system, const State& s, const Vector& qdd, const Vector& yd);
   void progress(double t) const;
@@ -205,6 +220,7 @@ class Integrator {
   void check_options(double t_begin, double t_end) const;
   State run_once(DynamicSystem& system, const State& initial, double t_end);
   State run_to_global_tolerance(DynamicSystem& system, const State& initial, double t_end);
+  State run_by_step_halving(DynamicSystem& system, const State& initial, double t_end);
 
   OutputInstants instants_;
   double t_begin_ = 0.0;

@@ -60,6 +60,7 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   static double velocity_error_constant(const Coefficients& c);
 
   void start(const State& initial) override;
+  int order() const override { return 2; }  // both members of the family
   detail::StepOutcome attempt(double h, bool fixed) override;
   double first_step(double t_end) override;
   std::string step_limit() const override;

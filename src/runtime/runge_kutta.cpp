@@ -23,6 +23,7 @@ class Rk4 final : public detail::ExplicitIntegrator {
   bool fixed_step_only() const override { return true; }
 
   // x1 = x0 + h/6·(k1 + 2·k2 + 2·k3 + k4)
+  int order() const override { return 4; }
   detail::StepOutcome attempt(double h, bool) override {
     const double t = current_.t;
     const std::array<std::pair<double, const Vector*>, 3> stages = {
@@ -74,6 +75,7 @@ class Dopri5 final : public detail::ExplicitIntegrator {
     rejected_ = false;
   }
   double first_step(double t_end) override;
+  int order() const override { return 5; }
   detail::StepOutcome attempt(double h, bool fixed) override;
   void interpolate(double t, State& s, Vector& qdd, Vector& yd) override;
 

@@ -80,6 +80,10 @@ class SteppingIntegrator : public Integrator {
   // Whether the method only has fixed steps (rk4), whatever options_.fixed_step says.
   virtual bool fixed_step_only() const { return false; }
 
+  // The order p of the method at a fixed step (global error ~ h^p).
+  virtual int order() const = 0;
+  int fixed_step_order() const final { return options_.fixed_step || fixed_step_only() ? order() : 0; }
+
   // What set the last step size, for the message of a step below min_step: "" or,
   // say, "the local error of qd of coordinate 'crank'".
   virtual std::string step_limit() const { return {}; }

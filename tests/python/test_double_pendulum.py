@@ -140,6 +140,20 @@ class Simulation(unittest.TestCase):
         self.assertEqual(newmark.integrator, "newmark")
         self.assertGreater(newmark.statistics.jacobian_evaluations, 0)
 
+    def test_global_tolerance_by_step_halving(self):
+        system = double_pendulum_absolute.System()
+        start = dict(q0=[-1.2, 0.3], qd0=[0.0, 0.0])
+        reference = system.simulate(1.0, integrator="dop853", rtol=1e-13, atol=1e-13, times=[1.0], **start)
+        plain = system.simulate(1.0, integrator="rk4", step=0.05, times=[1.0], **start)
+        self.assertTrue(np.isnan(plain.statistics.global_error_estimate))
+        self.assertFalse(plain.statistics.global_tolerance_met)
+        r = system.simulate(1.0, integrator="rk4", step=0.05, times=[1.0], global_tolerance=1e-7, **start)
+        self.assertTrue(r.statistics.global_tolerance_met)
+        self.assertGreaterEqual(r.statistics.runs, 3)
+        self.assertLessEqual(r.statistics.global_error_estimate, 1e-7)
+        error = max(np.max(np.abs(r.q[-1] - reference.q[-1])), np.max(np.abs(r.qd[-1] - reference.qd[-1])))
+        self.assertLess(error, 1e-7)
+
     def test_damping_dissipates(self):
         system = double_pendulum_absolute.System()
         friction = double_pendulum_absolute.CoordinateSpringDamper("q1", stiffness=0.0, damping=0.5)

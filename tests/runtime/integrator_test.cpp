@@ -483,3 +483,65 @@ TEST_CASE("a global_tolerance out of reach is refused, naming it", "[integrator]
   CHECK_THROWS_WITH(run("dopri5", o, osc, initial_state(1.0, 0.0), 2.0, &stats),
                     Catch::Matchers::Contains("global_tolerance 1e-17 not reached"));
 }
+
+// At a fixed step the tolerance changes nothing: global_tolerance halves the step
+// instead, and Richardson's estimate from the last runs is the error of the result.
+TEST_CASE("global_tolerance at a fixed step: halved steps, an estimate within a factor 10, met when said",
+          "[integrator][global]") {
+  Oscillator osc;
+  const auto worst_error = [](const std::vector<Sample>& out) {
+    double worst = 0.0;
+    for (const Sample& o : out) {
+      const double t = o.s.t;
+      worst = std::max({worst, std::abs(o.s.q[0] - std::cos(two_pi * t)),
+                        std::abs(o.s.qd[0] + two_pi * std::sin(two_pi * t))});
+    }
+    return worst;
+  };
+  struct Case {
+    std::string name;
+    double step;
+    bool fixed_step;
+  };
+  for (const Case& c : {Case{"rk4", 0.01, false}, Case{"midpoint", 0.01, false}, Case{"newmark", 0.01, true},
+                        Case{"generalized-alpha", 0.01, true}, Case{"dopri5", 0.05, true},
+                        Case{"dop853", 0.1, true}}) {
+    CAPTURE(c.name);
+    IntegratorOptions o;
+    o.initial_step = c.step;
+    o.fixed_step = c.fixed_step;
+    o.output_interval = 0.1;
+    Statistics plain, global;
+    run(c.name, o, osc, initial_state(1.0, 0.0), 5.0, &plain);
+    CHECK(std::isnan(plain.global_error_estimate));  // none asked, none given
+    CHECK_FALSE(plain.global_tolerance_met);
+    o.global_tolerance = 1e-6;
+    const auto out = run(c.name, o, osc, initial_state(1.0, 0.0), 5.0, &global);
+    const double error = worst_error(out);
+    INFO(fmt::format("error {:.3g}, estimate {:.3g}, {} runs, the last at h = {:g}", error,
+                     global.global_error_estimate, global.runs, global.last_step));
+    REQUIRE(out.size() == 51);  // one run's outputs
+    CHECK(global.global_tolerance_met);
+    CHECK(global.runs >= 3);
+    CHECK(global.global_error_estimate <= 1e-6);
+    CHECK(error <= 1e-6);
+    CHECK(std::max(global.global_error_estimate, 1e-12) <= 10.0 * std::max(error, 1e-12));
+    CHECK(std::max(error, 1e-12) <= 10.0 * std::max(global.global_error_estimate, 1e-12));
+  }
+}
+
+TEST_CASE("global_tolerance at a fixed step out of reach is refused, naming what was reached",
+          "[integrator][global]") {
+  Oscillator osc;
+  IntegratorOptions o;
+  o.initial_step = 0.01;
+  o.global_tolerance = 1e-17;  // below rounding: no step gets there
+  CHECK_THROWS_WITH(run("rk4", o, osc, initial_state(1.0, 0.0), 1.0),
+                    Catch::Matchers::StartsWith("integrator 'rk4': global_tolerance 1e-17 not reached by step halving "
+                                                "from initial_step 0.01 (12 halvings): the run at a step of "));
+  o.max_steps = 1000;
+  CHECK_THROWS_WITH(run("rk4", o, osc, initial_state(1.0, 0.0), 1.0),
+                    Catch::Matchers::StartsWith("integrator 'rk4': global_tolerance 1e-17 not reached by step halving "
+                                                "from initial_step 0.01 (a step of 0.000625 s would take more than "
+                                                "max_steps 1000): the run at a step of 0.00125 s is estimated "));
+}

@@ -458,3 +458,18 @@ TEST_CASE("integrate_with_breakpoints: each instant once, the callback at each b
   CHECK_THROWS_WITH(runtime::integrate_with_breakpoints(*integrator, system, start, {1.0}, 1.0, stop),
                     "breakpoint 0 at t = 1: breakpoints must increase strictly inside (0, 1)");
 }
+
+TEST_CASE("scenario files: the integrator's global_tolerance is read, and a bad one named by JSON path",
+          "[scenario]") {
+  const sim::Scenario s = parse(
+      R"j({"model": "double_pendulum", "t_end": 0.5, "integrator": {"name": "rk4", "step": 0.01, "global_tolerance": 1e-6}})j");
+  REQUIRE(s.global_tolerance);
+  CHECK(*s.global_tolerance == 1e-6);
+  const sim::RunResult r = sim::run_scenario(s);
+  CHECK(r.global_tolerance == 1e-6);
+  CHECK(r.statistics.global_tolerance_met);
+  CHECK(r.statistics.global_error_estimate <= 1e-6);
+  CHECK_THROWS_WITH(
+      parse(R"j({"model": "double_pendulum", "integrator": {"name": "rk4", "step": 0.01, "global_tolerance": 0}})j"),
+      "test.json: /integrator/global_tolerance: expected a number > 0, found 0");
+}

@@ -9,8 +9,11 @@
 #include <sstream>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "run.hpp"
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/integrator.hpp>
 
 namespace {
 
@@ -140,4 +143,51 @@ TEST_CASE("scenario errors name the culprit", "[models][scenario]") {
   sim::RunOptions o;
   o.integrator = "euler";
   CHECK_THROWS_AS(sim::run_scenario(sim::find_builtin("double_pendulum"), o), runtime::OptionError);
+}
+
+// The output interval never changes a result: rk4 and midpoint take the step given
+// (none from the interval), the others interpolate between their own steps.
+TEST_CASE("slider-crank scenario: two output intervals give bit-identical final states with every integrator",
+          "[models][scenario]") {
+  for (const auto& name : runtime::integrator_names()) {
+    CAPTURE(name);
+    const auto final_state = [&](double interval) {
+      sim::RunOptions o;
+      o.t_end = 2.0;
+      o.integrator = name;
+      o.tolerance = 1e-6;
+      o.output_interval = interval;
+      if (name == "rk4" || name == "midpoint") o.step = 1e-3;
+      return sim::run_scenario(sim::find_builtin("slider_crank"), o).final;
+    };
+    const runtime::State a = final_state(0.01), b = final_state(0.001);
+    CHECK(a.t == b.t);
+    CHECK(a.q == b.q);  // bit for bit
+    CHECK(a.qd == b.qd);
+  }
+}
+
+TEST_CASE("rk4 and midpoint in a scenario need a step, and the message says where to give it", "[models][scenario]") {
+  for (const char* name : {"rk4", "midpoint"}) {
+    sim::RunOptions o;
+    o.integrator = name;
+    CHECK_THROWS_WITH(sim::Simulation(sim::find_builtin("double_pendulum"), o),
+                      fmt::format("integrator '{}' takes a fixed step: give one (--step, or the scenario's integrator "
+                                  "\"step\")",
+                                  name));
+  }
+}
+
+TEST_CASE("the run summary says whether the global error was estimated and met", "[models][scenario]") {
+  sim::RunOptions o;
+  o.t_end = 1.0;
+  o.integrator = "rk4";
+  o.step = 0.01;
+  const std::string plain = sim::summary(sim::run_scenario(sim::find_builtin("slider_crank"), o));
+  CHECK_THAT(plain, Contains("global error: not estimated"));
+  o.global_tolerance = 1e-6;
+  const sim::RunResult r = sim::run_scenario(sim::find_builtin("slider_crank"), o);
+  CHECK(r.statistics.global_tolerance_met);
+  CHECK(r.statistics.global_error_estimate <= 1e-6);
+  CHECK_THAT(sim::summary(r), Contains("global tolerance 1e-06 met"));
 }
