@@ -508,7 +508,7 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
 }
 
 bool MultibodySystem::exact_jacobians() const {
-  return source_ == EquationsSource::emitted && model_.has_inverse_dynamics_derivatives();
+  return use_exact_jacobians_ && source_ == EquationsSource::emitted && model_.has_inverse_dynamics_derivatives();
 }
 
 std::string MultibodySystem::jacobian_method() const {
@@ -641,16 +641,9 @@ void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd
     M_ = M;
     mass_matrix_refused(s);
   }
-  Vector &column = jacobian_fp_, &solved = jacobian_fm_;
-  solved.resize(model_.nq());
-  for (int j = 0; j < model_.nq(); ++j) {
-    column = dqdd_dq.col(j);
-    solver_.solve_negated(column, solved);
-    dqdd_dq.col(j) = solved;
-    column = dqdd_dqd.col(j);
-    solver_.solve_negated(column, solved);
-    dqdd_dqd.col(j) = solved;
-  }
+  // All columns in one solve each (blocked from SpdSolver::kLoopUpTo coordinates).
+  solver_.solve_negated_in_place(dqdd_dq);
+  solver_.solve_negated_in_place(dqdd_dqd);
 }
 
 void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix) {
@@ -660,14 +653,9 @@ void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& 
     out.dqdd_dtau.resize(0, 0);
     return;
   }
-  // M is factored (acceleration_derivatives): its inverse column by column.
+  // M is factored (acceleration_derivatives): M⁻¹ = M⁻¹·1.
   out.dqdd_dtau.setIdentity(model_.nq(), model_.nq());
-  Vector& column = jacobian_fp_;
-  for (int j = 0; j < model_.nq(); ++j) {
-    column = out.dqdd_dtau.col(j);
-    solver_.solve_in_place(column);
-    out.dqdd_dtau.col(j) = column;
-  }
+  solver_.solve_in_place(out.dqdd_dtau);
 }
 
 Energies MultibodySystem::energies(const State& s) {

@@ -122,6 +122,10 @@ class MultibodySystem : public DynamicSystem {
   void jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K) override;
   bool exact_jacobians() const;
   std::string jacobian_method() const;
+  // Whether the emitted derivatives are used where the model has them (the
+  // default); false: central differences of the residual, as without them
+  // (to compare the two on one model).
+  void set_exact_jacobians(bool exact) { use_exact_jacobians_ = exact; }
   // Where exact_jacobians() (and there are no extra states, whose equations
   // are not differentiated): -M⁻¹·K and -M⁻¹·C.
   bool exact_acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
@@ -224,6 +228,7 @@ class MultibodySystem : public DynamicSystem {
   // forward_ when the emitted source has nothing else to evaluate (no force element,
   // no kinematics read): accelerations() calls it inline, no dispatch per call.
   ForwardDynamicsFn forward_alone_ = nullptr;
+  bool use_exact_jacobians_ = true;
 
   // Workspace: sized at construction, reused by every evaluation.
   Kinematics k_;

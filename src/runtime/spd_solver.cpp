@@ -77,8 +77,13 @@ template <bool negate>
     L.adjoint().solveInPlace(out);
     return;
   }
+  substitute<negate>(b, out.data());
+}
+
+template <bool negate>
+[[gnu::always_inline]] inline void SpdSolver::substitute(const double* b, double* x) const {
+  const Eigen::Index n = L_.rows();
   const double* l = L_.data();
-  double* x = out.data();
   for (Eigen::Index i = 0; i < n; ++i) {
     double sum = negate ? -b[i] : b[i];
     for (Eigen::Index k = 0; k < i; ++k) sum -= l[i + k * n] * x[k];
@@ -89,6 +94,23 @@ template <bool negate>
     for (Eigen::Index k = i + 1; k < n; ++k) sum -= l[k + i * n] * x[k];
     x[i] = sum / l[i + i * n];
   }
+}
+
+void SpdSolver::solve_in_place(Matrix& B) const { solve_matrix<false>(B); }
+
+void SpdSolver::solve_negated_in_place(Matrix& B) const { solve_matrix<true>(B); }
+
+template <bool negate>
+void SpdSolver::solve_matrix(Matrix& B) const {
+  const Eigen::Index n = L_.rows();
+  if (n > kColumnsLoopUpTo) {
+    const auto L = L_.triangularView<Eigen::Lower>();
+    L.solveInPlace(B);
+    L.adjoint().solveInPlace(B);
+    if constexpr (negate) B = -B;
+    return;
+  }
+  for (Eigen::Index j = 0; j < B.cols(); ++j) substitute<negate>(B.col(j).data(), B.col(j).data());
 }
 
 namespace {
