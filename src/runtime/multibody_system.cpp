@@ -38,6 +38,8 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   M_ = Matrix::Zero(nq, nq);
   DwJ_.resize(nq, 3);
   solver_ = SpdSolver(nq);
+  base_v_.resize(static_cast<std::size_t>(3 * model_.nbody()));
+  base_w_.resize(static_cast<std::size_t>(3 * model_.nbody()));
 }
 
 void MultibodySystem::set_source(EquationsSource source) {
@@ -543,18 +545,36 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
     p = s;
     Vector &Qp = jacobian_fp_, &Qm = jacobian_fm_;
     // Central differences with a relative step: error O(h^2) against rounding eps/h.
-    const auto column = [&](Vector& x, const Vector& x0, Matrix& J, int j) {
-      const double h = 1e-6 * std::max(1.0, std::abs(x0(j)));
-      x(j) = x0(j) + h;
-      differenced_forces(p, Qp);
-      x(j) = x0(j) - h;
-      differenced_forces(p, Qm);
-      x(j) = x0(j);
-      J.col(j) += (Qp - Qm) / (2.0 * h);
-    };
+    const auto step = [](double x) { return 1e-6 * std::max(1.0, std::abs(x)); };
+    // qd first, from the kinematics at s: positions and partial velocities do not
+    // depend on qd, and v_i, w_i are linear in it (v_i = Σ_j dv_i/dqd_j·qd_j + ∂v_i/∂t),
+    // so the kinematics at qd ± h·e_j are those at qd shifted along the partial
+    // velocities: no evaluation of the model, half the cost of the differences.
+    const bool rates = level_ == KinematicsLevel::velocities;
+    if (rates) {
+      base_v_.assign(k_.v_data(), k_.v_data() + 3 * model_.nbody());
+      base_w_.assign(k_.w_data(), k_.w_data() + 3 * model_.nbody());
+    }
     for (int j = 0; j < n; ++j) {
-      column(p.q, s.q, dQ_dq, j);
-      column(p.qd, s.qd, dQ_dqd, j);
+      const double h = step(s.qd(j));
+      p.qd(j) = s.qd(j) + h;
+      if (rates) shift_velocities(j, h);
+      differenced_loads(p, Qp);
+      p.qd(j) = s.qd(j) - h;
+      if (rates) shift_velocities(j, -h);
+      differenced_loads(p, Qm);
+      p.qd(j) = s.qd(j);
+      dQ_dqd.col(j) += (Qp - Qm) / (2.0 * h);
+    }
+    // q: the kinematics at each shifted state.
+    for (int j = 0; j < n; ++j) {
+      const double h = step(s.q(j));
+      p.q(j) = s.q(j) + h;
+      differenced_forces(p, Qp);
+      p.q(j) = s.q(j) - h;
+      differenced_forces(p, Qm);
+      p.q(j) = s.q(j);
+      dQ_dq.col(j) += (Qp - Qm) / (2.0 * h);
     }
   }
   if (!(all_finite(dQ_dq.data(), dQ_dq.size()) && all_finite(dQ_dqd.data(), dQ_dqd.size()))) {
@@ -580,6 +600,20 @@ void MultibodySystem::evaluate_loads_kinematics(const State& s) {
 // Q of the force elements without derivatives of their own.
 void MultibodySystem::differenced_forces(const State& s, Vector& Q) {
   evaluate_loads_kinematics(s);
+  differenced_loads(s, Q);
+}
+
+void MultibodySystem::shift_velocities(int j, double h) {
+  double *v = k_.v_data(), *w = k_.w_data();
+  for (int i = 0; i < model_.nbody(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      v[3 * i + c] = base_v_[static_cast<std::size_t>(3 * i + c)] + h * k_.dv_dqd(i, j)(c);
+      w[3 * i + c] = base_w_[static_cast<std::size_t>(3 * i + c)] + h * k_.dw_dqd(i, j)(c);
+    }
+  }
+}
+
+void MultibodySystem::differenced_loads(const State& s, Vector& Q) {
   loads_.clear();
   for (const auto& e : elements_) {
     if (!e->has_load_derivatives()) e->apply(s, k_, loads_);

@@ -212,6 +212,10 @@ class MultibodySystem : public DynamicSystem {
   void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
   void evaluate_loads_kinematics(const State& s);
   void differenced_forces(const State& s, Vector& Q);
+  // Q of those elements from the kinematics in k_ (not evaluated).
+  void differenced_loads(const State& s, Vector& Q);
+  // k_'s v_i, w_i at qd + h·e_j: base_v_, base_w_ (at qd) + h·dv_i/dqd_j, h·dw_i/dqd_j.
+  void shift_velocities(int j, double h);
   [[noreturn, gnu::cold, gnu::noinline]] void derivatives_not_finite(const State& s) const;
 
   Model model_;
@@ -241,6 +245,7 @@ class MultibodySystem : public DynamicSystem {
   Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
   Matrix derivative_M_;                                    // dynamics_derivatives(): M
   Matrix load_dq_, load_dqd_;                              // the force elements' dQ/dq, dQ/dqd
+  std::vector<double> base_v_, base_w_;                    // k_'s v, w at the state differenced (nbody x 3)
 };
 
 // Largest absolute differences between the assembled and the emitted mass
