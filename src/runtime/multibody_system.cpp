@@ -398,6 +398,7 @@ bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   const Eigen::Index nq = h_.size();
   if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != extra_initial_.size()) state_error(s);
+  mass_factored_ = false;
   bool recursive = false;
   if (forward_ != nullptr) {  // the way of M tests nothing more
     if (forward_alone_ != nullptr) {
@@ -427,11 +428,13 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
     if (!solver_.factor(M_)) mass_matrix_refused(s);
     qdd.resize(nq);
     solver_.solve_negated(h_, qdd);
+    mass_factored_ = true;
   } else {
     check_state(s);
     accelerations_rhs(s, qdd);
     if (!solver_.factor(M_)) mass_matrix_refused(s);
     solver_.solve_in_place(qdd);
+    mass_factored_ = true;
   }
   if (!recursive && !all_finite(s, qdd)) accelerations_not_finite(s);
   yd.resize(extra_initial_.size());
@@ -497,13 +500,17 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
     jacobians_by_differences(s, qdd, M, C, K);
     return;
   }
+  // f = tau(q, qd, qdd) - Q(q, qd): M = dtau/dqdd, C and K from the emitted
+  // derivatives of tau, less those of the force elements' Q.
+  exact_damping_stiffness(s, qdd, C, K);
+  mass_matrix_emitted(s, M);
+}
+
+void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K) {
   check_state(s);
   if (qdd.size() != model_.nq()) {
     throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(), qdd.size(), model_.nq()));
   }
-  // f = tau(q, qd, qdd) - Q(q, qd): M = dtau/dqdd, C and K from the emitted
-  // derivatives of tau, less those of the force elements' Q.
-  mass_matrix_emitted(s, M);
   model_.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C);
   if (!(all_finite(K.data(), K.size()) && all_finite(C.data(), C.size()))) derivatives_not_finite(s);
   if (!elements_.empty()) subtract_load_derivatives(s, C, K);
@@ -667,22 +674,27 @@ bool MultibodySystem::exact_acceleration_derivatives(const State& s, const Vecto
 }
 
 void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
-                                               Matrix& dqdd_dqd) {
-  Matrix& M = derivative_M_;
-  jacobians(s, qdd, M, dqdd_dqd, dqdd_dq);
+                                               Matrix& dqdd_dqd, bool factored) {
   // M·dqdd = -(K·dq + C·dqd) + dtau
-  if (!solver_.factor(M)) {
-    M_ = M;
-    mass_matrix_refused(s);
+  if (factored && exact_jacobians()) {
+    exact_damping_stiffness(s, qdd, dqdd_dqd, dqdd_dq);
+  } else {
+    Matrix& M = derivative_M_;
+    jacobians(s, qdd, M, dqdd_dqd, dqdd_dq);
+    if (!solver_.factor(M)) {
+      M_ = M;
+      mass_matrix_refused(s);
+    }
   }
-  // All columns in one solve each (blocked from SpdSolver::kLoopUpTo coordinates).
+  // All columns of each in one solve (SpdSolver::solve_negated_in_place).
   solver_.solve_negated_in_place(dqdd_dq);
   solver_.solve_negated_in_place(dqdd_dqd);
 }
 
 void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix) {
   accelerations(s, out.qdd, jacobian_yd_);
-  acceleration_derivatives(s, out.qdd, out.dqdd_dq, out.dqdd_dqd);
+  // Where accelerations() took the way of M, M at s is factored already.
+  acceleration_derivatives(s, out.qdd, out.dqdd_dq, out.dqdd_dqd, mass_factored_);
   if (!with_input_matrix) {
     out.dqdd_dtau.resize(0, 0);
     return;

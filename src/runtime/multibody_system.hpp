@@ -207,8 +207,12 @@ class MultibodySystem : public DynamicSystem {
   [[gnu::cold, gnu::noinline]] void throw_domain_error(const State& s) const;
   std::string describe(const State& s) const;
   void jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);
-  // dqdd/dq and dqdd/dqd from jacobians() at (s, qdd): -M⁻¹·K and -M⁻¹·C by solves.
-  void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq, Matrix& dqdd_dqd);
+  // dqdd/dq and dqdd/dqd from jacobians() at (s, qdd): -M⁻¹·K and -M⁻¹·C by
+  // solves; with `factored`, solver_ holds M at s already (exact Jacobians only).
+  void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq, Matrix& dqdd_dqd,
+                                bool factored = false);
+  // The exact C and K of jacobians(), without M.
+  void exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K);
   void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
   void evaluate_loads_kinematics(const State& s);
   void differenced_forces(const State& s, Vector& Q);
@@ -233,6 +237,7 @@ class MultibodySystem : public DynamicSystem {
   // no kinematics read): accelerations() calls it inline, no dispatch per call.
   ForwardDynamicsFn forward_alone_ = nullptr;
   bool use_exact_jacobians_ = true;
+  bool mass_factored_ = false;  // solver_ holds M at the state of the last accelerations()
 
   // Workspace: sized at construction, reused by every evaluation.
   Kinematics k_;

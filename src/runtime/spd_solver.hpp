@@ -43,10 +43,10 @@ class SpdSolver {
   // (M·qdd = -h without a pass to negate h).
   void solve_negated(const Vector& b, Vector& x) const;
 
-  // B := M⁻¹·B and B := -M⁻¹·B (n x m), all columns in one solve: above
-  // kColumnsLoopUpTo Eigen's blocked triangular solves (vectorized across the
-  // columns, where the loop is a chain of dependent multiply-adds per entry),
-  // else the column loop on each column.
+  // B := M⁻¹·B and B := -M⁻¹·B (n x m), all columns in one solve, so that the
+  // multiply-adds are independent across the columns (column by column each
+  // entry is a chain of dependent ones): up to kRowsUpTo coordinates a row
+  // loop, above it Eigen's blocked triangular solves.
   void solve_in_place(Matrix& B) const;
   void solve_negated_in_place(Matrix& B) const;
 
@@ -58,9 +58,10 @@ class SpdSolver {
   static constexpr double kSingularRatio = 64 * 2.220446049250313e-16;
   // Up to this size the column loop, above it Eigen's LLT.
   static constexpr int kLoopUpTo = 40;
-  // Several right-hand sides: the column loop up to this size, above it Eigen's
-  // blocked solves (4 times faster from 16 coordinates, 2 times at 4).
-  static constexpr int kColumnsLoopUpTo = 3;
+  // Several right-hand sides: the row loop up to this size, where it is up to
+  // 3 times faster than Eigen's blocked solves, which match it at 8 and lead
+  // beyond (bench/results/derivatives.md, "solves").
+  static constexpr int kRowsUpTo = 8;
 
  private:
   bool factor_by_columns(const Matrix& M);

@@ -49,7 +49,7 @@ TEST_CASE("SpdSolver solves as Eigen's LLT does, below and above its switch", "[
 }
 
 TEST_CASE("SpdSolver solves several right-hand sides at once as column by column", "[runtime][solver]") {
-  for (int n : {1, 2, SpdSolver::kColumnsLoopUpTo, SpdSolver::kColumnsLoopUpTo + 1, 13, SpdSolver::kLoopUpTo + 1, 64}) {
+  for (int n : {1, 2, SpdSolver::kRowsUpTo, SpdSolver::kRowsUpTo + 1, 13, SpdSolver::kLoopUpTo + 1, 64}) {
     CAPTURE(n);
     const Matrix M = random_spd(n, 3.0);
     SpdSolver solver(n);
