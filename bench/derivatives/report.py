@@ -1,0 +1,361 @@
+#!/usr/bin/env python3
+"""Writes bench/results/derivatives.md from what bench/derivatives/run.sh measured.
+
+report.py WORK_DIR OUT.md: WORK_DIR holds time.tsv (symdyn_bench_derivatives time:
+scale, steps, rounding, check and time rows), counts.tsv (model, method, instructions
+per call, calls), breakdown.tsv (model, part, instructions per call of symdyn_exact),
+integrators.tsv (symdyn_bench_implicit_jacobians), build.tsv (chain_64's generation
+and compilation, from run.sh --measure-build) and meta.txt (key = value lines).
+"""
+import collections
+import os
+import sys
+
+METHODS = [
+    ("symdyn_exact", "symdyn exact", "`MultibodySystem::dynamics_derivatives` (what a user calls): qdd "
+     "by `accelerations`, the emitted `inverse_dynamics_derivatives` (∂τ/∂q = K, ∂τ/∂qd = C at qdd), "
+     "then −M⁻¹·K and −M⁻¹·C by the Cholesky factor of M (the one `accelerations` made where it took "
+     "the way of M), all columns of each in one solve"),
+    ("symdyn_exact_by_columns", "by columns", "the baseline, what `dynamics_derivatives` did before "
+     "(from public calls): qdd, then M evaluated and factored again, then a solve per column of K and of C"),
+    ("symdyn_differences", "symdyn differences", "`dynamics_derivatives` after `set_exact_jacobians(false)`: "
+     "the runtime's central differences of the residual (4·nq residuals), then the same solves"),
+    ("symdyn_central", "symdyn central", "central differences of `MultibodySystem::accelerations`: "
+     "4·nq calls, relative step 1e-6 (floor 1e-6)"),
+    ("symdyn_emitted_code", "emitted code", "the emitted `inverse_dynamics_derivatives` alone: a floor, "
+     "not a result"),
+    ("mujoco_qacc_centered", "MuJoCo qacc centered", "central differences of `mj_forward`'s `qacc`, step "
+     "1e-6: velocities first with `mj_forwardSkip(mjSTAGE_POS)`, then positions with "
+     "`mj_forwardSkip(mjSTAGE_NONE)`, sensors skipped, as `mjd_stepFD` does for a step; 4·nq + 1 "
+     "evaluations"),
+    ("mujoco_qacc_forward", "MuJoCo qacc forward", "the same with forward differences: 2·nq + 1 evaluations"),
+    ("mujoco_transition_centered", "MuJoCo transitionFD centered", "`mjd_transitionFD(m, d, 1e-6, 1, A, "
+     "NULL, NULL, NULL)`: A of one Euler step (h = 0.002), 4·nq + 1 steps"),
+    ("mujoco_transition_forward", "MuJoCo transitionFD forward", "the same, `centered = 0`: 2·nq + 1 steps"),
+]
+TITLE = {k: t for k, t, _ in METHODS}
+PEER_METHODS = [k for k, _, _ in METHODS if k.startswith("mujoco_")]
+EPS_MACHINE = 2.220446049250313e-16
+
+
+def read_tsv(path):
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return [line.rstrip("\n").split("\t") for line in f if line.strip()]
+
+
+def fmt_ns(v):
+    return f"{v:,.0f}".replace(",", " ") if v >= 100 else f"{v:.1f}"
+
+
+def fmt_int(v):
+    return f"{int(v):,}".replace(",", " ")
+
+
+def main(work, out):
+    meta = {}
+    with open(os.path.join(work, "meta.txt")) as f:
+        for line in f:
+            if " = " in line:
+                k, v = line.rstrip("\n").split(" = ", 1)
+                meta[k] = v
+    models, nq, scale, steps, rounding = [], {}, {}, {}, {}
+    checks = collections.defaultdict(dict)  # model -> method -> (e_dq, e_dqd)
+    times = {}  # (model, method) -> (median, q1, q3)
+    skips = {}
+    for r in read_tsv(os.path.join(work, "time.tsv")):
+        kind = r[0]
+        if kind == "scale":
+            models.append(r[1])
+            nq[r[1]] = int(r[2])
+            scale[r[1]] = (float(r[3]), float(r[4]))
+        elif kind == "steps":
+            steps[r[1]] = (float(r[3]), float(r[4]))
+        elif kind == "rounding":
+            rounding[r[1]] = (float(r[3]), float(r[4]))
+        elif kind == "check":
+            checks[r[1]][r[2]] = (float(r[3]), float(r[4]))
+        elif kind == "time":
+            times[(r[1], r[2])] = tuple(float(x) for x in r[3:6])
+        elif kind == "skip":
+            skips[(r[1], r[2])] = r[3]
+    counts = {(r[0], r[1]): int(r[2]) for r in read_tsv(os.path.join(work, "counts.tsv"))}
+    breakdown = collections.defaultdict(dict)
+    for m, part, n in read_tsv(os.path.join(work, "breakdown.tsv")):
+        breakdown[m][part] = int(n)
+    integ = read_tsv(os.path.join(work, "integrators.tsv"))
+    build = read_tsv(os.path.join(work, "build.tsv"))
+    methods = [k for k, _, _ in METHODS if any((m, k) in times for m in models)]
+
+    def t(m, k):
+        return times[(m, k)][0] if (m, k) in times else None
+
+    def ratio(m, k):
+        a, b = t(m, k), t(m, "symdyn_exact")
+        return a / b if a and b else None
+
+    o = []
+    o.append("# Derivatives of the forward dynamics: symdyn exact, differences, MuJoCo\n")
+    o.append("Written by `bench/derivatives/run.sh` (`bench/README.md`); every figure below was measured by "
+             "that run, in one process per table, interleaved, so that ratios compare like with like. The "
+             "quantity: ∂qdd/∂q and ∂qdd/∂qd (nq x nq each) of the forward dynamics qdd(q, qd) under gravity, "
+             "at the 64 random states of `bench/results/peers.md` (q within 1 of the model's initial "
+             "configuration, qd in [-1, 1], seed 2013), on the mechanisms of `bench/peers/` (the same "
+             "mechanism for both libraries, coordinates in symdyn's order, checked). symdyn runs the "
+             "emitted code of the `*_absolute` variants, generated with `DERIVATIVES` (chain_32 and chain_64 "
+             "by `bench/peers/CMakeLists.txt`).\n")
+    o.append("## Measured\n")
+    for k in ["machine", "cpu", "compiler", "commit", "mujoco", "valgrind", "rounds", "reps", "duration"]:
+        if k in meta:
+            o.append(f"- {k}: {meta[k]}")
+    o.append("")
+    o.append("| method | what it computes |")
+    o.append("|---|---|")
+    for k, title, what in METHODS:
+        if k in methods:
+            o.append(f"| {title} (`{k}`) | {what} |")
+    o.append("")
+    o.append("MuJoCo offers `mjd_transitionFD`, the derivatives of one step of its integrator: with Euler and "
+             "no joint damping its velocity update is qd + h·qdd, so A's lower blocks are h·∂qdd/∂q and "
+             "1 + h·∂qdd/∂qd, and the check below reads ∂qdd from them. It times a step per evaluation "
+             "besides the forward dynamics; the fairer comparison for the same quantity is the differences "
+             "of `mj_forward`'s `qacc` (\"MuJoCo qacc\"), which the targets below are reported against; "
+             "the transition rows are beside them.\n")
+
+    # Values.
+    o.append("## Values, checked before any timing\n")
+    o.append("At the first 8 states, each method's ∂qdd/∂q and ∂qdd/∂qd against symdyn's exact ones: "
+             "max |X − exact| / max |exact| over the entries, ∂qdd/∂q and ∂qdd/∂qd apart, the largest over "
+             "the states. What differences can reach: δ, the largest |qdd_MuJoCo − qdd_symdyn| at those "
+             "states, is the rounding of the forward dynamics, which a difference with step h = 1e-6 "
+             "turns into an error up to δ/h. Tolerance of central differences: 10·δ/(h·max|exact|) + 1e-8 "
+             "(their truncation, O(h²)); of forward differences the same + 1e-4 (their truncation, "
+             "h/2·|∂²qdd|, taken up to 200 times the first derivative); of the transition matrix the same + "
+             "10·ε·(1 + h_step·max|qdd|)/(1e-6·h_step) (the rounding of qd_next, divided by the step "
+             "h_step = 0.002 to read ∂qdd). \"by columns\" computes the same as symdyn exact in another "
+             "order: rounding only.\n")
+    cols = [k for k in methods if k not in ("symdyn_exact", "symdyn_emitted_code")]
+    o.append("| model | nq | max\\|∂qdd/∂q\\| | max\\|∂qdd/∂qd\\| | δ | " +
+             " | ".join(TITLE[k] for k in cols) + " | verdict |")
+    o.append("|---|---:|---:|---:|---:|" + "---:|" * len(cols) + "---|")
+    all_ok = True
+    worst = {}
+    for m in models:
+        delta, qdd_size = rounding.get(m, (0.0, 0.0))
+        eps, h_step = steps.get(m, (1e-6, 0.002))
+        cells, bad = [], []
+        for k in cols:
+            e = checks[m].get(k)
+            if e is None:
+                cells.append("—")
+                continue
+            tols = []
+            for s in scale[m]:
+                tol = 10 * delta / (eps * s) + 1e-8
+                if k.endswith("_forward"):
+                    tol += 1e-4
+                if k.startswith("mujoco_transition"):
+                    tol += 10 * EPS_MACHINE * (1 + h_step * qdd_size) / (eps * h_step) / s
+                if k == "symdyn_exact_by_columns":
+                    tol = 1e-10
+                tols.append(tol)
+            ok = all(x <= tl for x, tl in zip(e, tols))
+            worst[k] = max(worst.get(k, 0.0), *e)
+            if not ok:
+                bad.append(f"{TITLE[k]} ({e[0]:.1e}, {e[1]:.1e} against {tols[0]:.1e}, {tols[1]:.1e})")
+            cells.append(f"{e[0]:.1e} / {e[1]:.1e}" + ("" if ok else " **!**"))
+        all_ok = all_ok and not bad
+        verdict = "agree" if not bad else "**disagree: " + "; ".join(bad) + "**"
+        o.append(f"| {m} | {nq[m]} | {scale[m][0]:.3g} | {scale[m][1]:.3g} | {delta:.1e} | " +
+                 " | ".join(cells) + f" | {verdict} |")
+    o.append("")
+    o.append("Each cell: error of ∂qdd/∂q / error of ∂qdd/∂qd. " +
+             ("Every method agrees with the exact derivatives to its own accuracy on every model. "
+              if all_ok else "A **!** marks an error past its tolerance. ") +
+             "The forward differences' error is their truncation (h·|∂²qdd|/2, about 1e-6 of the "
+             "derivatives), their price for half the evaluations.\n")
+
+    # Times.
+    o.append("## CPU time per call (ns)\n")
+    o.append(f"Median over {meta.get('rounds', '?')} interleaved rounds (each round times one batch of every "
+             "method in turn, about 5 ms or one call, cycling through the 64 states), CPU time of the thread "
+             "per call. The machine is shared: the figures of a row move together by tens of percent from "
+             "one run to the next, the ratios much less; the instruction counts further down do not move.\n")
+    o.append("| model | nq | " + " | ".join(TITLE[k] for k in methods) + " |")
+    o.append("|---|---:|" + "---:|" * len(methods))
+    for m in models:
+        o.append(f"| {m} | {nq[m]} | " + " | ".join(fmt_ns(t(m, k)) if t(m, k) else "—" for k in methods) + " |")
+    o.append("")
+    o.append("### Ratios to symdyn exact (time of the method / time of symdyn exact)\n")
+    rcols = [k for k in methods if k not in ("symdyn_exact", "symdyn_emitted_code")]
+    o.append("| model | " + " | ".join(TITLE[k] for k in rcols) + " | emitted code share |")
+    o.append("|---|" + "---:|" * len(rcols) + "---:|")
+    for m in models:
+        cells = []
+        for k in rcols:
+            r = ratio(m, k)
+            cells.append("—" if r is None else (f"**{r:.1f}**" if k in ("mujoco_qacc_centered", "mujoco_qacc_forward")
+                                               else f"{r:.2f}" if r < 10 else f"{r:.1f}"))
+        share = ratio(m, "symdyn_emitted_code")
+        o.append(f"| {m} | " + " | ".join(cells) + (f" | {share:.0%} |" if share else " | — |"))
+    o.append("")
+    o.append("\"emitted code share\": the emitted `inverse_dynamics_derivatives` alone over symdyn exact, "
+             "timed apart (the rest: qdd, M, its factorization, the solves, the runtime's checks and "
+             "copies).\n")
+
+    # Instructions.
+    if counts:
+        o.append("## Instructions per call (callgrind)\n")
+        o.append("`symdyn_bench_derivatives --count METHOD MODEL CALLS` under `valgrind --tool=callgrind "
+                 "--toggle-collect='*counted_workload*'`, CALLS about 5 ms of the method (1 to 64), after 2 "
+                 "warm-up calls outside the counted function; repeatable whatever else the machine does. "
+                 "Instructions are not time: the solves of \"by columns\" run close to the instructions of "
+                 "symdyn exact's blocked ones, in up to twice the time (a chain of dependent "
+                 "multiply-adds per entry, where the blocked solve is vectorized across columns).\n")
+        o.append("| model | " + " | ".join(TITLE[k] for k in methods) + " | MuJoCo qacc forward / symdyn exact |")
+        o.append("|---|" + "---:|" * len(methods) + "---:|")
+        for m in models:
+            cells = [fmt_int(counts[(m, k)]) if (m, k) in counts else "—" for k in methods]
+            a, b = counts.get((m, "mujoco_qacc_forward")), counts.get((m, "symdyn_exact"))
+            o.append(f"| {m} | " + " | ".join(cells) + (f" | {a / b:.1f} |" if a and b else " | — |"))
+        o.append("")
+
+    # Targets.
+    o.append("## Targets\n")
+    for k, accuracy in (("mujoco_qacc_centered", "the same accuracy class as symdyn's central differences"),
+                        ("mujoco_qacc_forward", "half the evaluations, errors of 1e-6 of the derivatives"),
+                        ("mujoco_transition_centered", "what `mjd_transitionFD` costs, a step included"),
+                        ("mujoco_transition_forward", "the same, forward")):
+        rs = [(ratio(m, k), m) for m in models if ratio(m, k)]
+        if not rs:
+            continue
+        low = [f"{m} {r:.1f}x" for r, m in sorted(rs) if r < 10]
+        lo, hi = min(rs), max(rs)
+        verdict = "**met**" if not low else f"**not met** on {len(low)} of {len(rs)} models"
+        o.append(f"- symdyn's exact derivatives at least 10 times faster than {TITLE[k]} ({accuracy}), "
+                 f"every model: {verdict}. From {lo[0]:.1f}x ({lo[1]}) to {hi[0]:.1f}x ({hi[1]})" +
+                 (f"; below 10x: {', '.join(low)}." if low else "."))
+    r64 = ratio("chain_64_absolute", "symdyn_central")
+    if r64:
+        o.append(f"- symdyn's exact derivatives at least 10 times faster than its own central differences "
+                 f"at chain_64: {'**met**' if r64 >= 10 else '**not met**'}, {r64:.1f}x "
+                 f"({fmt_ns(t('chain_64_absolute', 'symdyn_exact'))} ns against "
+                 f"{fmt_ns(t('chain_64_absolute', 'symdyn_central'))} ns); see below.")
+    o.append("")
+
+    # Where the time goes.
+    if breakdown:
+        o.append("## Where symdyn exact spends its instructions (callgrind, per call)\n")
+        parts = [("emitted_derivatives", "emitted derivatives"), ("solves", "solves −M⁻¹·[K C]"),
+                 ("factor", "Cholesky of M"), ("emitted_mass_matrix", "emitted M"),
+                 ("accelerations", "qdd (`accelerations`)"), ("transposes", "transposes")]
+        o.append("| model | total | " + " | ".join(title for _, title in parts) + " | the rest (checks, copies, calls) |")
+        o.append("|---|---:|" + "---:|" * len(parts) + "---:|")
+        for m in models:
+            b = breakdown.get(m)
+            if not b or "total" not in b:
+                continue
+            total = b["total"]
+            cells = []
+            for p, _ in parts:
+                cells.append(f"{fmt_int(b[p])} ({b[p] / total:.0%})" if p in b else "—")
+            rest = total - sum(b.get(p, 0) for p, _ in parts)
+            o.append(f"| {m} | {fmt_int(total)} | " + " | ".join(cells) + f" | {fmt_int(rest)} ({rest / total:.0%}) |")
+        o.append("")
+
+    solves = collections.defaultdict(dict)
+    for r in read_tsv(os.path.join(work, "solves.tsv")):
+        if r[0] == "solve":
+            solves[int(r[1])][r[2]] = float(r[3])
+    if solves:
+        o.append("## The solves alone: −M⁻¹·B, B of nq x 2·nq (ns)\n")
+        o.append("`symdyn_bench_derivatives solves`: a random SPD M (seeded), B the size of [K C]; medians over "
+                 "interleaved rounds. \"runtime\": `SpdSolver::solve_negated_in_place`, a row loop (every column "
+                 "at once, row by row) up to `SpdSolver::kRowsUpTo` = 8 coordinates, Eigen's blocked triangular "
+                 "solves above; \"Eigen blocked\": those at every size; \"by columns\": `solve_negated` on each "
+                 "column, what `dynamics_derivatives` did before (a chain of dependent multiply-adds per entry).\n")
+        o.append("| nq | runtime | Eigen blocked | by columns | by columns / runtime |")
+        o.append("|---:|---:|---:|---:|---:|")
+        for n in sorted(solves):
+            v = solves[n]
+            o.append(f"| {n} | {fmt_ns(v['runtime'])} | {fmt_ns(v['eigen_blocked'])} | {fmt_ns(v['by_columns'])} | "
+                     f"{v['by_columns'] / v['runtime']:.1f} |")
+        o.append("")
+
+    # Integrators.
+    runs = [r for r in integ if r[0] == "run"]
+    refs = {r[1]: r for r in integ if r[0] == "reference"}
+    if runs:
+        o.append("## Implicit integrators: exact against differenced Jacobians\n")
+        o.append("`symdyn_bench_implicit_jacobians` (`bench/derivatives/implicit_jacobians.cpp`): the scenarios "
+                 "of `models/scenarios` as `symdyn-sim` runs them, force elements included (each run's output "
+                 "interval is its whole interval, so no output is written), each problem and tolerance twice in "
+                 "one process, interleaved: with the emitted derivatives (the default), then after "
+                 "`set_exact_jacobians(false)`. Newmark's iteration matrix M + γh·C + βh²·K then takes C and K "
+                 "from central differences of the residual (4·nq residuals per matrix, not counted among the "
+                 "integrator's residuals below); CVODE's Jacobian falls back to its forward differences of "
+                 "the accelerations (2·nq calls, counted among its right-hand sides). Error: the largest "
+                 "|q − q_ref|, |qd − qd_ref| at the end against dop853 at rtol = atol = 1e-12 (\"reference\": "
+                 "its distance to dopri5 at 1e-12). CPU: median of the repetitions, the set-up excluded.\n")
+        for name, r in refs.items():
+            o.append(f"- reference of {name}: dop853 at 1e-12, agreement with dopri5 {float(r[4]):.1e}, "
+                     f"both computed in {float(r[5]):.1f} s")
+        o.append("")
+        o.append("| problem | integrator | tol | Jacobians | error | CPU (ms) | steps | rejected | Newton "
+                 "iterations | residuals | right-hand sides | Jacobian evaluations | differences / exact (CPU) |")
+        o.append("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        cpu = {(r[1], r[3], r[4]): float(r[6]) for r in runs}
+        for r in runs:
+            key = (r[1], r[3])
+            rr = ""
+            if r[4] == "differences" and (r[1], r[3], "exact") in cpu:
+                rr = f"**{cpu[(r[1], r[3], 'differences')] / cpu[(r[1], r[3], 'exact')]:.2f}**"
+            o.append(f"| {r[1]} | {r[2]} | {r[3]} | {r[4]} | {float(r[5]):.2e} | {float(r[6]):.1f} | {r[7]} | "
+                     f"{r[8]} | {r[9]} | {r[10]} | {r[11]} | {r[12]} | {rr} |")
+        o.append("")
+        o.append("How each run obtained its Jacobians (`MultibodySystem::jacobian_method()`):\n")
+        seen = set()
+        for r in runs:
+            if (r[1], r[4]) not in seen:
+                seen.add((r[1], r[4]))
+                o.append(f"- {r[1]}, {r[4]}: {r[13]}")
+        o.append("")
+        amru = [(cpu[(p, tol, 'differences')] / cpu[(p, tol, 'exact')], tol)
+                for (p, tol, j) in cpu if p.startswith("amru5") and j == "exact" and (p, tol, "differences") in cpu]
+        if amru:
+            errs = {(r[3], r[4]): float(r[5]) for r in runs if r[1].startswith("amru5")}
+            same = all(abs(errs[(tol, 'exact')] - errs[(tol, 'differences')]) <= 0.1 * errs[(tol, 'exact')]
+                       for _, tol in amru)
+            lo = min(amru)
+            o.append(f"Target: Newmark on amru5 at least 1.5 times faster at the same error: "
+                     f"{'**met**' if lo[0] >= 1.5 and same else '**not met**'}: " +
+                     ", ".join(f"{r:.2f}x at tol {tol} (errors {errs[(tol, 'exact')]:.2e} exact, "
+                               f"{errs[(tol, 'differences')]:.2e} differences)" for r, tol in sorted(amru, key=lambda x: x[1])) +
+                     ".\n")
+
+    if build:
+        b = {r[0]: r[1:] for r in build}
+        o.append("## Building chain_64 with its derivatives\n")
+        o.append("Measured once by `bench/derivatives/run.sh --measure-build` (the generator, then "
+                 "`g++ -std=c++20 -O3 -DNDEBUG -c` on the emitted source, ccache off, each under "
+                 f"`/usr/bin/time`), at commit {b.get('commit', ['?'])[0]}, on the machine above:\n")
+        o.append("| step | user (s) | system (s) | wall (s) | max resident (MB) | output (MB) |")
+        o.append("|---|---:|---:|---:|---:|---:|")
+        for step in ("generation", "compilation"):
+            if step in b:
+                u, s, e, mem, size = b[step]
+                o.append(f"| {step} | {float(u):.1f} | {float(s):.1f} | {float(e):.1f} | {int(mem) / 1024:.0f} | "
+                         f"{int(size) / 1e6:.1f} |")
+        ops = [(r[1], r[2]) for r in build if r[0] == "operations"]
+        if ops:
+            o.append("")
+            o.append("Operations (`--stats`): " + ", ".join(f"{n} {c}" for n, c in ops) + ".")
+        o.append("")
+
+    with open(out, "w") as f:
+        f.write("\n".join(o))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2])
