@@ -231,7 +231,7 @@ def main(work, out):
     # Times.
     o.append("## CPU time per call (ns)\n")
     o.append(f"Median over {meta.get('rounds', '?')} interleaved rounds (each round times one batch of every "
-             "method in turn, about 5 ms or one call, cycling through the 64 states), CPU time of the thread "
+             "method in turn, about 10 ms or one call, cycling through the 64 states), CPU time of the thread "
              "per call. The machine is shared: the figures of a row move together by tens of percent from "
              "one run to the next, the ratios much less; the instruction counts further down do not move.\n")
     o.append("| model | nq | " + " | ".join(TITLE[k] for k in methods) + " |")
@@ -358,6 +358,14 @@ def main(work, out):
                 f"derivatives O(nq²) but with a large constant; the recursive derivative algorithms (Carpentier and "
                 f"Mansard's, Pinocchio's `computeRNEADerivatives`) reach the same O(nq²) with a few spatial products "
                 f"per pair of joints.")
+        q_exact, q_central = times[(big, "symdyn_exact")], times[(big, "symdyn_central")]
+        lines.append(
+            f"- That code is also what the machine's other work slows most: streamed from the cache the "
+            f"processor shares with other virtual machines, or from memory. Interquartile ranges in this run: "
+            f"symdyn exact {fmt_ns(q_exact[1])} to {fmt_ns(q_exact[2])} ns, its central differences "
+            f"{fmt_ns(q_central[1])} to {fmt_ns(q_central[2])} ns; the instruction counts, "
+            f"{fmt_int(counts[(big, 'symdyn_exact')])} against {fmt_int(counts[(big, 'symdyn_central')])} "
+            f"({counts[(big, 'symdyn_central')] / counts[(big, 'symdyn_exact')]:.1f} times fewer), do not move.")
         o.extend(lines)
         o.append("")
 
