@@ -282,7 +282,7 @@ def main(work, out):
         rs = [(ratio(m, k), m) for m in models if ratio(m, k)]
         if not rs:
             continue
-        low = [f"{m} {r:.1f}x" for r, m in sorted(rs) if r < 10]
+        low = [f"{m} {r:.2f}x" for r, m in sorted(rs) if r < 10]
         lo, hi = min(rs), max(rs)
         verdict = "**met**" if not low else f"**not met** on {len(low)} of {len(rs)} models"
         o.append(f"- symdyn's exact derivatives at least 10 times faster than {TITLE[k]} ({accuracy}), "
@@ -348,7 +348,7 @@ def main(work, out):
                 f"about {fmt_ns(solves_time(work, n))} ns (\"The solves alone\" below), 1/"
                 f"{t(big, 'symdyn_central') / solves_time(work, n):.0f} of the central differences: with qdd, M "
                 f"and its factorization on top, no path through −M⁻¹·K reaches 10 times here without faster "
-                f"solves (the build targets plain x86-64, SSE2: AVX2 and FMA would speed them up to 4 times).")
+                f"solves (the build targets plain x86-64, SSE2: wider vectors, AVX2 and FMA, were not tried).")
         if "inverse_dynamics_derivatives" in ops and "forward_dynamics_pivots" in ops:
             lines.append(
                 f"- In operations (`--stats`): the emitted derivatives are {fmt_int(ops['inverse_dynamics_derivatives'])}, "
