@@ -183,6 +183,41 @@ class MujocoPeer final : public Peer {
     }
   }
 
+  bool can_differentiate() const override { return true; }
+  // Differences of mj_forward's qacc, as mjd_stepFD differences mj_step: the
+  // velocities first, each perturbed evaluation skipping the position stage
+  // (mj_forwardSkip(mjSTAGE_POS)), then the positions, recomputing everything.
+  // Hinge and slide joints only: qpos and qvel share their indices.
+  void acceleration_differences(const double* q, const double* qd, Differences how, double eps, double* dqdd_dq,
+                                double* dqdd_dqd) override {
+    const bool centered = how == Differences::centered;
+    set(q, qd);
+    mj_forward(m_, d_);
+    for (int i = 0; i < nq_; ++i) qacc0_[i] = d_->qacc[i];
+    const auto column = [&](double* x, int j, int skip, double* J) {
+      const double saved = x[j];
+      x[j] = saved + eps;
+      mj_forwardSkip(m_, d_, skip, 1);
+      for (int i = 0; i < nq_; ++i) plus_[i] = d_->qacc[i];
+      if (centered) {
+        x[j] = saved - eps;
+        mj_forwardSkip(m_, d_, skip, 1);
+      }
+      x[j] = saved;
+      const double* minus = centered ? d_->qacc : qacc0_.data();
+      const double scale = centered ? 0.5 / eps : 1.0 / eps;
+      for (int i = 0; i < nq_; ++i) J[i * nq_ + j] = (plus_[i] - minus[i]) * scale;
+    };
+    for (int j = 0; j < nq_; ++j) column(d_->qvel, j, mjSTAGE_POS, dqdd_dqd);
+    for (int j = 0; j < nq_; ++j) column(d_->qpos, j, mjSTAGE_NONE, dqdd_dq);
+  }
+  void transition_differences(const double* q, const double* qd, Differences how, double eps,
+                              double* A) override {
+    set(q, qd);
+    mjd_transitionFD(m_, d_, eps, how == Differences::centered ? 1 : 0, A, nullptr, nullptr, nullptr);
+  }
+  double time_step() const override { return m_->opt.timestep; }
+
  private:
   void set(const double* q, const double* qd) {
     for (int i = 0; i < nq_; ++i) d_->qpos[i] = q[i];
@@ -192,6 +227,8 @@ class MujocoPeer final : public Peer {
   }
 
   int nq_;
+  std::vector<double> qacc0_ = std::vector<double>(static_cast<std::size_t>(nq_)),
+                      plus_ = std::vector<double>(static_cast<std::size_t>(nq_));
   mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
   std::vector<int> body_;  // the MuJoCo body of each massive link

@@ -17,6 +17,10 @@ namespace symdyn::bench::peers {
 
 enum class Operation { forward_dynamics, mass_matrix, inverse_dynamics, positions };
 
+// Finite differences with step eps: (f(x + eps) - f(x - eps)) / 2·eps, or
+// (f(x + eps) - f(x)) / eps.
+enum class Differences { centered, forward };
+
 class Peer {
  public:
   virtual ~Peer() = default;
@@ -37,6 +41,23 @@ class Peer {
   // Every body's pose at q, in the library's own storage.
   virtual void positions(const double* q) = 0;
   virtual void read_positions(double* R, double* x) const = 0;
+
+  // Derivatives of the forward dynamics, by the library's own means, where it
+  // has them (symdyn_bench_derivatives). dqdd_dq, dqdd_dqd (nq x nq) row-major.
+  virtual bool can_differentiate() const { return false; }
+  // dqdd/dq and dqdd/dqd at (q, qd) by finite differences of the forward
+  // dynamics users call (each perturbed evaluation recomputing only what the
+  // perturbation changes, as the library's own differences do), step eps.
+  virtual void acceleration_differences(const double* /*q*/, const double* /*qd*/, Differences, double /*eps*/,
+                                        double* /*dqdd_dq*/, double* /*dqdd_dqd*/) {}
+  // The library's transition matrix A (2nq x 2nq, row-major) of one step of its
+  // integrator from (q, qd), d(q, qd)_next = A·d(q, qd), by its own routine, step eps.
+  virtual void transition_differences(const double* /*q*/, const double* /*qd*/, Differences, double /*eps*/,
+                                      double* /*A*/) {}
+  // The step h of that integrator, whose velocity update must be qd + h·qdd
+  // (MuJoCo's Euler without joint damping): A's lower blocks are then
+  // h·dqdd/dq and 1 + h·dqdd/dqd.
+  virtual double time_step() const { return 0.0; }
 };
 
 // Each returns nullptr when the library cannot express the mechanism, and sets

@@ -17,17 +17,16 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <functional>
 #include <map>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "mechanism.hpp"
 #include "peer.hpp"
 #include "peers_models.hpp"
+#include "states.hpp"
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
 
@@ -35,40 +34,13 @@ namespace {
 
 using namespace symdyn::bench::peers;
 namespace rt = symdyn::runtime;
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-constexpr int kStates = 64;
 // Agreement required of every peer, relative to the largest entry of symdyn's
 // result: rounding in different algorithms leaves ~1e-15 on M, tau and poses,
 // and qdd = M^-1·(-h) loses up to cond(M)·eps: 4e-10 seen at chain_64, whose M
 // reaches cond 1.6e8 at these states. 1e-9 admits that and nothing wrong (a
 // misplaced centre of mass or axis shows as 1e-1 or worse).
 constexpr double kTolerance = 1e-9;
-
-// The states every library sees: q within 1 of the model's initial configuration
-// (radians or metres), qd and qdd (for inverse dynamics) in [-1, 1].
-struct States {
-  std::vector<Eigen::VectorXd> q, qd, qdd;
-};
-
-States random_states(const rt::Model& model) {
-  std::mt19937 rng(2013);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  States s;
-  const rt::State s0 = model.initial_state();
-  for (int k = 0; k < kStates; ++k) {
-    Eigen::VectorXd q = s0.q, qd(model.nq()), qdd(model.nq());
-    for (int j = 0; j < model.nq(); ++j) {
-      q(j) += u(rng);
-      qd(j) = u(rng);
-      qdd(j) = u(rng);
-    }
-    s.q.push_back(q);
-    s.qd.push_back(qd);
-    s.qdd.push_back(qdd);
-  }
-  return s;
-}
 
 // Per state k; the output of the last call stays in the workload's storage.
 using Workload = std::function<void(int k)>;
@@ -92,15 +64,6 @@ struct SymdynModel {
       evaluate;
   std::function<Workload(Op, const States&)> workload;
 };
-
-Mechanism mechanism_of(const std::string& model) {
-  if (model == "double_pendulum") return double_pendulum();
-  if (model == "robot3d") return robot3d();
-  if (model == "hexapod_tree") return hexapod_tree();
-  if (model == "trike") return trike();
-  if (model.rfind("chain_", 0) == 0) return chain(std::stoi(model.substr(6)));
-  throw std::invalid_argument("no mechanism for " + model);
-}
 
 template <class G>
 SymdynModel symdyn_model(std::string target) {
@@ -275,14 +238,8 @@ Workload peer_workload(Peer& p, Op op, const States& st) {
   return {};
 }
 
-// max |a - b| / max |b|: the error relative to the size of symdyn's result.
 double relative_error(const std::vector<double>& a, const std::vector<double>& b) {
-  double diff = 0, scale = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    diff = std::max(diff, std::abs(a[i] - b[i]));
-    scale = std::max(scale, std::abs(b[i]));
-  }
-  return diff / std::max(scale, 1e-300);
+  return symdyn::bench::peers::relative_error(a.data(), b.data(), a.size());
 }
 
 struct Outputs {
@@ -410,12 +367,6 @@ Contenders verify(const SymdynModel& s, const States& st) {
     if (ok) c.peers.emplace_back(f.id, std::move(p));
   }
   return c;
-}
-
-double cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 // The timed region: every state once per pass.

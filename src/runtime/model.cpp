@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cctype>
 #include <numbers>
+#include <utility>
 
 namespace symdyn::runtime {
 
@@ -334,6 +335,20 @@ void Model::inverse_dynamics(double t, const double* q, const double* qd, const 
   d_.inverse_dynamics(t, q, qd, qdd, param_.data(), tau);
 }
 
+namespace {
+
+// A square matrix transposed in place by swaps: Eigen's blocked in-place
+// transpose costs several times more on the sizes of models (2 to 64).
+void transpose_square(Matrix& a) {
+  const Eigen::Index n = a.rows();
+  double* x = a.data();
+  for (Eigen::Index j = 1; j < n; ++j) {
+    for (Eigen::Index i = 0; i < j; ++i) std::swap(x[i + j * n], x[j + i * n]);
+  }
+}
+
+}  // namespace
+
 void Model::inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
                                          Matrix& dtau_dq, Matrix& dtau_dqd) const {
   if (d_.inverse_dynamics_derivatives == nullptr) missing("inverse_dynamics_derivatives");
@@ -341,8 +356,8 @@ void Model::inverse_dynamics_derivatives(double t, const double* q, const double
   dtau_dqd.resize(d_.nq, d_.nq);
   // Emitted row-major into column-major storage: each is its transpose until turned.
   d_.inverse_dynamics_derivatives(t, q, qd, qdd, param_.data(), dtau_dq.data(), dtau_dqd.data());
-  dtau_dq.transposeInPlace();
-  dtau_dqd.transposeInPlace();
+  transpose_square(dtau_dq);
+  transpose_square(dtau_dqd);
 }
 
 void Model::kinematics_derivatives(double t, const double* q, const double* qd, KinematicsDerivatives& dk) const {

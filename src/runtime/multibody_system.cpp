@@ -39,6 +39,8 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   DwJ_.resize(nq, 3);
   solver_ = SpdSolver(nq);
   if (model_.has_kinematics_derivatives()) dk_ = model_.make_kinematics_derivatives();
+  base_v_.resize(static_cast<std::size_t>(3 * model_.nbody()));
+  base_w_.resize(static_cast<std::size_t>(3 * model_.nbody()));
 }
 
 void MultibodySystem::set_source(EquationsSource source) {
@@ -397,6 +399,7 @@ bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   const Eigen::Index nq = h_.size();
   if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != extra_initial_.size()) state_error(s);
+  mass_factored_ = false;
   bool recursive = false;
   if (forward_ != nullptr) {  // the way of M tests nothing more
     if (forward_alone_ != nullptr) {
@@ -426,11 +429,13 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
     if (!solver_.factor(M_)) mass_matrix_refused(s);
     qdd.resize(nq);
     solver_.solve_negated(h_, qdd);
+    mass_factored_ = true;
   } else {
     check_state(s);
     accelerations_rhs(s, qdd);
     if (!solver_.factor(M_)) mass_matrix_refused(s);
     solver_.solve_in_place(qdd);
+    mass_factored_ = true;
   }
   if (!recursive && !all_finite(s, qdd)) accelerations_not_finite(s);
   yd.resize(extra_initial_.size());
@@ -496,20 +501,24 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
     jacobians_by_differences(s, qdd, M, C, K);
     return;
   }
+  // f = tau(q, qd, qdd) - Q(q, qd): M = dtau/dqdd, C and K from the emitted
+  // derivatives of tau, less those of the force elements' Q.
+  exact_damping_stiffness(s, qdd, C, K);
+  mass_matrix_emitted(s, M);
+}
+
+void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K) {
   check_state(s);
   if (qdd.size() != model_.nq()) {
     throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(), qdd.size(), model_.nq()));
   }
-  // f = tau(q, qd, qdd) - Q(q, qd): M = dtau/dqdd, C and K from the emitted
-  // derivatives of tau, less those of the force elements' Q.
-  mass_matrix_emitted(s, M);
   model_.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C);
   if (!(all_finite(K.data(), K.size()) && all_finite(C.data(), C.size()))) derivatives_not_finite(s);
   if (!elements_.empty()) subtract_load_derivatives(s, C, K);
 }
 
 bool MultibodySystem::exact_jacobians() const {
-  return source_ == EquationsSource::emitted && model_.has_inverse_dynamics_derivatives();
+  return use_exact_jacobians_ && source_ == EquationsSource::emitted && model_.has_inverse_dynamics_derivatives();
 }
 
 std::string MultibodySystem::jacobian_method() const {
@@ -558,18 +567,36 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
     p = s;
     Vector &Qp = jacobian_fp_, &Qm = jacobian_fm_;
     // Central differences with a relative step: error O(h^2) against rounding eps/h.
-    const auto column = [&](Vector& x, const Vector& x0, Matrix& J, int j) {
-      const double h = 1e-6 * std::max(1.0, std::abs(x0(j)));
-      x(j) = x0(j) + h;
-      differenced_forces(p, Qp);
-      x(j) = x0(j) - h;
-      differenced_forces(p, Qm);
-      x(j) = x0(j);
-      J.col(j) += (Qp - Qm) / (2.0 * h);
-    };
+    const auto step = [](double x) { return 1e-6 * std::max(1.0, std::abs(x)); };
+    // qd first, from the kinematics at s: positions and partial velocities do not
+    // depend on qd, and v_i, w_i are linear in it (v_i = Σ_j dv_i/dqd_j·qd_j + ∂v_i/∂t),
+    // so the kinematics at qd ± h·e_j are those at qd shifted along the partial
+    // velocities: no evaluation of the model, half the cost of the differences.
+    const bool rates = level_ == KinematicsLevel::velocities;
+    if (rates) {
+      base_v_.assign(k_.v_data(), k_.v_data() + 3 * model_.nbody());
+      base_w_.assign(k_.w_data(), k_.w_data() + 3 * model_.nbody());
+    }
     for (int j = 0; j < n; ++j) {
-      column(p.q, s.q, dQ_dq, j);
-      column(p.qd, s.qd, dQ_dqd, j);
+      const double h = step(s.qd(j));
+      p.qd(j) = s.qd(j) + h;
+      if (rates) shift_velocities(j, h);
+      differenced_loads(p, Qp);
+      p.qd(j) = s.qd(j) - h;
+      if (rates) shift_velocities(j, -h);
+      differenced_loads(p, Qm);
+      p.qd(j) = s.qd(j);
+      dQ_dqd.col(j) += (Qp - Qm) / (2.0 * h);
+    }
+    // q: the kinematics at each shifted state.
+    for (int j = 0; j < n; ++j) {
+      const double h = step(s.q(j));
+      p.q(j) = s.q(j) + h;
+      differenced_forces(p, Qp);
+      p.q(j) = s.q(j) - h;
+      differenced_forces(p, Qm);
+      p.q(j) = s.q(j);
+      dQ_dq.col(j) += (Qp - Qm) / (2.0 * h);
     }
   }
   if (!(all_finite(dQ_dq.data(), dQ_dq.size()) && all_finite(dQ_dqd.data(), dQ_dqd.size()))) {
@@ -595,6 +622,20 @@ void MultibodySystem::evaluate_loads_kinematics(const State& s) {
 // Q of the force elements without derivatives of their own.
 void MultibodySystem::differenced_forces(const State& s, Vector& Q) {
   evaluate_loads_kinematics(s);
+  differenced_loads(s, Q);
+}
+
+void MultibodySystem::shift_velocities(int j, double h) {
+  double *v = k_.v_data(), *w = k_.w_data();
+  for (int i = 0; i < model_.nbody(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      v[3 * i + c] = base_v_[static_cast<std::size_t>(3 * i + c)] + h * k_.dv_dqd(i, j)(c);
+      w[3 * i + c] = base_w_[static_cast<std::size_t>(3 * i + c)] + h * k_.dw_dqd(i, j)(c);
+    }
+  }
+}
+
+void MultibodySystem::differenced_loads(const State& s, Vector& Q) {
   loads_.clear();
   for (const auto& e : elements_) {
     if (!exact_loads(*e)) e->apply(s, k_, loads_);
@@ -648,58 +689,55 @@ bool MultibodySystem::exact_acceleration_derivatives(const State& s, const Vecto
 }
 
 void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
-                                               Matrix& dqdd_dqd) {
-  Matrix& M = derivative_M_;
-  jacobians(s, qdd, M, dqdd_dqd, dqdd_dq);
+                                               Matrix& dqdd_dqd, bool factored) {
   // M·dqdd = -(K·dq + C·dqd) + dtau
-  if (!solver_.factor(M)) {
-    M_ = M;
-    mass_matrix_refused(s);
+  if (factored && exact_jacobians()) {
+    exact_damping_stiffness(s, qdd, dqdd_dqd, dqdd_dq);
+  } else {
+    Matrix& M = derivative_M_;
+    jacobians(s, qdd, M, dqdd_dqd, dqdd_dq);
+    if (!solver_.factor(M)) {
+      M_ = M;
+      mass_matrix_refused(s);
+    }
   }
-  Vector &column = jacobian_fp_, &solved = jacobian_fm_;
-  solved.resize(model_.nq());
-  for (int j = 0; j < model_.nq(); ++j) {
-    column = dqdd_dq.col(j);
-    solver_.solve_negated(column, solved);
-    dqdd_dq.col(j) = solved;
-    column = dqdd_dqd.col(j);
-    solver_.solve_negated(column, solved);
-    dqdd_dqd.col(j) = solved;
-  }
+  // All columns of each in one solve (SpdSolver::solve_negated_in_place).
+  solver_.solve_negated_in_place(dqdd_dq);
+  solver_.solve_negated_in_place(dqdd_dqd);
 }
 
 void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix,
                                            const Vector& tau) {
   accelerations(s, out.qdd, jacobian_yd_);
+  // Where accelerations() took the way of M, M at s is factored already.
+  bool factored = mass_factored_;
   if (tau.size() > 0) {
     // qdd += M⁻¹·tau: the residual M·qdd + h - Q - tau vanishes there.
     if (tau.size() != model_.nq() || !all_finite(tau.data(), tau.size())) {
       throw ModelError(fmt::format("model '{}': generalized forces tau must be {} finite values ({} given)",
                                    model_.name(), model_.nq(), tau.size()));
     }
-    mass_matrix(s, derivative_M_);
-    if (!solver_.factor(derivative_M_)) {
-      M_ = derivative_M_;
-      mass_matrix_refused(s);
+    if (!factored) {
+      mass_matrix(s, derivative_M_);
+      if (!solver_.factor(derivative_M_)) {
+        M_ = derivative_M_;
+        mass_matrix_refused(s);
+      }
+      factored = true;
     }
     Vector& added = jacobian_fp_;
     added = tau;
     solver_.solve_in_place(added);
     out.qdd += added;
   }
-  acceleration_derivatives(s, out.qdd, out.dqdd_dq, out.dqdd_dqd);
+  acceleration_derivatives(s, out.qdd, out.dqdd_dq, out.dqdd_dqd, factored);
   if (!with_input_matrix) {
     out.dqdd_dtau.resize(0, 0);
     return;
   }
-  // M is factored (acceleration_derivatives): its inverse column by column.
+  // M is factored (acceleration_derivatives): M⁻¹ = M⁻¹·1.
   out.dqdd_dtau.setIdentity(model_.nq(), model_.nq());
-  Vector& column = jacobian_fp_;
-  for (int j = 0; j < model_.nq(); ++j) {
-    column = out.dqdd_dtau.col(j);
-    solver_.solve_in_place(column);
-    out.dqdd_dtau.col(j) = column;
-  }
+  solver_.solve_in_place(out.dqdd_dtau);
 }
 
 Energies MultibodySystem::energies(const State& s) {

@@ -122,6 +122,10 @@ class MultibodySystem : public DynamicSystem {
   void jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K) override;
   bool exact_jacobians() const;
   std::string jacobian_method() const;
+  // Whether the emitted derivatives are used where the model has them (the
+  // default); false: central differences of the residual, as without them
+  // (to compare the two on one model).
+  void set_exact_jacobians(bool exact) { use_exact_jacobians_ = exact; }
   // Where exact_jacobians() (and there are no extra states, whose equations
   // are not differentiated): -M⁻¹·K and -M⁻¹·C.
   bool exact_acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
@@ -205,13 +209,21 @@ class MultibodySystem : public DynamicSystem {
   [[gnu::cold, gnu::noinline]] void throw_domain_error(const State& s) const;
   std::string describe(const State& s) const;
   void jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);
-  // dqdd/dq and dqdd/dqd from jacobians() at (s, qdd): -M⁻¹·K and -M⁻¹·C by solves.
-  void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq, Matrix& dqdd_dqd);
+  // dqdd/dq and dqdd/dqd from jacobians() at (s, qdd): -M⁻¹·K and -M⁻¹·C by
+  // solves; with `factored`, solver_ holds M at s already (exact Jacobians only).
+  void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq, Matrix& dqdd_dqd,
+                                bool factored = false);
+  // The exact C and K of jacobians(), without M.
+  void exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K);
   void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
   // Whether the element's part of jacobians() is exact (else differenced).
   bool exact_loads(const ForceElement& e) const;
   void evaluate_loads_kinematics(const State& s);
   void differenced_forces(const State& s, Vector& Q);
+  // Q of those elements from the kinematics in k_ (not evaluated).
+  void differenced_loads(const State& s, Vector& Q);
+  // k_'s v_i, w_i at qd + h·e_j: base_v_, base_w_ (at qd) + h·dv_i/dqd_j, h·dw_i/dqd_j.
+  void shift_velocities(int j, double h);
   [[noreturn, gnu::cold, gnu::noinline]] void derivatives_not_finite(const State& s) const;
 
   Model model_;
@@ -228,6 +240,8 @@ class MultibodySystem : public DynamicSystem {
   // forward_ when the emitted source has nothing else to evaluate (no force element,
   // no kinematics read): accelerations() calls it inline, no dispatch per call.
   ForwardDynamicsFn forward_alone_ = nullptr;
+  bool use_exact_jacobians_ = true;
+  bool mass_factored_ = false;  // solver_ holds M at the state of the last accelerations()
 
   // Workspace: sized at construction, reused by every evaluation.
   Kinematics k_;
@@ -241,6 +255,7 @@ class MultibodySystem : public DynamicSystem {
   Matrix derivative_M_;                                    // dynamics_derivatives(): M
   Matrix load_dq_, load_dqd_;                              // the force elements' dQ/dq, dQ/dqd
   KinematicsDerivatives dk_;                               // where the model has them
+  std::vector<double> base_v_, base_w_;                    // k_'s v, w at the state differenced (nbody x 3)
 };
 
 // Largest absolute differences between the assembled and the emitted mass

@@ -77,8 +77,13 @@ template <bool negate>
     L.adjoint().solveInPlace(out);
     return;
   }
+  substitute<negate>(b, out.data());
+}
+
+template <bool negate>
+[[gnu::always_inline]] inline void SpdSolver::substitute(const double* b, double* x) const {
+  const Eigen::Index n = L_.rows();
   const double* l = L_.data();
-  double* x = out.data();
   for (Eigen::Index i = 0; i < n; ++i) {
     double sum = negate ? -b[i] : b[i];
     for (Eigen::Index k = 0; k < i; ++k) sum -= l[i + k * n] * x[k];
@@ -88,6 +93,42 @@ template <bool negate>
     double sum = x[i];
     for (Eigen::Index k = i + 1; k < n; ++k) sum -= l[k + i * n] * x[k];
     x[i] = sum / l[i + i * n];
+  }
+}
+
+void SpdSolver::solve_in_place(Matrix& B) const { solve_matrix<false>(B); }
+
+void SpdSolver::solve_negated_in_place(Matrix& B) const { solve_matrix<true>(B); }
+
+template <bool negate>
+void SpdSolver::solve_matrix(Matrix& B) const {
+  const Eigen::Index n = L_.rows(), m = B.cols();
+  if (n > kRowsUpTo) {
+    const auto L = L_.triangularView<Eigen::Lower>();
+    L.solveInPlace(B);
+    L.adjoint().solveInPlace(B);
+    if constexpr (negate) B = -B;
+    return;
+  }
+  // Row by row, every column at once: B_i := (±B_i - Σ_k<i L_ik·B_k) / L_ii,
+  // then B_i := (B_i - Σ_k>i L_ki·B_k) / L_ii backward; the multiply-adds of a
+  // row are independent across the columns (column by column they are a chain).
+  const double* l = L_.data();
+  double* b = B.data();
+  const auto axpy = [&](Eigen::Index i, Eigen::Index k, double c) {
+    for (Eigen::Index j = 0; j < m; ++j) b[i + j * n] -= c * b[k + j * n];
+  };
+  const auto scale = [&](Eigen::Index i, double c) {
+    for (Eigen::Index j = 0; j < m; ++j) b[i + j * n] *= c;
+  };
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if constexpr (negate) scale(i, -1.0);
+    for (Eigen::Index k = 0; k < i; ++k) axpy(i, k, l[i + k * n]);
+    scale(i, 1.0 / l[i + i * n]);
+  }
+  for (Eigen::Index i = n - 1; i >= 0; --i) {
+    for (Eigen::Index k = i + 1; k < n; ++k) axpy(i, k, l[k + i * n]);
+    scale(i, 1.0 / l[i + i * n]);
   }
 }
 

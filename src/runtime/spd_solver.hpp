@@ -43,6 +43,13 @@ class SpdSolver {
   // (M·qdd = -h without a pass to negate h).
   void solve_negated(const Vector& b, Vector& x) const;
 
+  // B := M⁻¹·B and B := -M⁻¹·B (n x m), all columns in one solve, so that the
+  // multiply-adds are independent across the columns (column by column each
+  // entry is a chain of dependent ones): up to kRowsUpTo coordinates a row
+  // loop, above it Eigen's blocked triangular solves.
+  void solve_in_place(Matrix& B) const;
+  void solve_negated_in_place(Matrix& B) const;
+
   // min_k D_k / M_kk of the last factorization: the share of its own
   // inertia the worst coordinate has left (<= 0: M is not positive definite).
   double smallest_pivot_ratio() const { return smallest_ratio_; }
@@ -51,12 +58,21 @@ class SpdSolver {
   static constexpr double kSingularRatio = 64 * 2.220446049250313e-16;
   // Up to this size the column loop, above it Eigen's LLT.
   static constexpr int kLoopUpTo = 40;
+  // Several right-hand sides: the row loop up to this size, where it is up to
+  // 3 times faster than Eigen's blocked solves, which match it at 8 and lead
+  // beyond (bench/results/derivatives.md, "solves").
+  static constexpr int kRowsUpTo = 8;
 
  private:
   bool factor_by_columns(const Matrix& M);
   bool factor_blocked(const Matrix& M);
   template <bool negate>
   void solve(const double* b, Vector& out) const;
+  // x := ±M⁻¹·b by the column loop (n <= kLoopUpTo); b may be x.
+  template <bool negate>
+  void substitute(const double* b, double* x) const;
+  template <bool negate>
+  void solve_matrix(Matrix& B) const;
 
   Matrix L_;  // (n x n) its lower triangle is L
   double smallest_ratio_ = 0.0;

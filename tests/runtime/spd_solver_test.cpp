@@ -48,6 +48,29 @@ TEST_CASE("SpdSolver solves as Eigen's LLT does, below and above its switch", "[
   }
 }
 
+TEST_CASE("SpdSolver solves several right-hand sides at once as column by column", "[runtime][solver]") {
+  for (int n : {1, 2, SpdSolver::kRowsUpTo, SpdSolver::kRowsUpTo + 1, 13, SpdSolver::kLoopUpTo + 1, 64}) {
+    CAPTURE(n);
+    const Matrix M = random_spd(n, 3.0);
+    SpdSolver solver(n);
+    REQUIRE(solver.factor(M));
+    for (int m : {1, n, 2 * n + 1}) {
+      CAPTURE(m);
+      const Matrix B = Matrix::Random(n, m);
+      Matrix X = B, Y = B;
+      solver.solve_in_place(X);
+      solver.solve_negated_in_place(Y);
+      for (int j = 0; j < m; ++j) {
+        Vector x = B.col(j);
+        solver.solve_in_place(x);
+        CHECK((X.col(j) - x).norm() <= 1e-12 * x.norm());
+        CHECK((Y.col(j) + x).norm() <= 1e-12 * x.norm());
+      }
+      CHECK((M * X - B).norm() <= 1e-12 * 1e3 * B.norm());
+    }
+  }
+}
+
 TEST_CASE("SpdSolver refuses indefinite, singular and non-finite matrices", "[runtime][solver]") {
   for (int n : {3, SpdSolver::kLoopUpTo + 5}) {
     CAPTURE(n);

@@ -148,6 +148,30 @@ TEMPLATE_LIST_TEST_CASE("dynamics_derivatives equal Richardson differences of th
   CHECK(max_abs(M * d.dqdd_dtau - Matrix::Identity(n, n)) < 1e-9 * std::max(1.0, max_abs(M)));
 }
 
+TEST_CASE("set_exact_jacobians(false) differences the residual as a model without derivatives",
+          "[models][derivatives]") {
+  MultibodySystem system(Model::from<symdyn_generated::robot3d_absolute>());
+  add_force_elements(system);
+  REQUIRE(system.exact_jacobians());
+  std::mt19937 rng(3);
+  const State s = random_state(system, rng);
+  DynamicsDerivatives exact, differenced;
+  system.dynamics_derivatives(s, exact, true);
+  Matrix dq, dqd;
+  CHECK(system.exact_acceleration_derivatives(s, exact.qdd, dq, dqd));
+  system.set_exact_jacobians(false);
+  CHECK_FALSE(system.exact_jacobians());
+  CHECK(system.jacobian_method() == "central differences of the residual");
+  CHECK_FALSE(system.exact_acceleration_derivatives(s, exact.qdd, dq, dqd));
+  system.dynamics_derivatives(s, differenced, true);
+  const double scale = std::max({1.0, max_abs(exact.dqdd_dq), max_abs(exact.dqdd_dqd)});
+  CHECK(max_abs(differenced.dqdd_dq - exact.dqdd_dq) < 1e-6 * scale);
+  CHECK(max_abs(differenced.dqdd_dqd - exact.dqdd_dqd) < 1e-6 * scale);
+  CHECK(max_abs(differenced.dqdd_dtau - exact.dqdd_dtau) < 1e-12 * max_abs(exact.dqdd_dtau));
+  system.set_exact_jacobians(true);
+  CHECK(system.jacobian_method() == "exact (emitted derivatives), but by central differences for spring 'strut'");
+}
+
 TEST_CASE("the double pendulum's modes are omega² = g·(3 ∓ 6/√7) to rounding", "[models][derivatives]") {
   // Two uniform rods of mass 1 and length 1 hanging: in the angles from the
   // vertical, M = [4/3 1/2; 1/2 1/3], K = g·[3/2 0; 0 1/2], hence

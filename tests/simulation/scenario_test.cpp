@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -66,6 +67,28 @@ TEST_CASE("every built-in scenario runs with its defaults and its checks are in 
       CHECK(c.ok());
     }
   }
+}
+
+TEST_CASE("a scenario's coordinate springs and actuators keep their exact derivatives", "[models][scenario]") {
+  // The trike's tyres and its drive (an expression) have none: they alone are differenced.
+  sim::Simulation sim(sim::find_builtin("trike"));
+  runtime::MultibodySystem& system = sim.system();
+  CHECK(system.jacobian_method() ==
+        "exact (emitted derivatives), but by central differences for coordinate force 'drive', tyre 'rear_left', "
+        "tyre 'rear_right', tyre 'front'");
+  runtime::State s = system.initial_state();
+  s.t = 1.1;  // steering
+  s.q(10) = 0.05;
+  s.qd(10) = 0.3;
+  runtime::Vector qdd, yd;
+  system.accelerations(s, qdd, yd);
+  runtime::Matrix M, C, K, Md, Cd, Kd;
+  system.jacobians(s, qdd, M, C, K);
+  system.set_exact_jacobians(false);
+  system.jacobians(s, qdd, Md, Cd, Kd);
+  const double scale = std::max({1.0, Kd.cwiseAbs().maxCoeff(), Cd.cwiseAbs().maxCoeff()});
+  CHECK((K - Kd).cwiseAbs().maxCoeff() < 1e-6 * scale);
+  CHECK((C - Cd).cwiseAbs().maxCoeff() < 1e-6 * scale);
 }
 
 TEST_CASE("double pendulum scenario: CSV columns, rows, and the tip from the coordinates",
