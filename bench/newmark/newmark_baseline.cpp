@@ -46,6 +46,7 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   void start(const State& initial) override;
   detail::StepOutcome attempt(double h, bool fixed) override;
   double first_step(double t_end) override;
+  int order() const override { return 2; }  // both members of the family
 
   void predict(double h);
   std::string solve(double h);

@@ -104,9 +104,9 @@ void ScenarioElement::apply(const State& s, const Kinematics& k, runtime::Loads&
   if (enabled_) inner_->apply(s, k, loads);
 }
 
-void ScenarioElement::add_load_derivatives(const State& s, const Kinematics& k, runtime::Matrix& dQ_dq,
-                                           runtime::Matrix& dQ_dqd) const {
-  if (enabled_) inner_->add_load_derivatives(s, k, dQ_dq, dQ_dqd);
+void ScenarioElement::add_load_derivatives(const State& s, const Kinematics& k, const runtime::KinematicsDerivatives& dk,
+                                           runtime::Matrix& dQ_dq, runtime::Matrix& dQ_dqd) const {
+  if (enabled_) inner_->add_load_derivatives(s, k, dk, dQ_dq, dQ_dqd);
 }
 
 double ScenarioElement::potential_energy(const State& s, const Kinematics& k) const {

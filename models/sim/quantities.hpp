@@ -43,8 +43,9 @@ class ScenarioElement : public runtime::ForceElement {
   runtime::KinematicsLevel reads() const override { return inner_->reads(); }
   void apply(const runtime::State& s, const runtime::Kinematics& k, runtime::Loads& loads) const override;
   // The inner element's exact derivatives where it has them (none while switched off).
-  bool has_load_derivatives() const override { return inner_->has_load_derivatives(); }
-  void add_load_derivatives(const runtime::State& s, const runtime::Kinematics& k, runtime::Matrix& dQ_dq,
+  runtime::LoadDerivatives load_derivatives() const override { return inner_->load_derivatives(); }
+  void add_load_derivatives(const runtime::State& s, const runtime::Kinematics& k,
+                            const runtime::KinematicsDerivatives& dk, runtime::Matrix& dQ_dq,
                             runtime::Matrix& dQ_dqd) const override;
   double potential_energy(const runtime::State& s, const runtime::Kinematics& k) const override;
 

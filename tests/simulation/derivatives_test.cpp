@@ -169,7 +169,7 @@ TEST_CASE("set_exact_jacobians(false) differences the residual as a model withou
   CHECK(max_abs(differenced.dqdd_dqd - exact.dqdd_dqd) < 1e-6 * scale);
   CHECK(max_abs(differenced.dqdd_dtau - exact.dqdd_dtau) < 1e-12 * max_abs(exact.dqdd_dtau));
   system.set_exact_jacobians(true);
-  CHECK(system.jacobian_method() == "exact (emitted derivatives), but by central differences for spring 'strut'");
+  CHECK(system.jacobian_method() == "exact (emitted derivatives), but by central differences for user force 'drag'");
 }
 
 TEST_CASE("the double pendulum's modes are omega² = g·(3 ∓ 6/√7) to rounding", "[models][derivatives]") {
