@@ -132,6 +132,13 @@ struct Output {
   Vector qdd, yd;
 };
 
+// The outputs of the run that met the global tolerance, kept while the runs
+// were compared, given to the caller.
+void replay(const std::vector<Output>& outputs, const IntegratorOptions& user) {
+  if (!user.on_output) return;
+  for (const Output& o : outputs) user.on_output(o.s, o.qdd, o.yd);
+}
+
 constexpr double kTightening = 100.0;  // between two runs: two decades
 constexpr double kAssumedFall = 0.1;   // error ratio per two decades until one is observed
 
@@ -230,9 +237,7 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
       if (estimate <= user.global_tolerance) {
         total.global_tolerance_met = true;
         stats_ = total;
-        if (user.on_output) {
-          for (const Output& o : outputs) user.on_output(o.s, o.qdd, o.yd);
-        }
+        replay(outputs, user);
         return end;
       }
       previous_difference = d;
@@ -326,9 +331,7 @@ State Integrator::run_by_step_halving(DynamicSystem& system, const State& initia
         if (total.global_error_estimate <= user.global_tolerance) {
           total.global_tolerance_met = true;
           stats_ = total;
-          if (user.on_output) {
-            for (const Output& o : outputs) user.on_output(o.s, o.qdd, o.yd);
-          }
+          replay(outputs, user);
           return end;
         }
       }
