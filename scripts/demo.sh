@@ -16,7 +16,7 @@ symdyn_require_command npm npm  # bundles the HTML viewer
 
 build=build/release
 generator=$build/models/symdyn_generator_double_pendulum
-sim=$build/models/sim/symdyn-sim
+sim=$build/apps/sim/symdyn-sim
 
 echo "== symdyn: configure and build (release preset: the generator and symdyn-sim)"
 cmake --preset release >/dev/null

@@ -139,7 +139,7 @@ def main():
            f"Peers: MuJoCo {meta.get('mujoco', '?')}, Simbody {meta.get('simbody', '?')} (Debian packages).",
            "", "```sh", "bench/work_precision/run.sh          # builds, runs, writes this file, the .tsv and the diagrams",
            "```", "",
-           "Each problem is the model's symdyn-sim scenario (models/sim: initial state and force elements, "
+           "Each problem is the model's symdyn-sim scenario (apps/sim: initial state and force elements, "
            "e.g. the trike's tyres, suspensions, steering and drive) over the stated interval. Error: the "
            "largest |q - q_ref| and |qd - qd_ref| at the end; q_ref from dop853 at rtol = atol = 1e-13, "
            "confirmed by dopri5 at 1e-13 (their distance is the agreement below: errors under it are not "

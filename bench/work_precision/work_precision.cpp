@@ -54,7 +54,7 @@ namespace wp = symdyn::bench::work_precision;
 // A scenario's model over an interval.
 struct Problem {
   std::string name;
-  std::string model;  // its scenario (models/sim)
+  std::string model;  // its scenario (apps/sim)
   double t_end;
 };
 const Problem all_problems[] = {

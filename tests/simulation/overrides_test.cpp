@@ -1,4 +1,4 @@
-// Changes to a scenario by path (models/sim/overrides.hpp) and the sweep
+// Changes to a scenario by path (apps/sim/overrides.hpp) and the sweep
 // engine (serve.hpp): each path lands where the scenario's own value is,
 // each bad path is refused naming it, a changed value is checked as the
 // file's own would be, and the engine's rows read back exactly.

@@ -1,4 +1,4 @@
-// Scenario files (models/sim/scenario.hpp, docs/scenarios.md): every bad input
+// Scenario files (apps/sim/scenario.hpp, docs/scenarios.md): every bad input
 // names its culprit by JSON path; events stop the integration exactly at their
 // time (checked against the work of a constant torque); chained segments
 // write each instant once; qdd in the CSV against finite differences of qd;

@@ -1,6 +1,6 @@
 #pragma once
 // The scenario files of models/scenarios, embedded in symdyn-sim by
-// models/sim/CMakeLists.txt (embedded_scenarios.cpp is generated).
+// apps/sim/CMakeLists.txt (embedded_scenarios.cpp is generated).
 #include <vector>
 
 namespace symdyn::sim {

@@ -1,4 +1,4 @@
-"""Runs of a sweep, made by the engine symdyn-sim --serve (models/sim/serve.hpp).
+"""Runs of a sweep, made by the engine symdyn-sim --serve (apps/sim/serve.hpp).
 
 Each worker thread (a local worker, or a thread of a Dask worker) keeps one
 engine process for its life: a run costs a request and a reply on a pipe,
