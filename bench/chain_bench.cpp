@@ -3,7 +3,6 @@
 // accelerations by the total time derivative. symdyn beside GiNaC on the same
 // task. See bench/README.md for how to run and what the counters mean.
 #include <benchmark/benchmark.h>
-
 #include <fmt/format.h>
 
 #include <cstdlib>
@@ -46,7 +45,8 @@ SymdynKinematics symdyn_kinematics(int n) {
     rates.emplace(qd, symbol(fmt::format("qdd{}", i), SymbolKind::Acceleration));
   }
   SymdynKinematics k;
-  for (const auto& pose : chain_absolute<Expr>(q, rational(1, 4))) append_pose_entries(pose, k.positions);
+  for (const auto& pose : chain_absolute<Expr>(q, rational(1, 4)))
+    append_pose_entries(pose, k.positions);
   TimeDerivative dt(std::move(rates));
   for (Expr e : k.positions) k.velocities.push_back(dt(e));
   for (Expr e : k.velocities) k.accelerations.push_back(dt(e));
@@ -69,10 +69,12 @@ void BM_symdyn_chain(benchmark::State& state) {
   std::vector<Expr> all = k.positions;
   all.insert(all.end(), k.velocities.begin(), k.velocities.end());
   all.insert(all.end(), k.accelerations.begin(), k.accelerations.end());
-  state.counters["position_nodes"] = static_cast<double>(symdyn::testing::count_dag_nodes(k.positions));
+  state.counters["position_nodes"] =
+      static_cast<double>(symdyn::testing::count_dag_nodes(k.positions));
   state.counters["dag_nodes"] = static_cast<double>(symdyn::testing::count_dag_nodes(all));
   state.counters["context_nodes"] = static_cast<double>(context.size());
-  state.counters["bytes_per_node"] = static_cast<double>(context.memory_bytes()) / static_cast<double>(context.size());
+  state.counters["bytes_per_node"] =
+      static_cast<double>(context.memory_bytes()) / static_cast<double>(context.size());
 }
 
 #ifdef SYMDYN_HAVE_GINAC
@@ -87,8 +89,12 @@ DECLARE_FUNCTION_2P(chain_q)
 DECLARE_FUNCTION_2P(chain_qd)
 DECLARE_FUNCTION_2P(chain_qdd)
 
-GiNaC::ex chain_q_deriv(const GiNaC::ex& i, const GiNaC::ex& t, unsigned /*param*/) { return chain_qd(i, t); }
-GiNaC::ex chain_qd_deriv(const GiNaC::ex& i, const GiNaC::ex& t, unsigned /*param*/) { return chain_qdd(i, t); }
+GiNaC::ex chain_q_deriv(const GiNaC::ex& i, const GiNaC::ex& t, unsigned /*param*/) {
+  return chain_qd(i, t);
+}
+GiNaC::ex chain_qd_deriv(const GiNaC::ex& i, const GiNaC::ex& t, unsigned /*param*/) {
+  return chain_qdd(i, t);
+}
 
 REGISTER_FUNCTION(chain_q, derivative_func(chain_q_deriv))
 REGISTER_FUNCTION(chain_qd, derivative_func(chain_qd_deriv))
@@ -102,7 +108,8 @@ GinacKinematics ginac_kinematics(int n, const GiNaC::symbol& t) {
   std::vector<GiNaC::ex> q;
   for (int i = 0; i < n; ++i) q.push_back(chain_q(i, t));
   GinacKinematics k;
-  for (const auto& pose : chain_absolute<GiNaC::ex>(q, GiNaC::ex(1) / 4)) append_pose_entries(pose, k.positions);
+  for (const auto& pose : chain_absolute<GiNaC::ex>(q, GiNaC::ex(1) / 4))
+    append_pose_entries(pose, k.positions);
   for (const GiNaC::ex& e : k.positions) k.velocities.push_back(e.diff(t));
   for (const GiNaC::ex& e : k.velocities) k.accelerations.push_back(e.diff(t));
   return k;
@@ -180,12 +187,15 @@ int take_ginac_max_n(int* argc, char** argv) {
 }
 
 void register_benchmarks(int ginac_max_n) {
-  auto* symdyn = benchmark::RegisterBenchmark("symdyn_chain", BM_symdyn_chain)->Unit(benchmark::kMillisecond);
+  auto* symdyn =
+      benchmark::RegisterBenchmark("symdyn_chain", BM_symdyn_chain)->Unit(benchmark::kMillisecond);
   for (int n : {2, 4, 8, 12, 16, 32, 64}) symdyn->Arg(n);
 #ifdef SYMDYN_HAVE_GINAC
   for (int n : {2, 4, 8, 12, 16}) {
     if (n > ginac_max_n) break;
-    auto* ginac = benchmark::RegisterBenchmark("ginac_chain", BM_ginac_chain)->Unit(benchmark::kMillisecond)->Arg(n);
+    auto* ginac = benchmark::RegisterBenchmark("ginac_chain", BM_ginac_chain)
+                      ->Unit(benchmark::kMillisecond)
+                      ->Arg(n);
     if (n >= 8) ginac->Iterations(1);
   }
 #else

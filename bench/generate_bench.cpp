@@ -7,7 +7,6 @@
 // DIR/<model>_<variant>_case<k>.{hpp,cpp} instead of timing: diff two dumps to
 // check that a change of the engine left the output byte for byte as it was.
 #include <benchmark/benchmark.h>
-
 #include <fmt/format.h>
 
 #include <array>
@@ -47,12 +46,15 @@ const std::array<Case, 4> kCases = {{
 }};
 
 // One generation from the model's definition, in the current context.
-codegen::GeneratedCode generate(const model::Definition& definition, const std::string& variant, const Case& c) {
+codegen::GeneratedCode generate(const model::Definition& definition, const std::string& variant,
+                                const Case& c) {
   const model::Model m = definition.make(variant);
-  return codegen::generate(m, variant, fmt::format("{}_{}_case{}", definition.name, variant, c.number), c.options);
+  return codegen::generate(
+      m, variant, fmt::format("{}_{}_case{}", definition.name, variant, c.number), c.options);
 }
 
-void BM_generate(benchmark::State& state, const model::Definition* definition, std::string variant, Case c) {
+void BM_generate(benchmark::State& state, const model::Definition* definition, std::string variant,
+                 Case c) {
   for (auto _ : state) {
     symbolic::Context context;  // a fresh one per iteration: nothing is reused
     symbolic::Context::Scope scope(context);
@@ -70,7 +72,8 @@ void BM_generate(benchmark::State& state, const model::Definition* definition, s
   state.counters["context_nodes"] = static_cast<double>(context.size());
 }
 
-std::string benchmark_name(const model::Definition& definition, const std::string& variant, const Case& c) {
+std::string benchmark_name(const model::Definition& definition, const std::string& variant,
+                           const Case& c) {
   return fmt::format("generate/{}/{}/case{}", definition.name, variant, c.number);
 }
 
@@ -78,7 +81,8 @@ void register_all() {
   for (const model::Definition& definition : model::registry()) {
     for (const std::string& variant : definition.variants) {
       for (const Case& c : kCases) {
-        benchmark::RegisterBenchmark(benchmark_name(definition, variant, c).c_str(), BM_generate, &definition, variant, c)
+        benchmark::RegisterBenchmark(benchmark_name(definition, variant, c).c_str(), BM_generate,
+                                     &definition, variant, c)
             ->Unit(benchmark::kMillisecond);
       }
     }

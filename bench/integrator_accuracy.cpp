@@ -16,14 +16,13 @@
 // last 1 000 s, scale = largest kinetic energy; rk4 at the same step beside it.
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "accuracy_problems.hpp"
 #include <symdyn/runtime/errors.hpp>
@@ -56,9 +55,12 @@ const Reference& reference(std::size_t problem) {
   return it->second;
 }
 
-bool fixed_step(const std::string& name) { return name == "rk4" || name == "midpoint"; }
+bool fixed_step(const std::string& name) {
+  return name == "rk4" || name == "midpoint";
+}
 
-void accuracy(benchmark::State& bench, std::size_t problem, const std::string& name, double setting) {
+void accuracy(benchmark::State& bench, std::size_t problem, const std::string& name,
+              double setting) {
   Problem& p = all_problems()[problem];
   const Reference& ref = reference(problem);
   const double tol = fixed_step(name) ? 1e-6 : setting;
@@ -83,7 +85,8 @@ void accuracy(benchmark::State& bench, std::size_t problem, const std::string& n
 }
 
 // The same run with global_tolerance: the error of the result against its estimate.
-void global(benchmark::State& bench, std::size_t problem, const std::string& name, double tol, double target) {
+void global(benchmark::State& bench, std::size_t problem, const std::string& name, double tol,
+            double target) {
   Problem& p = all_problems()[problem];
   const Reference& ref = reference(problem);
   State end;
@@ -139,19 +142,26 @@ int main(int argc, char** argv) {
   // error falls in proportion to the tolerance, need 19 million steps at 1e-8 on the
   // slider-crank, so they stop there.
   const std::map<std::string, std::vector<double>> settings = {
-      {"dop853", {1e-6, 1e-8, 1e-10, 1e-12}},  {"dopri5", {1e-6, 1e-8, 1e-10, 1e-12}},
-      {"cvode", {1e-6, 1e-8, 1e-10, 1e-12}},   {"arkode", {1e-6, 1e-8, 1e-10}},
-      {"newmark", {1e-4, 1e-6, 1e-8}},         {"generalized-alpha", {1e-4, 1e-6, 1e-8}},
-      {"rk4", {1e-2, 1e-3, 1e-4}},             {"midpoint", {1e-2, 1e-3, 1e-4}},
+      {"dop853", {1e-6, 1e-8, 1e-10, 1e-12}},
+      {"dopri5", {1e-6, 1e-8, 1e-10, 1e-12}},
+      {"cvode", {1e-6, 1e-8, 1e-10, 1e-12}},
+      {"arkode", {1e-6, 1e-8, 1e-10}},
+      {"newmark", {1e-4, 1e-6, 1e-8}},
+      {"generalized-alpha", {1e-4, 1e-6, 1e-8}},
+      {"rk4", {1e-2, 1e-3, 1e-4}},
+      {"midpoint", {1e-2, 1e-3, 1e-4}},
   };
   for (std::size_t problem = 0; problem < all_problems().size(); ++problem) {
     for (const auto& name : symdyn::runtime::integrator_names()) {
       for (double setting : settings.at(name)) {
-        const std::string label = fmt::format("accuracy/{}/{}/{}={:g}", all_problems()[problem].name, name,
-                                              fixed_step(name) ? "h" : "tol", setting);
-        benchmark::RegisterBenchmark(label.c_str(), [problem, name, setting](benchmark::State& s) {
-          accuracy(s, problem, name, setting);
-        })->Unit(benchmark::kMillisecond)->Iterations(1);
+        const std::string label =
+            fmt::format("accuracy/{}/{}/{}={:g}", all_problems()[problem].name, name,
+                        fixed_step(name) ? "h" : "tol", setting);
+        benchmark::RegisterBenchmark(
+            label.c_str(),
+            [problem, name, setting](benchmark::State& s) { accuracy(s, problem, name, setting); })
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(1);
       }
     }
   }
@@ -159,17 +169,22 @@ int main(int argc, char** argv) {
   // the double pendulum (on the slider-crank they would need 10^8 steps at their tightest
   // tolerance).
   for (std::size_t problem = 0; problem < all_problems().size(); ++problem) {
-    for (const std::string name : {"dop853", "dopri5", "cvode", "arkode", "newmark", "generalized-alpha"}) {
+    for (const std::string name :
+         {"dop853", "dopri5", "cvode", "arkode", "newmark", "generalized-alpha"}) {
       if (problem == 0 && (name == "newmark" || name == "generalized-alpha")) continue;
-      const std::string label = fmt::format("global/{}/{}/tol=1e-08/global=1e-05", all_problems()[problem].name, name);
-      benchmark::RegisterBenchmark(label.c_str(), [problem, name](benchmark::State& s) {
-        global(s, problem, name, 1e-8, 1e-5);
-      })->Unit(benchmark::kMillisecond)->Iterations(1);
+      const std::string label =
+          fmt::format("global/{}/{}/tol=1e-08/global=1e-05", all_problems()[problem].name, name);
+      benchmark::RegisterBenchmark(
+          label.c_str(),
+          [problem, name](benchmark::State& s) { global(s, problem, name, 1e-8, 1e-5); })
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(1);
     }
   }
   for (const char* name : {"midpoint", "rk4"}) {
     const std::string label = fmt::format("energy/double_pendulum/{}/h=0.01/t=10000", name);
-    benchmark::RegisterBenchmark(label.c_str(), [name](benchmark::State& s) { energy(s, name, 0.01, 1e4); })
+    benchmark::RegisterBenchmark(label.c_str(),
+                                 [name](benchmark::State& s) { energy(s, name, 0.01, 1e4); })
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
   }

@@ -10,12 +10,11 @@
 // steps 1e-2 ... 3e-4.
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include <symdyn/runtime/integrator.hpp>
 
@@ -110,7 +109,7 @@ int main(int argc, char** argv) {
   for (const auto& name : integrator_names()) {
     const bool fixed = name == "rk4" || name == "midpoint";
     const std::vector<double> settings = fixed ? std::vector<double>{1e-2, 3e-3, 1e-3, 3e-4}
-                                                       : std::vector<double>{1e-4, 1e-6, 1e-8, 1e-10};
+                                               : std::vector<double>{1e-4, 1e-6, 1e-8, 1e-10};
     for (double setting : settings) {
       const std::string label =
           fmt::format("pendulum/{}/{}={:g}", name, fixed ? "h" : "tol", setting);

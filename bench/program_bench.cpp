@@ -4,7 +4,6 @@
 // Counters: dag_nodes (distinct nodes the outputs need), instructions,
 // operations (OperationCount::total), weighted (OperationCount::weighted).
 #include <benchmark/benchmark.h>
-
 #include <fmt/format.h>
 
 #include <map>

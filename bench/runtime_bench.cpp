@@ -36,9 +36,9 @@
 #include <string>
 #include <vector>
 
+#include "runtime_bench_models.hpp"
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
-#include "runtime_bench_models.hpp"
 
 namespace {
 
@@ -109,7 +109,8 @@ BenchModel bench_model(std::string name) {
         auto tau = std::make_shared<Vector>(Vector::Zero(G::nq));
         return [=](const State& s, Vector& qdd) {
           qdd.resize(G::nq);
-          if (G::forward_dynamics(s.t, s.q.data(), s.qd.data(), tau->data(), G::param_defaults, qdd.data()) >= 0) {
+          if (G::forward_dynamics(s.t, s.q.data(), s.qd.data(), tau->data(), G::param_defaults,
+                                  qdd.data()) >= 0) {
             throw NumericError("singular articulated inertia");
           }
         };
@@ -154,15 +155,17 @@ Workload workload(const BenchModel& b, const std::string& mode) {
   if (mode == "equations") return b.equations();
   if (mode == "dynamics") return b.dynamics();
   if (mode == "forward") {
-    if (!b.forward) throw std::invalid_argument(fmt::format("model '{}' has no emitted forward_dynamics", b.name));
+    if (!b.forward)
+      throw std::invalid_argument(
+          fmt::format("model '{}' has no emitted forward_dynamics", b.name));
     return b.forward();
   }
   throw std::invalid_argument(fmt::format("unknown mode '{}' ({})", mode, kModes));
 }
 
 // The counted region: callgrind --toggle-collect='*counted_workload*'.
-[[gnu::noinline]] double counted_workload(const Workload& w, const std::vector<State>& states, int calls,
-                                          Vector& qdd) {
+[[gnu::noinline]] double counted_workload(const Workload& w, const std::vector<State>& states,
+                                          int calls, Vector& qdd) {
   double sum = 0.0;
   for (int c = 0; c < calls; ++c) {
     w(states[static_cast<std::size_t>(c) % states.size()], qdd);
@@ -202,36 +205,39 @@ Matrix random_spd(int n) {
 void register_solver_benchmarks() {
   for (int n : {1, 2, 5, 13, 24, 32, 40, 48, 64}) {
     const Matrix M = random_spd(n);
-    benchmark::RegisterBenchmark(fmt::format("solve/SpdSolver/{}", n).c_str(), [M, n](benchmark::State& st) {
-      SpdSolver solver(n);
-      Vector b(n);
-      for (auto _ : st) {
-        b.setOnes();
-        if (!solver.factor(M)) st.SkipWithError("refused");
-        solver.solve_in_place(b);
-        benchmark::DoNotOptimize(b.data());
-      }
-    });
-    benchmark::RegisterBenchmark(fmt::format("solve/EigenLLT/{}", n).c_str(), [M, n](benchmark::State& st) {
-      Eigen::LLT<Matrix> llt(n);
-      Vector b(n);
-      for (auto _ : st) {
-        b.setOnes();
-        llt.compute(M);
-        llt.solveInPlace(b);
-        benchmark::DoNotOptimize(b.data());
-      }
-    });
-    benchmark::RegisterBenchmark(fmt::format("solve/EigenLDLT/{}", n).c_str(), [M, n](benchmark::State& st) {
-      Eigen::LDLT<Matrix> ldlt(n);
-      Vector b(n);
-      for (auto _ : st) {
-        b.setOnes();
-        ldlt.compute(M);
-        ldlt.solveInPlace(b);
-        benchmark::DoNotOptimize(b.data());
-      }
-    });
+    benchmark::RegisterBenchmark(fmt::format("solve/SpdSolver/{}", n).c_str(),
+                                 [M, n](benchmark::State& st) {
+                                   SpdSolver solver(n);
+                                   Vector b(n);
+                                   for (auto _ : st) {
+                                     b.setOnes();
+                                     if (!solver.factor(M)) st.SkipWithError("refused");
+                                     solver.solve_in_place(b);
+                                     benchmark::DoNotOptimize(b.data());
+                                   }
+                                 });
+    benchmark::RegisterBenchmark(fmt::format("solve/EigenLLT/{}", n).c_str(),
+                                 [M, n](benchmark::State& st) {
+                                   Eigen::LLT<Matrix> llt(n);
+                                   Vector b(n);
+                                   for (auto _ : st) {
+                                     b.setOnes();
+                                     llt.compute(M);
+                                     llt.solveInPlace(b);
+                                     benchmark::DoNotOptimize(b.data());
+                                   }
+                                 });
+    benchmark::RegisterBenchmark(fmt::format("solve/EigenLDLT/{}", n).c_str(),
+                                 [M, n](benchmark::State& st) {
+                                   Eigen::LDLT<Matrix> ldlt(n);
+                                   Vector b(n);
+                                   for (auto _ : st) {
+                                     b.setOnes();
+                                     ldlt.compute(M);
+                                     ldlt.solveInPlace(b);
+                                     benchmark::DoNotOptimize(b.data());
+                                   }
+                                 });
   }
 }
 
@@ -265,7 +271,8 @@ int main(int argc, char** argv) {
   }
   if (!args.empty() && args[0] == "--count") {
     if (args.size() < 3) {
-      fmt::print(stderr, "usage: symdyn_bench_runtime --count MODE MODEL [CALLS] (MODE: {})\n", kModes);
+      fmt::print(stderr, "usage: symdyn_bench_runtime --count MODE MODEL [CALLS] (MODE: {})\n",
+                 kModes);
       return 2;
     }
     try {

@@ -29,14 +29,21 @@ Mat3 product(const Mat3& a, const Mat3& b) {
   return c;
 }
 
-Mat3 rot_x(Expr q) { return {{{1, 0, 0}, {0, cos(q), -sin(q)}, {0, sin(q), cos(q)}}}; }
-Mat3 rot_y(Expr q) { return {{{cos(q), 0, sin(q)}, {0, 1, 0}, {-sin(q), 0, cos(q)}}}; }
-Mat3 rot_z(Expr q) { return {{{cos(q), -sin(q), 0}, {sin(q), cos(q), 0}, {0, 0, 1}}}; }
+Mat3 rot_x(Expr q) {
+  return {{{1, 0, 0}, {0, cos(q), -sin(q)}, {0, sin(q), cos(q)}}};
+}
+Mat3 rot_y(Expr q) {
+  return {{{cos(q), 0, sin(q)}, {0, 1, 0}, {-sin(q), 0, cos(q)}}};
+}
+Mat3 rot_z(Expr q) {
+  return {{{cos(q), -sin(q), 0}, {sin(q), cos(q), 0}, {0, 0, 1}}};
+}
 
 // d/dq of an expression built from sums, products, powers, sin and cos.
 Expr d(Expr e, Expr q) {
   switch (e.kind()) {
-    case Kind::Symbol: return e == q ? 1 : 0;
+    case Kind::Symbol:
+      return e == q ? 1 : 0;
     case Kind::Add: {
       Expr s = 0;
       for (Expr a : e.args()) s = s + d(a, q);
@@ -53,10 +60,14 @@ Expr d(Expr e, Expr q) {
       }
       return s;
     }
-    case Kind::Pow: return e.arg(1) * pow(e.arg(0), Expr(e.arg(1).number() - Number(1))) * d(e.arg(0), q);
-    case Kind::Sin: return cos(e.arg(0)) * d(e.arg(0), q);
-    case Kind::Cos: return -sin(e.arg(0)) * d(e.arg(0), q);
-    default: return 0;
+    case Kind::Pow:
+      return e.arg(1) * pow(e.arg(0), Expr(e.arg(1).number() - Number(1))) * d(e.arg(0), q);
+    case Kind::Sin:
+      return cos(e.arg(0)) * d(e.arg(0), q);
+    case Kind::Cos:
+      return -sin(e.arg(0)) * d(e.arg(0), q);
+    default:
+      return 0;
   }
 }
 
@@ -112,11 +123,14 @@ void run(benchmark::State& state, std::vector<Expr> (*make)(int), int n) {
 }
 
 void BM_ZyxAngularVelocity(benchmark::State& state) {
-  run(state, [](int) { return zyx_angular_velocity(); }, 0);
+  run(
+      state, [](int) { return zyx_angular_velocity(); }, 0);
 }
 BENCHMARK(BM_ZyxAngularVelocity)->Unit(benchmark::kMillisecond);
 
-void BM_PlanarChainPosition(benchmark::State& state) { run(state, planar_chain, static_cast<int>(state.range(0))); }
+void BM_PlanarChainPosition(benchmark::State& state) {
+  run(state, planar_chain, static_cast<int>(state.range(0)));
+}
 BENCHMARK(BM_PlanarChainPosition)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -29,25 +29,48 @@ void build(Model& m, std::string_view variant) {
     const Expr r = sqrt(Dx * Dx + Dz * Dz);
     const Expr alpha = m.dependent(fmt::format("alpha_{}", k),
                                    atan2(-Dz, Dx) + acos((a * a + r * r - b * b) / (2 * a * r)));
-    const Expr beta = m.dependent(fmt::format("beta_{}", k), atan2(Dz + a * sin(alpha), a * cos(alpha) - Dx));
+    const Expr beta =
+        m.dependent(fmt::format("beta_{}", k), atan2(Dz + a * sin(alpha), a * cos(alpha) - Dx));
     auto name = [k](std::string_view part) { return fmt::format("{}_{}", part, k); };
-    m.body(name("coxa")).mass(1.0).inertia(0.002, 0.002, 0.002).relative_to("body")
+    m.body(name("coxa"))
+        .mass(1.0)
+        .inertia(0.002, 0.002, 0.002)
+        .relative_to("body")
         .motion(Tdisp(hip.x, hip.y, 0) * Trotz(hip.psi() + yaw) * Tdisp(0.05, 0, 0));
-    m.body(name("vertical_slider")).mass(0.5).inertia(0.001, 0.001, 0.001).relative_to(name("coxa"))
+    m.body(name("vertical_slider"))
+        .mass(0.5)
+        .inertia(0.001, 0.001, 0.001)
+        .relative_to(name("coxa"))
         .motion(Tdisp(0.05, 0, v));
-    m.body(name("horizontal_slider")).mass(0.5).inertia(0.001, 0.001, 0.001).relative_to(name("coxa"))
+    m.body(name("horizontal_slider"))
+        .mass(0.5)
+        .inertia(0.001, 0.001, 0.001)
+        .relative_to(name("coxa"))
         .motion(Tdisp(h - 0.05, 0, -0.1));
-    m.body(name("thigh")).mass(1.0).inertia(0.001, 0.0075, 0.0075).relative_to(name("vertical_slider"))
+    m.body(name("thigh"))
+        .mass(1.0)
+        .inertia(0.001, 0.0075, 0.0075)
+        .relative_to(name("vertical_slider"))
         .motion(Troty(alpha) * Tdisp(a / 2, 0, 0));
-    m.body(name("shank")).mass(0.8).inertia(0.001, 0.0041666666666666667, 0.0041666666666666667)
+    m.body(name("shank"))
+        .mass(0.8)
+        .inertia(0.001, 0.0041666666666666667, 0.0041666666666666667)
         .relative_to(name("horizontal_slider"))
         .motion(Troty(beta) * Tdisp(b / 2, 0, 0));
-    m.body(name("link6")).mass(0.4).inertia(0.0005, 0.0020833333333333333, 0.0020833333333333333)
+    m.body(name("link6"))
+        .mass(0.4)
+        .inertia(0.0005, 0.0020833333333333333, 0.0020833333333333333)
         .relative_to(name("thigh"))
         .motion(Tdisp(am - a / 2, 0, 0) * Troty(beta - alpha) * Tdisp(bn / 2, 0, 0));
-    m.body(name("link7")).mass(0.6).inertia(0.0005, 0.006125, 0.006125).relative_to(name("link6"))
+    m.body(name("link7"))
+        .mass(0.6)
+        .inertia(0.0005, 0.006125, 0.006125)
+        .relative_to(name("link6"))
         .motion(Tdisp(bn / 2, 0, 0) * Troty(alpha - beta) * Tdisp(lf / 2, 0, 0));
-    m.body(name("foot")).mass(0.2).inertia(1e-4, 1e-4, 1e-4).relative_to(name("link7"))
+    m.body(name("foot"))
+        .mass(0.2)
+        .inertia(1e-4, 1e-4, 1e-4)
+        .relative_to(name("link7"))
         .motion(Tdisp(lf / 2, 0, 0) * Troty(-alpha));
     m.initial(h, 0.35);
   }

@@ -25,7 +25,9 @@ void build(Model& m, std::string_view variant, int n) {
     const Transform local = k == 0 ? joint(0, q[0]) * Tdisp(L / 2, 0, 0)
                                    : Tdisp(L / 2, 0, 0) * joint(k, q[k]) * Tdisp(L / 2, 0, 0);
     T0G *= local;
-    Body& link = m.body(fmt::format("link{}", k)).mass(1.0).inertia(0.001, 0.020833333333333333, 0.020833333333333333);
+    Body& link = m.body(fmt::format("link{}", k))
+                     .mass(1.0)
+                     .inertia(0.001, 0.020833333333333333, 0.020833333333333333);
     if (k == 0 || variant == "absolute") {
       link.motion(T0G);
     } else {
@@ -37,12 +39,13 @@ void build(Model& m, std::string_view variant, int n) {
 }
 
 Definition chain(int n) {
-  return {fmt::format("chain_{}", n), {"relative", "absolute"},
+  return {fmt::format("chain_{}", n),
+          {"relative", "absolute"},
           [n](Model& m, std::string_view variant) { build(m, variant, n); }};
 }
 
-const Registration registrations[] = {
-    Registration(chain(2)), Registration(chain(4)),  Registration(chain(8)),
-    Registration(chain(16)), Registration(chain(32)), Registration(chain(64))};
+const Registration registrations[] = {Registration(chain(2)),  Registration(chain(4)),
+                                      Registration(chain(8)),  Registration(chain(16)),
+                                      Registration(chain(32)), Registration(chain(64))};
 
 }  // namespace

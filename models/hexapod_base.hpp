@@ -22,7 +22,9 @@ inline constexpr std::array<Hip, 6> hips = {
 // The main body "body", floating: position q0..q2, yaw q3, pitch q4, roll q5.
 inline model::Body& floating_main_body(model::Model& m, const std::vector<model::Expr>& q) {
   using namespace symdyn::model;
-  return m.body("body").mass(60).inertia(2.0, 7.4, 9.0)
+  return m.body("body")
+      .mass(60)
+      .inertia(2.0, 7.4, 9.0)
       .motion(Tdisp(q[0], q[1], q[2]) * Trotz(q[3]) * Troty(q[4]) * Trotx(q[5]));
 }
 

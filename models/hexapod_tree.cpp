@@ -16,11 +16,20 @@ void build(Model& m, std::string_view) {
     const auto& hip = hips[k];
     const Expr yaw = q[6 + 3 * k], pitch = q[7 + 3 * k], knee = q[8 + 3 * k];
     const std::string coxa = fmt::format("coxa_{}", k), femur = fmt::format("femur_{}", k);
-    m.body(coxa).mass(1.0).inertia(0.002, 0.002, 0.002).relative_to("body")
+    m.body(coxa)
+        .mass(1.0)
+        .inertia(0.002, 0.002, 0.002)
+        .relative_to("body")
         .motion(Tdisp(hip.x, hip.y, 0) * Trotz(hip.psi() + yaw) * Tdisp(0.05, 0, 0));
-    m.body(femur).mass(2.0).inertia(0.002, 0.015, 0.015).relative_to(coxa)
+    m.body(femur)
+        .mass(2.0)
+        .inertia(0.002, 0.015, 0.015)
+        .relative_to(coxa)
         .motion(Tdisp(0.05, 0, 0) * Troty(pitch) * Tdisp(0.15, 0, 0));
-    m.body(fmt::format("tibia_{}", k)).mass(2.0).inertia(0.002, 0.03, 0.03).relative_to(femur)
+    m.body(fmt::format("tibia_{}", k))
+        .mass(2.0)
+        .inertia(0.002, 0.03, 0.03)
+        .relative_to(femur)
         .motion(Tdisp(0.15, 0, 0) * Troty(knee) * Tdisp(0.2, 0, 0));
     m.initial(pitch, 0.3);
     m.initial(knee, 1.2);

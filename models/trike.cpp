@@ -16,15 +16,29 @@ void build(Model& m, std::string_view) {
   // suspension travel, q12 front wheel spin.
   const auto q = m.coordinates(13);
   const double strut = std::numbers::pi / 4;  // the rear strut's inclination
-  m.body("chassis").mass(150).inertia(15, 40, 45)
+  m.body("chassis")
+      .mass(150)
+      .inertia(15, 40, 45)
       .motion(Tdisp(q[0], q[1], q[2]) * Trotz(q[3]) * Troty(q[4]) * Trotx(q[5]));
-  m.body("rear_axle").mass(20).inertia(2, 0.2, 2).relative_to("chassis")
+  m.body("rear_axle")
+      .mass(20)
+      .inertia(2, 0.2, 2)
+      .relative_to("chassis")
       .motion(Tdisp(-0.9 - q[6] * std::cos(strut), 0, -0.2 + q[6] * std::sin(strut)) * Trotx(q[7]));
-  m.body("left_rear_wheel").mass(5).inertia(0.2, 0.4, 0.2).relative_to("rear_axle")
+  m.body("left_rear_wheel")
+      .mass(5)
+      .inertia(0.2, 0.4, 0.2)
+      .relative_to("rear_axle")
       .motion(Tdisp(0, 0.55, 0) * Troty(q[8]));
-  m.body("right_rear_wheel").mass(5).inertia(0.2, 0.4, 0.2).relative_to("rear_axle")
+  m.body("right_rear_wheel")
+      .mass(5)
+      .inertia(0.2, 0.4, 0.2)
+      .relative_to("rear_axle")
       .motion(Tdisp(0, -0.55, 0) * Troty(q[9]));
-  m.body("front_wheel").mass(6).inertia(0.2, 0.4, 0.2).relative_to("chassis")
+  m.body("front_wheel")
+      .mass(6)
+      .inertia(0.2, 0.4, 0.2)
+      .relative_to("chassis")
       .motion(Tdisp(1.2, 0, -0.2) * Trotz(q[10]) * Tdisp(0, 0, -q[11]) * Troty(q[12]));
   m.gravity(0, 0, -9.81);
   // Rolling at 5 m/s on wheels of radius 0.3, from 0.5 m high.

@@ -45,16 +45,19 @@ const std::vector<BuiltinModel>& builtin_models() {
   static const std::vector<BuiltinModel> all = [] {
     std::vector<BuiltinModel> m;
 #if __has_include("double_pendulum_absolute.hpp")
-    m.push_back({"double_pendulum", "absolute", &Model::from<symdyn_generated::double_pendulum_absolute>});
+    m.push_back(
+        {"double_pendulum", "absolute", &Model::from<symdyn_generated::double_pendulum_absolute>});
 #endif
 #if __has_include("double_pendulum_relative.hpp")
-    m.push_back({"double_pendulum", "relative", &Model::from<symdyn_generated::double_pendulum_relative>});
+    m.push_back(
+        {"double_pendulum", "relative", &Model::from<symdyn_generated::double_pendulum_relative>});
 #endif
 #if __has_include("slider_crank_inline.hpp")
     m.push_back({"slider_crank", "inline", &Model::from<symdyn_generated::slider_crank_inline>});
 #endif
 #if __has_include("slider_crank_dependent.hpp")
-    m.push_back({"slider_crank", "dependent", &Model::from<symdyn_generated::slider_crank_dependent>});
+    m.push_back(
+        {"slider_crank", "dependent", &Model::from<symdyn_generated::slider_crank_dependent>});
 #endif
 #if __has_include("robot3d_absolute.hpp")
     m.push_back({"robot3d", "absolute", &Model::from<symdyn_generated::robot3d_absolute>});
@@ -83,11 +86,13 @@ const std::vector<Scenario>& builtin_scenarios() {
       Scenario s = parse_scenario(e.text, fmt::format("models/scenarios/{}.json", e.name));
       s.name = e.name;
       const auto& models = builtin_models();
-      if (std::any_of(models.begin(), models.end(), [&](const BuiltinModel& m) { return m.model == s.model; })) {
+      if (std::any_of(models.begin(), models.end(),
+                      [&](const BuiltinModel& m) { return m.model == s.model; })) {
         out.push_back(std::move(s));
       }
     }
-    std::sort(out.begin(), out.end(), [](const Scenario& a, const Scenario& b) { return a.name < b.name; });
+    std::sort(out.begin(), out.end(),
+              [](const Scenario& a, const Scenario& b) { return a.name < b.name; });
     return out;
   }();
   return all;
@@ -99,8 +104,9 @@ const Scenario& find_builtin(std::string_view name) {
     if (s.name == name) return s;
     names.push_back(s.name);
   }
-  throw ScenarioError(fmt::format("no scenario for model '{}' (known: {}; or give a scenario file, *.json)", name,
-                                  fmt::join(names, ", ")));
+  throw ScenarioError(
+      fmt::format("no scenario for model '{}' (known: {}; or give a scenario file, *.json)", name,
+                  fmt::join(names, ", ")));
 }
 
 }  // namespace symdyn::sim

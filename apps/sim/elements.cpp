@@ -39,7 +39,9 @@ class Reader {
   Reader(const Node& node, const ElementContext& c) : node_(node), c_(c) {}
 
   const Node& node() const { return node_; }
-  double number(std::string_view key, double fallback) const { return node_.number_or(key, fallback); }
+  double number(std::string_view key, double fallback) const {
+    return node_.number_or(key, fallback);
+  }
   double number(std::string_view key) const { return node_[key].number(); }
   double positive(std::string_view key, double fallback) const {
     const auto n = node_.optional(key);
@@ -58,21 +60,25 @@ class Reader {
     if (name == "ground") return runtime::ground;
     const auto& bodies = c_.names.model->body_names();
     const auto it = std::find(bodies.begin(), bodies.end(), name);
-    if (it == bodies.end()) n.fail(fmt::format("unknown body '{}' (bodies: {}, or ground)", name, fmt::join(bodies, ", ")));
+    if (it == bodies.end())
+      n.fail(
+          fmt::format("unknown body '{}' (bodies: {}, or ground)", name, fmt::join(bodies, ", ")));
     return static_cast<int>(it - bodies.begin());
   }
   int body(std::string_view key) const { return body(node_[key]); }
   // A body that moves: an element acting on the ground alone would do nothing.
   int moving_body(const Node& n, std::string_view what) const {
     const int b = body(n);
-    if (b == runtime::ground) n.fail(fmt::format("{} on the ground moves nothing: name a body", what));
+    if (b == runtime::ground)
+      n.fail(fmt::format("{} on the ground moves nothing: name a body", what));
     return b;
   }
   int coordinate(const Node& n) const {
     const std::string name = n.string();
     const auto& q = c_.names.model->q_names();
     const auto it = std::find(q.begin(), q.end(), name);
-    if (it == q.end()) n.fail(fmt::format("unknown coordinate '{}' (coordinates: {})", name, fmt::join(q, ", ")));
+    if (it == q.end())
+      n.fail(fmt::format("unknown coordinate '{}' (coordinates: {})", name, fmt::join(q, ", ")));
     return static_cast<int>(it - q.begin());
   }
   int coordinate(std::string_view key) const { return coordinate(node_[key]); }
@@ -81,9 +87,10 @@ class Reader {
   void distinct_bodies(int a, int b, std::string_view what) const {
     if (a != b) return;
     const Node at = node_["b"]["body"];
-    at.fail(a == runtime::ground ? fmt::format("{} between two points of the ground moves nothing", what)
-                                 : fmt::format("{} with both ends on body '{}' moves nothing (its forces cancel)", what,
-                                               at.string()));
+    at.fail(a == runtime::ground
+                ? fmt::format("{} between two points of the ground moves nothing", what)
+                : fmt::format("{} with both ends on body '{}' moves nothing (its forces cancel)",
+                              what, at.string()));
   }
   // {"body", "point"}: a body point.
   runtime::BodyPoint body_point(std::string_view key) const {
@@ -129,9 +136,12 @@ KinematicsLevel level_of(const std::vector<const Expression*>& laws, const Symbo
 // A generalized force given by an expression, on one or more coordinates.
 class ExpressionForce : public runtime::ForceElement {
  public:
-  ExpressionForce(std::string name, std::vector<int> coordinates, Expression law, const SymbolTable& table,
-                  const std::vector<double>& variables)
-      : name_(std::move(name)), coordinates_(std::move(coordinates)), law_(std::move(law)), env_(table, variables),
+  ExpressionForce(std::string name, std::vector<int> coordinates, Expression law,
+                  const SymbolTable& table, const std::vector<double>& variables)
+      : name_(std::move(name)),
+        coordinates_(std::move(coordinates)),
+        law_(std::move(law)),
+        env_(table, variables),
         level_(level_of({&law_}, table)) {}
   std::string name() const override { return "coordinate force '" + name_ + "'"; }
   KinematicsLevel reads() const override { return level_; }
@@ -152,7 +162,8 @@ class ExpressionForce : public runtime::ForceElement {
 // The loads an element applies at a state, into a buffer of its own.
 class LoadProbe {
  public:
-  LoadProbe(const runtime::ForceElement& e, const runtime::Model& m) : e_(e), loads_(m.nq(), m.nbody()) {}
+  LoadProbe(const runtime::ForceElement& e, const runtime::Model& m)
+      : e_(e), loads_(m.nq(), m.nbody()) {}
   const Loads& at(const State& s, const Kinematics& k) const {
     loads_.clear();
     e_.apply(s, k, loads_);
@@ -168,30 +179,35 @@ class LoadProbe {
 void add_force_quantities(ScenarioElement& e, int body, int other, const runtime::Model& m) {
   auto probe = std::make_shared<LoadProbe>(e.inner(), m);
   for (int axis = 0; axis < 3; ++axis) {
-    e.add_quantity(std::string("f") + "xyz"[axis], [probe, body, other, axis](const State& s, const Kinematics& k) {
-      const Loads& l = probe->at(s, k);
-      return body != runtime::ground ? l.F(axis, body) : other != runtime::ground ? -l.F(axis, other) : 0.0;
-    });
+    e.add_quantity(std::string("f") + "xyz"[axis],
+                   [probe, body, other, axis](const State& s, const Kinematics& k) {
+                     const Loads& l = probe->at(s, k);
+                     return body != runtime::ground    ? l.F(axis, body)
+                            : other != runtime::ground ? -l.F(axis, other)
+                                                       : 0.0;
+                   });
   }
 }
 
 // Q: the generalized force on coordinate j.
 void add_generalized_quantity(ScenarioElement& e, int j, const runtime::Model& m) {
   auto probe = std::make_shared<LoadProbe>(e.inner(), m);
-  e.add_quantity("Q", [probe, j](const State& s, const Kinematics& k) { return probe->at(s, k).Q(j); });
+  e.add_quantity("Q",
+                 [probe, j](const State& s, const Kinematics& k) { return probe->at(s, k).Q(j); });
 }
 
 template <class E>
 std::shared_ptr<ScenarioElement> wrap(const Reader& r, std::shared_ptr<E> inner) {
-  return std::make_shared<ScenarioElement>(r.node()["name"].string(), std::move(inner),
-                                           r.node().has("enabled") ? r.node()["enabled"].boolean() : true);
+  return std::make_shared<ScenarioElement>(
+      r.node()["name"].string(), std::move(inner),
+      r.node().has("enabled") ? r.node()["enabled"].boolean() : true);
 }
 
 std::shared_ptr<ScenarioElement> coordinate_spring_damper(const Reader& r) {
   const int j = r.coordinate("coordinate");
   auto e = wrap(r, std::make_shared<runtime::CoordinateSpringDamper>(
-                       r.node()["name"].string(), j, r.number("stiffness"), r.number("damping", 0.0),
-                       r.number("free_value", 0.0)));
+                       r.node()["name"].string(), j, r.number("stiffness"),
+                       r.number("damping", 0.0), r.number("free_value", 0.0)));
   add_generalized_quantity(*e, j, *r.context().names.model);
   return e;
 }
@@ -205,15 +221,16 @@ std::shared_ptr<ScenarioElement> coordinate_force(const Reader& r) {
     for (const Node& n : c.elements()) {
       const int j = r.coordinate(n);
       if (std::find(coordinates.begin(), coordinates.end(), j) != coordinates.end()) {
-        n.fail(fmt::format("coordinate '{}' is listed twice: its force would be applied twice", n.string()));
+        n.fail(fmt::format("coordinate '{}' is listed twice: its force would be applied twice",
+                           n.string()));
       }
       coordinates.push_back(j);
     }
     if (coordinates.empty()) c.fail("expected at least one coordinate");
   }
   auto e = wrap(r, std::make_shared<ExpressionForce>(r.node()["name"].string(), coordinates,
-                                                     r.expression("value", Scope{}), r.context().table,
-                                                     r.context().variables));
+                                                     r.expression("value", Scope{}),
+                                                     r.context().table, r.context().variables));
   add_generalized_quantity(*e, coordinates.front(), *r.context().names.model);
   return e;
 }
@@ -236,33 +253,38 @@ std::shared_ptr<ScenarioElement> coordinate_tracking(const Reader& r) {
     };
   };
   auto reference = function("reference");
-  auto e = wrap(r, std::make_shared<runtime::CoordinateTracking>(r.node()["name"].string(), j, r.number("kp"),
-                                                                 r.number("kd", 0.0), reference,
-                                                                 function("reference_rate")));
+  auto e = wrap(r, std::make_shared<runtime::CoordinateTracking>(
+                       r.node()["name"].string(), j, r.number("kp"), r.number("kd", 0.0), reference,
+                       function("reference_rate")));
   add_generalized_quantity(*e, j, *r.context().names.model);
-  e->add_quantity("reference", [reference](const State& s, const Kinematics&) { return reference(s.t); });
+  e->add_quantity("reference",
+                  [reference](const State& s, const Kinematics&) { return reference(s.t); });
   return e;
 }
 
 std::shared_ptr<ScenarioElement> point_spring_damper(const Reader& r) {
   const auto a = r.body_point("a"), b = r.body_point("b");
   r.distinct_bodies(a.body, b.body, "a spring");
-  auto spring = std::make_shared<runtime::PointSpringDamper>(r.node()["name"].string(), a, b, r.number("stiffness"),
-                                                             r.number("free_length"), r.number("damping", 0.0));
+  auto spring = std::make_shared<runtime::PointSpringDamper>(
+      r.node()["name"].string(), a, b, r.number("stiffness"), r.number("free_length"),
+      r.number("damping", 0.0));
   auto e = wrap(r, spring);
-  e->add_quantity("length", [spring](const State&, const Kinematics& k) { return spring->length(k); });
+  e->add_quantity("length",
+                  [spring](const State&, const Kinematics& k) { return spring->length(k); });
   add_force_quantities(*e, b.body, a.body, *r.context().names.model);
   return e;
 }
 
 std::shared_ptr<ScenarioElement> point_load(const Reader& r) {
   const auto at = r.body_point("at");
-  if (at.body == runtime::ground) r.node()["at"]["body"].fail("a load on the ground moves nothing: name a body");
+  if (at.body == runtime::ground)
+    r.node()["at"]["body"].fail("a load on the ground moves nothing: name a body");
   const Scope law_scope{};
   std::vector<std::shared_ptr<Expression>> parts;
   for (const char* key : {"force", "torque"}) {
     const auto n = r.node().optional(key);
-    if (n && (!n->json().is_array() || n->json().size() != 3)) n->fail("expected an array of 3 numbers or expressions");
+    if (n && (!n->json().is_array() || n->json().size() != 3))
+      n->fail("expected an array of 3 numbers or expressions");
     for (int i = 0; i < 3; ++i) {
       parts.push_back(std::make_shared<Expression>(
           n ? read_expression(n->elements()[static_cast<std::size_t>(i)],
@@ -272,7 +294,8 @@ std::shared_ptr<ScenarioElement> point_load(const Reader& r) {
   }
   auto env = std::make_shared<LawEnvironment>(r.context().table, r.context().variables);
   auto load = std::make_shared<runtime::PointLoad>(
-      r.node()["name"].string(), at, [parts, env](const State& s, const Kinematics& k, Vec3& force, Vec3& torque) {
+      r.node()["name"].string(), at,
+      [parts, env](const State& s, const Kinematics& k, Vec3& force, Vec3& torque) {
         env->set(s, k);
         for (int i = 0; i < 3; ++i) {
           force(i) = parts[static_cast<std::size_t>(i)]->evaluate(*env);
@@ -320,11 +343,14 @@ std::shared_ptr<ScenarioElement> bushing(const Reader& r) {
   }
   auto e = wrap(r, inner);
   for (int i = 0; i < 3; ++i) {
-    e->add_quantity(std::string("d") + "xyz"[i], [inner, i](const State&, const Kinematics& k) { return inner->deflection(k).d(i); });
+    e->add_quantity(std::string("d") + "xyz"[i], [inner, i](const State&, const Kinematics& k) {
+      return inner->deflection(k).d(i);
+    });
   }
   for (int i = 0; i < 3; ++i) {
-    e->add_quantity(std::string("angle_") + "abc"[i],
-                    [inner, i](const State&, const Kinematics& k) { return inner->deflection(k).theta(i); });
+    e->add_quantity(
+        std::string("angle_") + "abc"[i],
+        [inner, i](const State&, const Kinematics& k) { return inner->deflection(k).theta(i); });
   }
   add_force_quantities(*e, b.body, a.body, *r.context().names.model);
   return e;
@@ -340,18 +366,25 @@ std::shared_ptr<ScenarioElement> plane_contact(const Reader& r) {
   p.slip_speed = r.positive("slip_speed", p.slip_speed);
   if (const auto reg = r.node().optional("regularization")) {
     const std::string name = reg->string();
-    if (name != "linear" && name != "smooth") reg->fail(fmt::format("expected linear or smooth, found '{}'", name));
-    p.regularization = name == "smooth" ? runtime::FrictionRegularization::smooth : runtime::FrictionRegularization::linear;
+    if (name != "linear" && name != "smooth")
+      reg->fail(fmt::format("expected linear or smooth, found '{}'", name));
+    p.regularization = name == "smooth" ? runtime::FrictionRegularization::smooth
+                                        : runtime::FrictionRegularization::linear;
   }
-  auto contact = std::make_shared<runtime::PlaneContact>(r.node()["name"].string(),
-                                                         r.moving_body(r.node()["body"], "a contact"),
-                                                         r.vec3("point", Vec3::Zero()), r.number("radius", 0.0),
-                                                         r.plane("plane"), p);
+  auto contact = std::make_shared<runtime::PlaneContact>(
+      r.node()["name"].string(), r.moving_body(r.node()["body"], "a contact"),
+      r.vec3("point", Vec3::Zero()), r.number("radius", 0.0), r.plane("plane"), p);
   auto e = wrap(r, contact);
-  e->add_quantity("normal_force", [contact](const State&, const Kinematics& k) { return contact->evaluate(k).normal_force; });
-  e->add_quantity("penetration", [contact](const State&, const Kinematics& k) { return contact->evaluate(k).penetration; });
+  e->add_quantity("normal_force", [contact](const State&, const Kinematics& k) {
+    return contact->evaluate(k).normal_force;
+  });
+  e->add_quantity("penetration", [contact](const State&, const Kinematics& k) {
+    return contact->evaluate(k).penetration;
+  });
   for (int i = 0; i < 3; ++i) {
-    e->add_quantity(std::string("f") + "xyz"[i], [contact, i](const State&, const Kinematics& k) { return contact->evaluate(k).force(i); });
+    e->add_quantity(std::string("f") + "xyz"[i], [contact, i](const State&, const Kinematics& k) {
+      return contact->evaluate(k).force(i);
+    });
   }
   return e;
 }
@@ -365,13 +398,19 @@ std::shared_ptr<ScenarioElement> simple_tyre(const Reader& r) {
   p.epsilon = r.positive("epsilon", p.epsilon);
   p.axis = r.vec3("axis", p.axis);
   p.centre = r.vec3("centre", p.centre);
-  auto tyre = std::make_shared<runtime::SimpleTyre>(r.node()["name"].string(), r.moving_body(r.node()["body"], "a tyre"),
-                                                    p, r.plane("ground"));
+  auto tyre = std::make_shared<runtime::SimpleTyre>(
+      r.node()["name"].string(), r.moving_body(r.node()["body"], "a tyre"), p, r.plane("ground"));
   auto e = wrap(r, tyre);
-  e->add_quantity("normal_force", [tyre](const State&, const Kinematics& k) { return tyre->evaluate(k).normal_force; });
-  e->add_quantity("penetration", [tyre](const State&, const Kinematics& k) { return tyre->evaluate(k).penetration; });
+  e->add_quantity("normal_force", [tyre](const State&, const Kinematics& k) {
+    return tyre->evaluate(k).normal_force;
+  });
+  e->add_quantity("penetration", [tyre](const State&, const Kinematics& k) {
+    return tyre->evaluate(k).penetration;
+  });
   for (int i = 0; i < 3; ++i) {
-    e->add_quantity(std::string("f") + "xyz"[i], [tyre, i](const State&, const Kinematics& k) { return tyre->evaluate(k).force(i); });
+    e->add_quantity(std::string("f") + "xyz"[i], [tyre, i](const State&, const Kinematics& k) {
+      return tyre->evaluate(k).force(i);
+    });
   }
   return e;
 }
@@ -393,8 +432,8 @@ std::shared_ptr<ScenarioElement> gim_tyre(const Reader& r) {
   p.mu_dynamic = r.number("mu_dynamic", p.mu_dynamic);
   p.axis = r.vec3("axis", p.axis);
   p.centre = r.vec3("centre", p.centre);
-  auto tyre = std::make_shared<runtime::GimTyre>(r.node()["name"].string(), r.moving_body(r.node()["body"], "a tyre"),
-                                                 p, r.plane("ground"));
+  auto tyre = std::make_shared<runtime::GimTyre>(
+      r.node()["name"].string(), r.moving_body(r.node()["body"], "a tyre"), p, r.plane("ground"));
   auto e = wrap(r, tyre);
   using Result = runtime::GimTyre::Result;
   const std::pair<const char*, double (*)(const Result&)> quantities[] = {
@@ -409,7 +448,9 @@ std::shared_ptr<ScenarioElement> gim_tyre(const Reader& r) {
       {"mz", [](const Result& x) { return x.moment(2); }},
   };
   for (const auto& [name, read] : quantities) {
-    e->add_quantity(name, [tyre, read = read](const State&, const Kinematics& k) { return read(tyre->evaluate(k)); });
+    e->add_quantity(name, [tyre, read = read](const State&, const Kinematics& k) {
+      return read(tyre->evaluate(k));
+    });
   }
   return e;
 }
@@ -423,30 +464,37 @@ struct ElementType {
 };
 
 const ElementType kElementTypes[] = {
-    {"coordinate_spring_damper", {"coordinate", "stiffness", "damping", "free_value"}, coordinate_spring_damper},
+    {"coordinate_spring_damper",
+     {"coordinate", "stiffness", "damping", "free_value"},
+     coordinate_spring_damper},
     {"coordinate_force", {"coordinates", "value"}, coordinate_force},
-    {"coordinate_tracking", {"coordinate", "kp", "kd", "reference", "reference_rate"}, coordinate_tracking},
+    {"coordinate_tracking",
+     {"coordinate", "kp", "kd", "reference", "reference_rate"},
+     coordinate_tracking},
     {"point_spring_damper", {"a", "b", "stiffness", "free_length", "damping"}, point_spring_damper},
     {"point_load", {"at", "force", "torque"}, point_load},
     {"bushing",
-     {"a", "b", "order", "stiffness", "damping", "rotational_stiffness", "rotational_damping", "preload_force",
-      "preload_torque"},
+     {"a", "b", "order", "stiffness", "damping", "rotational_stiffness", "rotational_damping",
+      "preload_force", "preload_torque"},
      bushing},
     {"plane_contact",
-     {"body", "point", "radius", "plane", "stiffness", "stiffness_exponent", "damping", "damping_exponent", "friction",
-      "slip_speed", "regularization"},
+     {"body", "point", "radius", "plane", "stiffness", "stiffness_exponent", "damping",
+      "damping_exponent", "friction", "slip_speed", "regularization"},
      plane_contact},
-    {"simple_tyre", {"body", "radius", "stiffness", "damping", "friction", "epsilon", "axis", "centre", "ground"},
+    {"simple_tyre",
+     {"body", "radius", "stiffness", "damping", "friction", "epsilon", "axis", "centre", "ground"},
      simple_tyre},
     {"gim_tyre",
-     {"body", "r1", "r2", "Kz", "Cz", "Fznom", "Clongnom", "nlong", "Clatnom", "nlat", "Ccambernom", "ncamber",
-      "mu_static", "mu_dynamic", "axis", "centre", "ground"},
+     {"body", "r1", "r2", "Kz", "Cz", "Fznom", "Clongnom", "nlong", "Clatnom", "nlat", "Ccambernom",
+      "ncamber", "mu_static", "mu_dynamic", "axis", "centre", "ground"},
      gim_tyre},
 };
 
 bool identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
 }
 
 }  // namespace
@@ -472,18 +520,22 @@ std::shared_ptr<ScenarioElement> make_element(const Node& node, const ElementCon
   const auto row = std::find_if(std::begin(kElementTypes), std::end(kElementTypes),
                                 [&](const ElementType& t) { return name == t.type; });
   if (row == std::end(kElementTypes)) {
-    type.fail(fmt::format("unknown force element type '{}' (types: {})", name, fmt::join(element_types(), ", ")));
+    type.fail(fmt::format("unknown force element type '{}' (types: {})", name,
+                          fmt::join(element_types(), ", ")));
   }
   std::vector<std::string_view> keys{"type", "name", "enabled"};
   keys.insert(keys.end(), row->keys.begin(), row->keys.end());
   // allow_only takes an initializer list: check by hand with the same message.
   for (const auto& [key, member] : node.members()) {
     if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-      member.fail(fmt::format("unknown key '{}' for a {} (expected: {})", key, name, fmt::join(keys, ", ")));
+      member.fail(fmt::format("unknown key '{}' for a {} (expected: {})", key, name,
+                              fmt::join(keys, ", ")));
     }
   }
   const Node id = node["name"];
-  if (!identifier(id.string())) id.fail(fmt::format("'{}' is not a name expressions can use (letters, digits, _)", id.string()));
+  if (!identifier(id.string()))
+    id.fail(
+        fmt::format("'{}' is not a name expressions can use (letters, digits, _)", id.string()));
   try {
     return row->make(Reader(node, context));
   } catch (const runtime::PropertyError& e) {

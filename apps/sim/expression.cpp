@@ -37,7 +37,9 @@ constexpr Function kFunctions[] = {
     {"exp", 1, [](const double* a) { return std::exp(a[0]); }},
     {"log", 1, [](const double* a) { return std::log(a[0]); }},
     {"abs", 1, [](const double* a) { return std::abs(a[0]); }},
-    {"sign", 1, [](const double* a) { return a[0] > 0.0 ? 1.0 : a[0] < 0.0 ? -1.0 : 0.0; }},
+    {"sign", 1, [](const double* a) { return a[0] > 0.0   ? 1.0
+                                             : a[0] < 0.0 ? -1.0
+                                                          : 0.0; }},
     // Heaviside: 1 from x = 0 on.
     {"step", 1, [](const double* a) { return a[0] >= 0.0 ? 1.0 : 0.0; }},
     {"min", 2, [](const double* a) { return std::min(a[0], a[1]); }},
@@ -69,8 +71,12 @@ std::string function_names() {
   return fmt::format("{}", fmt::join(names, ", "));
 }
 
-bool name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
-bool name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; }
+bool name_start(char c) {
+  return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
+}
+bool name_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.';
+}
 
 // Recursive descent straight into the stack program. Nesting is bounded so
 // that a hostile text cannot exhaust the stack.
@@ -104,10 +110,13 @@ class Parser {
     return false;
   }
   void expect(char c) {
-    if (!accept(c)) fail(pos_ < text_.size() ? fmt::format("expected '{}', found '{}'", c, text_[pos_])
-                                             : fmt::format("expected '{}' at the end", c));
+    if (!accept(c))
+      fail(pos_ < text_.size() ? fmt::format("expected '{}', found '{}'", c, text_[pos_])
+                               : fmt::format("expected '{}' at the end", c));
   }
-  void emit(const Function& f) { ops_.push_back({.kind = Expression::Op::Kind::function, .function = f.value, .arity = f.arity}); }
+  void emit(const Function& f) {
+    ops_.push_back({.kind = Expression::Op::Kind::function, .function = f.value, .arity = f.arity});
+  }
 
   void expression() {
     if (++depth_ > kMaxDepth) fail(fmt::format("nested more than {} deep", kMaxDepth));
@@ -233,14 +242,16 @@ class Parser {
       }
       if (n != f->arity) {
         pos_ = start;
-        fail(fmt::format("{}() takes {} argument{}, given {}", id, f->arity, f->arity == 1 ? "" : "s", n));
+        fail(fmt::format("{}() takes {} argument{}, given {}", id, f->arity,
+                         f->arity == 1 ? "" : "s", n));
       }
       emit(*f);
       return;
     }
     const std::size_t open = pos_;
     const auto args = argument_texts();
-    const int symbol = resolver_.call ? resolved([&] { return resolver_.call(id, args); }, start) : -1;
+    const int symbol =
+        resolver_.call ? resolved([&] { return resolver_.call(id, args); }, start) : -1;
     if (symbol < 0) {
       pos_ = open;
       fail(fmt::format("unknown function '{}' (functions: {})", id, function_names()));
@@ -259,7 +270,9 @@ class Parser {
 std::size_t stack_depth(const std::vector<Expression::Op>& ops) {
   std::size_t depth = 0, deepest = 0;
   for (const auto& op : ops) {
-    depth = op.kind == Expression::Op::Kind::function ? depth - static_cast<std::size_t>(op.arity) + 1 : depth + 1;
+    depth = op.kind == Expression::Op::Kind::function
+                ? depth - static_cast<std::size_t>(op.arity) + 1
+                : depth + 1;
     deepest = std::max(deepest, depth);
   }
   return deepest;
@@ -272,7 +285,8 @@ Expression Expression::parse(std::string_view text, const Resolver& resolver) {
   e.text_ = std::string(text);
   e.ops_ = Parser(e.text_, resolver).parse();
   for (const auto& op : e.ops_) {
-    if (op.kind == Op::Kind::symbol && std::find(e.symbols_.begin(), e.symbols_.end(), op.symbol) == e.symbols_.end()) {
+    if (op.kind == Op::Kind::symbol &&
+        std::find(e.symbols_.begin(), e.symbols_.end(), op.symbol) == e.symbols_.end()) {
       e.symbols_.push_back(op.symbol);
     }
   }
@@ -294,8 +308,12 @@ double Expression::evaluate(const Environment& env) const {
   std::size_t top = 0;
   for (const auto& op : ops_) {
     switch (op.kind) {
-      case Op::Kind::number: stack[top++] = op.number; break;
-      case Op::Kind::symbol: stack[top++] = env.value(op.symbol); break;
+      case Op::Kind::number:
+        stack[top++] = op.number;
+        break;
+      case Op::Kind::symbol:
+        stack[top++] = env.value(op.symbol);
+        break;
       case Op::Kind::function: {
         top -= static_cast<std::size_t>(op.arity);
         stack[top] = op.function(stack + top);

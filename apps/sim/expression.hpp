@@ -43,7 +43,8 @@ struct Resolver {
   std::function<int(std::string_view name)> symbol;
   // A call the built-in table does not know: a symbol, or -1 to refuse it.
   // Receives the argument texts, unparsed.
-  std::function<int(std::string_view function, const std::vector<std::string_view>& arguments)> call;
+  std::function<int(std::string_view function, const std::vector<std::string_view>& arguments)>
+      call;
 };
 
 class Expression {

@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <cstdlib>
-
 #include <system_error>
 
 #include <symdyn/runtime/errors.hpp>
@@ -17,21 +16,31 @@ namespace {
 
 std::string kind_of(fs::file_type type) {
   switch (type) {
-    case fs::file_type::regular: return "a regular file";
-    case fs::file_type::directory: return "a directory";
-    case fs::file_type::symlink: return "a symbolic link";
-    case fs::file_type::block: return "a block device";
-    case fs::file_type::character: return "a character device";
-    case fs::file_type::fifo: return "a FIFO";
-    case fs::file_type::socket: return "a socket";
-    case fs::file_type::not_found: return "missing";
-    default: return "a special file";
+    case fs::file_type::regular:
+      return "a regular file";
+    case fs::file_type::directory:
+      return "a directory";
+    case fs::file_type::symlink:
+      return "a symbolic link";
+    case fs::file_type::block:
+      return "a block device";
+    case fs::file_type::character:
+      return "a character device";
+    case fs::file_type::fifo:
+      return "a FIFO";
+    case fs::file_type::socket:
+      return "a socket";
+    case fs::file_type::not_found:
+      return "missing";
+    default:
+      return "a special file";
   }
 }
 
 // Writable for this process, and (root writes anywhere) marked writable.
 bool writable(const fs::path& path, fs::perms perms) {
-  constexpr fs::perms any_write = fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
+  constexpr fs::perms any_write =
+      fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
   return ::access(path.c_str(), W_OK) == 0 && (perms & any_write) != fs::perms::none;
 }
 
@@ -64,9 +73,11 @@ void check_output_file(std::string_view option, const fs::path& path) {
   if (status.type() == fs::file_type::directory) refuse("is a directory: name a file in it");
   if (fs::exists(status)) {
     if (status.type() != fs::file_type::regular) {
-      refuse(fmt::format("is {}: results are written to regular files only", kind_of(status.type())));
+      refuse(
+          fmt::format("is {}: results are written to regular files only", kind_of(status.type())));
     }
-    if (!writable(path, status.permissions())) refuse("is read-only: it is not replaced (make it writable, or name another file)");
+    if (!writable(path, status.permissions()))
+      refuse("is read-only: it is not replaced (make it writable, or name another file)");
   } else if (fs::is_symlink(fs::symlink_status(path, ec))) {
     refuse("is a symbolic link to nothing: name a file");
   }
@@ -76,7 +87,8 @@ void check_output_file(std::string_view option, const fs::path& path) {
   if (folder.empty()) folder = path.is_absolute() ? path.root_path() : fs::path(".");
   const fs::file_status f = fs::status(folder, ec);
   if (f.type() != fs::file_type::directory) {
-    refuse(fmt::format("cannot be made: '{}' is {}, not a folder", folder.string(), kind_of(f.type())));
+    refuse(fmt::format("cannot be made: '{}' is {}, not a folder", folder.string(),
+                       kind_of(f.type())));
   }
   if (::access(folder.c_str(), W_OK | X_OK) != 0 || !can_create_in(folder)) {
     refuse(fmt::format("cannot be written: the folder '{}' is not writable", folder.string()));

@@ -18,7 +18,8 @@ std::vector<std::string> split(std::string_view path) {
   std::size_t begin = 0;
   while (true) {
     const std::size_t dot = path.find('.', begin);
-    parts.emplace_back(path.substr(begin, dot == std::string_view::npos ? std::string_view::npos : dot - begin));
+    parts.emplace_back(
+        path.substr(begin, dot == std::string_view::npos ? std::string_view::npos : dot - begin));
     if (dot == std::string_view::npos) return parts;
     begin = dot + 1;
   }
@@ -37,7 +38,9 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 json& object_member(json& parent, const std::string& key, std::string_view path) {
   json& member = parent[key];
   if (member.is_null()) member = json::object();
-  if (!member.is_object()) throw OverrideError(std::string(path), fmt::format("the scenario's '{}' is not an object", key));
+  if (!member.is_object())
+    throw OverrideError(std::string(path),
+                        fmt::format("the scenario's '{}' is not an object", key));
   return member;
 }
 
@@ -45,7 +48,9 @@ json& object_member(json& parent, const std::string& key, std::string_view path)
 // are absent but allowed), or ScenarioError.
 json& slot(json& document, std::string_view path, const runtime::Model& model) {
   const std::vector<std::string> p = split(path);
-  const auto fail = [&](const std::string& what) -> json& { throw OverrideError(std::string(path), what); };
+  const auto fail = [&](const std::string& what) -> json& {
+    throw OverrideError(std::string(path), what);
+  };
   const auto size = [&](std::size_t n, const char* form) {
     if (p.size() != n) fail(fmt::format("expected {}", form));
   };
@@ -57,13 +62,15 @@ json& slot(json& document, std::string_view path, const runtime::Model& model) {
   if (head == "parameters") {
     size(2, "parameters.<name>");
     if (!contains(model.param_names(), p[1])) {
-      fail(fmt::format("unknown parameter '{}' (parameters of {}: {})", p[1], model.name(), listed(model.param_names())));
+      fail(fmt::format("unknown parameter '{}' (parameters of {}: {})", p[1], model.name(),
+                       listed(model.param_names())));
     }
     return object_member(document, "parameters", path)[p[1]];
   }
   if (head == "initial") {
     size(3, "initial.q.<coordinate> or initial.qd.<coordinate>");
-    if (p[1] != "q" && p[1] != "qd") fail(fmt::format("unknown part '{}' (expected q or qd)", p[1]));
+    if (p[1] != "q" && p[1] != "qd")
+      fail(fmt::format("unknown part '{}' (expected q or qd)", p[1]));
     if (!contains(model.q_names(), p[2])) {
       fail(fmt::format("unknown coordinate '{}' (coordinates: {})", p[2], listed(model.q_names())));
     }
@@ -76,7 +83,8 @@ json& slot(json& document, std::string_view path, const runtime::Model& model) {
       for (const auto& [name, value] : document["variables"].items()) declared.push_back(name);
     }
     if (!contains(declared, p[1])) {
-      fail(fmt::format("the scenario declares no variable '{}' (variables: {})", p[1], listed(declared)));
+      fail(fmt::format("the scenario declares no variable '{}' (variables: {})", p[1],
+                       listed(declared)));
     }
     return document["variables"][p[1]];
   }
@@ -106,7 +114,8 @@ json& slot(json& document, std::string_view path, const runtime::Model& model) {
         if (names.back() == p[1]) element = &e;
       }
     }
-    if (element == nullptr) fail(fmt::format("no force element '{}' (elements: {})", p[1], listed(names)));
+    if (element == nullptr)
+      fail(fmt::format("no force element '{}' (elements: {})", p[1], listed(names)));
     const std::string type = element->contains("type") && (*element)["type"].is_string()
                                  ? (*element)["type"].get<std::string>()
                                  : std::string();
@@ -116,7 +125,8 @@ json& slot(json& document, std::string_view path, const runtime::Model& model) {
     }
     json* at = &(*element)[p[2]];
     for (std::size_t k = 3; k < p.size(); ++k) {
-      const std::string so_far = fmt::format("{}", fmt::join(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(k), "."));
+      const std::string so_far =
+          fmt::format("{}", fmt::join(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(k), "."));
       if (at->is_object()) {
         if (!at->contains(p[k])) fail(fmt::format("{} has no member '{}'", so_far, p[k]));
         at = &(*at)[p[k]];
@@ -124,29 +134,35 @@ json& slot(json& document, std::string_view path, const runtime::Model& model) {
         std::size_t index = 0;
         const auto [end, ec] = std::from_chars(p[k].data(), p[k].data() + p[k].size(), index);
         if (ec != std::errc() || end != p[k].data() + p[k].size() || index >= at->size()) {
-          fail(fmt::format("{} has {} entries: '{}' is not an index among them", so_far, at->size(), p[k]));
+          fail(fmt::format("{} has {} entries: '{}' is not an index among them", so_far, at->size(),
+                           p[k]));
         }
         at = &(*at)[index];
       } else {
-        fail(fmt::format("{} is {} in the scenario: it has no parts", so_far, at->is_null() ? "absent" : "a single value"));
+        fail(fmt::format("{} is {} in the scenario: it has no parts", so_far,
+                         at->is_null() ? "absent" : "a single value"));
       }
     }
     return *at;
   }
-  return fail(fmt::format("unknown part '{}' (expected parameters, initial, variables, forces, integrator, t_end or "
-                          "output_interval)",
-                          head));
+  return fail(fmt::format(
+      "unknown part '{}' (expected parameters, initial, variables, forces, integrator, t_end or "
+      "output_interval)",
+      head));
 }
 
 }  // namespace
 
 OverrideError::OverrideError(std::string path, std::string detail)
-    : ScenarioError(fmt::format("{}: {}", path, detail)), path_(std::move(path)), detail_(std::move(detail)) {}
+    : ScenarioError(fmt::format("{}: {}", path, detail)),
+      path_(std::move(path)),
+      detail_(std::move(detail)) {}
 
 Override parse_override(std::string_view assignment) {
   const std::size_t eq = assignment.find('=');
   if (eq == std::string_view::npos || eq == 0) {
-    throw ScenarioError(fmt::format("--set '{}': expected path=value (forces.spring.stiffness=2e4)", assignment));
+    throw ScenarioError(
+        fmt::format("--set '{}': expected path=value (forces.spring.stiffness=2e4)", assignment));
   }
   Override o{std::string(assignment.substr(0, eq)), {}};
   const std::string_view text = assignment.substr(eq + 1);
@@ -160,10 +176,12 @@ void check_override(const Scenario& scenario, const runtime::Model& model, std::
   slot(copy, path, model);
 }
 
-Scenario with_overrides(const Scenario& scenario, const runtime::Model& model, const std::vector<Override>& overrides) {
+Scenario with_overrides(const Scenario& scenario, const runtime::Model& model,
+                        const std::vector<Override>& overrides) {
   json document = scenario.document;
   for (const Override& o : overrides) slot(document, o.path, model) = o.value;
-  Scenario changed = scenario_from_document(std::move(document), scenario.origin, scenario.directory);
+  Scenario changed =
+      scenario_from_document(std::move(document), scenario.origin, scenario.directory);
   changed.name = scenario.name;
   return changed;
 }

@@ -22,14 +22,12 @@
 // a refusal names the scenario's key: /forces/5/stiffness (force element 'rear_left').
 
 #include <nlohmann/json.hpp>
-
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include <symdyn/runtime/model.hpp>
-
 #include "scenario.hpp"
+#include <symdyn/runtime/model.hpp>
 
 namespace symdyn::sim {
 
@@ -60,6 +58,7 @@ void check_override(const Scenario& scenario, const runtime::Model& model, std::
 // The scenario with the changes made in order; `model` is the scenario's
 // (make_model), against which parameter and coordinate names are checked.
 // Throws OverrideError.
-Scenario with_overrides(const Scenario& scenario, const runtime::Model& model, const std::vector<Override>& overrides);
+Scenario with_overrides(const Scenario& scenario, const runtime::Model& model,
+                        const std::vector<Override>& overrides);
 
 }  // namespace symdyn::sim

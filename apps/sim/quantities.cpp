@@ -14,12 +14,13 @@ namespace {
 
 // Body attributes, in the order body_quantity() reads them.
 constexpr std::array<const char*, 21> kBodyAttributes = {
-    "x",  "y",  "z",  "vx", "vy", "vz", "wx", "wy", "wz", "ux", "uy", "uz",
-    "R00", "R01", "R02", "R10", "R11", "R12", "R20", "R21", "R22"};
-constexpr std::array<const char*, 4> kEnergies = {"kinetic_energy", "gravitational_energy", "elastic_energy",
-                                                  "total_energy"};
-constexpr std::array<const char*, 6> kMomenta = {"momentum_x",         "momentum_y",         "momentum_z",
-                                                 "angular_momentum_x", "angular_momentum_y", "angular_momentum_z"};
+    "x",  "y",   "z",   "vx",  "vy",  "vz",  "wx",  "wy",  "wz",  "ux", "uy",
+    "uz", "R00", "R01", "R02", "R10", "R11", "R12", "R20", "R21", "R22"};
+constexpr std::array<const char*, 4> kEnergies = {"kinetic_energy", "gravitational_energy",
+                                                  "elastic_energy", "total_energy"};
+constexpr std::array<const char*, 6> kMomenta = {"momentum_x",         "momentum_y",
+                                                 "momentum_z",         "angular_momentum_x",
+                                                 "angular_momentum_y", "angular_momentum_z"};
 
 template <class List>
 int index_of(const List& list, std::string_view name) {
@@ -29,7 +30,9 @@ int index_of(const List& list, std::string_view name) {
   return -1;
 }
 
-std::string joined(const auto& list) { return fmt::format("{}", fmt::join(list, ", ")); }
+std::string joined(const auto& list) {
+  return fmt::format("{}", fmt::join(list, ", "));
+}
 
 // The names valid in a scope, for the message of an unknown one.
 std::string valid_names(const Names& names, const Scope& scope) {
@@ -45,9 +48,11 @@ std::string valid_names(const Names& names, const Scope& scope) {
     groups.push_back(joined(kEnergies) + ", " + joined(kMomenta));
     std::vector<std::string> elements;
     for (const auto& e : *names.elements) elements.push_back(e->id());
-    if (!elements.empty()) groups.push_back(fmt::format("force elements {} as <element>.<quantity>", joined(elements)));
+    if (!elements.empty())
+      groups.push_back(fmt::format("force elements {} as <element>.<quantity>", joined(elements)));
   }
-  if (!names.variables.empty()) groups.push_back(fmt::format("variables {}", joined(names.variables)));
+  if (!names.variables.empty())
+    groups.push_back(fmt::format("variables {}", joined(names.variables)));
   if (scope.run_constants) groups.emplace_back("rtol, atol, t_end");
   return fmt::format("{}", fmt::join(groups, "; "));
 }
@@ -56,13 +61,15 @@ std::string valid_names(const Names& names, const Scope& scope) {
   throw ExpressionError(fmt::format("unknown {} (valid: {})", what, valid));
 }
 
-int resolve_dotted(std::string_view name, const Names& names, const Scope& scope, SymbolTable& table) {
+int resolve_dotted(std::string_view name, const Names& names, const Scope& scope,
+                   SymbolTable& table) {
   const auto dot = name.find('.');
   const std::string_view owner = name.substr(0, dot), attribute = name.substr(dot + 1);
   const auto& bodies = names.model->body_names();
   if (const int body = index_of(bodies, owner); body >= 0 && scope.state) {
     const int a = index_of(kBodyAttributes, attribute);
-    if (a < 0) unknown(fmt::format("quantity '{}' of body '{}'", attribute, owner), joined(kBodyAttributes));
+    if (a < 0)
+      unknown(fmt::format("quantity '{}' of body '{}'", attribute, owner), joined(kBodyAttributes));
     return table.add({.source = Source::body, .a = body, .b = a});
   }
   if (scope.system) {
@@ -71,7 +78,8 @@ int resolve_dotted(std::string_view name, const Names& names, const Scope& scope
       if (elements[e]->id() != owner) continue;
       const int q = index_of(elements[e]->quantity_names(), attribute);
       if (q < 0) {
-        unknown(fmt::format("quantity '{}' of force element '{}'", attribute, owner), joined(elements[e]->quantity_names()));
+        unknown(fmt::format("quantity '{}' of force element '{}'", attribute, owner),
+                joined(elements[e]->quantity_names()));
       }
       return table.add({.source = Source::element, .a = static_cast<int>(e), .b = q});
     }
@@ -80,15 +88,19 @@ int resolve_dotted(std::string_view name, const Names& names, const Scope& scope
 }
 
 // A coordinate, its rate or its acceleration.
-int resolve_coordinate(std::string_view name, const Names& names, const Scope& scope, SymbolTable& table) {
+int resolve_coordinate(std::string_view name, const Names& names, const Scope& scope,
+                       SymbolTable& table) {
   const auto& q = names.model->q_names();
   if (const int j = index_of(q, name); j >= 0) return table.add({.source = Source::q, .a = j});
-  for (const auto& [suffix, source] : {std::pair{std::string_view("_dot"), Source::qd}, {"_ddot", Source::qdd}}) {
-    if (name.size() <= suffix.size() || name.substr(name.size() - suffix.size()) != suffix) continue;
+  for (const auto& [suffix, source] :
+       {std::pair{std::string_view("_dot"), Source::qd}, {"_ddot", Source::qdd}}) {
+    if (name.size() <= suffix.size() || name.substr(name.size() - suffix.size()) != suffix)
+      continue;
     const int j = index_of(q, name.substr(0, name.size() - suffix.size()));
     if (j < 0) continue;
     if (source == Source::qdd && !scope.accelerations) {
-      throw ExpressionError(fmt::format("'{}': accelerations are not known here (outputs and checks read them)", name));
+      throw ExpressionError(fmt::format(
+          "'{}': accelerations are not known here (outputs and checks read them)", name));
     }
     return table.add({.source = source, .a = j});
   }
@@ -97,14 +109,16 @@ int resolve_coordinate(std::string_view name, const Names& names, const Scope& s
 
 }  // namespace
 
-ScenarioElement::ScenarioElement(std::string name, std::shared_ptr<const runtime::ForceElement> inner, bool enabled)
+ScenarioElement::ScenarioElement(std::string name,
+                                 std::shared_ptr<const runtime::ForceElement> inner, bool enabled)
     : id_(std::move(name)), inner_(std::move(inner)), enabled_(enabled) {}
 
 void ScenarioElement::apply(const State& s, const Kinematics& k, runtime::Loads& loads) const {
   if (enabled_) inner_->apply(s, k, loads);
 }
 
-void ScenarioElement::add_load_derivatives(const State& s, const Kinematics& k, const runtime::KinematicsDerivatives& dk,
+void ScenarioElement::add_load_derivatives(const State& s, const Kinematics& k,
+                                           const runtime::KinematicsDerivatives& dk,
                                            runtime::Matrix& dQ_dq, runtime::Matrix& dQ_dqd) const {
   if (enabled_) inner_->add_load_derivatives(s, k, dk, dQ_dq, dQ_dqd);
 }
@@ -129,19 +143,24 @@ int SymbolTable::add(const Symbol& s) {
   return static_cast<int>(symbols_.size() - 1);
 }
 
-int resolve_name(std::string_view name, const Names& names, const Scope& scope, SymbolTable& table) {
-  if (const int v = index_of(names.variables, name); v >= 0) return table.add({.source = Source::variable, .a = v});
+int resolve_name(std::string_view name, const Names& names, const Scope& scope,
+                 SymbolTable& table) {
+  if (const int v = index_of(names.variables, name); v >= 0)
+    return table.add({.source = Source::variable, .a = v});
   if (scope.time && name == "t") return table.add({.source = Source::time});
   if (scope.state) {
     if (const int c = resolve_coordinate(name, names, scope, table); c >= 0) return c;
   }
   if (name.find('.') != std::string_view::npos) return resolve_dotted(name, names, scope, table);
   if (scope.system) {
-    if (const int e = index_of(kEnergies, name); e >= 0) return table.add({.source = Source::energy, .a = e});
-    if (const int m = index_of(kMomenta, name); m >= 0) return table.add({.source = Source::momentum, .a = m});
+    if (const int e = index_of(kEnergies, name); e >= 0)
+      return table.add({.source = Source::energy, .a = e});
+    if (const int m = index_of(kMomenta, name); m >= 0)
+      return table.add({.source = Source::momentum, .a = m});
   }
   if (scope.run_constants) {
-    for (const auto& [constant, value] : {std::pair{"rtol", names.rtol}, {"atol", names.atol}, {"t_end", names.t_end}}) {
+    for (const auto& [constant, value] :
+         {std::pair{"rtol", names.rtol}, {"atol", names.atol}, {"t_end", names.t_end}}) {
       if (name == constant) return table.add({.source = Source::constant, .constant = value});
     }
   }
@@ -150,7 +169,9 @@ int resolve_name(std::string_view name, const Names& names, const Scope& scope, 
 
 Resolver make_resolver(const Names& names, const Scope& scope, SymbolTable& table) {
   Resolver r;
-  r.symbol = [&names, scope, &table](std::string_view name) { return resolve_name(name, names, scope, table); };
+  r.symbol = [&names, scope, &table](std::string_view name) {
+    return resolve_name(name, names, scope, table);
+  };
   return r;
 }
 
@@ -165,8 +186,13 @@ double body_quantity(const Kinematics& k, int body, int attribute) {
 
 SampleEnvironment::SampleEnvironment(runtime::MultibodySystem& system, const SymbolTable& table,
                                      const std::vector<std::shared_ptr<ScenarioElement>>& elements,
-                                     const std::vector<double>& variables, const std::vector<double>& statistics)
-    : system_(system), table_(table), elements_(elements), variables_(variables), statistics_(statistics) {}
+                                     const std::vector<double>& variables,
+                                     const std::vector<double>& statistics)
+    : system_(system),
+      table_(table),
+      elements_(elements),
+      variables_(variables),
+      statistics_(statistics) {}
 
 void SampleEnvironment::set(const State& s, const runtime::Vector& qdd) {
   s_ = &s;
@@ -185,16 +211,22 @@ const Kinematics& SampleEnvironment::kinematics() const {
 double SampleEnvironment::value(int symbol) const {
   const Symbol& sym = table_[symbol];
   switch (sym.source) {
-    case Source::time: return s_->t;
-    case Source::q: return s_->q(sym.a);
-    case Source::qd: return s_->qd(sym.a);
-    case Source::qdd: return qdd_->size() > sym.a ? (*qdd_)(sym.a) : 0.0;
-    case Source::body: return body_quantity(kinematics(), sym.a, sym.b);
+    case Source::time:
+      return s_->t;
+    case Source::q:
+      return s_->q(sym.a);
+    case Source::qd:
+      return s_->qd(sym.a);
+    case Source::qdd:
+      return qdd_->size() > sym.a ? (*qdd_)(sym.a) : 0.0;
+    case Source::body:
+      return body_quantity(kinematics(), sym.a, sym.b);
     case Source::energy: {
       if (!have_energies_) energies_ = system_.energies(*s_);
       have_energies_ = true;
       have_kinematics_ = false;
-      const double e[] = {energies_.kinetic, energies_.gravitational, energies_.elastic, energies_.total()};
+      const double e[] = {energies_.kinetic, energies_.gravitational, energies_.elastic,
+                          energies_.total()};
       return e[sym.a];
     }
     case Source::momentum: {
@@ -205,9 +237,12 @@ double SampleEnvironment::value(int symbol) const {
     }
     case Source::element:
       return elements_[static_cast<std::size_t>(sym.a)]->quantity(sym.b, *s_, kinematics());
-    case Source::variable: return variables_[static_cast<std::size_t>(sym.a)];
-    case Source::constant: return sym.constant;
-    case Source::statistic: return statistics_[static_cast<std::size_t>(sym.a)];
+    case Source::variable:
+      return variables_[static_cast<std::size_t>(sym.a)];
+    case Source::constant:
+      return sym.constant;
+    case Source::statistic:
+      return statistics_[static_cast<std::size_t>(sym.a)];
   }
   return 0.0;
 }
@@ -215,13 +250,20 @@ double SampleEnvironment::value(int symbol) const {
 double LawEnvironment::value(int symbol) const {
   const Symbol& sym = table_[symbol];
   switch (sym.source) {
-    case Source::time: return s_->t;
-    case Source::q: return s_->q(sym.a);
-    case Source::qd: return s_->qd(sym.a);
-    case Source::body: return body_quantity(*k_, sym.a, sym.b);
-    case Source::variable: return variables_[static_cast<std::size_t>(sym.a)];
-    case Source::constant: return sym.constant;
-    default: return 0.0;  // refused by the law's scope when parsed
+    case Source::time:
+      return s_->t;
+    case Source::q:
+      return s_->q(sym.a);
+    case Source::qd:
+      return s_->qd(sym.a);
+    case Source::body:
+      return body_quantity(*k_, sym.a, sym.b);
+    case Source::variable:
+      return variables_[static_cast<std::size_t>(sym.a)];
+    case Source::constant:
+      return sym.constant;
+    default:
+      return 0.0;  // refused by the law's scope when parsed
   }
 }
 

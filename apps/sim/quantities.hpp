@@ -16,14 +16,25 @@
 #include <string_view>
 #include <vector>
 
+#include "expression.hpp"
 #include <symdyn/runtime/force_element.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 
-#include "expression.hpp"
-
 namespace symdyn::sim {
 
-enum class Source { time, q, qd, qdd, body, energy, momentum, element, variable, constant, statistic };
+enum class Source {
+  time,
+  q,
+  qd,
+  qdd,
+  body,
+  energy,
+  momentum,
+  element,
+  variable,
+  constant,
+  statistic
+};
 
 struct Symbol {
   Source source = Source::time;
@@ -37,11 +48,13 @@ struct Symbol {
 class ScenarioElement : public runtime::ForceElement {
  public:
   using Quantity = std::function<double(const runtime::State& s, const runtime::Kinematics& k)>;
-  ScenarioElement(std::string name, std::shared_ptr<const runtime::ForceElement> inner, bool enabled);
+  ScenarioElement(std::string name, std::shared_ptr<const runtime::ForceElement> inner,
+                  bool enabled);
 
   std::string name() const override { return inner_->name(); }
   runtime::KinematicsLevel reads() const override { return inner_->reads(); }
-  void apply(const runtime::State& s, const runtime::Kinematics& k, runtime::Loads& loads) const override;
+  void apply(const runtime::State& s, const runtime::Kinematics& k,
+             runtime::Loads& loads) const override;
   // The inner element's exact derivatives where it has them (none while switched off).
   runtime::LoadDerivatives load_derivatives() const override { return inner_->load_derivatives(); }
   void add_load_derivatives(const runtime::State& s, const runtime::Kinematics& k,
@@ -103,8 +116,8 @@ Resolver make_resolver(const Names& names, const Scope& scope, SymbolTable& tabl
 class SampleEnvironment : public Environment {
  public:
   SampleEnvironment(runtime::MultibodySystem& system, const SymbolTable& table,
-                    const std::vector<std::shared_ptr<ScenarioElement>>& elements, const std::vector<double>& variables,
-                    const std::vector<double>& statistics);
+                    const std::vector<std::shared_ptr<ScenarioElement>>& elements,
+                    const std::vector<double>& variables, const std::vector<double>& statistics);
   void set(const runtime::State& s, const runtime::Vector& qdd);
   double value(int symbol) const override;
 
@@ -129,7 +142,8 @@ double body_quantity(const runtime::Kinematics& k, int body, int attribute);
 // The values a force law reads: the state and the kinematics it is given.
 class LawEnvironment : public Environment {
  public:
-  LawEnvironment(const SymbolTable& table, const std::vector<double>& variables) : table_(table), variables_(variables) {}
+  LawEnvironment(const SymbolTable& table, const std::vector<double>& variables)
+      : table_(table), variables_(variables) {}
   void set(const runtime::State& s, const runtime::Kinematics& k) {
     s_ = &s;
     k_ = &k;

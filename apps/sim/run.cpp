@@ -9,12 +9,11 @@
 #include <map>
 #include <sstream>
 
+#include "elements.hpp"
 #include <symdyn/runtime/breakpoints.hpp>
 #include <symdyn/runtime/csv.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/progress_bar.hpp>
-
-#include "elements.hpp"
 
 namespace symdyn::sim {
 
@@ -38,10 +37,18 @@ struct Statistic {
 
   void update(double t, double v) {
     switch (kind) {
-      case Kind::start: if (!seen) value = v; break;
-      case Kind::end: value = v; break;
-      case Kind::maximum: value = seen ? std::max(value, v) : v; break;
-      case Kind::minimum: value = seen ? std::min(value, v) : v; break;
+      case Kind::start:
+        if (!seen) value = v;
+        break;
+      case Kind::end:
+        value = v;
+        break;
+      case Kind::maximum:
+        value = seen ? std::max(value, v) : v;
+        break;
+      case Kind::minimum:
+        value = seen ? std::min(value, v) : v;
+        break;
       case Kind::drift:
         if (!seen) first = v, value = 0.0;
         value = std::max(value, std::abs(v - first));
@@ -59,8 +66,9 @@ struct Statistic {
 };
 
 constexpr std::pair<const char*, Statistic::Kind> kStatistics[] = {
-    {"start", Statistic::Kind::start},     {"end", Statistic::Kind::end},   {"maximum", Statistic::Kind::maximum},
-    {"minimum", Statistic::Kind::minimum}, {"drift", Statistic::Kind::drift}, {"max_rise", Statistic::Kind::max_rise},
+    {"start", Statistic::Kind::start},     {"end", Statistic::Kind::end},
+    {"maximum", Statistic::Kind::maximum}, {"minimum", Statistic::Kind::minimum},
+    {"drift", Statistic::Kind::drift},     {"max_rise", Statistic::Kind::max_rise},
     {"at", Statistic::Kind::at},
 };
 
@@ -89,7 +97,9 @@ class RunConstants : public Environment {
 
 bool is_identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
 }
 
 }  // namespace
@@ -125,8 +135,9 @@ struct Simulation::Impl {
     read_parameters(model);
     const bool emitted = !options.assembled && model.has_equations_of_motion();
     result.equations = emitted ? "emitted" : "assembled";
-    system = std::make_unique<MultibodySystem>(std::move(model), emitted ? runtime::EquationsSource::emitted
-                                                                         : runtime::EquationsSource::assembled);
+    system = std::make_unique<MultibodySystem>(
+        std::move(model),
+        emitted ? runtime::EquationsSource::emitted : runtime::EquationsSource::assembled);
     names.model = &system->model();
     names.elements = &elements;
     read_times();
@@ -145,8 +156,9 @@ struct Simulation::Impl {
       const auto& valid = model.param_names();
       if (std::find(valid.begin(), valid.end(), name) == valid.end()) {
         value.fail(fmt::format("unknown parameter '{}' ({})", name,
-                               valid.empty() ? "the model has no run-time parameters"
-                                             : fmt::format("parameters: {}", fmt::join(valid, ", "))));
+                               valid.empty()
+                                   ? "the model has no run-time parameters"
+                                   : fmt::format("parameters: {}", fmt::join(valid, ", "))));
       }
       try {
         model.set_parameter(name, value.number());
@@ -170,8 +182,11 @@ struct Simulation::Impl {
       o.initial_step = options.step.value_or(scenario.step.value_or(0.0));
     } else if (integrator == "rk4" || integrator == "midpoint") {
       throw runtime::OptionError(fmt::format(
-          "integrator '{}' takes a fixed step: give one (--step, or the scenario's integrator \"step\"){}", integrator,
-          o.global_tolerance > 0.0 ? "; with a global tolerance it is the first of the halved steps" : ""));
+          "integrator '{}' takes a fixed step: give one (--step, or the scenario's integrator "
+          "\"step\"){}",
+          integrator,
+          o.global_tolerance > 0.0 ? "; with a global tolerance it is the first of the halved steps"
+                                   : ""));
     }
     names.rtol = o.relative_tolerance;
     names.atol = o.absolute_tolerance;
@@ -184,8 +199,11 @@ struct Simulation::Impl {
     if (!v) return;
     const auto& q = system->model().q_names();
     for (const auto& [name, value] : v->members()) {
-      if (!is_identifier(name) || name == "t" || name == "pi" || std::find(q.begin(), q.end(), name) != q.end()) {
-        value.fail(fmt::format("'{}' cannot name a variable (letters, digits and _, not t, pi or a coordinate)", name));
+      if (!is_identifier(name) || name == "t" || name == "pi" ||
+          std::find(q.begin(), q.end(), name) != q.end()) {
+        value.fail(fmt::format(
+            "'{}' cannot name a variable (letters, digits and _, not t, pi or a coordinate)",
+            name));
       }
       const auto& bodies = system->model().body_names();
       if (name == "ground" || std::find(bodies.begin(), bodies.end(), name) != bodies.end()) {
@@ -205,12 +223,14 @@ struct Simulation::Impl {
       auto e = make_element(node, context);
       const Node id = node["name"];
       for (const auto& other : elements) {
-        if (other->id() == e->id()) id.fail(fmt::format("a second force element named '{}'", e->id()));
+        if (other->id() == e->id())
+          id.fail(fmt::format("a second force element named '{}'", e->id()));
       }
       if (std::find(bodies.begin(), bodies.end(), e->id()) != bodies.end()) {
         id.fail(fmt::format("'{}' is a body's name: name the element otherwise", e->id()));
       }
-      if (std::find(names.variables.begin(), names.variables.end(), e->id()) != names.variables.end()) {
+      if (std::find(names.variables.begin(), names.variables.end(), e->id()) !=
+          names.variables.end()) {
         id.fail(fmt::format("'{}' is a variable's name: name the element otherwise", e->id()));
       }
       elements.push_back(e);
@@ -230,7 +250,9 @@ struct Simulation::Impl {
       if (!values) continue;
       for (const auto& [name, value] : values->members()) {
         const auto it = std::find(q.begin(), q.end(), name);
-        if (it == q.end()) value.fail(fmt::format("unknown coordinate '{}' (coordinates: {})", name, fmt::join(q, ", ")));
+        if (it == q.end())
+          value.fail(
+              fmt::format("unknown coordinate '{}' (coordinates: {})", name, fmt::join(q, ", ")));
         (*into)(it - q.begin()) = value.number();
       }
     }
@@ -243,10 +265,12 @@ struct Simulation::Impl {
       if (e->id() == name) return e.get();
       ids.push_back(e->id());
     }
-    n.fail(fmt::format("unknown force element '{}' (elements: {})", name, ids.empty() ? "none" : fmt::format("{}", fmt::join(ids, ", "))));
+    n.fail(fmt::format("unknown force element '{}' (elements: {})", name,
+                       ids.empty() ? "none" : fmt::format("{}", fmt::join(ids, ", "))));
   }
 
-  // {"time", "enable": name | [names], "disable": ..., "set": {variable: value}, "parameters": {name: value}}
+  // {"time", "enable": name | [names], "disable": ..., "set": {variable: value}, "parameters":
+  // {name: value}}
   void read_events() {
     const auto list = root().optional("events");
     if (!list) return;
@@ -270,17 +294,21 @@ struct Simulation::Impl {
           const auto it = std::find(names.variables.begin(), names.variables.end(), name);
           if (it == names.variables.end()) {
             value.fail(fmt::format("unknown variable '{}' (variables: {})", name,
-                                   names.variables.empty() ? "none" : fmt::format("{}", fmt::join(names.variables, ", "))));
+                                   names.variables.empty()
+                                       ? "none"
+                                       : fmt::format("{}", fmt::join(names.variables, ", "))));
           }
-          e.variables.emplace_back(static_cast<std::size_t>(it - names.variables.begin()), value.number());
+          e.variables.emplace_back(static_cast<std::size_t>(it - names.variables.begin()),
+                                   value.number());
         }
       }
       if (const auto p = node.optional("parameters")) {
         const auto& valid = system->model().param_names();
         for (const auto& [name, value] : p->members()) {
           if (std::find(valid.begin(), valid.end(), name) == valid.end()) {
-            value.fail(fmt::format("unknown parameter '{}' (parameters: {})", name,
-                                   valid.empty() ? "none" : fmt::format("{}", fmt::join(valid, ", "))));
+            value.fail(
+                fmt::format("unknown parameter '{}' (parameters: {})", name,
+                            valid.empty() ? "none" : fmt::format("{}", fmt::join(valid, ", "))));
           }
           e.parameters.emplace_back(name, value.number());
         }
@@ -297,7 +325,9 @@ struct Simulation::Impl {
     for (const auto& [name, value] : e.parameters) system->set_parameter(name, value);
   }
 
-  Scope sample_scope() const { return {.time = true, .state = true, .accelerations = true, .system = true}; }
+  Scope sample_scope() const {
+    return {.time = true, .state = true, .accelerations = true, .system = true};
+  }
 
   void add_channel(std::string name, const std::string& text, const Node& at) {
     Expression e;
@@ -315,14 +345,15 @@ struct Simulation::Impl {
   void check_columns() const {
     std::ostringstream unused;
     runtime::CsvRecorder probe(unused, *system, groups);
-    for (const auto& [name, e] : channels) probe.add_channel(name, [](const State&) { return 0.0; });
+    for (const auto& [name, e] : channels)
+      probe.add_channel(name, [](const State&) { return 0.0; });
     const std::vector<std::string> columns = probe.columns();
     const std::size_t first = columns.size() - channels.size();
     for (std::size_t k = 0; k < channels.size(); ++k) {
       const auto end = columns.begin() + static_cast<std::ptrdiff_t>(first + k);
       if (std::find(columns.begin(), end, channels[k].first) != end) {
-        channel_nodes[k].fail(fmt::format("the CSV already has a column '{}': name this output otherwise",
-                                          channels[k].first));
+        channel_nodes[k].fail(fmt::format(
+            "the CSV already has a column '{}': name this output otherwise", channels[k].first));
       }
     }
   }
@@ -331,7 +362,11 @@ struct Simulation::Impl {
   void read_outputs() {
     const auto list = root().optional("outputs");
     if (!list) return;  // the default groups: q, qd, energies
-    groups = {.coordinates = false, .rates = false, .accelerations = false, .extra_states = true, .energies = false};
+    groups = {.coordinates = false,
+              .rates = false,
+              .accelerations = false,
+              .extra_states = true,
+              .energies = false};
     for (const Node& n : list->elements()) {
       if (n.is_string()) {
         const std::string g = n.string();
@@ -344,7 +379,8 @@ struct Simulation::Impl {
         } else if (g == "energies") {
           groups.energies = true;
         } else {
-          n.fail(fmt::format("unknown output '{}' (expected q, qd, qdd, energies, or an object)", g));
+          n.fail(
+              fmt::format("unknown output '{}' (expected q, qd, qdd, energies, or an object)", g));
         }
       } else if (n.has("body")) {
         read_body_output(n);
@@ -353,7 +389,8 @@ struct Simulation::Impl {
       } else {
         n.allow_only({"name", "value"});
         const Node value = n["value"];
-        add_channel(n["name"].string(), value.is_number() ? fmt::format("{}", value.number()) : value.string(), value);
+        add_channel(n["name"].string(),
+                    value.is_number() ? fmt::format("{}", value.number()) : value.string(), value);
       }
     }
     check_columns();
@@ -380,63 +417,75 @@ struct Simulation::Impl {
       for (const char* a : attributes) add_channel(body + "." + a, body + "." + a, q);
       return;
     }
-    q.fail(fmt::format("unknown body quantity '{}' (expected position, velocity, angular_velocity, velocity_local, "
-                       "orientation)",
-                       kind));
+    q.fail(
+        fmt::format("unknown body quantity '{}' (expected position, velocity, angular_velocity, "
+                    "velocity_local, "
+                    "orientation)",
+                    kind));
   }
 
   void read_element_output(const Node& n) {
     n.allow_only({"element", "quantity"});
     const ScenarioElement* e = element(n["element"]);
     if (!n.has("quantity")) {
-      for (const auto& q : e->quantity_names()) add_channel(e->id() + "." + q, e->id() + "." + q, n["element"]);
+      for (const auto& q : e->quantity_names())
+        add_channel(e->id() + "." + q, e->id() + "." + q, n["element"]);
       return;
     }
     const Node q = n["quantity"];
     const auto& valid = e->quantity_names();
     if (std::find(valid.begin(), valid.end(), q.string()) == valid.end()) {
-      q.fail(fmt::format("unknown quantity '{}' of force element '{}' (quantities: {})", q.string(), e->id(),
-                         fmt::join(valid, ", ")));
+      q.fail(fmt::format("unknown quantity '{}' of force element '{}' (quantities: {})", q.string(),
+                         e->id(), fmt::join(valid, ", ")));
     }
     add_channel(e->id() + "." + q.string(), e->id() + "." + q.string(), q);
   }
 
   // Statistic calls become symbols whose values the accumulators keep.
   Resolver check_resolver() {
-    Resolver r = make_resolver(names, {.time = false, .state = false, .run_constants = true}, table);
+    Resolver r =
+        make_resolver(names, {.time = false, .state = false, .run_constants = true}, table);
     // A quantity that varies during the run, read outside a statistic: say how to read it.
     r.symbol = [this, constants = r.symbol](std::string_view name) {
       try {
         return constants(name);
       } catch (const ExpressionError&) {
         SymbolTable scratch;
-        resolve_name(name, names, sample_scope(), scratch);  // unknown anywhere: says so, listing the names
-        throw ExpressionError(fmt::format("'{}' varies during the run: a check reads it through start(), end(), "
-                                          "maximum(), minimum(), drift(), max_rise() or at()",
-                                          name));
+        resolve_name(name, names, sample_scope(),
+                     scratch);  // unknown anywhere: says so, listing the names
+        throw ExpressionError(
+            fmt::format("'{}' varies during the run: a check reads it through start(), end(), "
+                        "maximum(), minimum(), drift(), max_rise() or at()",
+                        name));
       }
     };
     r.call = [this](std::string_view function, const std::vector<std::string_view>& args) -> int {
       const auto row = std::find_if(std::begin(kStatistics), std::end(kStatistics),
                                     [&](const auto& s) { return function == s.first; });
       if (row == std::end(kStatistics)) {
-        throw ExpressionError(fmt::format("unknown function '{}' (statistics: start, end, maximum, minimum, drift, "
-                                          "max_rise, at; and the functions of expressions)",
-                                          function));
+        throw ExpressionError(
+            fmt::format("unknown function '{}' (statistics: start, end, maximum, minimum, drift, "
+                        "max_rise, at; and the functions of expressions)",
+                        function));
       }
       const std::size_t arity = row->second == Statistic::Kind::at ? 2 : 1;
       if (args.size() != arity) {
-        throw ExpressionError(fmt::format("{}() takes {} argument{}, given {}", function, arity, arity == 1 ? "" : "s", args.size()));
+        throw ExpressionError(fmt::format("{}() takes {} argument{}, given {}", function, arity,
+                                          arity == 1 ? "" : "s", args.size()));
       }
-      Statistic s{.kind = row->second, .of = Expression::parse(args[0], make_resolver(names, sample_scope(), table))};
+      Statistic s{.kind = row->second,
+                  .of = Expression::parse(args[0], make_resolver(names, sample_scope(), table))};
       if (arity == 2) {  // the time: a number, or of rtol, atol, t_end
         const RunConstants constants(table);
-        s.time = Expression::parse(args[1], make_resolver(names, {.time = false, .state = false, .run_constants = true},
-                                                          table))
-                     .evaluate(constants);
+        s.time =
+            Expression::parse(
+                args[1],
+                make_resolver(names, {.time = false, .state = false, .run_constants = true}, table))
+                .evaluate(constants);
         // Outside the run, at() would never be set: its check would read NaN.
         if (!(s.time >= 0.0 && s.time <= t_end)) {
-          throw ExpressionError(fmt::format("at(): the time {:.6g} is outside the run [0, t_end = {:.6g}]", s.time, t_end));
+          throw ExpressionError(fmt::format(
+              "at(): the time {:.6g} is outside the run [0, t_end = {:.6g}]", s.time, t_end));
         }
       }
       statistics.push_back(std::move(s));
@@ -459,9 +508,10 @@ struct Simulation::Impl {
       band.fail(fmt::format("the band [{:.6g}, {:.6g}] is not finite", low, high));
     }
     if (low > high) {
-      band.fail(fmt::format("the band [{:.6g}, {:.6g}] is reversed: its low end is above its high end, so no value "
-                            "passes; write [{:.6g}, {:.6g}]",
-                            low, high, high, low));
+      band.fail(fmt::format(
+          "the band [{:.6g}, {:.6g}] is reversed: its low end is above its high end, so no value "
+          "passes; write [{:.6g}, {:.6g}]",
+          low, high, high, low));
     }
   }
 
@@ -471,11 +521,16 @@ struct Simulation::Impl {
     const Resolver resolver = check_resolver();
     for (const Node& n : list->elements()) {
       n.allow_only({"name", "value", "unit", "band"});
-      CheckSpec c{.name = n["name"].string(), .unit = n.string_or("unit", ""), .value = {}, .low = {}, .high = {}};
+      CheckSpec c{.name = n["name"].string(),
+                  .unit = n.string_or("unit", ""),
+                  .value = {},
+                  .low = {},
+                  .high = {}};
       c.value = read_expression(n["value"], resolver);
       const Node band = n["band"];
       const auto ends = band.elements();
-      if (ends.size() != 2) band.fail(fmt::format("expected [low, high], found {} entries", ends.size()));
+      if (ends.size() != 2)
+        band.fail(fmt::format("expected [low, high], found {} entries", ends.size()));
       c.low = read_expression(ends[0], resolver);
       c.high = read_expression(ends[1], resolver);
       check_band(c, band);
@@ -537,8 +592,9 @@ RunResult Simulation::Impl::run() {
   std::vector<double> breakpoints;
   for (const auto& e : events) breakpoints.push_back(e.time);
   const auto start = std::chrono::steady_clock::now();
-  const runtime::SegmentedRun run = runtime::integrate_with_breakpoints(
-      *integ, *system, initial, breakpoints, t_end, [&](std::size_t k, State&) { apply(events[k]); });
+  const runtime::SegmentedRun run =
+      runtime::integrate_with_breakpoints(*integ, *system, initial, breakpoints, t_end,
+                                          [&](std::size_t k, State&) { apply(events[k]); });
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bar.finish();
   r.statistics = run.statistics;
@@ -547,7 +603,8 @@ RunResult Simulation::Impl::run() {
 
   for (std::size_t k = 0; k < statistics.size(); ++k) statistic_values[k] = statistics[k].value;
   for (const auto& c : checks) {
-    r.checks.push_back({c.name, c.value.evaluate(env), c.unit, c.low.evaluate(env), c.high.evaluate(env)});
+    r.checks.push_back(
+        {c.name, c.value.evaluate(env), c.unit, c.low.evaluate(env), c.high.evaluate(env)});
   }
   for (const Expression& e : kept) r.values.push_back(e.evaluate(env));
   return r;
@@ -560,16 +617,22 @@ Simulation::Simulation(const Scenario& scenario, const RunOptions& options)
 
 Simulation::~Simulation() = default;
 
-double Simulation::expected_rows() const { return impl_->expected_rows(); }
+double Simulation::expected_rows() const {
+  return impl_->expected_rows();
+}
 
-runtime::MultibodySystem& Simulation::system() { return *impl_->system; }
+runtime::MultibodySystem& Simulation::system() {
+  return *impl_->system;
+}
 
 void Simulation::keep(const Node& value) {
   impl_->kept.push_back(read_expression(value, impl_->check_resolver()));
   impl_->statistic_values.resize(impl_->statistics.size(), 0.0);
 }
 
-RunResult Simulation::run() { return impl_->run(); }
+RunResult Simulation::run() {
+  return impl_->run();
+}
 
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   Simulation sim(scenario, options);
@@ -582,21 +645,28 @@ std::string summary(const RunResult& run) {
       run.tolerance == run.absolute_tolerance
           ? fmt::format("tolerance {:g}", run.tolerance)
           : fmt::format("rtol {:g}, atol {:g}", run.tolerance, run.absolute_tolerance);
-  std::string out = fmt::format("{} ({}, {} equations), {} at {}, t = 0 .. {:g} s{}\n", run.model, run.variant,
-                                run.equations, run.integrator, tolerance, run.t_end,
-                                run.segments > 1 ? fmt::format(" in {} segments", run.segments) : "");
-  out += fmt::format("  steps {} (rejected {}), evaluations: {} accelerations, {} residuals, {} Jacobians; {:.3f} s\n",
-                     st.steps, st.rejected_steps, st.rhs_evaluations, st.residual_evaluations,
-                     st.jacobian_evaluations, run.wall_seconds);
+  std::string out =
+      fmt::format("{} ({}, {} equations), {} at {}, t = 0 .. {:g} s{}\n", run.model, run.variant,
+                  run.equations, run.integrator, tolerance, run.t_end,
+                  run.segments > 1 ? fmt::format(" in {} segments", run.segments) : "");
+  out += fmt::format(
+      "  steps {} (rejected {}), evaluations: {} accelerations, {} residuals, {} Jacobians; {:.3f} "
+      "s\n",
+      st.steps, st.rejected_steps, st.rhs_evaluations, st.residual_evaluations,
+      st.jacobian_evaluations, run.wall_seconds);
   if (st.jacobian_evaluations > 0) out += fmt::format("  Jacobians: {}\n", run.jacobians);
   if (run.global_tolerance > 0.0) {
-    const std::string last = st.last_step > 0.0 ? fmt::format("step {:g} s", st.last_step)
-                                                 : fmt::format("tolerance {:g}", st.last_relative_tolerance);
-    out += fmt::format("  global error: estimated {:.3g}, global tolerance {:g} {} ({} runs, the last at {})\n",
-                       st.global_error_estimate, run.global_tolerance, st.global_tolerance_met ? "met" : "NOT MET",
-                       st.runs, last);
+    const std::string last = st.last_step > 0.0
+                                 ? fmt::format("step {:g} s", st.last_step)
+                                 : fmt::format("tolerance {:g}", st.last_relative_tolerance);
+    out += fmt::format(
+        "  global error: estimated {:.3g}, global tolerance {:g} {} ({} runs, the last at {})\n",
+        st.global_error_estimate, run.global_tolerance, st.global_tolerance_met ? "met" : "NOT MET",
+        st.runs, last);
   } else {
-    out += "  global error: not estimated (the tolerance bounds each step's error; --global-tolerance estimates it)\n";
+    out +=
+        "  global error: not estimated (the tolerance bounds each step's error; --global-tolerance "
+        "estimates it)\n";
   }
   const State& s = run.final;
   std::string q, qd;
@@ -606,10 +676,13 @@ std::string summary(const RunResult& run) {
     qd += fmt::format("{}{}_dot = {:.6f}", j ? ", " : "", name, s.qd(j));
   }
   out += fmt::format("  final state at t = {:g}: {}\n                        {}\n", s.t, q, qd);
-  out += fmt::format("  energy: initial {:.9g} J, final {:.9g} J, max |E - E0| = {:.3g} J ({:.3g} of {:.4g} J)\n",
-                     run.energy.initial, run.energy.final, run.energy.absolute, run.energy.relative(), run.energy.scale);
+  out += fmt::format(
+      "  energy: initial {:.9g} J, final {:.9g} J, max |E - E0| = {:.3g} J ({:.3g} of {:.4g} J)\n",
+      run.energy.initial, run.energy.final, run.energy.absolute, run.energy.relative(),
+      run.energy.scale);
   for (const auto& c : run.checks) {
-    out += fmt::format("  {}: {:.6g}{} (expected {:g} .. {:g}) {}\n", c.name, c.value, c.unit.empty() ? "" : " " + c.unit, c.low, c.high,
+    out += fmt::format("  {}: {:.6g}{} (expected {:g} .. {:g}) {}\n", c.name, c.value,
+                       c.unit.empty() ? "" : " " + c.unit, c.low, c.high,
                        c.ok() ? "ok" : "OUT OF RANGE");
   }
   return out;

@@ -16,10 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "scenario.hpp"
 #include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
-
-#include "scenario.hpp"
 
 namespace symdyn::sim {
 
@@ -67,11 +66,11 @@ struct RunResult {
   std::string model, variant, integrator, equations;
   double t_end = 0.0, tolerance = 0.0;  // tolerance: the relative one
   double absolute_tolerance = 0.0;
-  double global_tolerance = 0.0;  // 0: none asked (statistics.global_error_estimate is NaN)
+  double global_tolerance = 0.0;         // 0: none asked (statistics.global_error_estimate is NaN)
   std::vector<std::string> columns;      // of the CSV
   std::vector<std::string> coordinates;  // the model's q names
-  long rows = 0;                     // output instants, t = 0 .. t_end, each once
-  int segments = 0;                  // integrations: 1 + the event times
+  long rows = 0;                         // output instants, t = 0 .. t_end, each once
+  int segments = 0;                      // integrations: 1 + the event times
   runtime::State initial, final;
   EnergyDrift energy;
   runtime::Statistics statistics;  // summed over the segments

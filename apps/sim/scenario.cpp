@@ -63,7 +63,9 @@ std::string Node::where() const {
   return out;
 }
 
-void Node::fail(const std::string& what) const { throw ScenarioError(where() + ": " + what); }
+void Node::fail(const std::string& what) const {
+  throw ScenarioError(where() + ": " + what);
+}
 
 void Node::allow_only(std::initializer_list<std::string_view> keys) const {
   if (!value_->is_object()) fail(fmt::format("expected an object, found {}", type_name(*value_)));
@@ -75,7 +77,9 @@ void Node::allow_only(std::initializer_list<std::string_view> keys) const {
   }
 }
 
-bool Node::has(std::string_view key) const { return value_->is_object() && value_->contains(key); }
+bool Node::has(std::string_view key) const {
+  return value_->is_object() && value_->contains(key);
+}
 
 Node Node::operator[](std::string_view key) const {
   if (!value_->is_object()) fail(fmt::format("expected an object, found {}", type_name(*value_)));
@@ -92,14 +96,16 @@ std::optional<Node> Node::optional(std::string_view key) const {
 std::vector<std::pair<std::string, Node>> Node::members() const {
   if (!value_->is_object()) fail(fmt::format("expected an object, found {}", type_name(*value_)));
   std::vector<std::pair<std::string, Node>> out;
-  for (const auto& [key, value] : value_->items()) out.emplace_back(key, child(value, escaped(key)));
+  for (const auto& [key, value] : value_->items())
+    out.emplace_back(key, child(value, escaped(key)));
   return out;
 }
 
 std::vector<Node> Node::elements() const {
   if (!value_->is_array()) fail(fmt::format("expected an array, found {}", type_name(*value_)));
   std::vector<Node> out;
-  for (std::size_t i = 0; i < value_->size(); ++i) out.push_back(child((*value_)[i], std::to_string(i)));
+  for (std::size_t i = 0; i < value_->size(); ++i)
+    out.push_back(child((*value_)[i], std::to_string(i)));
   return out;
 }
 
@@ -122,14 +128,16 @@ double Node::positive() const {
 }
 
 bool Node::boolean() const {
-  if (!value_->is_boolean()) fail(fmt::format("expected true or false, found {}", type_name(*value_)));
+  if (!value_->is_boolean())
+    fail(fmt::format("expected true or false, found {}", type_name(*value_)));
   return value_->get<bool>();
 }
 
 std::vector<double> Node::numbers(std::size_t n) const {
   if (!value_->is_array() || value_->size() != n) {
-    fail(fmt::format("expected an array of {} numbers, found {}", n,
-                     value_->is_array() ? fmt::format("{} entries", value_->size()) : type_name(*value_)));
+    fail(fmt::format(
+        "expected an array of {} numbers, found {}", n,
+        value_->is_array() ? fmt::format("{} entries", value_->size()) : type_name(*value_)));
   }
   std::vector<double> out;
   for (const Node& e : elements()) out.push_back(e.number());
@@ -164,7 +172,8 @@ class DocumentReader : public nlohmann::json_sax<nlohmann::json> {
     // 1e-400 reads as 0: a stiffness written so would silently be none.
     const std::string mantissa = text.substr(0, text.find_first_of("eE"));
     if (v == 0.0 && mantissa.find_first_of("123456789") != std::string::npos && !problem) {
-      problem = {next_path(), fmt::format("{} is too small for a double (it would read as 0)", text)};
+      problem = {next_path(),
+                 fmt::format("{} is too small for a double (it would read as 0)", text)};
     }
     return add(json(v));
   }
@@ -174,8 +183,10 @@ class DocumentReader : public nlohmann::json_sax<nlohmann::json> {
   bool key(string_t& k) override {
     Level& top = levels_.back();
     if (top.container->contains(k) && !problem) {
-      problem = {path() + "/" + escaped(k),
-                  fmt::format("key '{}' is given twice in this object (a JSON reader keeps one of them)", k)};
+      problem = {
+          path() + "/" + escaped(k),
+          fmt::format("key '{}' is given twice in this object (a JSON reader keeps one of them)",
+                      k)};
     }
     top.key = std::move(k);
     top.pending = true;
@@ -184,7 +195,8 @@ class DocumentReader : public nlohmann::json_sax<nlohmann::json> {
   bool end_object() override { return close(); }
   bool start_array(std::size_t) override { return open(json::array()); }
   bool end_array() override { return close(); }
-  bool parse_error(std::size_t position, const std::string& /*token*/, const json::exception& e) override {
+  bool parse_error(std::size_t position, const std::string& /*token*/,
+                   const json::exception& e) override {
     error = Error{next_path(), position, e.id, e.what()};
     return false;
   }
@@ -203,8 +215,8 @@ class DocumentReader : public nlohmann::json_sax<nlohmann::json> {
  private:
   struct Level {
     json* container;
-    std::string path;  // of the container
-    std::string key;   // of an object: the member being read
+    std::string path;      // of the container
+    std::string key;       // of an object: the member being read
     bool pending = false;  // its key read, its value not yet
   };
 
@@ -253,12 +265,15 @@ bool non_finite_literal(const std::string& text) {
   std::string word;
   for (char c : text) word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (word.starts_with('-') || word.starts_with('+')) word.erase(0, 1);
-  return !word.empty() && (std::string_view("nan").starts_with(word) || std::string_view("infinity").starts_with(word));
+  return !word.empty() && (std::string_view("nan").starts_with(word) ||
+                           std::string_view("infinity").starts_with(word));
 }
 
 // The literal that ends at `end` or contains the character before it.
 std::pair<std::size_t, std::size_t> literal_around(std::string_view text, std::size_t end) {
-  const auto part = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '+' || c == '.'; };
+  const auto part = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '+' || c == '.';
+  };
   std::size_t first = std::min(end, text.size());
   while (first > 0 && part(text[first - 1])) --first;
   std::size_t last = first;
@@ -280,8 +295,10 @@ nlohmann::json read_document(std::string_view text, const std::string& origin) {
     // A number a double cannot hold, or NaN / Infinity: named at its key with
     // the element it is in (the text read again with that literal as 0).
     if (overflow || (e.id == 101 && non_finite_literal(literal))) {
-      const std::string what = overflow ? fmt::format("{} is beyond the range of a double: not a finite number", literal)
-                                        : fmt::format("{} is not a number in JSON, and numbers here must be finite", literal);
+      const std::string what =
+          overflow
+              ? fmt::format("{} is beyond the range of a double: not a finite number", literal)
+              : fmt::format("{} is not a number in JSON, and numbers here must be finite", literal);
       std::string patched(text);
       patched.replace(first, last - first, "0");
       DocumentReader again;
@@ -294,12 +311,14 @@ nlohmann::json read_document(std::string_view text, const std::string& origin) {
     }
     // e.what() reads "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
     const auto at = e.what.find("] ");
-    throw ScenarioError(fmt::format("{}: not JSON: {}{}", origin, at == std::string::npos ? e.what : e.what.substr(at + 2),
+    throw ScenarioError(fmt::format("{}: not JSON: {}{}", origin,
+                                    at == std::string::npos ? e.what : e.what.substr(at + 2),
                                     e.path.empty() ? "" : fmt::format(" (in {})", e.path)));
   }
   if (reader.problem) {
     const auto& [path, what] = *reader.problem;
-    Node(reader.document.at(nlohmann::json::json_pointer(path)), origin, path, &reader.document).fail(what);
+    Node(reader.document.at(nlohmann::json::json_pointer(path)), origin, path, &reader.document)
+        .fail(what);
   }
   return std::move(reader.document);
 }
@@ -340,7 +359,8 @@ void read_event_times(const Node& root, Scenario& s) {
   for (const Node& e : events->elements()) {
     const Node t = e["time"];
     const double time = t.number();
-    if (!(time > 0.0 && time < s.t_end)) t.fail(fmt::format("expected a time inside (0, t_end = {}), found {}", s.t_end, time));
+    if (!(time > 0.0 && time < s.t_end))
+      t.fail(fmt::format("expected a time inside (0, t_end = {}), found {}", s.t_end, time));
     s.event_times.push_back(time);
   }
   std::sort(s.event_times.begin(), s.event_times.end());
@@ -348,19 +368,22 @@ void read_event_times(const Node& root, Scenario& s) {
 
 }  // namespace
 
-Scenario parse_scenario(std::string_view text, std::string origin, std::filesystem::path directory) {
+Scenario parse_scenario(std::string_view text, std::string origin,
+                        std::filesystem::path directory) {
   nlohmann::json document = read_document(text, origin);
   return scenario_from_document(std::move(document), std::move(origin), std::move(directory));
 }
 
-Scenario scenario_from_document(nlohmann::json document, std::string origin, std::filesystem::path directory) {
+Scenario scenario_from_document(nlohmann::json document, std::string origin,
+                                std::filesystem::path directory) {
   Scenario s;
   s.origin = std::move(origin);
   s.directory = std::move(directory);
   s.document = std::move(document);
   const Node root = s.root();
-  root.allow_only({"$schema", "description", "model", "parameters", "initial", "variables", "forces", "events",
-                   "integrator", "t_end", "output_interval", "outputs", "checks"});
+  root.allow_only({"$schema", "description", "model", "parameters", "initial", "variables",
+                   "forces", "events", "integrator", "t_end", "output_interval", "outputs",
+                   "checks"});
   s.description = root.string_or("description", "");
   read_model(root, s);
   if (const auto t = root.optional("t_end")) s.t_end = t->positive();
@@ -373,7 +396,8 @@ Scenario scenario_from_document(nlohmann::json document, std::string origin, std
 Scenario load_scenario(const std::filesystem::path& file) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) {
-    throw ScenarioError(fmt::format("scenario file '{}' is a directory: name a JSON file", file.string()));
+    throw ScenarioError(
+        fmt::format("scenario file '{}' is a directory: name a JSON file", file.string()));
   }
   std::ifstream in(file, std::ios::binary);
   if (!in) throw ScenarioError(fmt::format("cannot read scenario file '{}'", file.string()));
@@ -390,27 +414,29 @@ runtime::Model make_model(const Scenario& scenario, std::string_view variant) {
     const std::filesystem::path path = scenario.directory / scenario.module;
     runtime::Model m = load_model_module(path, scenario.model);
     if (!wanted.empty() && m.variant() != wanted) {
-      scenario.root()["model"]["variant"].fail(
-          fmt::format("the module '{}' holds variant '{}', not '{}'", path.string(), m.variant(), wanted));
+      scenario.root()["model"]["variant"].fail(fmt::format(
+          "the module '{}' holds variant '{}', not '{}'", path.string(), m.variant(), wanted));
     }
     return m;
   }
   std::vector<std::string> variants, models;
   for (const auto& b : builtin_models()) {
     if (b.model != scenario.model) {
-      if (std::find(models.begin(), models.end(), b.model) == models.end()) models.push_back(b.model);
+      if (std::find(models.begin(), models.end(), b.model) == models.end())
+        models.push_back(b.model);
       continue;
     }
     if (wanted.empty() || b.variant == wanted) return b.make();
     variants.push_back(b.variant);
   }
   if (variants.empty()) {
-    throw ScenarioError(fmt::format("{}: /model: no built-in model '{}' (built in: {}); a model of your own needs "
-                                    "\"module\"",
-                                    scenario.origin, scenario.model, fmt::join(models, ", ")));
+    throw ScenarioError(
+        fmt::format("{}: /model: no built-in model '{}' (built in: {}); a model of your own needs "
+                    "\"module\"",
+                    scenario.origin, scenario.model, fmt::join(models, ", ")));
   }
-  throw ScenarioError(fmt::format("model '{}' has no variant '{}' (built variants: {})", scenario.model, wanted,
-                                  fmt::join(variants, ", ")));
+  throw ScenarioError(fmt::format("model '{}' has no variant '{}' (built variants: {})",
+                                  scenario.model, wanted, fmt::join(variants, ", ")));
 }
 
 }  // namespace symdyn::sim

@@ -7,12 +7,12 @@
 // Simulation (run.hpp) resolves every name against the model. Every error is
 // a ScenarioError naming the file, the JSON path of the culprit and what was
 // expected:
-//   double_pendulum.json: /forces/0/body (force element 'strut'): unknown body 'rod3' (bodies: rod1, rod2)
-
-#include <nlohmann/json.hpp>
+//   double_pendulum.json: /forces/0/body (force element 'strut'): unknown body 'rod3' (bodies:
+//   rod1, rod2)
 
 #include <filesystem>
 #include <initializer_list>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -35,8 +35,12 @@ class Node {
  public:
   // `root`: the document `value` is in (itself when omitted), to name the
   // force element or check a path is inside.
-  Node(const nlohmann::json& value, std::string origin, std::string path = "", const nlohmann::json* root = nullptr)
-      : value_(&value), root_(root != nullptr ? root : &value), origin_(std::move(origin)), path_(std::move(path)) {}
+  Node(const nlohmann::json& value, std::string origin, std::string path = "",
+       const nlohmann::json* root = nullptr)
+      : value_(&value),
+        root_(root != nullptr ? root : &value),
+        origin_(std::move(origin)),
+        path_(std::move(path)) {}
 
   const nlohmann::json& json() const { return *value_; }
   const std::string& path() const { return path_; }
@@ -56,8 +60,8 @@ class Node {
   bool is_number() const { return value_->is_number(); }
   bool is_object() const { return value_->is_object(); }
   std::string string() const;
-  double number() const;              // finite
-  double positive() const;            // finite and > 0
+  double number() const;    // finite
+  double positive() const;  // finite and > 0
   bool boolean() const;
   std::vector<double> numbers(std::size_t n) const;  // an array of n finite numbers
 
@@ -77,8 +81,8 @@ class Node {
 };
 
 struct Scenario {
-  std::string name;         // the file's stem, or the built-in model's name
-  std::string origin;       // the file, for messages
+  std::string name;                 // the file's stem, or the built-in model's name
+  std::string origin;               // the file, for messages
   std::filesystem::path directory;  // a module path is relative to it
   nlohmann::json document;
 
@@ -101,9 +105,11 @@ struct Scenario {
 // Throws ScenarioError (unreadable file, not JSON, a key given twice in an
 // object, a number a double cannot hold, bad structure).
 Scenario load_scenario(const std::filesystem::path& file);
-Scenario parse_scenario(std::string_view text, std::string origin, std::filesystem::path directory = {});
+Scenario parse_scenario(std::string_view text, std::string origin,
+                        std::filesystem::path directory = {});
 // The same from a document already read (a scenario changed by overrides.hpp).
-Scenario scenario_from_document(nlohmann::json document, std::string origin, std::filesystem::path directory = {});
+Scenario scenario_from_document(nlohmann::json document, std::string origin,
+                                std::filesystem::path directory = {});
 
 // The reference models built into symdyn-sim, each generated variant a factory.
 struct BuiltinModel {

@@ -1,7 +1,6 @@
 #include "serve.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <time.h>
 
 #include <algorithm>
@@ -11,6 +10,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -47,11 +47,19 @@ double cpu_seconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-constexpr const char* kCounters[] = {"steps",                "rejected_steps",       "rhs_evaluations",
-                                     "residual_evaluations", "jacobian_evaluations", "newton_iterations"};
+constexpr const char* kCounters[] = {"steps",
+                                     "rejected_steps",
+                                     "rhs_evaluations",
+                                     "residual_evaluations",
+                                     "jacobian_evaluations",
+                                     "newton_iterations"};
 
 long counter(const runtime::Statistics& s, std::size_t k) {
-  const long values[] = {s.steps, s.rejected_steps, s.rhs_evaluations, s.residual_evaluations, s.jacobian_evaluations,
+  const long values[] = {s.steps,
+                         s.rejected_steps,
+                         s.rhs_evaluations,
+                         s.residual_evaluations,
+                         s.jacobian_evaluations,
                          s.newton_iterations};
   return values[k];
 }
@@ -101,15 +109,19 @@ class Batch {
 };
 
 Scenario read_base(const json& scenario) {
-  if (scenario.is_object() && scenario.contains("builtin")) return find_builtin(text_member(scenario, "builtin"));
+  if (scenario.is_object() && scenario.contains("builtin"))
+    return find_builtin(text_member(scenario, "builtin"));
   const std::string origin = text_member(scenario, "origin");
-  Scenario s = parse_scenario(text_member(scenario, "text"), origin, text_member(scenario, "directory"));
+  Scenario s =
+      parse_scenario(text_member(scenario, "text"), origin, text_member(scenario, "directory"));
   s.name = std::filesystem::path(origin).stem().string();
   return s;
 }
 
 Batch::Batch(const json& load)
-    : origin_(text_member(load, "origin")), base_(read_base(member(load, "scenario"))), model_(make_model(base_)) {
+    : origin_(text_member(load, "origin")),
+      base_(read_base(member(load, "scenario"))),
+      model_(make_model(base_)) {
   for (const json& t : member(load, "targets")) {
     paths_.push_back(text_member(t, "path"));
     ats_.push_back(text_member(t, "at"));
@@ -120,7 +132,8 @@ Batch::Batch(const json& load)
     }
   }
   keep_ = load.contains("keep") ? load["keep"] : json::object();
-  read_keep(Node(keep_, origin_, load.contains("keep_at") ? text_member(load, "keep_at") : "/keep"));
+  read_keep(
+      Node(keep_, origin_, load.contains("keep_at") ? text_member(load, "keep_at") : "/keep"));
   // Every kept expression resolved against the scenario as it is, before any run.
   Simulation probe(base_);
   for (const Node& n : kept_) probe.keep(n);
@@ -167,7 +180,8 @@ void Batch::read_keep(const Node& keep) {
     if (q) keep_expression(fmt::format("end({})", name), fmt::format("end({})", name), final_at);
   }
   for (const std::string& name : model_.q_names()) {
-    if (qd) keep_expression(fmt::format("end({}_dot)", name), fmt::format("end({}_dot)", name), final_at);
+    if (qd)
+      keep_expression(fmt::format("end({}_dot)", name), fmt::format("end({}_dot)", name), final_at);
   }
   if (const auto values = keep.optional("values")) {
     for (const auto& [name, value] : values->members()) {
@@ -202,7 +216,8 @@ void Batch::read_keep(const Node& keep) {
     }
   }
   if (const auto c = keep.optional("counters"); c && c->boolean()) {
-    for (std::size_t k = 0; k < std::size(kCounters); ++k) add_column(kCounters[k], {Column::Source::counter, k}, *c);
+    for (std::size_t k = 0; k < std::size(kCounters); ++k)
+      add_column(kCounters[k], {Column::Source::counter, k}, *c);
   }
   if (const auto s = keep.optional("series")) series_ = s->boolean();
 }
@@ -227,7 +242,8 @@ std::string Batch::run(const json& request) const {
   try {
     const json& values = member(request, "values");
     if (!values.is_array() || values.size() != paths_.size()) {
-      throw ScenarioError(fmt::format("request: {} values expected, one per target", paths_.size()));
+      throw ScenarioError(
+          fmt::format("request: {} values expected, one per target", paths_.size()));
     }
     std::vector<Override> changes;
     for (std::size_t k = 0; k < paths_.size(); ++k) changes.push_back({paths_[k], values[k]});
@@ -251,16 +267,23 @@ std::string Batch::run(const json& request) const {
     for (std::size_t k = 0; k < columns_.size(); ++k) {
       const Column& c = columns_[k];
       switch (c.source) {
-        case Column::Source::value: row[k] = r.values[c.index]; break;
-        case Column::Source::check: row[k] = r.checks[c.index].value; break;
-        case Column::Source::counter: row[k] = static_cast<double>(counter(r.statistics, c.index)); break;
+        case Column::Source::value:
+          row[k] = r.values[c.index];
+          break;
+        case Column::Source::check:
+          row[k] = r.checks[c.index].value;
+          break;
+        case Column::Source::counter:
+          row[k] = static_cast<double>(counter(r.statistics, c.index));
+          break;
       }
     }
   } catch (const std::exception& e) {
     status = "failed";
     error = e.what();
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const double cpu = cpu_seconds() - cpu0;
 
   std::string out = R"({"run": )";
@@ -308,7 +331,8 @@ int serve(std::istream& in, std::ostream& out) {
         reply = batch->loaded();
       } else if (request.contains("run")) {
         reply = batch ? batch->run(request) : error_reply("request: no sweep loaded");
-      } else if (request.contains("runs") && request["runs"].is_array() && !request["runs"].empty()) {
+      } else if (request.contains("runs") && request["runs"].is_array() &&
+                 !request["runs"].empty()) {
         // A row per run, written together: the driver wakes once per batch.
         if (!batch) {
           reply = error_reply("request: no sweep loaded");

@@ -5,14 +5,17 @@
 // worker, so that a run costs no process start. One JSON object per line
 // each way, on stdin and stdout:
 //
-//   -> {"load": {"scenario": {"builtin": "trike"} | {"text": "...", "origin": "trike.json", "directory": "/abs"},
+//   -> {"load": {"scenario": {"builtin": "trike"} | {"text": "...", "origin": "trike.json",
+//   "directory": "/abs"},
 //                "origin": "tyres.json",
-//                "targets": [{"path": "forces.front.stiffness", "at": "/set/forces.front.stiffness"}, ...],
-//                "keep": {...}, "keep_at": "/keep",
-//                "check": [2e5, 5]}}
-//   <- {"loaded": {"columns": ["end(q0)", ...], "series": ["t", "q0", ...]}}   or   {"error": "..."}
+//                "targets": [{"path": "forces.front.stiffness", "at":
+//                "/set/forces.front.stiffness"}, ...], "keep": {...}, "keep_at": "/keep", "check":
+//                [2e5, 5]}}
+//   <- {"loaded": {"columns": ["end(q0)", ...], "series": ["t", "q0", ...]}}   or   {"error":
+//   "..."}
 //   -> {"run": 7, "values": [2e5, 5]}
-//   <- {"run": 7, "status": "ok", "error": "", "values": [...], "cpu": 0.0121, "wall": 0.0123, "series": "t,q0\n..."}
+//   <- {"run": 7, "status": "ok", "error": "", "values": [...], "cpu": 0.0121, "wall": 0.0123,
+//   "series": "t,q0\n..."}
 //   -> {"runs": [{"run": 8, "values": [...]}, {"run": 9, "values": [...]}]}
 //   <- one such line per run, written together when the last is made
 //

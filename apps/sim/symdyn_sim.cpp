@@ -2,7 +2,8 @@
 // the time history as CSV and prints a summary with the scenario's checks.
 //
 //   symdyn-sim <scenario.json | model> [--variant V] [--t-end T] [--integrator I] [--tolerance X]
-//              [--rtol R] [--atol A] [--interval DT] [--step H] [--global-tolerance G] [--assembled] [--out FILE] [--max-rows N]
+//              [--rtol R] [--atol A] [--interval DT] [--step H] [--global-tolerance G]
+//              [--assembled] [--out FILE] [--max-rows N]
 //              [--html FILE] [--glb FILE] [--plot FILE.png|FILE.svg] [--easyanim STEM]
 //              [--modes FILE.csv] [--modes-about equilibrium|initial] [--mode-amplitude A]
 //   symdyn-sim --list
@@ -40,9 +41,10 @@
 //
 // Exit codes: 0 success, 1 the run failed (numeric or model error) or a check
 // is outside its band, 2 bad command line or scenario.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -53,8 +55,6 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
-
-#include <unistd.h>
 
 #include "output_files.hpp"
 #include "overrides.hpp"
@@ -78,8 +78,8 @@ struct Arguments {
   std::string easyanim;         // stem of EasyAnim's files
   std::string modes;            // CSV of the modes, if asked
   std::string modes_about = "equilibrium";
-  double mode_amplitude = 0.2;  // rad or m: the largest coordinate's swing in a mode's clip
-  double max_rows = 1e7;  // about 1 GB of CSV
+  double mode_amplitude = 0.2;   // rad or m: the largest coordinate's swing in a mode's clip
+  double max_rows = 1e7;         // about 1 GB of CSV
   std::vector<std::string> set;  // --set PATH=VALUE
   bool list = false;
   bool serve = false;
@@ -98,7 +98,10 @@ const CLI::Validator kPositive(
 
 // An output's name: not empty (an empty --out would mean the default name).
 const CLI::Validator kFileName(
-    [](std::string& text) -> std::string { return text.empty() ? "expected a file name, found ''" : ""; }, "FILE");
+    [](std::string& text) -> std::string {
+      return text.empty() ? "expected a file name, found ''" : "";
+    },
+    "FILE");
 
 void list_scenarios() {
   for (const sim::Scenario& s : sim::builtin_scenarios()) {
@@ -107,7 +110,8 @@ void list_scenarios() {
       if (m.model == s.model) names.push_back(m.variant);
     }
     fmt::print("{:<16} variants: {:<22} {:g} s, {}, tolerance {:g}\n{:<16} {}\n", s.name,
-               fmt::format("{}", fmt::join(names, ", ")), s.t_end, s.integrator, s.rtol, "", s.description);
+               fmt::format("{}", fmt::join(names, ", ")), s.t_end, s.integrator, s.rtol, "",
+               s.description);
   }
 }
 
@@ -120,10 +124,11 @@ bool is_file(const std::string& argument) {
 void check_rows(const sim::Simulation& simulation, double max_rows) {
   const double rows = simulation.expected_rows();
   if (rows > max_rows) {
-    throw runtime::OptionError(fmt::format(
-        "the run would write {:.3g} rows (t-end / interval), over --max-rows {:.3g}: raise --interval, or --max-rows "
-        "to allow it",
-        rows, max_rows));
+    throw runtime::OptionError(
+        fmt::format("the run would write {:.3g} rows (t-end / interval), over --max-rows {:.3g}: "
+                    "raise --interval, or --max-rows "
+                    "to allow it",
+                    rows, max_rows));
   }
 }
 
@@ -148,7 +153,8 @@ ModeShapes find_modes(runtime::MultibodySystem& system, const Arguments& args) {
   m.modes = runtime::modes(m.linearization);
   m.clips.reserve(m.modes.size());
   for (const runtime::Mode& mode : m.modes) {
-    m.clips.push_back(runtime::mode_animation(system.model(), m.reference, m.linearization, mode, args.mode_amplitude));
+    m.clips.push_back(runtime::mode_animation(system.model(), m.reference, m.linearization, mode,
+                                              args.mode_amplitude));
   }
   return m;
 }
@@ -182,8 +188,8 @@ struct Pictures {
     if (modes == nullptr) return all;
     for (std::size_t k = 0; k < modes->modes.size(); ++k) {
       const runtime::Mode& mode = modes->modes[k];
-      all.push_back({fmt::format("mode {}: {:.4g} Hz, damping ratio {:.3g}", k + 1, mode.natural_frequency_hz,
-                                 mode.damping_ratio),
+      all.push_back({fmt::format("mode {}: {:.4g} Hz, damping ratio {:.3g}", k + 1,
+                                 mode.natural_frequency_hz, mode.damping_ratio),
                      &modes->clips[k]});
     }
     return all;
@@ -195,8 +201,9 @@ struct Pictures {
     if (args.easyanim.empty()) return;
     runtime::write_easyanim(args.easyanim, scene, animation, title);
     if (modes != nullptr) {
-      runtime::write_easyanim_modes(args.easyanim + "_modes", scene, model, modes->reference, modes->linearization,
-                                    modes->modes, args.mode_amplitude, title + " modes");
+      runtime::write_easyanim_modes(args.easyanim + "_modes", scene, model, modes->reference,
+                                    modes->linearization, modes->modes, args.mode_amplitude,
+                                    title + " modes");
     }
   }
 };
@@ -204,15 +211,18 @@ struct Pictures {
 // Pictures are refused before the run when they cannot be made.
 void check_pictures(const Arguments& args) {
   if (!args.html.empty() && !runtime::html_viewer_available()) {
-    throw runtime::OptionError("--html: this symdyn was built without the HTML viewer (npm was not found)");
+    throw runtime::OptionError(
+        "--html: this symdyn was built without the HTML viewer (npm was not found)");
   }
   if (args.plot.empty()) return;
   const std::string ext = std::filesystem::path(args.plot).extension().string();
   if (ext != ".png" && ext != ".svg") {
-    throw runtime::OptionError(fmt::format("--plot {}: the file must end in .png or .svg", args.plot));
+    throw runtime::OptionError(
+        fmt::format("--plot {}: the file must end in .png or .svg", args.plot));
   }
   if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
-    throw runtime::OptionError("--plot: gnuplot is not installed (Debian: apt-get install gnuplot-nox)");
+    throw runtime::OptionError(
+        "--plot: gnuplot is not installed (Debian: apt-get install gnuplot-nox)");
   }
 }
 
@@ -231,33 +241,39 @@ std::string gnuplot_text(const std::string& text) {
 void plot(const std::filesystem::path& csv, const std::string& file, const sim::RunResult& r,
           const std::string& title) {
   const bool svg = std::filesystem::path(file).extension() == ".svg";
-  const bool energies = std::find(r.columns.begin(), r.columns.end(), "total_energy") != r.columns.end();
+  const bool energies =
+      std::find(r.columns.begin(), r.columns.end(), "total_energy") != r.columns.end();
   std::string script = fmt::format(
       "set terminal {} size 1000,{} noenhanced\nset output '{}'\nset datafile separator ','\n"
       "set key autotitle columnhead outside\nset grid\nset xlabel 't (s)'\n",
       svg ? "svg" : "pngcairo", energies ? 900 : 600, gnuplot_text(file));
   if (energies) script += "set multiplot layout 2,1\n";
-  script += fmt::format("set title '{}: coordinates'\nplot for [i=2:{}] '{}' using 1:i with lines\n",
-                        gnuplot_text(title), r.coordinates.size() + 1, gnuplot_text(csv.string()));
+  script +=
+      fmt::format("set title '{}: coordinates'\nplot for [i=2:{}] '{}' using 1:i with lines\n",
+                  gnuplot_text(title), r.coordinates.size() + 1, gnuplot_text(csv.string()));
   if (energies) {
     script += fmt::format(
-        "set title '{}: energies (J)'\nplot for [c in 'kinetic_energy gravitational_energy elastic_energy "
+        "set title '{}: energies (J)'\nplot for [c in 'kinetic_energy gravitational_energy "
+        "elastic_energy "
         "total_energy'] '{}' using 1:c with lines title c\nunset multiplot\n",
         gnuplot_text(title), gnuplot_text(csv.string()));
   }
   FILE* gnuplot = popen("gnuplot", "w");
   if (gnuplot == nullptr) throw std::runtime_error("--plot: cannot start gnuplot");
   std::fputs(script.c_str(), gnuplot);
-  if (pclose(gnuplot) != 0) throw std::runtime_error(fmt::format("--plot: gnuplot failed to write '{}'", file));
+  if (pclose(gnuplot) != 0)
+    throw std::runtime_error(fmt::format("--plot: gnuplot failed to write '{}'", file));
 }
 
 // Every file the run would write, by the option that names it.
-std::vector<std::pair<std::string, std::filesystem::path>> output_files(const Arguments& args,
-                                                                        const std::filesystem::path& csv) {
+std::vector<std::pair<std::string, std::filesystem::path>> output_files(
+    const Arguments& args, const std::filesystem::path& csv) {
   std::vector<std::pair<std::string, std::filesystem::path>> files{{"--out", csv}};
   std::filesystem::path partial = csv;
   files.emplace_back("--out", partial += ".partial");
-  for (const auto& [option, file] : {std::pair{"--html", &args.html}, {"--glb", &args.glb}, {"--plot", &args.plot},
+  for (const auto& [option, file] : {std::pair{"--html", &args.html},
+                                     {"--glb", &args.glb},
+                                     {"--plot", &args.plot},
                                      {"--modes", &args.modes}}) {
     if (!file->empty()) files.emplace_back(option, *file);
   }
@@ -265,7 +281,8 @@ std::vector<std::pair<std::string, std::filesystem::path>> output_files(const Ar
     std::vector<std::string> stems{args.easyanim};
     if (!args.modes.empty()) stems.push_back(args.easyanim + "_modes");
     for (const std::string& stem : stems) {
-      for (const char* ext : {".vol", stem == args.easyanim ? ".van" : ".vmo"}) files.emplace_back("--easyanim", stem + ext);
+      for (const char* ext : {".vol", stem == args.easyanim ? ".van" : ".vmo"})
+        files.emplace_back("--easyanim", stem + ext);
     }
   }
   return files;
@@ -284,12 +301,14 @@ void check_outputs(const Arguments& args, const std::filesystem::path& csv) {
     const auto& [option, file] = files[i];
     sim::check_output_file(option, file);
     if (is_file(args.scenario) && same(file, args.scenario)) {
-      throw runtime::OptionError(fmt::format("{} '{}' is the scenario file: it would be overwritten", option, file.string()));
+      throw runtime::OptionError(fmt::format(
+          "{} '{}' is the scenario file: it would be overwritten", option, file.string()));
     }
     for (std::size_t j = 0; j < i; ++j) {
       if (same(file, files[j].second)) {
-        throw runtime::OptionError(fmt::format("{} '{}' and {} '{}' are the same file: one would overwrite the other",
-                                               files[j].first, files[j].second.string(), option, file.string()));
+        throw runtime::OptionError(
+            fmt::format("{} '{}' and {} '{}' are the same file: one would overwrite the other",
+                        files[j].first, files[j].second.string(), option, file.string()));
       }
     }
   }
@@ -297,7 +316,8 @@ void check_outputs(const Arguments& args, const std::filesystem::path& csv) {
 
 // The scenario named on the command line, changed by --set.
 sim::Scenario read_scenario(const Arguments& args) {
-  sim::Scenario scenario = is_file(args.scenario) ? sim::load_scenario(args.scenario) : sim::find_builtin(args.scenario);
+  sim::Scenario scenario =
+      is_file(args.scenario) ? sim::load_scenario(args.scenario) : sim::find_builtin(args.scenario);
   if (args.set.empty()) return scenario;
   std::vector<sim::Override> changes;
   for (const std::string& s : args.set) changes.push_back(sim::parse_override(s));
@@ -348,14 +368,16 @@ int simulate(Arguments& args) {
   try {
     r = simulation.run();
   } catch (const std::exception& e) {
-    if (rows == 0) {  // refused before its first row (an option the integrator checks): the old file stays
+    if (rows ==
+        0) {  // refused before its first row (an option the integrator checks): the old file stays
       csv.close();
       std::filesystem::remove(partial);
       throw;
     }
     keep();
     std::cerr << "error: " << e.what() << '\n';
-    std::cerr << fmt::format("  the run stopped; CSV: {} keeps its {} rows up to t = {}\n", path.string(), rows, last_t);
+    std::cerr << fmt::format("  the run stopped; CSV: {} keeps its {} rows up to t = {}\n",
+                             path.string(), rows, last_t);
     return 1;
   }
   if (!csv) throw std::runtime_error(fmt::format("cannot write '{}'", partial.string()));
@@ -365,22 +387,26 @@ int simulate(Arguments& args) {
              fmt::join(r.columns, ", "));
   if (modes) {
     write_modes(*modes, args.modes);
-    fmt::print("  modes about the {} (t = {}):\n", args.modes_about == "equilibrium" ? "static equilibrium" : "initial state",
+    fmt::print("  modes about the {} (t = {}):\n",
+               args.modes_about == "equilibrium" ? "static equilibrium" : "initial state",
                modes->reference.t);
     for (std::size_t k = 0; k < modes->modes.size(); ++k) {
-      fmt::print("    mode {}: {:.6g} Hz, damping ratio {:.4g}\n", k + 1, modes->modes[k].natural_frequency_hz,
-                 modes->modes[k].damping_ratio);
+      fmt::print("    mode {}: {:.6g} Hz, damping ratio {:.4g}\n", k + 1,
+                 modes->modes[k].natural_frequency_hz, modes->modes[k].damping_ratio);
     }
   }
-  if (pictures) pictures->write(args, scenario.name, modes ? &*modes : nullptr, simulation.system().model());
+  if (pictures)
+    pictures->write(args, scenario.name, modes ? &*modes : nullptr, simulation.system().model());
   if (!args.plot.empty()) plot(path, args.plot, r, scenario.name);
   for (const std::string* file : {&args.html, &args.glb, &args.plot, &args.modes}) {
     if (!file->empty()) fmt::print("  wrote {}\n", *file);
   }
   if (!args.easyanim.empty()) {
-    fmt::print("  wrote {0}.vol, {0}.van{1}\n", args.easyanim, modes ? fmt::format(", {0}_modes.vol, {0}_modes.vmo", args.easyanim) : "");
+    fmt::print("  wrote {0}.vol, {0}.van{1}\n", args.easyanim,
+               modes ? fmt::format(", {0}_modes.vol, {0}_modes.vmo", args.easyanim) : "");
   }
-  const bool ok = std::all_of(r.checks.begin(), r.checks.end(), [](const sim::Check& c) { return c.ok(); });
+  const bool ok =
+      std::all_of(r.checks.begin(), r.checks.end(), [](const sim::Check& c) { return c.ok(); });
   return ok ? 0 : 1;
 }
 
@@ -390,18 +416,21 @@ int sweep(int argc, char** argv) {
   const char* python = std::getenv("SYMDYN_PYTHON");
   if (python == nullptr || *python == '\0') python = SYMDYN_PYTHON_EXECUTABLE;
   std::string path = SYMDYN_PYTHON_PACKAGE_DIR;
-  if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += std::string(":") + old;
+  if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0')
+    path += std::string(":") + old;
   std::error_code ec;
   const std::string self = std::filesystem::canonical("/proc/self/exe", ec).string();
   setenv("PYTHONPATH", path.c_str(), 1);
   if (!ec) setenv("SYMDYN_SIM", self.c_str(), 1);
-  std::vector<char*> command{const_cast<char*>(python), const_cast<char*>("-m"), const_cast<char*>("symdyn")};
+  std::vector<char*> command{const_cast<char*>(python), const_cast<char*>("-m"),
+                             const_cast<char*>("symdyn")};
   for (int k = 1; k < argc; ++k) command.push_back(argv[k]);
   command.push_back(nullptr);
   execv(python, command.data());
-  std::cerr << fmt::format("error: --sweep: cannot run {} ({}); set SYMDYN_PYTHON to a python3 with symdyn's "
-                           "dependencies (docs/sweeps.md)\n",
-                           python, std::strerror(errno));
+  std::cerr << fmt::format(
+      "error: --sweep: cannot run {} ({}); set SYMDYN_PYTHON to a python3 with symdyn's "
+      "dependencies (docs/sweeps.md)\n",
+      python, std::strerror(errno));
   return 2;
 }
 
@@ -413,46 +442,69 @@ int main(int argc, char** argv) {
     if (a == "--sweep" || a.starts_with("--sweep=")) return sweep(argc, argv);
   }
   Arguments args;
-  CLI::App app{"symdyn-sim: runs a scenario (a JSON file, or a reference model's name) on generated code"};
-  app.add_option("scenario", args.scenario, "scenario file (*.json) or built-in model name (see --list)");
+  CLI::App app{
+      "symdyn-sim: runs a scenario (a JSON file, or a reference model's name) on generated code"};
+  app.add_option("scenario", args.scenario,
+                 "scenario file (*.json) or built-in model name (see --list)");
   app.add_flag("--list", args.list, "list the built-in scenarios and their models' variants");
-  app.add_option("--set", args.set, "change the scenario: PATH=VALUE (forces.spring.stiffness=2e4; docs/sweeps.md)");
+  app.add_option("--set", args.set,
+                 "change the scenario: PATH=VALUE (forces.spring.stiffness=2e4; docs/sweeps.md)");
   std::string sweep_file;  // for --help only: --sweep is handed over before parsing
   app.add_option("--sweep", sweep_file,
-                 "run a sweep file (docs/sweeps.md); every other argument is the sweep's (--sweep FILE --help)");
-  app.add_flag("--serve", args.serve, "run scenarios on requests from stdin (the engine of sweeps; serve.hpp)");
-  app.add_option("--variant", args.run.variant, "generated variant (default: the scenario's, else the model's first)");
-  app.add_option("--t-end", args.run.t_end, "end time in s (default: the scenario's)")->check(kPositive);
+                 "run a sweep file (docs/sweeps.md); every other argument is the sweep's (--sweep "
+                 "FILE --help)");
+  app.add_flag("--serve", args.serve,
+               "run scenarios on requests from stdin (the engine of sweeps; serve.hpp)");
+  app.add_option("--variant", args.run.variant,
+                 "generated variant (default: the scenario's, else the model's first)");
+  app.add_option("--t-end", args.run.t_end, "end time in s (default: the scenario's)")
+      ->check(kPositive);
   app.add_option("--integrator", args.run.integrator,
                  fmt::format("one of {}", fmt::join(runtime::integrator_names(), ", ")));
-  app.add_option("--tolerance", args.run.tolerance, "relative and absolute tolerance")->check(kPositive);
-  app.add_option("--rtol", args.run.rtol, "relative tolerance (over --tolerance)")->check(kPositive);
-  app.add_option("--atol", args.run.atol, "absolute tolerance (over --tolerance)")->check(kPositive);
+  app.add_option("--tolerance", args.run.tolerance, "relative and absolute tolerance")
+      ->check(kPositive);
+  app.add_option("--rtol", args.run.rtol, "relative tolerance (over --tolerance)")
+      ->check(kPositive);
+  app.add_option("--atol", args.run.atol, "absolute tolerance (over --tolerance)")
+      ->check(kPositive);
   app.add_option("--interval", args.run.output_interval, "output interval in s")->check(kPositive);
   app.add_option("--step", args.run.step,
-                 "initial step in s; rk4, midpoint: the fixed step, required (with --global-tolerance: the first, halved "
+                 "initial step in s; rk4, midpoint: the fixed step, required (with "
+                 "--global-tolerance: the first, halved "
                  "until met)")
       ->check(kPositive);
   app.add_option("--global-tolerance", args.run.global_tolerance,
-                 "bound on the error of the result, estimated by solving again (tighter tolerances, or halved fixed "
+                 "bound on the error of the result, estimated by solving again (tighter "
+                 "tolerances, or halved fixed "
                  "steps); the summary says whether it was met")
       ->check(kPositive);
-  app.add_flag("--assembled", args.run.assembled, "assemble M and h from the kinematics instead of the emitted ones");
+  app.add_flag("--assembled", args.run.assembled,
+               "assemble M and h from the kinematics instead of the emitted ones");
   app.add_option("--out", args.out, "CSV file (default: <scenario>.csv)")->check(kFileName);
-  app.add_option("--html", args.html, "write the HTML viewer of the run (open it in a browser)")->check(kFileName);
-  app.add_option("--glb", args.glb, "write the animation as glTF binary (Blender, glTF viewers)")->check(kFileName);
-  app.add_option("--plot", args.plot, "plot the coordinates against time with gnuplot (.png or .svg)")->check(kFileName);
-  app.add_option("--easyanim", args.easyanim, "write EasyDyn's STEM.vol and STEM.van of the run (EasyAnim)")->check(kFileName);
+  app.add_option("--html", args.html, "write the HTML viewer of the run (open it in a browser)")
+      ->check(kFileName);
+  app.add_option("--glb", args.glb, "write the animation as glTF binary (Blender, glTF viewers)")
+      ->check(kFileName);
+  app.add_option("--plot", args.plot,
+                 "plot the coordinates against time with gnuplot (.png or .svg)")
+      ->check(kFileName);
+  app.add_option("--easyanim", args.easyanim,
+                 "write EasyDyn's STEM.vol and STEM.van of the run (EasyAnim)")
+      ->check(kFileName);
   CLI::Option* modes =
-      app.add_option("--modes", args.modes, "write the modes of the linearization as CSV (also clips of --html, --glb)")
+      app.add_option("--modes", args.modes,
+                     "write the modes of the linearization as CSV (also clips of --html, --glb)")
           ->check(kFileName);
-  app.add_option("--modes-about", args.modes_about, "linearize about the static equilibrium (default) or the initial state")
+  app.add_option("--modes-about", args.modes_about,
+                 "linearize about the static equilibrium (default) or the initial state")
       ->check(CLI::IsMember({"equilibrium", "initial"}))
       ->needs(modes);
-  app.add_option("--mode-amplitude", args.mode_amplitude, "largest coordinate's swing in a mode's clip (default 0.2)")
+  app.add_option("--mode-amplitude", args.mode_amplitude,
+                 "largest coordinate's swing in a mode's clip (default 0.2)")
       ->check(kPositive)
       ->needs(modes);
-  app.add_option("--max-rows", args.max_rows, "refuse a run that would write more CSV rows (default 1e7)")
+  app.add_option("--max-rows", args.max_rows,
+                 "refuse a run that would write more CSV rows (default 1e7)")
       ->check(kPositive);
   try {
     app.parse(argc, argv);

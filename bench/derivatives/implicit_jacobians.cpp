@@ -8,7 +8,8 @@
 // falls back to its forward differences of the accelerations (2·nq calls per
 // Jacobian, counted among its evaluations).
 //
-//   symdyn_bench_implicit_jacobians [--reps N] [--problem NAME]... [--tolerance TOL] [--no-reference]
+//   symdyn_bench_implicit_jacobians [--reps N] [--problem NAME]... [--tolerance TOL]
+//   [--no-reference]
 //
 // --tolerance: that tolerance alone; --no-reference: no reference run (errors
 // are NaN), for a quick look or a profile of the runs alone.
@@ -83,8 +84,9 @@ Outcome run(const Problem& p, const std::string& integrator, double tolerance, b
   const double start = cpu_seconds();
   const symdyn::sim::RunResult r = sim.run();
   // CVODE without exact derivatives differences the accelerations itself (sundials_support.cpp).
-  const std::string method = !exact && integrator == "cvode" ? "CVODE's forward differences of the accelerations"
-                                                              : sim.system().jacobian_method();
+  const std::string method = !exact && integrator == "cvode"
+                                 ? "CVODE's forward differences of the accelerations"
+                                 : sim.system().jacobian_method();
   return {r.final, r.statistics, method, cpu_seconds() - start};
 }
 
@@ -112,7 +114,8 @@ void measure(const Problem& p, const Options& options) {
     const double start = cpu_seconds();
     const State ref = run(p, "dop853", 1e-12, true).final;
     const State check = run(p, "dopri5", 1e-12, true).final;
-    fmt::print("reference\t{}\tdop853\t1e-12\t{:.3g}\t{:.1f}\n", p.name, distance(ref, check), cpu_seconds() - start);
+    fmt::print("reference\t{}\tdop853\t1e-12\t{:.3g}\t{:.1f}\n", p.name, distance(ref, check),
+               cpu_seconds() - start);
     std::fflush(stdout);
     references[p.name] = ref;
   }
@@ -130,11 +133,11 @@ void measure(const Problem& p, const Options& options) {
     for (int exact = 1; exact >= 0; --exact) {
       const Outcome& o = last[exact];
       const Statistics& s = o.stats;
-      fmt::print("run\t{}\t{}\t{:g}\t{}\t{:.3g}\t{:.2f}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n", p.name, p.integrator, tol,
-                 exact ? "exact" : "differences", options.reference ? distance(o.final, ref) : std::nan(""),
-                 1e3 * median(cpu[exact]), s.steps,
-                 s.rejected_steps, s.newton_iterations, s.residual_evaluations, s.rhs_evaluations,
-                 s.jacobian_evaluations, o.method);
+      fmt::print("run\t{}\t{}\t{:g}\t{}\t{:.3g}\t{:.2f}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n", p.name,
+                 p.integrator, tol, exact ? "exact" : "differences",
+                 options.reference ? distance(o.final, ref) : std::nan(""),
+                 1e3 * median(cpu[exact]), s.steps, s.rejected_steps, s.newton_iterations,
+                 s.residual_evaluations, s.rhs_evaluations, s.jacobian_evaluations, o.method);
     }
     std::fflush(stdout);
   }
@@ -155,15 +158,17 @@ int main(int argc, char** argv) {
     } else if (a == "--no-reference") {
       o.reference = false;
     } else {
-      fmt::print(stderr,
-                 "usage: symdyn_bench_implicit_jacobians [--reps N] [--problem NAME]... [--tolerance TOL] "
-                 "[--no-reference]\n");
+      fmt::print(
+          stderr,
+          "usage: symdyn_bench_implicit_jacobians [--reps N] [--problem NAME]... [--tolerance TOL] "
+          "[--no-reference]\n");
       return 2;
     }
   }
   try {
     for (const Problem& p : all_problems) {
-      if (o.problems.empty() || std::find(o.problems.begin(), o.problems.end(), p.name) != o.problems.end()) {
+      if (o.problems.empty() ||
+          std::find(o.problems.begin(), o.problems.end(), p.name) != o.problems.end()) {
         measure(p, o);
       }
     }

@@ -5,12 +5,12 @@
 // step of 1e-3 of the interval. Unchanged but for its names and namespace.
 #include "newmark_baseline.hpp"
 
+#include <fmt/format.h>
+
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/LU>
-#include <fmt/format.h>
 
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/stepping_integrator.hpp>
@@ -76,20 +76,20 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   Vector trial_qdd_, trial_yd_, trial_a_;
 
   // Iteration matrix: partials and factorization.
-  Matrix M_, C_, K_;                      // (n x n)
-  Matrix f_y_, f_yd_;                     // (n x m)
-  Matrix g_q_, g_qd_;                     // (m x n)
-  Matrix g_y_, g_yd_;                     // (m x m)
+  Matrix M_, C_, K_;   // (n x n)
+  Matrix f_y_, f_yd_;  // (n x m)
+  Matrix g_q_, g_qd_;  // (m x n)
+  Matrix g_y_, g_yd_;  // (m x m)
   bool have_jacobian_ = false;
-  bool jacobian_fresh_ = false;           // evaluated during this attempt
+  bool jacobian_fresh_ = false;  // evaluated during this attempt
   bool factored_ = false;
-  bool hopeless_ = false;                 // the last iteration met a non-finite value
+  bool hopeless_ = false;  // the last iteration met a non-finite value
   double factored_h_ = 0.0;
-  Matrix S_;                              // (n+m x n+m)
+  Matrix S_;  // (n+m x n+m)
   Eigen::PartialPivLU<Matrix> lu_;
 
-  Vector f_, g_, rhs_, delta_;            // scratch (n), (m), (n+m), (n+m)
-  Vector error_;                          // scratch (2n+m)
+  Vector f_, g_, rhs_, delta_;  // scratch (n), (m), (n+m), (n+m)
+  Vector error_;                // scratch (2n+m)
 };
 
 void NewmarkFamily::start(const State& initial) {
@@ -109,8 +109,8 @@ void NewmarkFamily::start(const State& initial) {
   // h = 0: q, qd, y stay, the iteration only finds qdd and yd (EasyDyn's start).
   const std::string failure = solve(0.0);
   if (!failure.empty()) {
-    throw NumericError(fmt::format("{} (consistent initial accelerations, integrator '{}')",
-                                   failure, name()));
+    throw NumericError(
+        fmt::format("{} (consistent initial accelerations, integrator '{}')", failure, name()));
   }
   qdd_ = trial_qdd_;
   yd_ = trial_yd_;
@@ -119,7 +119,9 @@ void NewmarkFamily::start(const State& initial) {
   yd_previous_ = yd_;
 }
 
-double NewmarkFamily::first_step(double t_end) { return 1e-3 * (t_end - current_.t); }
+double NewmarkFamily::first_step(double t_end) {
+  return 1e-3 * (t_end - current_.t);
+}
 
 // qdd1 = qdd0, yd1 = yd0, and q1, qd1, y1 from the formulas of the scheme.
 void NewmarkFamily::predict(double h) {
@@ -276,7 +278,8 @@ std::string NewmarkFamily::solve(double h) {
 // for small steps.
 double NewmarkFamily::third_derivative(double r0, double r1, double r2, double h) const {
   const double slope = (r2 - r1) / h;
-  return h_previous_ > 0.0 ? 2.0 / (h + h_previous_) * (slope - (r1 - r0) / h_previous_) : slope / h;
+  return h_previous_ > 0.0 ? 2.0 / (h + h_previous_) * (slope - (r1 - r0) / h_previous_)
+                           : slope / h;
 }
 
 // Local errors: q (EasyDyn) h³·q'''/12 = h²·|qdd1 - qdd0|/12; qd, trapezoidal in qdd,
@@ -330,15 +333,15 @@ std::unique_ptr<Integrator> make_newmark_baseline(IntegratorOptions options) {
 std::unique_ptr<Integrator> make_generalized_alpha_baseline(IntegratorOptions options) {
   const double rho = options.rho_infinity;
   if (!(rho >= 0.0 && rho <= 1.0)) {
-    throw OptionError(fmt::format(
-        "integrator 'generalized-alpha': rho_infinity {} is outside [0, 1]", rho));
+    throw OptionError(
+        fmt::format("integrator 'generalized-alpha': rho_infinity {} is outside [0, 1]", rho));
   }
   const double am = (2.0 * rho - 1.0) / (rho + 1.0);
   const double af = rho / (rho + 1.0);
   const double gamma = 0.5 - am + af;
   const double beta = 0.25 * (1.0 - am + af) * (1.0 - am + af);
-  return std::make_unique<NewmarkFamily>(std::move(options),
-                                         Coefficients{"generalized-alpha-baseline", am, af, beta, gamma});
+  return std::make_unique<NewmarkFamily>(
+      std::move(options), Coefficients{"generalized-alpha-baseline", am, af, beta, gamma});
 }
 
 }  // namespace symdyn::bench

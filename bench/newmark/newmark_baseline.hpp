@@ -9,6 +9,7 @@
 namespace symdyn::bench {
 
 std::unique_ptr<runtime::Integrator> make_newmark_baseline(runtime::IntegratorOptions options);
-std::unique_ptr<runtime::Integrator> make_generalized_alpha_baseline(runtime::IntegratorOptions options);
+std::unique_ptr<runtime::Integrator> make_generalized_alpha_baseline(
+    runtime::IntegratorOptions options);
 
 }  // namespace symdyn::bench

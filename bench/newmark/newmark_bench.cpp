@@ -4,7 +4,8 @@
 //
 //   ./build/release/bench/symdyn_bench_newmark --benchmark_repetitions=5
 //       --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true
-//   ./build/release/bench/symdyn_bench_newmark --count newmark tol 1e-8     # one run, for callgrind
+//   ./build/release/bench/symdyn_bench_newmark --count newmark tol 1e-8     # one run, for
+//   callgrind
 //
 // Benchmarks <integrator>/tol=<tol> (rtol = atol) and <integrator>/h=<h> (fixed step, default
 // tolerances), each integrator also as <integrator>-baseline. Counters: error (largest
@@ -15,13 +16,12 @@
 //   valgrind --tool=callgrind --toggle-collect='*counted_workload*' (instructions per run).
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "newmark_baseline.hpp"
 #include "problems.hpp"
@@ -43,7 +43,8 @@ std::unique_ptr<Integrator> make(const std::string& name, const std::string& kin
   }
   o.output_times = {kEnd};
   if (name == "newmark-baseline") return symdyn::bench::make_newmark_baseline(o);
-  if (name == "generalized-alpha-baseline") return symdyn::bench::make_generalized_alpha_baseline(o);
+  if (name == "generalized-alpha-baseline")
+    return symdyn::bench::make_generalized_alpha_baseline(o);
   return make_integrator(name, o);
 }
 
@@ -53,15 +54,18 @@ symdyn::bench::ProblemSystem& problem() {
 }
 
 double error(const State& end) {
-  static const State reference = make("dop853", "tol", 1e-13)->integrate(*problem().system, problem().initial, kEnd);
-  return std::max((end.q - reference.q).cwiseAbs().maxCoeff(), (end.qd - reference.qd).cwiseAbs().maxCoeff());
+  static const State reference =
+      make("dop853", "tol", 1e-13)->integrate(*problem().system, problem().initial, kEnd);
+  return std::max((end.q - reference.q).cwiseAbs().maxCoeff(),
+                  (end.qd - reference.qd).cwiseAbs().maxCoeff());
 }
 
 [[gnu::noinline]] State counted_workload(Integrator& integ) {
   return integ.integrate(*problem().system, problem().initial, kEnd);
 }
 
-void run(benchmark::State& bench, const std::string& name, const std::string& kind, double setting) {
+void run(benchmark::State& bench, const std::string& name, const std::string& kind,
+         double setting) {
   auto integ = make(name, kind, setting);
   State end;
   for (auto _ : bench) {
@@ -82,7 +86,8 @@ int main(int argc, char** argv) {
   if (argc == 5 && std::string(argv[1]) == "--count") {
     auto integ = make(argv[2], argv[3], std::stod(argv[4]));
     const State end = counted_workload(*integ);
-    std::printf("%s %s=%s: error %.3e, %ld steps\n", argv[2], argv[3], argv[4], error(end), integ->statistics().steps);
+    std::printf("%s %s=%s: error %.3e, %ld steps\n", argv[2], argv[3], argv[4], error(end),
+                integ->statistics().steps);
     return 0;
   }
   struct Row {
@@ -101,7 +106,8 @@ int main(int argc, char** argv) {
   };
   for (const Row& r : rows) {
     for (double setting : r.settings) {
-      const std::string label = fmt::format("double_pendulum_1s/{}/{}={:g}", r.name, r.kind, setting);
+      const std::string label =
+          fmt::format("double_pendulum_1s/{}/{}={:g}", r.name, r.kind, setting);
       const std::string name = r.name, kind = r.kind;
       benchmark::RegisterBenchmark(label.c_str(), [name, kind, setting](benchmark::State& s) {
         run(s, name, kind, setting);

@@ -1,10 +1,12 @@
 // Compiled by run.sh into the shared object of one emitted model:
-//   g++ -O2 -fPIC -include <basename>.hpp -DSYMDYN_PAPER_STRUCT=symdyn_generated::<basename> -c adapter.cpp
+//   g++ -O2 -fPIC -include <basename>.hpp -DSYMDYN_PAPER_STRUCT=symdyn_generated::<basename> -c
+//   adapter.cpp
 // It exports the emitted struct's members as a PluginModel (plugin.hpp).
 #include "plugin.hpp"
 
 #ifndef SYMDYN_PAPER_STRUCT
-#error "define SYMDYN_PAPER_STRUCT as the emitted struct, e.g. symdyn_generated::double_pendulum_absolute"
+#error \
+    "define SYMDYN_PAPER_STRUCT as the emitted struct, e.g. symdyn_generated::double_pendulum_absolute"
 #endif
 
 namespace {
@@ -33,7 +35,10 @@ symdyn::paper::PluginModel describe() {
   p.accelerations = &G::accelerations;
   p.partial_velocities = &G::partial_velocities;
   p.dependent_parameters = &G::dependent_parameters;
-  if constexpr (requires { &G::mass_matrix; &G::bias_forces; }) {
+  if constexpr (requires {
+                  &G::mass_matrix;
+                  &G::bias_forces;
+                }) {
     if (G::has_equations_of_motion) {
       p.mass_matrix = &G::mass_matrix;
       p.bias_forces = &G::bias_forces;
@@ -46,6 +51,7 @@ const symdyn::paper::PluginModel plugin = describe<SYMDYN_PAPER_STRUCT>();
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const symdyn::paper::PluginModel* symdyn_paper_model() {
+extern "C" __attribute__((visibility("default"))) const symdyn::paper::PluginModel*
+symdyn_paper_model() {
   return &plugin;
 }

@@ -2,8 +2,8 @@
 // compiled emitted model (a shared object built by run.sh from the emitted
 // code and adapter.cpp):
 //
-//   symdyn_paper_bench --lib LIB.so --model NAME --variant V --case 1..4 [--reps 7] [--out FILE.json]
-//   symdyn_paper_bench ... --count T1|T2 [--count-evaluations N]
+//   symdyn_paper_bench --lib LIB.so --model NAME --variant V --case 1..4 [--reps 7] [--out
+//   FILE.json] symdyn_paper_bench ... --count T1|T2 [--count-evaluations N]
 //
 // T1: seconds for 10 000 evaluations of the kinematics of all bodies, as the
 //     paper: the emitted accelerations() (positions, velocities, accelerations
@@ -27,21 +27,21 @@
 // --toggle-collect='*counted_workload*': instructions are repeatable where
 // timings on a shared machine are not (run.sh records them for cases 1 and 2).
 #include <dlfcn.h>
+#include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
 #include <algorithm>
-#include <ctime>
 #include <cmath>
+#include <ctime>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include <symdyn/model/model.hpp>
 #include "plugin.hpp"
 #include "reference.hpp"
+#include <symdyn/model/model.hpp>
 #include <symdyn/runtime/model.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 
@@ -65,9 +65,11 @@ struct Arguments {
 
 const paper::PluginModel& load(const std::string& path) {
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (handle == nullptr) throw std::runtime_error(fmt::format("cannot load '{}': {}", path, dlerror()));
+  if (handle == nullptr)
+    throw std::runtime_error(fmt::format("cannot load '{}': {}", path, dlerror()));
   auto fn = reinterpret_cast<const paper::PluginModel* (*)()>(dlsym(handle, paper::plugin_symbol));
-  if (fn == nullptr) throw std::runtime_error(fmt::format("'{}' has no symbol {}", path, paper::plugin_symbol));
+  if (fn == nullptr)
+    throw std::runtime_error(fmt::format("'{}' has no symbol {}", path, paper::plugin_symbol));
   return *fn();
 }
 
@@ -120,7 +122,8 @@ Timing time_runs(int reps, int evaluations, F&& f) {
   const double warm_start = thread_seconds();
   for (int i = 0; i < std::max(1, evaluations / 10); ++i) f();  // warm caches and branch predictors
   const double per_call = (thread_seconds() - warm_start) / std::max(1, evaluations / 10);
-  const int batches = std::max(1, static_cast<int>(std::ceil(0.05 / std::max(1e-12, per_call * evaluations))));
+  const int batches =
+      std::max(1, static_cast<int>(std::ceil(0.05 / std::max(1e-12, per_call * evaluations))));
   std::vector<double> runs;
   for (int r = 0; r < reps; ++r) {
     const double start = thread_seconds();
@@ -188,7 +191,8 @@ json errors(const Arguments& args, runtime::Model& m, runtime::MultibodySystem& 
     runtime::Vector a(m.nq()), yd(0);
     system.accelerations(to_state(s), a, yd);
     const Eigen::VectorXd expected = reference.accelerations(s);
-    qdd = std::max(qdd, error(a.data(), std::vector<double>(expected.data(), expected.data() + expected.size())));
+    qdd = std::max(qdd, error(a.data(), std::vector<double>(expected.data(),
+                                                            expected.data() + expected.size())));
     qdds.push_back(std::vector<double>(a.data(), a.data() + a.size()));
   }
   out["positions"] = pos;
@@ -217,15 +221,17 @@ json timings(const Arguments& args, runtime::Model& m, runtime::MultibodySystem&
     out[name] = timing.median;
     out[std::string(name) + "_min"] = timing.min;
   };
-  record("T1", time_runs(args.reps, args.kinematics_evaluations, [&] { kinematics_workload(args, m, s, k); }));
+  record("T1", time_runs(args.reps, args.kinematics_evaluations,
+                         [&] { kinematics_workload(args, m, s, k); }));
   record("T1_accelerations", time_runs(args.reps, args.kinematics_evaluations, [&] {
-    m.accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), k);
-  }));
+           m.accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), k);
+         }));
   record("T1_partials", time_runs(args.reps, args.kinematics_evaluations,
                                   [&] { m.partial_velocities(s.t, s.q.data(), k); }));
   const runtime::State state = to_state(s);
   runtime::Vector qdd(m.nq()), yd(0);
-  record("T2", time_runs(args.reps, args.eom_evaluations, [&] { system.accelerations(state, qdd, yd); }));
+  record("T2",
+         time_runs(args.reps, args.eom_evaluations, [&] { system.accelerations(state, qdd, yd); }));
   out["reps"] = args.reps;
   out["kinematics_evaluations"] = args.kinematics_evaluations;
   out["eom_evaluations"] = args.eom_evaluations;
@@ -239,7 +245,8 @@ json timings(const Arguments& args, runtime::Model& m, runtime::MultibodySystem&
 
 // One workload for callgrind: warmed by a first call (lazy symbol binding,
 // first-touch allocations), then counted.
-json count(const Arguments& args, runtime::Model& m, runtime::MultibodySystem& system, const paper::StateSample& s) {
+json count(const Arguments& args, runtime::Model& m, runtime::MultibodySystem& system,
+           const paper::StateSample& s) {
   runtime::Kinematics k = m.make_kinematics();
   const runtime::State state = to_state(s);
   runtime::Vector qdd(m.nq()), yd(0);
@@ -256,9 +263,11 @@ int run(const Arguments& args) {
   const model::Model definition = model::find_definition(args.model).make(args.variant);
   const paper::Reference reference(definition);
   if (reference.nq() != m.nq() || reference.nbody() != m.nbody()) {
-    throw std::runtime_error(fmt::format("'{}' is not model {} variant {}", args.lib, args.model, args.variant));
+    throw std::runtime_error(
+        fmt::format("'{}' is not model {} variant {}", args.lib, args.model, args.variant));
   }
-  const auto source = args.case_number == 4 ? runtime::EquationsSource::emitted : runtime::EquationsSource::assembled;
+  const auto source = args.case_number == 4 ? runtime::EquationsSource::emitted
+                                            : runtime::EquationsSource::assembled;
   runtime::MultibodySystem system(m, source);
   const auto states = random_states(args, m);
   json out;
@@ -288,7 +297,8 @@ int run(const Arguments& args) {
 int main(int argc, char** argv) {
   Arguments args;
   CLI::App app{"symdyn_paper_bench: T1, T2 and errors of one compiled emitted model"};
-  app.add_option("--lib", args.lib, "shared object of the emitted code and adapter.cpp")->required();
+  app.add_option("--lib", args.lib, "shared object of the emitted code and adapter.cpp")
+      ->required();
   app.add_option("--model", args.model, "model name (its definition is linked in)")->required();
   app.add_option("--variant", args.variant, "model variant")->required();
   app.add_option("--case", args.case_number, "the paper's case 1-3, or 4 (emitted equations)")
@@ -296,13 +306,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4));
   app.add_option("--reps", args.reps, "timed repetitions (median)")->capture_default_str();
   app.add_option("--states", args.states, "random states for the errors")->capture_default_str();
-  app.add_option("--kinematics-evaluations", args.kinematics_evaluations, "calls per T1 run")->capture_default_str();
-  app.add_option("--eom-evaluations", args.eom_evaluations, "calls per T2 run")->capture_default_str();
+  app.add_option("--kinematics-evaluations", args.kinematics_evaluations, "calls per T1 run")
+      ->capture_default_str();
+  app.add_option("--eom-evaluations", args.eom_evaluations, "calls per T2 run")
+      ->capture_default_str();
   app.add_option("--count", args.count, "run workload T1 or T2 for callgrind instead of timing")
       ->check(CLI::IsMember({"T1", "T2"}));
   app.add_option("--count-evaluations", args.count_evaluations, "calls of the counted workload")
       ->capture_default_str();
-  app.add_option("--amplitude", args.amplitude, "random q = q_initial + amplitude*U(-1,1)")->capture_default_str();
+  app.add_option("--amplitude", args.amplitude, "random q = q_initial + amplitude*U(-1,1)")
+      ->capture_default_str();
   app.add_option("--seed", args.seed, "seed of the random states")->capture_default_str();
   app.add_option("--out", args.out, "JSON output file (default: stdout)");
   CLI11_PARSE(app, argc, argv);

@@ -59,7 +59,8 @@ std::vector<Matrix4d> Reference::transforms(double t, const Eigen::VectorXd& q) 
   for (int j = 0; j < nq_; ++j) b.emplace(model_.coordinates()[j].q, q(j));
   for (const auto& p : model_.parameters()) b.emplace(p.symbol, p.value);
   // Dependent parameters in declaration order, which is dependency order.
-  for (const auto& d : model_.dependents()) b.emplace(d.symbol, symbolic::evaluate(d.expression, b));
+  for (const auto& d : model_.dependents())
+    b.emplace(d.symbol, symbolic::evaluate(d.expression, b));
   symbolic::Evaluator<double> eval(b);
   const std::vector<int> refs = model_.reference_indices();
   std::vector<Matrix4d> T(nbody_);
@@ -72,7 +73,8 @@ std::vector<Matrix4d> Reference::transforms(double t, const Eigen::VectorXd& q) 
         const Vector3d k(eval(step.axis[0]), eval(step.axis[1]), eval(step.axis[2]));
         Matrix3d K;
         K << 0, -k(2), k(1), k(2), 0, -k(0), -k(1), k(0), 0;
-        E.block<3, 3>(0, 0) = Matrix3d::Identity() + std::sin(angle) * K + (1 - std::cos(angle)) * (K * K);
+        E.block<3, 3>(0, 0) =
+            Matrix3d::Identity() + std::sin(angle) * K + (1 - std::cos(angle)) * (K * K);
       } else {
         E.block<3, 1>(0, 3) = Vector3d(eval(step.displacement[0]), eval(step.displacement[1]),
                                        eval(step.displacement[2]));
@@ -152,7 +154,9 @@ Eigen::VectorXd Reference::accelerations(const StateSample& s) const {
   // h_j  = sum_i m_i (a_i - g).dv_ij + (J_i dw_i + w_i x J_i w_i).dw_ij   (a, dw at qdd = 0).
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(nq_, nq_);
   Eigen::VectorXd h = Eigen::VectorXd::Zero(nq_);
-  auto vec = [](const std::vector<double>& a, int index) { return Vector3d(a[3 * index], a[3 * index + 1], a[3 * index + 2]); };
+  auto vec = [](const std::vector<double>& a, int index) {
+    return Vector3d(a[3 * index], a[3 * index + 1], a[3 * index + 2]);
+  };
   for (int i = 0; i < nbody_; ++i) {
     const Matrix3d R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&k.R[9 * i]);
     const Matrix3d J = R * inertia_[i] * R.transpose();
@@ -163,7 +167,8 @@ Eigen::VectorXd Reference::accelerations(const StateSample& s) const {
       const Vector3d dvj = vec(k.dv, i * nq_ + j), dwj = vec(k.dwq, i * nq_ + j);
       h(j) += force.dot(dvj) + moment.dot(dwj);
       for (int l = 0; l < nq_; ++l) {
-        M(j, l) += mass_[i] * dvj.dot(vec(k.dv, i * nq_ + l)) + dwj.dot(J * vec(k.dwq, i * nq_ + l));
+        M(j, l) +=
+            mass_[i] * dvj.dot(vec(k.dv, i * nq_ + l)) + dwj.dot(J * vec(k.dwq, i * nq_ + l));
       }
     }
   }

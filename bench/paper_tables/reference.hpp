@@ -55,8 +55,8 @@ class Reference {
 
   const model::Model& model_;
   int nq_, nbody_;
-  std::vector<double> mass_;                // (nbody)
-  std::vector<Eigen::Matrix3d> inertia_;    // (nbody) at G, body axes
+  std::vector<double> mass_;              // (nbody)
+  std::vector<Eigen::Matrix3d> inertia_;  // (nbody) at G, body axes
   Eigen::Vector3d gravity_;
 };
 

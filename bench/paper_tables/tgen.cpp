@@ -52,18 +52,24 @@ struct Timing {
   std::vector<double> cpu, wall;
   std::size_t bytes = 0, operations = 0, sincos = 0;  // of the last generation's entry points
   nlohmann::json json() const {
-    return {{"cpu", median(cpu)}, {"wall", median(wall)}, {"cpu_runs", cpu}, {"wall_runs", wall}, {"bytes", bytes}};
+    return {{"cpu", median(cpu)},
+            {"wall", median(wall)},
+            {"cpu_runs", cpu},
+            {"wall_runs", wall},
+            {"bytes", bytes}};
   }
 };
 
 // One generation, timed into `timing`.
-void generate_timed(const model::Definition& definition, const std::string& variant, const codegen::Options& options,
-                    Timing& timing) {
+void generate_timed(const model::Definition& definition, const std::string& variant,
+                    const codegen::Options& options, Timing& timing) {
   const double c0 = thread_seconds();
   const auto w0 = std::chrono::steady_clock::now();
   const model::Model m = definition.make(variant);
-  const codegen::GeneratedCode code = codegen::generate(m, variant, definition.name + "_" + variant, options);
-  timing.wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
+  const codegen::GeneratedCode code =
+      codegen::generate(m, variant, definition.name + "_" + variant, options);
+  timing.wall.push_back(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
   timing.cpu.push_back(thread_seconds() - c0);
   timing.bytes = code.header.size() + code.source.size();
   timing.operations = timing.sincos = 0;
@@ -74,7 +80,8 @@ void generate_timed(const model::Definition& definition, const std::string& vari
 }
 
 // The entry points of CAGeM's scope (as report.py's cagem_scope), or none.
-std::vector<std::string> cagem_scope(const model::Definition& definition, const std::string& variant, int case_number) {
+std::vector<std::string> cagem_scope(const model::Definition& definition,
+                                     const std::string& variant, int case_number) {
   if (case_number > 3) return {};
   const model::Model m = definition.make(variant);
   const std::vector<int> written = m.reference_indices();
@@ -98,7 +105,9 @@ int main(int argc, char** argv) {
   app.add_option("--model", model, "model name (its definition is linked in)")->required();
   app.add_option("--variant", variant, "model variant")->required();
   app.add_option("--case", case_number, "case 1-4")->required()->check(CLI::Range(1, 4));
-  app.add_option("--runs", runs, "generations (median)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--runs", runs, "generations (median)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   try {
     const model::Definition& definition = model::find_definition(model);
@@ -107,7 +116,8 @@ int main(int argc, char** argv) {
     Timing all, scope;
     for (int r = 0; r < runs; ++r) {
       generate_timed(definition, variant, case_options(case_number), all);
-      if (!scope_options.entry_points.empty()) generate_timed(definition, variant, scope_options, scope);
+      if (!scope_options.entry_points.empty())
+        generate_timed(definition, variant, scope_options, scope);
     }
     nlohmann::json out = all.json();
     if (!scope_options.entry_points.empty()) {

@@ -90,8 +90,9 @@ SymdynModel symdyn_model(std::string target) {
     s.emitted_code = [](const States& st) -> Workload {
       auto out = std::make_shared<std::vector<double>>(2 * G::nq * G::nq);
       return [out, &st](int k) {
-        G::inverse_dynamics_derivatives(0.0, st.q[k].data(), st.qd[k].data(), st.qdd[k].data(), G::param_defaults,
-                                        out->data(), out->data() + G::nq * G::nq);
+        G::inverse_dynamics_derivatives(0.0, st.q[k].data(), st.qd[k].data(), st.qdd[k].data(),
+                                        G::param_defaults, out->data(),
+                                        out->data() + G::nq * G::nq);
       };
     };
   }
@@ -218,7 +219,8 @@ Method central_differences(const SymdynModel& s, const States& st) {
 }
 
 Derivatives from_rows(const std::vector<double>& dq, const std::vector<double>& dqd, int n) {
-  return {Eigen::Map<const RowMatrix>(dq.data(), n, n), Eigen::Map<const RowMatrix>(dqd.data(), n, n)};
+  return {Eigen::Map<const RowMatrix>(dq.data(), n, n),
+          Eigen::Map<const RowMatrix>(dqd.data(), n, n)};
 }
 
 Method peer_acceleration_differences(Peer& p, const States& st, Differences how) {
@@ -238,8 +240,11 @@ Method peer_acceleration_differences(Peer& p, const States& st, Differences how)
 Method peer_transition(Peer& p, const States& st, Differences how) {
   const int n = static_cast<int>(st.q[0].size());
   auto A = std::make_shared<RowMatrix>(2 * n, 2 * n);
-  Workload w = [=, &p, &st](int k) { p.transition_differences(st.q[k].data(), st.qd[k].data(), how, kEps, A->data()); };
-  return {how == Differences::centered ? "transition_centered" : "transition_forward", w, [=, &p](int k) {
+  Workload w = [=, &p, &st](int k) {
+    p.transition_differences(st.q[k].data(), st.qd[k].data(), how, kEps, A->data());
+  };
+  return {how == Differences::centered ? "transition_centered" : "transition_forward", w,
+          [=, &p](int k) {
             w(k);
             const double h = p.time_step();
             return Derivatives{A->block(n, 0, n, n) / h,
@@ -297,7 +302,9 @@ Methods methods(const SymdynModel& s, const States& st, bool report) {
   return m;
 }
 
-double max_abs(const rt::Matrix& a) { return a.cwiseAbs().maxCoeff(); }
+double max_abs(const rt::Matrix& a) {
+  return a.cwiseAbs().maxCoeff();
+}
 
 // Each method's derivatives against the exact ones at the first kChecked
 // states: max |X - exact| / max |exact|, dq and dqd apart, the largest over the
@@ -315,7 +322,8 @@ void check(const SymdynModel& s, const States& st, Methods& m) {
     scale_dqd = std::max(scale_dqd, max_abs(reference.back().dqd));
   }
   fmt::print("scale\t{}\t{}\t{:.6g}\t{:.6g}\n", s.target, n, scale_dq, scale_dqd);
-  for (const auto& p : m.peers) fmt::print("steps\t{}\t{}\t{:g}\t{:g}\n", s.target, p->name(), kEps, p->time_step());
+  for (const auto& p : m.peers)
+    fmt::print("steps\t{}\t{}\t{:g}\t{:g}\n", s.target, p->name(), kEps, p->time_step());
   // The forward dynamics' rounding: symdyn's accelerations against each peer's.
   const SystemAt at = system_at(s, true);
   rt::Vector qdd, yd;
@@ -339,7 +347,8 @@ void check(const SymdynModel& s, const States& st, Methods& m) {
     for (int k = 0; k < kChecked; ++k) {
       const Derivatives d = x.evaluate(k);
       e_dq = std::max(e_dq, max_abs(d.dq - reference[static_cast<std::size_t>(k)].dq) / scale_dq);
-      e_dqd = std::max(e_dqd, max_abs(d.dqd - reference[static_cast<std::size_t>(k)].dqd) / scale_dqd);
+      e_dqd =
+          std::max(e_dqd, max_abs(d.dqd - reference[static_cast<std::size_t>(k)].dqd) / scale_dqd);
     }
     fmt::print("check\t{}\t{}\t{:.3g}\t{:.3g}\n", s.target, x.id, e_dq, e_dqd);
   }
@@ -374,9 +383,11 @@ void time_model(const SymdynModel& s, int rounds, double batch_ms) {
   for (std::size_t i = 0; i < m.list.size(); ++i) {
     std::vector<double>& v = ns[i];
     std::sort(v.begin(), v.end());
-    const auto at = [&](double f) { return v[static_cast<std::size_t>(f * static_cast<double>(v.size() - 1))]; };
-    fmt::print("time\t{}\t{}\t{:.1f}\t{:.1f}\t{:.1f}\t{}\t{}\n", s.target, m.list[i].id, at(0.5), at(0.25), at(0.75),
-               rounds, calls[i]);
+    const auto at = [&](double f) {
+      return v[static_cast<std::size_t>(f * static_cast<double>(v.size() - 1))];
+    };
+    fmt::print("time\t{}\t{}\t{:.1f}\t{:.1f}\t{:.1f}\t{}\t{}\n", s.target, m.list[i].id, at(0.5),
+               at(0.25), at(0.75), rounds, calls[i]);
   }
   std::fflush(stdout);
 }
@@ -420,10 +431,12 @@ void time_solves(int rounds) {
          }},
     };
     std::vector<int> calls;
-    for (const auto& [name, w] : ways) calls.push_back(std::max(1, static_cast<int>(2e-3 / timed_batch(w, 8, 0))));
+    for (const auto& [name, w] : ways)
+      calls.push_back(std::max(1, static_cast<int>(2e-3 / timed_batch(w, 8, 0))));
     std::vector<std::vector<double>> ns(std::size(ways));
     for (int r = 0; r < rounds; ++r) {
-      for (std::size_t i = 0; i < std::size(ways); ++i) ns[i].push_back(1e9 * timed_batch(ways[i].second, calls[i], 0));
+      for (std::size_t i = 0; i < std::size(ways); ++i)
+        ns[i].push_back(1e9 * timed_batch(ways[i].second, calls[i], 0));
     }
     for (std::size_t i = 0; i < std::size(ways); ++i) {
       std::sort(ns[i].begin(), ns[i].end());
@@ -464,7 +477,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   try {
     if (!args.empty() && args[0] == "--list") {
-      for (const SymdynModel& s : symdyn_models()) fmt::print("model {} {}\n", s.target, s.make().nq());
+      for (const SymdynModel& s : symdyn_models())
+        fmt::print("model {} {}\n", s.target, s.make().nq());
       const SymdynModel& first = symdyn_models().front();
       const States st = random_states(first.make());
       for (const Method& x : methods(first, st, false).list) fmt::print("method {}\n", x.id);
@@ -495,7 +509,8 @@ int main(int argc, char** argv) {
         }
       }
       for (const SymdynModel& s : symdyn_models()) {
-        if (!names.empty() && std::find(names.begin(), names.end(), s.target) == names.end()) continue;
+        if (!names.empty() && std::find(names.begin(), names.end(), s.target) == names.end())
+          continue;
         if (args[0] == "time") {
           time_model(s, rounds, batch_ms);
         } else {
@@ -511,7 +526,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   fmt::print(stderr,
-             "usage: symdyn_bench_derivatives check|time [--rounds R] [--batch-ms T] [MODEL...] | solves [--rounds R] "
+             "usage: symdyn_bench_derivatives check|time [--rounds R] [--batch-ms T] [MODEL...] | "
+             "solves [--rounds R] "
              "| --count METHOD MODEL [CALLS] | --list\n");
   return 2;
 }

@@ -188,8 +188,8 @@ class MujocoPeer final : public Peer {
   // velocities first, each perturbed evaluation skipping the position stage
   // (mj_forwardSkip(mjSTAGE_POS)), then the positions, recomputing everything.
   // Hinge and slide joints only: qpos and qvel share their indices.
-  void acceleration_differences(const double* q, const double* qd, Differences how, double eps, double* dqdd_dq,
-                                double* dqdd_dqd) override {
+  void acceleration_differences(const double* q, const double* qd, Differences how, double eps,
+                                double* dqdd_dq, double* dqdd_dqd) override {
     const bool centered = how == Differences::centered;
     set(q, qd);
     mj_forward(m_, d_);
@@ -214,7 +214,8 @@ class MujocoPeer final : public Peer {
   void transition_differences(const double* q, const double* qd, Differences how, double eps,
                               double* A) override {
     set(q, qd);
-    mjd_transitionFD(m_, d_, eps, how == Differences::centered ? 1 : 0, A, nullptr, nullptr, nullptr);
+    mjd_transitionFD(m_, d_, eps, how == Differences::centered ? 1 : 0, A, nullptr, nullptr,
+                     nullptr);
   }
   double time_step() const override { return m_->opt.timestep; }
 

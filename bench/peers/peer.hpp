@@ -48,12 +48,13 @@ class Peer {
   // dqdd/dq and dqdd/dqd at (q, qd) by finite differences of the forward
   // dynamics users call (each perturbed evaluation recomputing only what the
   // perturbation changes, as the library's own differences do), step eps.
-  virtual void acceleration_differences(const double* /*q*/, const double* /*qd*/, Differences, double /*eps*/,
-                                        double* /*dqdd_dq*/, double* /*dqdd_dqd*/) {}
+  virtual void acceleration_differences(const double* /*q*/, const double* /*qd*/, Differences,
+                                        double /*eps*/, double* /*dqdd_dq*/, double* /*dqdd_dqd*/) {
+  }
   // The library's transition matrix A (2nq x 2nq, row-major) of one step of its
   // integrator from (q, qd), d(q, qd)_next = A·d(q, qd), by its own routine, step eps.
-  virtual void transition_differences(const double* /*q*/, const double* /*qd*/, Differences, double /*eps*/,
-                                      double* /*A*/) {}
+  virtual void transition_differences(const double* /*q*/, const double* /*qd*/, Differences,
+                                      double /*eps*/, double* /*A*/) {}
   // The step h of that integrator, whose velocity update must be qd + h·qdd
   // (MuJoCo's Euler without joint damping): A's lower blocks are then
   // h·dqdd/dq and 1 + h·dqdd/dqd.

@@ -98,8 +98,8 @@ SymdynModel symdyn_model(std::string target) {
             // The articulated-body algorithm, where the generator chose it.
             auto tau = std::make_shared<rt::Vector>(rt::Vector::Zero(n));
             return [=, &st](int k) {
-              if (G::forward_dynamics(0.0, st.q[k].data(), st.qd[k].data(), tau->data(), G::param_defaults,
-                                      out->data()) >= 0) {
+              if (G::forward_dynamics(0.0, st.q[k].data(), st.qd[k].data(), tau->data(),
+                                      G::param_defaults, out->data()) >= 0) {
                 throw rt::NumericError("singular articulated inertia");
               }
             };
@@ -120,8 +120,8 @@ SymdynModel symdyn_model(std::string target) {
       case Op::inverse_dynamics:
         if constexpr (requires { G::has_inverse_dynamics; }) {
           return [=, &st](int k) {
-            G::inverse_dynamics(0.0, st.q[k].data(), st.qd[k].data(), st.qdd[k].data(), G::param_defaults,
-                                out->data());
+            G::inverse_dynamics(0.0, st.q[k].data(), st.qd[k].data(), st.qdd[k].data(),
+                                G::param_defaults, out->data());
           };
         }
         return [=, &st](int k) {
@@ -155,8 +155,8 @@ const std::vector<SymdynModel>& symdyn_models() {
 }
 
 // What users call: MultibodySystem::accelerations under gravity, and for M and
-// tau the system's mass_matrix and residual (f = inverse_dynamics(qdd), or M·qdd + h, no force element).
-// The runtime has no call for positions alone: users call the emitted positions().
+// tau the system's mass_matrix and residual (f = inverse_dynamics(qdd), or M·qdd + h, no force
+// element). The runtime has no call for positions alone: users call the emitted positions().
 struct SystemWorkload {
   std::shared_ptr<rt::MultibodySystem> system;
   std::shared_ptr<rt::State> state;
@@ -305,7 +305,8 @@ Contenders verify(const SymdynModel& s, const States& st) {
     ref.push_back(std::move(o));
   }
   fmt::print("cond\t{}\t{:.3g}\n", s.target, max_cond);
-  fmt::print("dynamics\t{}\t{}\n", s.target, model.has_forward_dynamics() ? "recursive" : "mass_matrix");
+  fmt::print("dynamics\t{}\t{}\n", s.target,
+             model.has_forward_dynamics() ? "recursive" : "mass_matrix");
   for (const auto& [quantity, e] : system_err) {
     fmt::print("verify\t{}\tsymdyn_system\t{}\t{:.3g}\t{:.0e}\t{}\n", s.target, quantity, e,
                kTolerance, e <= kTolerance ? "ok" : "DISAGREES");

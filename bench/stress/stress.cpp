@@ -13,6 +13,8 @@
 //                   completes or fails (the message), steps, rejected steps, CPU.
 //
 //   symdyn_bench_stress [NAME...]     (none: all of them)
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,8 +25,6 @@
 #include <numbers>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "../work_precision/problems.hpp"
 #include "robot3d_absolute.hpp"
@@ -60,7 +60,9 @@ struct Setting {
   std::string integrator;
   double value;
   bool fixed() const { return integrator == "rk4" || integrator == "midpoint"; }
-  std::string text() const { return fmt::format("{} {}={:g}", integrator, fixed() ? "h" : "tol", value); }
+  std::string text() const {
+    return fmt::format("{} {}={:g}", integrator, fixed() ? "h" : "tol", value);
+  }
 };
 
 IntegratorOptions options(const Setting& s) {
@@ -76,11 +78,18 @@ double max_difference(const State& a, const State& b) {
 
 void energy_drift() {
   fmt::print("## energy_drift: double pendulum, horizontal release, 10 000 s\n\n");
-  fmt::print("| integrator | first 1 000 s: max abs(E - E0) (J) | last 1 000 s (J) | steps | CPU s |\n|---|---:|---:|---:|---:|\n");
+  fmt::print(
+      "| integrator | first 1 000 s: max abs(E - E0) (J) | last 1 000 s (J) | steps | CPU s "
+      "|\n|---|---:|---:|---:|---:|\n");
   const double t_end = 1e4;
-  for (const Setting& set : std::vector<Setting>{{"dop853", 1e-10}, {"dopri5", 1e-10}, {"cvode", 1e-10},
-                                                 {"arkode", 1e-8},   {"newmark", 1e-6}, {"generalized-alpha", 1e-6},
-                                                 {"rk4", 1e-2},      {"midpoint", 1e-2}}) {
+  for (const Setting& set : std::vector<Setting>{{"dop853", 1e-10},
+                                                 {"dopri5", 1e-10},
+                                                 {"cvode", 1e-10},
+                                                 {"arkode", 1e-8},
+                                                 {"newmark", 1e-6},
+                                                 {"generalized-alpha", 1e-6},
+                                                 {"rk4", 1e-2},
+                                                 {"midpoint", 1e-2}}) {
     System s = scenario_system("double_pendulum");
     const double e0 = s.system->energies(s.initial).total();
     double first = 0.0, last = 0.0;
@@ -95,8 +104,8 @@ void energy_drift() {
     const double t0 = cpu_seconds();
     try {
       integ->integrate(*s.system, s.initial, t_end);
-      fmt::print("| {} | {:.2e} | {:.2e} | {} | {:.1f} |\n", set.text(), first, last, integ->statistics().steps,
-                 cpu_seconds() - t0);
+      fmt::print("| {} | {:.2e} | {:.2e} | {} | {:.1f} |\n", set.text(), first, last,
+                 integ->statistics().steps, cpu_seconds() - t0);
     } catch (const std::exception& e) {
       fmt::print("| {} | fails: {} | | | |\n", set.text(), e.what());
     }
@@ -124,11 +133,15 @@ double divergence_time(const std::vector<State>& a, const std::vector<State>& b,
 }
 
 void chaos() {
-  fmt::print("## chaos: double pendulum, horizontal release: when do two tight runs part by 1e-6?\n\n");
-  fmt::print("| run A | run B | first t with max(abs(q_A - q_B), abs(qd_A - qd_B)) > 1e-6 (s) | > 1e-2 (s) |\n|---|---|---:|---:|\n");
+  fmt::print(
+      "## chaos: double pendulum, horizontal release: when do two tight runs part by 1e-6?\n\n");
+  fmt::print(
+      "| run A | run B | first t with max(abs(q_A - q_B), abs(qd_A - qd_B)) > 1e-6 (s) | > 1e-2 "
+      "(s) |\n|---|---|---:|---:|\n");
   System s = scenario_system("double_pendulum");
   const double t_end = 60.0;
-  const std::vector<Setting> runs = {{"dop853", 1e-13}, {"dopri5", 1e-13}, {"dop853", 1e-12}, {"cvode", 1e-12}};
+  const std::vector<Setting> runs = {
+      {"dop853", 1e-13}, {"dopri5", 1e-13}, {"dop853", 1e-12}, {"cvode", 1e-12}};
   std::vector<std::vector<State>> traj;
   for (const Setting& r : runs) traj.push_back(trajectory(s, r, t_end));
   for (std::size_t b = 1; b < runs.size(); ++b) {
@@ -154,19 +167,29 @@ void slider_crank() {
   const State ref = solve({"dop853", 1e-13});
   const State check = solve({"dopri5", 1e-13});
   const double e0 = s.system->energies(s.initial).total();
-  fmt::print("Reference dop853 at 1e-13: crank angle {:.6f} rad ({:.1f} turns), agreement with dopri5 at 1e-13: {:.1e}; E0 = {:.6g} J.\n\n",
-             ref.q(0), ref.q(0) / (2 * std::numbers::pi), max_difference(ref, check), e0);
-  fmt::print("| setting | final error | relative abs(E(t_end) - E0) / E0 | steps | rejected | CPU s |\n|---|---:|---:|---:|---:|---:|\n");
-  for (const Setting& set : std::vector<Setting>{{"dop853", 1e-10}, {"dopri5", 1e-10}, {"cvode", 1e-10},
-                                                 {"arkode", 1e-8},  {"newmark", 1e-8}, {"generalized-alpha", 1e-8},
-                                                 {"rk4", 1e-4},     {"midpoint", 1e-4}}) {
+  fmt::print(
+      "Reference dop853 at 1e-13: crank angle {:.6f} rad ({:.1f} turns), agreement with dopri5 at "
+      "1e-13: {:.1e}; E0 = {:.6g} J.\n\n",
+      ref.q(0), ref.q(0) / (2 * std::numbers::pi), max_difference(ref, check), e0);
+  fmt::print(
+      "| setting | final error | relative abs(E(t_end) - E0) / E0 | steps | rejected | CPU s "
+      "|\n|---|---:|---:|---:|---:|---:|\n");
+  for (const Setting& set : std::vector<Setting>{{"dop853", 1e-10},
+                                                 {"dopri5", 1e-10},
+                                                 {"cvode", 1e-10},
+                                                 {"arkode", 1e-8},
+                                                 {"newmark", 1e-8},
+                                                 {"generalized-alpha", 1e-8},
+                                                 {"rk4", 1e-4},
+                                                 {"midpoint", 1e-4}}) {
     Statistics st;
     const double t0 = cpu_seconds();
     try {
       const State end = solve(set, &st);
-      fmt::print("| {} | {:.2e} | {:.2e} | {} | {} | {:.1f} |\n", set.text(), max_difference(end, ref),
-                 std::abs(s.system->energies(end).total() - e0) / std::abs(e0), st.steps, st.rejected_steps,
-                 cpu_seconds() - t0);
+      fmt::print("| {} | {:.2e} | {:.2e} | {} | {} | {:.1f} |\n", set.text(),
+                 max_difference(end, ref),
+                 std::abs(s.system->energies(end).total() - e0) / std::abs(e0), st.steps,
+                 st.rejected_steps, cpu_seconds() - t0);
     } catch (const std::exception& e) {
       fmt::print("| {} | fails: {} | | | | |\n", set.text(), e.what());
     }
@@ -177,16 +200,23 @@ void slider_crank() {
 
 void spin() {
   fmt::print("## spin: robot3d, wrist at 1e4 rad/s, turret at 1 rad/s, gravity only, 1 s\n\n");
-  fmt::print("| setting | max relative abs(E - E0) | max abs(L_z - L_z0) / norm(L0) | steps | CPU s |\n|---|---:|---:|---:|---:|\n");
-  for (const Setting& set : std::vector<Setting>{{"dop853", 1e-12}, {"dop853", 1e-10}, {"dopri5", 1e-10},
-                                                 {"cvode", 1e-10},  {"midpoint", 1e-5}, {"rk4", 1e-5}}) {
+  fmt::print(
+      "| setting | max relative abs(E - E0) | max abs(L_z - L_z0) / norm(L0) | steps | CPU s "
+      "|\n|---|---:|---:|---:|---:|\n");
+  for (const Setting& set : std::vector<Setting>{{"dop853", 1e-12},
+                                                 {"dop853", 1e-10},
+                                                 {"dopri5", 1e-10},
+                                                 {"cvode", 1e-10},
+                                                 {"midpoint", 1e-5},
+                                                 {"rk4", 1e-5}}) {
     MultibodySystem sys(symdyn::runtime::Model::from<symdyn_generated::robot3d_absolute>(),
                         symdyn::runtime::EquationsSource::emitted);
     State x0 = sys.initial_state();
     x0.q << 0.0, 0.3, 0.6, 0.0, 0.2;
     x0.qd << 1.0, 0.0, 0.0, 1e4, 0.0;
     const double e0 = sys.energies(x0).total(), l0 = sys.momentum(x0).angular.z();
-    const double l_scale = sys.momentum(x0).angular.norm();  // L_z0 alone is small beside the spin's momentum
+    const double l_scale =
+        sys.momentum(x0).angular.norm();  // L_z0 alone is small beside the spin's momentum
     double de = 0.0, dl = 0.0;
     IntegratorOptions o = options(set);
     o.output_interval = 1e-3;
@@ -198,8 +228,8 @@ void spin() {
     const double t0 = cpu_seconds();
     try {
       integ->integrate(sys, x0, 1.0);
-      fmt::print("| {} | {:.2e} | {:.2e} | {} | {:.2f} |\n", set.text(), de, dl, integ->statistics().steps,
-                 cpu_seconds() - t0);
+      fmt::print("| {} | {:.2e} | {:.2e} | {} | {:.2f} |\n", set.text(), de, dl,
+                 integ->statistics().steps, cpu_seconds() - t0);
     } catch (const std::exception& e) {
       fmt::print("| {} | fails: {} | | | |\n", set.text(), e.what());
     }
@@ -214,7 +244,10 @@ symdyn::sim::RunResult run_trike(const Setting& set) {
   ro.t_end = 5.0;
   ro.integrator = set.integrator;
   ro.output_interval = 5.0;
-  if (set.fixed()) ro.step = set.value; else ro.tolerance = set.value;
+  if (set.fixed())
+    ro.step = set.value;
+  else
+    ro.tolerance = set.value;
   symdyn::sim::Simulation sim(symdyn::sim::find_builtin("trike"), ro);
   return sim.run();
 }
@@ -222,10 +255,19 @@ symdyn::sim::RunResult run_trike(const Setting& set) {
 void trike() {
   fmt::print("## trike: its scenario (tyres 2e5 N/m, suspensions, steering, drive), 5 s\n\n");
   const State ref = run_trike({"dop853", 1e-12}).final;
-  fmt::print("Reference: dop853 at 1e-12.\n\n| setting | outcome | final error | steps | rejected | accelerations | Jacobians | CPU ms |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
-  for (const Setting& set : std::vector<Setting>{{"dopri5", 1e-6}, {"dop853", 1e-6}, {"cvode", 1e-6}, {"arkode", 1e-6},
-                                                 {"newmark", 1e-6}, {"generalized-alpha", 1e-6}, {"rk4", 1e-2},
-                                                 {"rk4", 1.0 / 30}, {"midpoint", 1e-2}, {"midpoint", 1e-3}}) {
+  fmt::print(
+      "Reference: dop853 at 1e-12.\n\n| setting | outcome | final error | steps | rejected | "
+      "accelerations | Jacobians | CPU ms |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
+  for (const Setting& set : std::vector<Setting>{{"dopri5", 1e-6},
+                                                 {"dop853", 1e-6},
+                                                 {"cvode", 1e-6},
+                                                 {"arkode", 1e-6},
+                                                 {"newmark", 1e-6},
+                                                 {"generalized-alpha", 1e-6},
+                                                 {"rk4", 1e-2},
+                                                 {"rk4", 1.0 / 30},
+                                                 {"midpoint", 1e-2},
+                                                 {"midpoint", 1e-3}}) {
     const double t0 = cpu_seconds();
     std::string outcome = "completes", error = "";
     Statistics st;
@@ -236,8 +278,9 @@ void trike() {
     } catch (const std::exception& e) {
       outcome = fmt::format("fails: {}", e.what());
     }
-    fmt::print("| {} | {} | {} | {} | {} | {} | {} | {:.3g} |\n", set.text(), outcome, error, st.steps, st.rejected_steps,
-               st.rhs_evaluations, st.jacobian_evaluations, 1e3 * (cpu_seconds() - t0));
+    fmt::print("| {} | {} | {} | {} | {} | {} | {} | {:.3g} |\n", set.text(), outcome, error,
+               st.steps, st.rejected_steps, st.rhs_evaluations, st.jacobian_evaluations,
+               1e3 * (cpu_seconds() - t0));
     std::fflush(stdout);
   }
   fmt::print("\n");
@@ -247,7 +290,11 @@ void trike() {
 
 int main(int argc, char** argv) try {
   const std::vector<std::pair<std::string, std::function<void()>>> tests = {
-      {"chaos", chaos}, {"spin", spin}, {"trike", trike}, {"slider_crank", slider_crank}, {"energy_drift", energy_drift}};
+      {"chaos", chaos},
+      {"spin", spin},
+      {"trike", trike},
+      {"slider_crank", slider_crank},
+      {"energy_drift", energy_drift}};
   std::vector<std::string> chosen(argv + 1, argv + argc);
   for (const auto& [name, run] : tests) {
     if (chosen.empty() || std::find(chosen.begin(), chosen.end(), name) != chosen.end()) run();

@@ -19,21 +19,26 @@ namespace {
 using peers::JointType;
 using peers::Mechanism;
 
-void write_vector(std::ostream& out, const Eigen::Vector3d& v) { out << v.x() << ' ' << v.y() << ' ' << v.z(); }
+void write_vector(std::ostream& out, const Eigen::Vector3d& v) {
+  out << v.x() << ' ' << v.y() << ' ' << v.z();
+}
 
 // Only what the double pendulum needs: each link the child of the previous, revolute,
 // no fixed rotation.
 std::string serial_chain_mjcf(const Mechanism& m) {
   std::ostringstream out;
   out.precision(17);
-  out << "<mujoco model=\"" << m.name << "\">\n<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+  out << "<mujoco model=\"" << m.name
+      << "\">\n<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
       << "<option gravity=\"";
   write_vector(out, m.gravity);
   out << "\">\n<flag contact=\"disable\" constraint=\"disable\"/>\n</option>\n<worldbody>\n";
   for (std::size_t i = 0; i < m.links.size(); ++i) {
     const peers::Link& l = m.links[i];
-    if (l.parent != static_cast<int>(i) - 1 || l.type != JointType::revolute || !l.R.isIdentity() || l.mass <= 0)
-      throw std::invalid_argument("MuJoCo integration: " + m.name + " is not a serial chain of revolute links");
+    if (l.parent != static_cast<int>(i) - 1 || l.type != JointType::revolute || !l.R.isIdentity() ||
+        l.mass <= 0)
+      throw std::invalid_argument("MuJoCo integration: " + m.name +
+                                  " is not a serial chain of revolute links");
     out << "<body name=\"b" << i << "\" pos=\"";
     write_vector(out, l.p);
     out << "\">\n<joint name=\"j" << i << "\" type=\"hinge\" axis=\"";
@@ -53,7 +58,8 @@ struct Integrator {
   const char* name;
   int value;
 };
-constexpr Integrator integrators[] = {{"Euler", mjINT_EULER}, {"RK4", mjINT_RK4}, {"implicit", mjINT_IMPLICIT}};
+constexpr Integrator integrators[] = {
+    {"Euler", mjINT_EULER}, {"RK4", mjINT_RK4}, {"implicit", mjINT_IMPLICIT}};
 
 class MujocoIntegration final : public PeerIntegration {
  public:
@@ -67,7 +73,8 @@ class MujocoIntegration final : public PeerIntegration {
     m_ = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
     std::filesystem::remove(path);
     if (m_ == nullptr) throw std::runtime_error(std::string("MuJoCo: ") + error);
-    if (m_->nq != mech.nq() || m_->nv != mech.nq()) throw std::runtime_error("MuJoCo: coordinate count");
+    if (m_->nq != mech.nq() || m_->nv != mech.nq())
+      throw std::runtime_error("MuJoCo: coordinate count");
     m_->opt.integrator = integrator.value;
     m_->opt.timestep = step;
     d_ = mj_makeData(m_);
@@ -106,7 +113,8 @@ class MujocoIntegration final : public PeerIntegration {
 
 }  // namespace
 
-std::unique_ptr<PeerIntegration> make_mujoco_integration(const Mechanism& m, const std::string& integrator,
+std::unique_ptr<PeerIntegration> make_mujoco_integration(const Mechanism& m,
+                                                         const std::string& integrator,
                                                          double step) {
   for (const Integrator& i : integrators) {
     if (integrator == i.name) return std::make_unique<MujocoIntegration>(m, i, step);

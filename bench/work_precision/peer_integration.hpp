@@ -31,7 +31,8 @@ class PeerIntegration {
 // MuJoCo's names: "Euler" (semi-implicit), "RK4", "implicit" (in velocity);
 // `step` the fixed time step. Built only when MuJoCo is found (SYMDYN_HAVE_MUJOCO).
 std::unique_ptr<PeerIntegration> make_mujoco_integration(const peers::Mechanism& m,
-                                                         const std::string& integrator, double step);
+                                                         const std::string& integrator,
+                                                         double step);
 std::vector<std::string> mujoco_integrators();
 
 // Simbody's names: "RungeKuttaMerson", "CPodes" (BDF with Newton, its default);

@@ -29,7 +29,9 @@ ProblemSystem make_problem_system() {
 }
 
 // models/scenarios/double_pendulum.json: released horizontal at rest (the model's own state).
-inline ProblemSystem double_pendulum_problem() { return make_problem_system<symdyn_generated::double_pendulum_absolute>(); }
+inline ProblemSystem double_pendulum_problem() {
+  return make_problem_system<symdyn_generated::double_pendulum_absolute>();
+}
 
 // models/scenarios/slider_crank.json: the crank spun at 50 rad/s from q0 = 0, free motion.
 inline ProblemSystem slider_crank_problem() {

@@ -18,7 +18,8 @@ class SimbodyIntegration final : public PeerIntegration {
   SimbodyIntegration(const Mechanism& mech, const std::string& integrator, double accuracy)
       : matter_(system_),
         forces_(system_),
-        gravity_(forces_, matter_, SimTK::Vec3(mech.gravity.x(), mech.gravity.y(), mech.gravity.z())),
+        gravity_(forces_, matter_,
+                 SimTK::Vec3(mech.gravity.x(), mech.gravity.y(), mech.gravity.z())),
         integrator_name_(integrator) {
     build(mech);
     system_.realizeTopology();
@@ -44,7 +45,8 @@ class SimbodyIntegration final : public PeerIntegration {
     stepper.initialize(state);
     stepper.stepTo(t_end);
     const SimTK::State& end = integrator_->getState();
-    if (end.getTime() != t_end) throw std::runtime_error("Simbody integration stopped before t_end");
+    if (end.getTime() != t_end)
+      throw std::runtime_error("Simbody integration stopped before t_end");
     q_.resize(q0.size());
     qd_.resize(q0.size());
     for (int i = 0; i < q0.size(); ++i) {
@@ -57,16 +59,20 @@ class SimbodyIntegration final : public PeerIntegration {
  private:
   void build(const Mechanism& mech) {
     for (const peers::Link& l : mech.links) {
-      if (l.type != peers::JointType::revolute || l.axis != Eigen::Vector3d::UnitZ() || !l.R.isIdentity())
-        throw std::invalid_argument("Simbody integration: " + mech.name + " has a joint other than a z-axis pin");
+      if (l.type != peers::JointType::revolute || l.axis != Eigen::Vector3d::UnitZ() ||
+          !l.R.isIdentity())
+        throw std::invalid_argument("Simbody integration: " + mech.name +
+                                    " has a joint other than a z-axis pin");
       const SimTK::Vec3 com(l.com.x(), l.com.y(), l.com.z());
       const SimTK::Body::Rigid body(SimTK::MassProperties(
           l.mass, com,
-          SimTK::Inertia(SimTK::Vec3(l.inertia.x(), l.inertia.y(), l.inertia.z())).shiftFromMassCenter(com, l.mass)));
+          SimTK::Inertia(SimTK::Vec3(l.inertia.x(), l.inertia.y(), l.inertia.z()))
+              .shiftFromMassCenter(com, l.mass)));
       SimTK::MobilizedBody& parent =
           l.parent < 0 ? matter_.updGround() : links_[static_cast<std::size_t>(l.parent)];
-      links_.push_back(SimTK::MobilizedBody::Pin(parent, SimTK::Transform(SimTK::Vec3(l.p.x(), l.p.y(), l.p.z())),
-                                                 body, SimTK::Transform()));
+      links_.push_back(SimTK::MobilizedBody::Pin(
+          parent, SimTK::Transform(SimTK::Vec3(l.p.x(), l.p.y(), l.p.z())), body,
+          SimTK::Transform()));
     }
   }
 
@@ -81,11 +87,14 @@ class SimbodyIntegration final : public PeerIntegration {
 
 }  // namespace
 
-std::unique_ptr<PeerIntegration> make_simbody_integration(const Mechanism& m, const std::string& integrator,
+std::unique_ptr<PeerIntegration> make_simbody_integration(const Mechanism& m,
+                                                          const std::string& integrator,
                                                           double accuracy) {
   return std::make_unique<SimbodyIntegration>(m, integrator, accuracy);
 }
 
-std::vector<std::string> simbody_integrators() { return {"RungeKuttaMerson", "CPodes"}; }
+std::vector<std::string> simbody_integrators() {
+  return {"RungeKuttaMerson", "CPodes"};
+}
 
 }  // namespace symdyn::bench::work_precision

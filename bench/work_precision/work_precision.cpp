@@ -11,13 +11,17 @@
 //
 // Output: tab-separated rows on stdout,
 //   reference <problem> <agreement> <description>
-//   run       <problem> <library> <integrator> <tol|h> <setting> <error> <cpu_ms> <steps> <rejected> <rhs>
-//   fail      <problem> <library> <integrator> <tol|h> <setting> <message>
-//   check     <problem> <library> <integrator> <setting> <error at t_end/2> <error at t_end> <ok|DISAGREES>
+//   run       <problem> <library> <integrator> <tol|h> <setting> <error> <cpu_ms> <steps>
+//   <rejected> <rhs> fail      <problem> <library> <integrator> <tol|h> <setting> <message> check
+//   <problem> <library> <integrator> <setting> <error at t_end/2> <error at t_end> <ok|DISAGREES>
 // error: the largest |q - q_ref|, |qd - qd_ref| at t_end; q_ref from dop853 at
 // rtol = atol = 1e-13, its agreement: the same distance to dopri5 at 1e-13.
 // cpu_ms: median over the repetitions of the process CPU time of one run (each
 // repetition times a batch of runs lasting at least 10 ms).
+#include <fmt/format.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -27,11 +31,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <fmt/format.h>
 
 #include "../peers/mechanism.hpp"
 #include "peer_integration.hpp"
@@ -58,19 +57,25 @@ struct Problem {
   double t_end;
 };
 const Problem all_problems[] = {
-    {"double_pendulum_1s", "double_pendulum", 1.0}, {"double_pendulum_10s", "double_pendulum", 10.0},
-    {"slider_crank_1s", "slider_crank", 1.0},       {"slider_crank_100s", "slider_crank", 100.0},
-    {"robot3d_10s", "robot3d", 10.0},               {"trike_5s", "trike", 5.0},
+    {"double_pendulum_1s", "double_pendulum", 1.0},
+    {"double_pendulum_10s", "double_pendulum", 10.0},
+    {"slider_crank_1s", "slider_crank", 1.0},
+    {"slider_crank_100s", "slider_crank", 100.0},
+    {"robot3d_10s", "robot3d", 10.0},
+    {"trike_5s", "trike", 5.0},
     // robot3d's thrown motion is chaotic: over 10 s two references at 1e-13 differ by 2e-3.
     {"robot3d_1s", "robot3d", 1.0},
 };
 
 // The settings swept: tolerances (rtol = atol) for the adaptive integrators, steps
 // per second for the fixed-step ones (h = 1 / N).
-const std::vector<double> tolerances = {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
+const std::vector<double> tolerances = {1e-3, 1e-4, 1e-5,  1e-6,  1e-7,
+                                        1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
 const std::vector<double> steps_per_second = {30, 100, 300, 1e3, 3e3, 1e4, 3e4, 1e5, 3e5, 1e6};
 
-bool fixed_step(const std::string& integrator) { return integrator == "rk4" || integrator == "midpoint"; }
+bool fixed_step(const std::string& integrator) {
+  return integrator == "rk4" || integrator == "midpoint";
+}
 
 // A problem's system and initial state; the trike (expressions in its scenario) runs
 // through symdyn::sim::Simulation instead, built at each run (a small part of its cost).
@@ -81,20 +86,26 @@ struct System {
 };
 
 System make_system(const std::string& model) {
-  const auto from = [](symdyn::bench::ProblemSystem p) { return System{std::move(p.system), p.initial, ""}; };
+  const auto from = [](symdyn::bench::ProblemSystem p) {
+    return System{std::move(p.system), p.initial, ""};
+  };
   if (model == "double_pendulum") return from(symdyn::bench::double_pendulum_problem());
   if (model == "slider_crank") return from(symdyn::bench::slider_crank_problem());
   if (model == "robot3d") return from(symdyn::bench::robot3d_problem());
   return System{nullptr, {}, model};
 }
 
-State solve(System& s, const std::string& integrator, double setting, double t_end, Statistics* stats = nullptr) {
+State solve(System& s, const std::string& integrator, double setting, double t_end,
+            Statistics* stats = nullptr) {
   if (!s.scenario.empty()) {
     symdyn::sim::RunOptions ro;
     ro.t_end = t_end;
     ro.integrator = integrator;
     ro.output_interval = t_end;
-    if (fixed_step(integrator)) ro.step = setting; else ro.tolerance = setting;
+    if (fixed_step(integrator))
+      ro.step = setting;
+    else
+      ro.tolerance = setting;
     symdyn::sim::Simulation sim(symdyn::sim::find_builtin(s.scenario), ro);
     const symdyn::sim::RunResult r = sim.run();
     if (stats != nullptr) *stats = r.statistics;
@@ -148,7 +159,8 @@ bool chosen(const std::vector<std::string>& names, const std::string& name) {
   return names.empty() || std::find(names.begin(), names.end(), name) != names.end();
 }
 
-void sweep_symdyn(const Problem& p, System& s, const State& ref, const std::string& integrator, const Options& opt) {
+void sweep_symdyn(const Problem& p, System& s, const State& ref, const std::string& integrator,
+                  const Options& opt) {
   const bool fixed = fixed_step(integrator);
   for (double setting : fixed ? steps_per_second : tolerances) {
     const double value = fixed ? 1.0 / setting : setting;
@@ -163,8 +175,9 @@ void sweep_symdyn(const Problem& p, System& s, const State& ref, const std::stri
       continue;
     }
     const double cpu = median_cpu([&] { solve(s, integrator, value, p.t_end); }, opt.reps);
-    fmt::print("run\t{}\tsymdyn\t{}\t{}\t{:g}\t{:.3e}\t{:.5g}\t{}\t{}\t{}\n", p.name, integrator, kind, value,
-               max_error(end.q, end.qd, ref), 1e3 * cpu, st.steps, st.rejected_steps, st.rhs_evaluations);
+    fmt::print("run\t{}\tsymdyn\t{}\t{}\t{:g}\t{:.3e}\t{:.5g}\t{}\t{}\t{}\n", p.name, integrator,
+               kind, value, max_error(end.q, end.qd, ref), 1e3 * cpu, st.steps, st.rejected_steps,
+               st.rhs_evaluations);
     std::fflush(stdout);
     if (cpu > opt.budget) break;
   }
@@ -189,9 +202,10 @@ bool survives(const std::function<void()>& run) {
 
 // A peer's run at `setting`: its final error against the reference, and against the
 // reference at t_end/2 (the trajectory check). Unused when no peer is built in.
-[[maybe_unused]] void sweep_peer(const Problem& p, System& s, const State& ref, const State& half, const std::string& library,
-                const std::string& integrator, const std::vector<double>& settings, const Options& opt,
-                const std::function<std::unique_ptr<wp::PeerIntegration>(double)>& make) {
+[[maybe_unused]] void sweep_peer(
+    const Problem& p, System& s, const State& ref, const State& half, const std::string& library,
+    const std::string& integrator, const std::vector<double>& settings, const Options& opt,
+    const std::function<std::unique_ptr<wp::PeerIntegration>(double)>& make) {
   const bool fixed = library == "MuJoCo";
   const std::string kind = fixed ? "h" : "tol";
   double finest_half = 0.0, finest_end = 0.0, finest = 0.0;
@@ -200,8 +214,9 @@ bool survives(const std::function<void()>& run) {
     try {
       auto peer = make(value);
       if (!survives([&] { peer->run(s.initial.q, s.initial.qd, p.t_end); })) {
-        fmt::print("fail\t{}\t{}\t{}\t{}\t{:g}\tthe process aborted inside the library (see stderr)\n", p.name,
-                   library, integrator, kind, value);
+        fmt::print(
+            "fail\t{}\t{}\t{}\t{}\t{:g}\tthe process aborted inside the library (see stderr)\n",
+            p.name, library, integrator, kind, value);
         break;  // every setting aborts alike
       }
       peer->run(s.initial.q, s.initial.qd, p.t_end / 2);
@@ -210,25 +225,32 @@ bool survives(const std::function<void()>& run) {
       finest_end = max_error(peer->q(), peer->qd(), ref);
       finest = value;
       const long steps = peer->steps();
-      const double cpu = median_cpu([&] { peer->run(s.initial.q, s.initial.qd, p.t_end); }, opt.reps);
-      fmt::print("run\t{}\t{}\t{}\t{}\t{:g}\t{:.3e}\t{:.5g}\t{}\t\t\n", p.name, library, integrator, kind, value,
-                 finest_end, 1e3 * cpu, steps);
+      const double cpu =
+          median_cpu([&] { peer->run(s.initial.q, s.initial.qd, p.t_end); }, opt.reps);
+      fmt::print("run\t{}\t{}\t{}\t{}\t{:g}\t{:.3e}\t{:.5g}\t{}\t\t\n", p.name, library, integrator,
+                 kind, value, finest_end, 1e3 * cpu, steps);
       std::fflush(stdout);
       if (cpu > opt.budget) break;
     } catch (const std::exception& e) {
-      fmt::print("fail\t{}\t{}\t{}\t{}\t{:g}\t{}\n", p.name, library, integrator, kind, value, e.what());
+      fmt::print("fail\t{}\t{}\t{}\t{}\t{:g}\t{}\n", p.name, library, integrator, kind, value,
+                 e.what());
     }
   }
   // The finest setting must follow the reference trajectory: 1e-4 at both instants (the
   // first-order methods reach 1e-5 only past a million steps).
   const bool ok = finest > 0.0 && finest_half < 1e-4 && finest_end < 1e-4;
-  fmt::print("check\t{}\t{}\t{}\t{:g}\t{:.3e}\t{:.3e}\t{}\n", p.name, library, integrator, finest, finest_half,
-             finest_end, finest == 0.0 ? "no run" : ok ? "ok" : "DISAGREES");
+  fmt::print("check\t{}\t{}\t{}\t{:g}\t{:.3e}\t{:.3e}\t{}\n", p.name, library, integrator, finest,
+             finest_half, finest_end,
+             finest == 0.0 ? "no run"
+             : ok          ? "ok"
+                           : "DISAGREES");
   std::fflush(stdout);
 }
 
-void peers_on(const Problem& p, System& s, [[maybe_unused]] const State& ref, [[maybe_unused]] const Options& opt) {
-  [[maybe_unused]] const symdyn::bench::peers::Mechanism mech = symdyn::bench::peers::double_pendulum();
+void peers_on(const Problem& p, System& s, [[maybe_unused]] const State& ref,
+              [[maybe_unused]] const Options& opt) {
+  [[maybe_unused]] const symdyn::bench::peers::Mechanism mech =
+      symdyn::bench::peers::double_pendulum();
   [[maybe_unused]] const State half = solve(s, "dop853", 1e-13, p.t_end / 2);
 #ifdef SYMDYN_HAVE_MUJOCO
   for (const std::string& integrator : wp::mujoco_integrators()) {
@@ -258,7 +280,8 @@ Options parse(int argc, char** argv) {
       o.integrators.emplace_back(argv[++i]);
     } else {
       throw std::invalid_argument(
-          "usage: symdyn_bench_work_precision [--reps N] [--budget S] [--problem NAME]... [--integrator NAME]...");
+          "usage: symdyn_bench_work_precision [--reps N] [--budget S] [--problem NAME]... "
+          "[--integrator NAME]...");
     }
   }
   return o;
@@ -274,7 +297,8 @@ int main(int argc, char** argv) try {
     const State ref = solve(s, "dop853", 1e-13, p.t_end);
     const State second = solve(s, "dopri5", 1e-13, p.t_end);
     const double agreement = max_error(second.q, second.qd, ref);
-    fmt::print("reference\t{}\t{:.3e}\tdop853 at 1e-13 against dopri5 at 1e-13\n", p.name, agreement);
+    fmt::print("reference\t{}\t{:.3e}\tdop853 at 1e-13 against dopri5 at 1e-13\n", p.name,
+               agreement);
     std::fflush(stdout);
     for (const std::string& integrator : symdyn::runtime::integrator_names()) {
       if (chosen(opt.integrators, integrator)) sweep_symdyn(p, s, ref, integrator, opt);

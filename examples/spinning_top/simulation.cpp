@@ -26,7 +26,8 @@ struct Check {
 
 bool report(const Check& c) {
   const bool ok = c.error <= c.tolerance;
-  fmt::print("{:<44} {:.3e} (tolerance {:.0e}) {}\n", c.what, c.error, c.tolerance, ok ? "ok" : "FAILED");
+  fmt::print("{:<44} {:.3e} (tolerance {:.0e}) {}\n", c.what, c.error, c.tolerance,
+             ok ? "ok" : "FAILED");
   return ok;
 }
 
@@ -49,14 +50,15 @@ int main() {
   const State end = integrator->integrate(system, start, kDuration);
 
   const double precession = spinning_top::steady_precession_rate();
-  fmt::print("spinning top: steady precession at {:.6f} rad/s, {} s in {} steps\n", precession, kDuration,
-             integrator->statistics().steps);
+  fmt::print("spinning top: steady precession at {:.6f} rad/s, {} s in {} steps\n", precession,
+             kDuration, integrator->statistics().steps);
   const Check checks[] = {
       {"max |theta - theta0| (rad)", max_nutation_error, 1e-8},
       {"|psi(T) - W T| (rad)", std::abs(end.q(0) - precession * kDuration), 1e-8},
-      {"|E(T) - E(0)| / |E(0)|", std::abs(system.energies(end).total() - energy0) / std::abs(energy0), 1e-10},
-      {"|Lz(T) - Lz(0)| / |Lz(0)|", std::abs(system.momentum(end).angular.z() - momentum0) / std::abs(momentum0),
-       1e-10},
+      {"|E(T) - E(0)| / |E(0)|",
+       std::abs(system.energies(end).total() - energy0) / std::abs(energy0), 1e-10},
+      {"|Lz(T) - Lz(0)| / |Lz(0)|",
+       std::abs(system.momentum(end).angular.z() - momentum0) / std::abs(momentum0), 1e-10},
   };
   bool ok = true;
   for (const Check& c : checks) ok = report(c) && ok;

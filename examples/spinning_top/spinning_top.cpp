@@ -1,9 +1,8 @@
 // A heavy symmetric top whose tip stays at the origin, in ZXZ Euler angles:
 // precession psi (q0) about the vertical z, nutation theta (q1), spin phi (q2)
 // about the top's axis, along which its centre of mass lies.
-#include <symdyn/model/model.hpp>
-
 #include "spinning_top_parameters.hpp"
+#include <symdyn/model/model.hpp>
 
 namespace {
 

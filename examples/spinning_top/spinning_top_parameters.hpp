@@ -7,11 +7,11 @@
 namespace spinning_top {
 
 // A disc of radius 6 cm on a massless stem, its centre of mass 5 cm from the tip.
-constexpr double kMass = 0.1;                                // kg
-constexpr double kTipToCentre = 0.05;                        // m
-constexpr double kAxialInertia = kMass * 0.06 * 0.06 / 2;    // kg m², about the axis at G
-constexpr double kTransverseInertia = kAxialInertia / 2;     // kg m², about a diameter at G
-constexpr double kGravity = 9.81;                            // m/s²
+constexpr double kMass = 0.1;                              // kg
+constexpr double kTipToCentre = 0.05;                      // m
+constexpr double kAxialInertia = kMass * 0.06 * 0.06 / 2;  // kg m², about the axis at G
+constexpr double kTransverseInertia = kAxialInertia / 2;   // kg m², about a diameter at G
+constexpr double kGravity = 9.81;                          // m/s²
 
 // Initial state: tilted by kNutation from the vertical, spinning at kSpin about its axis.
 constexpr double kNutation = 0.5;  // rad

@@ -54,8 +54,9 @@ enum class DynamicsMethod { automatic, mass_matrix, recursive };
 enum class Derivatives { none, dynamics, all };
 
 struct Options {
-  bool simplify = true;             // trigonometric simplification of the relative kinematics; the code
-                                    // keeps the shorter of the simplified and plain programs (detail/derivation.cpp)
+  bool simplify =
+      true;  // trigonometric simplification of the relative kinematics; the code
+             // keeps the shorter of the simplified and plain programs (detail/derivation.cpp)
   bool symbolic_partials = true;    // false: EasyDyn's numeric partial velocities (qd = e_j)
   bool equations_of_motion = true;  // emit mass_matrix, bias_forces and inverse_dynamics
   // Also emit exact derivatives, which the runtime uses wherever it needs a
@@ -95,16 +96,17 @@ struct EmittedFunction {
 
 // Which way the accelerations go, and why.
 struct DynamicsChoice {
-  bool recursive = false;                 // forward_dynamics emitted
-  std::size_t recursive_operations = 0;   // of forward_dynamics (0: not derived)
-  std::size_t mass_matrix_operations = 0; // of dynamics() plus nq³/6 + nq² for Cholesky and solve
-  std::string reason;                     // one line for --stats and the header
+  bool recursive = false;                  // forward_dynamics emitted
+  std::size_t recursive_operations = 0;    // of forward_dynamics (0: not derived)
+  std::size_t mass_matrix_operations = 0;  // of dynamics() plus nq³/6 + nq² for Cholesky and solve
+  std::string reason;                      // one line for --stats and the header
 };
 
 struct GeneratedCode {
   std::string struct_name;  // the basename
   DynamicsChoice dynamics;
-  std::string derivatives;  // which form of tau inverse_dynamics_derivatives differentiates, and why (or empty)
+  std::string derivatives;  // which form of tau inverse_dynamics_derivatives differentiates, and
+                            // why (or empty)
   std::string header;       // <basename>.hpp
   std::string source;       // <basename>.cpp
   std::vector<EmittedFunction> functions;
@@ -121,7 +123,7 @@ void check_options(std::string_view variant, std::string_view basename, const Op
 // <model>_<variant>). Checks the options (check_options) and the model
 // (Model::validate) first; throws model::ModelError for an invalid model, the
 // errors of the symbolic engine during derivation included.
-GeneratedCode generate(const model::Model& model, std::string_view variant, std::string_view basename,
-                       const Options& options = {});
+GeneratedCode generate(const model::Model& model, std::string_view variant,
+                       std::string_view basename, const Options& options = {});
 
 }  // namespace symdyn::codegen

@@ -1,10 +1,8 @@
-#include <symdyn/codegen/generator_cli.hpp>
-
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -14,6 +12,7 @@
 #include <iostream>
 
 #include <symdyn/codegen/generate.hpp>
+#include <symdyn/codegen/generator_cli.hpp>
 #include <symdyn/model/errors.hpp>
 #include <symdyn/model/identifier.hpp>
 #include <symdyn/symbolic/errors.hpp>
@@ -80,15 +79,18 @@ const model::Definition& choose_model(const std::string& name) {
   const auto& all = model::registry();
   if (all.empty()) throw model::ModelError("no model is linked into this generator");
   if (!name.empty()) {
-    const auto it = std::find_if(all.begin(), all.end(), [&](const model::Definition& d) { return d.name == name; });
+    const auto it = std::find_if(all.begin(), all.end(),
+                                 [&](const model::Definition& d) { return d.name == name; });
     if (it == all.end()) {
-      throw CommandLineError(fmt::format("--model: no model named '{}' (models: {})", name, fmt::join(model_names(), ", ")));
+      throw CommandLineError(fmt::format("--model: no model named '{}' (models: {})", name,
+                                         fmt::join(model_names(), ", ")));
     }
     return *it;
   }
   if (all.size() == 1) return all.front();
-  throw CommandLineError(fmt::format("{} models are linked in: choose one with --model (models: {})", all.size(),
-                                     fmt::join(model_names(), ", ")));
+  throw CommandLineError(
+      fmt::format("{} models are linked in: choose one with --model (models: {})", all.size(),
+                  fmt::join(model_names(), ", ")));
 }
 
 // A file can be made in the folder: tried, since root passes access() in
@@ -116,29 +118,35 @@ void check_out_directory(const std::string& out, const std::string& basename) {
   while (!folder.empty() && !fs::exists(folder, ec)) folder = folder.parent_path();
   if (folder.empty()) folder = dir.is_absolute() ? dir.root_path() : fs::path(".");
   if (!fs::is_directory(folder, ec)) {
-    throw CommandLineError(fmt::format("--out: '{}' cannot be made: '{}' is not a directory", out, folder.string()));
+    throw CommandLineError(
+        fmt::format("--out: '{}' cannot be made: '{}' is not a directory", out, folder.string()));
   }
   if (::access(folder.c_str(), W_OK | X_OK) != 0 || !can_create_in(folder)) {
-    throw CommandLineError(fmt::format("--out: '{}' cannot be written: the folder '{}' is not writable", out,
-                                       folder.string()));
+    throw CommandLineError(fmt::format(
+        "--out: '{}' cannot be written: the folder '{}' is not writable", out, folder.string()));
   }
-  constexpr fs::perms any_write = fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
+  constexpr fs::perms any_write =
+      fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
   for (const char* ext : {".hpp", ".cpp"}) {
     const fs::path file = dir / (basename + ext);
     const fs::file_status status = fs::status(file, ec);
     if (!fs::exists(status)) continue;
     if (!fs::is_regular_file(status)) {
-      throw CommandLineError(fmt::format("--out: '{}' exists and is not a regular file", file.string()));
+      throw CommandLineError(
+          fmt::format("--out: '{}' exists and is not a regular file", file.string()));
     }
-    if (::access(file.c_str(), W_OK) != 0 || (status.permissions() & any_write) == fs::perms::none) {
-      throw CommandLineError(fmt::format("--out: '{}' is read-only: it is not replaced", file.string()));
+    if (::access(file.c_str(), W_OK) != 0 ||
+        (status.permissions() & any_write) == fs::perms::none) {
+      throw CommandLineError(
+          fmt::format("--out: '{}' is read-only: it is not replaced", file.string()));
     }
   }
 }
 
 std::size_t count(std::int64_t value, std::int64_t minimum, const char* option) {
   if (value < minimum) {
-    throw CommandLineError(fmt::format("{}: {} is out of range (it must be at least {})", option, value, minimum));
+    throw CommandLineError(
+        fmt::format("{}: {} is out of range (it must be at least {})", option, value, minimum));
   }
   return static_cast<std::size_t>(value);
 }
@@ -147,18 +155,21 @@ Job check_arguments(const Arguments& args) {
   Job job;
   job.definition = &choose_model(args.model);
   const auto& variants = job.definition->variants;
-  if (variants.empty()) throw model::ModelError(fmt::format("model '{}' declares no variant", job.definition->name));
+  if (variants.empty())
+    throw model::ModelError(fmt::format("model '{}' declares no variant", job.definition->name));
   job.variant = args.variant.empty() ? variants.front() : args.variant;
   if (std::find(variants.begin(), variants.end(), job.variant) == variants.end()) {
     throw CommandLineError(fmt::format("--variant: model '{}' has no variant '{}' (variants: {})",
-                                       job.definition->name, job.variant, fmt::join(variants, ", ")));
+                                       job.definition->name, job.variant,
+                                       fmt::join(variants, ", ")));
   }
   if (!args.basename.empty()) {
     if (auto problem = model::identifier_problem(args.basename)) {
       throw CommandLineError(fmt::format("--basename: '{}' {}", args.basename, *problem));
     }
   }
-  job.basename = args.basename.empty() ? fmt::format("{}_{}", job.definition->name, job.variant) : args.basename;
+  job.basename = args.basename.empty() ? fmt::format("{}_{}", job.definition->name, job.variant)
+                                       : args.basename;
   job.options.simplify = !args.no_simplify;
   job.options.symbolic_partials = args.partials == "symbolic";
   job.options.equations_of_motion = !args.no_eom;
@@ -183,7 +194,8 @@ int list(const std::string& name) {
     return 0;
   }
   if (model::registry().empty()) throw model::ModelError("no model is linked into this generator");
-  for (const model::Definition& d : model::registry()) fmt::print("{}: variants {}\n", d.name, fmt::join(d.variants, ", "));
+  for (const model::Definition& d : model::registry())
+    fmt::print("{}: variants {}\n", d.name, fmt::join(d.variants, ", "));
   return 0;
 }
 
@@ -204,7 +216,9 @@ std::string json_string(std::string_view text) {
   return out + '"';
 }
 
-std::string json_expr(symbolic::Expr e) { return json_string(symbolic::to_infix(e)); }
+std::string json_expr(symbolic::Expr e) {
+  return json_string(symbolic::to_infix(e));
+}
 
 std::string json_vec3(const model::Vec3& v) {
   return fmt::format("[{}, {}, {}]", json_expr(v[0]), json_expr(v[1]), json_expr(v[2]));
@@ -219,50 +233,59 @@ std::string describe(const Job& job) {
   m.validate();
   std::vector<std::string> coordinates, dependents, inlined, parameters, bodies;
   for (const model::Coordinate& c : m.coordinates()) {
-    coordinates.push_back(fmt::format("{{\"q\": {}, \"qd\": {}, \"qdd\": {}}}", json_expr(c.q), json_expr(c.qd),
-                                      json_expr(c.qdd)));
+    coordinates.push_back(fmt::format("{{\"q\": {}, \"qd\": {}, \"qdd\": {}}}", json_expr(c.q),
+                                      json_expr(c.qd), json_expr(c.qdd)));
   }
   for (const model::Dependent& d : m.dependents()) {
-    dependents.push_back(fmt::format("{{\"p\": {}, \"pd\": {}, \"pdd\": {}, \"expression\": {}}}", json_expr(d.symbol),
-                                     json_expr(d.rate), json_expr(d.acceleration), json_expr(d.expression)));
+    dependents.push_back(fmt::format("{{\"p\": {}, \"pd\": {}, \"pdd\": {}, \"expression\": {}}}",
+                                     json_expr(d.symbol), json_expr(d.rate),
+                                     json_expr(d.acceleration), json_expr(d.expression)));
   }
   for (const model::InlinedDependent& d : m.inlined_dependents()) {
-    inlined.push_back(fmt::format("{{\"name\": {}, \"expression\": {}}}", json_string(d.name), json_expr(d.expression)));
+    inlined.push_back(fmt::format("{{\"name\": {}, \"expression\": {}}}", json_string(d.name),
+                                  json_expr(d.expression)));
   }
   for (const model::Parameter& p : m.parameters()) {
-    parameters.push_back(fmt::format("{{\"symbol\": {}, \"value\": {}}}", json_expr(p.symbol), symbolic::cpp_literal(p.value)));
+    parameters.push_back(fmt::format("{{\"symbol\": {}, \"value\": {}}}", json_expr(p.symbol),
+                                     symbolic::cpp_literal(p.value)));
   }
   for (const model::Body& b : m.bodies()) {
     std::vector<std::string> steps;
     for (const model::Transform::Step& s : b.motion().steps()) {
-      steps.push_back(s.is_rotation ? fmt::format("{{\"rotation\": {}, \"angle\": {}}}", json_vec3(s.axis), json_expr(s.angle))
-                                    : fmt::format("{{\"translation\": {}}}", json_vec3(s.displacement)));
+      steps.push_back(s.is_rotation
+                          ? fmt::format("{{\"rotation\": {}, \"angle\": {}}}", json_vec3(s.axis),
+                                        json_expr(s.angle))
+                          : fmt::format("{{\"translation\": {}}}", json_vec3(s.displacement)));
     }
-    bodies.push_back(fmt::format("    {{\"name\": {}, \"reference\": {}, \"motion\": [{}]}}", json_string(b.name()),
-                                 b.reference() ? json_string(*b.reference()) : "null", fmt::join(steps, ", ")));
+    bodies.push_back(fmt::format(
+        "    {{\"name\": {}, \"reference\": {}, \"motion\": [{}]}}", json_string(b.name()),
+        b.reference() ? json_string(*b.reference()) : "null", fmt::join(steps, ", ")));
   }
   return fmt::format(
       "{{\n  \"model\": {},\n  \"variant\": {},\n  \"time\": {},\n  \"coordinates\": [{}],\n"
       "  \"parameters\": [{}],\n  \"dependents\": [{}],\n  \"inlined_dependents\": [{}],\n"
       "  \"gravity\": {},\n  \"bodies\": [\n{}\n  ]\n}}\n",
-      json_string(job.definition->name), json_string(job.variant), json_expr(m.time()), fmt::join(coordinates, ", "),
-      fmt::join(parameters, ", "), fmt::join(dependents, ", "), fmt::join(inlined, ", "), json_vec3(m.gravity()),
-      fmt::join(bodies, ",\n"));
+      json_string(job.definition->name), json_string(job.variant), json_expr(m.time()),
+      fmt::join(coordinates, ", "), fmt::join(parameters, ", "), fmt::join(dependents, ", "),
+      fmt::join(inlined, ", "), json_vec3(m.gravity()), fmt::join(bodies, ",\n"));
 }
 
 int generate(const Job& job, const Arguments& args) {
   const auto start = std::chrono::steady_clock::now();
   const model::Model m = job.definition->make(job.variant);
   const codegen::GeneratedCode code = codegen::generate(m, job.variant, job.basename, job.options);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::filesystem::create_directories(args.out);
   write_if_changed(std::filesystem::path(args.out) / (job.basename + ".hpp"), code.header);
   write_if_changed(std::filesystem::path(args.out) / (job.basename + ".cpp"), code.source);
   if (args.stats) {
-    fmt::print("model {} variant {}: generated in {:.4f} s, {} bytes ({} header + {} source)\n", job.definition->name,
-               job.variant, seconds, code.header.size() + code.source.size(), code.header.size(), code.source.size());
+    fmt::print("model {} variant {}: generated in {:.4f} s, {} bytes ({} header + {} source)\n",
+               job.definition->name, job.variant, seconds, code.header.size() + code.source.size(),
+               code.header.size(), code.source.size());
     for (const auto& e : code.functions) {
-      fmt::print("  {:<22} {:>7} operations  {}\n", e.name, e.operations.total(), e.operations.str());
+      fmt::print("  {:<22} {:>7} operations  {}\n", e.name, e.operations.total(),
+                 e.operations.str());
     }
     if (!code.dynamics.reason.empty()) fmt::print("  accelerations: {}\n", code.dynamics.reason);
     if (!code.derivatives.empty()) fmt::print("  derivatives: {}\n", code.derivatives);
@@ -300,10 +323,12 @@ namespace symdyn::codegen {
 
 int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
   Arguments args;
-  CLI::App app{hooks.description.empty()
-                   ? "symdyn generator: derives the model's kinematics and equations of motion and emits C++"
-                   : hooks.description};
-  app.add_option("--out", args.out, "directory for <basename>.hpp and <basename>.cpp")->capture_default_str();
+  CLI::App app{
+      hooks.description.empty()
+          ? "symdyn generator: derives the model's kinematics and equations of motion and emits C++"
+          : hooks.description};
+  app.add_option("--out", args.out, "directory for <basename>.hpp and <basename>.cpp")
+      ->capture_default_str();
   app.add_option("--variant", args.variant, "model variant (default: the model's first)");
   app.add_option("--basename", args.basename,
                  "file and struct name, a C++ identifier (default: <model>_<variant>)");
@@ -312,32 +337,41 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
   app.add_option("--partials", args.partials, "partial velocities")
       ->check(CLI::IsMember({"numeric", "symbolic"}))
       ->capture_default_str();
-  app.add_flag("--no-eom", args.no_eom, "do not emit the mass matrix, bias forces and inverse dynamics");
+  app.add_flag("--no-eom", args.no_eom,
+               "do not emit the mass matrix, bias forces and inverse dynamics");
   app.add_flag("--derivatives", args.derivatives,
-               "also emit the exact derivatives of the equations of motion (inverse_dynamics_derivatives) and of "
-               "the kinematics force elements read (kinematics_derivatives), which the runtime uses wherever it "
+               "also emit the exact derivatives of the equations of motion "
+               "(inverse_dynamics_derivatives) and of "
+               "the kinematics force elements read (kinematics_derivatives), which the runtime "
+               "uses wherever it "
                "needs a Jacobian");
   app.add_flag("--dynamics-derivatives", args.dynamics_derivatives,
-               "only those of the equations of motion: growing as nq², where the kinematics' grow as nbody·nq²");
-  app.add_option("--dynamics", args.dynamics,
-                 "accelerations by the mass matrix (Cholesky at run time) or the emitted recursive forward "
-                 "dynamics where it applies; auto: the one of fewer operations")
+               "only those of the equations of motion: growing as nq², where the kinematics' grow "
+               "as nbody·nq²");
+  app.add_option(
+         "--dynamics", args.dynamics,
+         "accelerations by the mass matrix (Cholesky at run time) or the emitted recursive forward "
+         "dynamics where it applies; auto: the one of fewer operations")
       ->check(CLI::IsMember({"auto", "mass-matrix", "recursive"}))
       ->capture_default_str();
   app.add_option("--part-size", args.part_size,
                  "emit long entry points as shared functions of at most N statements each (N >= 1)")
       ->capture_default_str();
-  app.add_option("--split-above", args.split_above,
-                 "share functions only if all entry points together are longer than N statements (N >= 0)")
+  app.add_option(
+         "--split-above", args.split_above,
+         "share functions only if all entry points together are longer than N statements (N >= 0)")
       ->capture_default_str();
-  app.add_option("--only", args.only,
-                 "emit only these entry points (comma-separated) and what they call, to call them directly "
-                 "(MultibodySystem needs them all)")
+  app.add_option(
+         "--only", args.only,
+         "emit only these entry points (comma-separated) and what they call, to call them directly "
+         "(MultibodySystem needs them all)")
       ->delimiter(',');
-  app.add_flag("--list", args.list, "list the models linked in and their variants, generate nothing");
+  app.add_flag("--list", args.list,
+               "list the models linked in and their variants, generate nothing");
   app.add_flag("--stats", args.stats, "print generation time, size and operation counts");
   app.add_flag("--describe", args.describe,
-               "print the model (symbols, dependent parameters, each body's reference and elementary motions) as "
+               "print the model (symbols, dependent parameters, each body's reference and "
+               "elementary motions) as "
                "JSON, generate nothing");
   if (hooks.add_options) hooks.add_options(app);
   try {

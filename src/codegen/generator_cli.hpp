@@ -27,8 +27,8 @@ namespace symdyn::codegen {
 
 // What a generator adds to the common command line.
 struct GeneratorHooks {
-  std::string description;                       // --help's first line; empty: the models' generator
-  std::function<void(CLI::App&)> add_options;    // its own options, added before parsing
+  std::string description;                     // --help's first line; empty: the models' generator
+  std::function<void(CLI::App&)> add_options;  // its own options, added before parsing
   // Called once the command line is parsed, before anything is listed or
   // generated (e.g. to register the models the options name); a
   // model::ModelError it throws exits with code 1, a CommandLineError with 2.

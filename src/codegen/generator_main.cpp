@@ -2,4 +2,6 @@
 // (command line: generator_cli.hpp).
 #include <symdyn/codegen/generator_cli.hpp>
 
-int main(int argc, char** argv) { return symdyn::codegen::run_generator(argc, argv); }
+int main(int argc, char** argv) {
+  return symdyn::codegen::run_generator(argc, argv);
+}

@@ -5,7 +5,6 @@
 //
 // The model is named after the robot (<robot>_default.hpp unless --basename).
 #include <CLI/CLI.hpp>
-
 #include <cmath>
 
 #include <symdyn/codegen/generator_cli.hpp>
@@ -33,13 +32,14 @@ void register_robot(const UrdfArguments& args) {
   } catch (const model::ModelError& e) {
     throw model::ModelError(args.path + ": " + e.what());
   }
-  model::registry().push_back({name, {"default"}, [xml, options, path = args.path](model::Model& m, std::string_view) {
-                                 try {
-                                   model::add_urdf(m, xml, options);
-                                 } catch (const model::ModelError& e) {
-                                   throw model::ModelError(path + ": " + e.what());
-                                 }
-                               }});
+  model::registry().push_back(
+      {name, {"default"}, [xml, options, path = args.path](model::Model& m, std::string_view) {
+         try {
+           model::add_urdf(m, xml, options);
+         } catch (const model::ModelError& e) {
+           throw model::ModelError(path + ": " + e.what());
+         }
+       }});
 }
 
 }  // namespace
@@ -47,10 +47,12 @@ void register_robot(const UrdfArguments& args) {
 int main(int argc, char** argv) {
   UrdfArguments args;
   codegen::GeneratorHooks hooks;
-  hooks.description = "symdyn-urdf: derives a URDF robot's kinematics and equations of motion and emits C++";
+  hooks.description =
+      "symdyn-urdf: derives a URDF robot's kinematics and equations of motion and emits C++";
   hooks.add_options = [&](CLI::App& app) {
     app.add_option("--urdf", args.path, "the robot's URDF file")->required();
-    app.add_flag("--floating-base", args.floating_base, "the root link moves freely (6 coordinates)");
+    app.add_flag("--floating-base", args.floating_base,
+                 "the root link moves freely (6 coordinates)");
     app.add_option("--gravity", args.gravity, "gravity in the URDF world frame")
         ->expected(3)
         ->capture_default_str()

@@ -1,8 +1,7 @@
-#include <symdyn/model/diagnostics.hpp>
-
 #include <algorithm>
 #include <optional>
 
+#include <symdyn/model/diagnostics.hpp>
 #include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::model {
@@ -13,19 +12,24 @@ using symbolic::Kind;
 // The function an operation with a restricted domain is known by, or nothing.
 std::optional<std::string> restricted_function(Expr node) {
   switch (node.kind()) {
-    case Kind::Asin: return "asin";
-    case Kind::Acos: return "acos";
-    case Kind::Log: return "log";
+    case Kind::Asin:
+      return "asin";
+    case Kind::Acos:
+      return "acos";
+    case Kind::Log:
+      return "log";
     case Kind::Pow: {
       const Expr e = node.arg(1);
       if (e == Expr(symbolic::Number(1, 2))) return "sqrt";
       // x^n for a positive integer n is defined everywhere.
-      if (e.is_number() && e.number().is_integer() && !e.number().is_negative() && !e.number().is_zero()) {
+      if (e.is_number() && e.number().is_integer() && !e.number().is_negative() &&
+          !e.number().is_zero()) {
         return std::nullopt;
       }
       return "pow";
     }
-    default: return std::nullopt;
+    default:
+      return std::nullopt;
   }
 }
 
@@ -41,7 +45,8 @@ char elementary_axis(const Vec3& a) {
 
 int coordinate_index(const Model& model, Expr angle) {
   const auto& cs = model.coordinates();
-  const auto it = std::find_if(cs.begin(), cs.end(), [&](const Coordinate& c) { return c.q == angle; });
+  const auto it =
+      std::find_if(cs.begin(), cs.end(), [&](const Coordinate& c) { return c.q == angle; });
   return it == cs.end() ? -1 : static_cast<int>(it - cs.begin());
 }
 
@@ -53,14 +58,16 @@ std::optional<AngleSequence> first_sequence(const Model& model, const Transform&
   };
   std::vector<Rotation> rotations;
   for (const Transform::Step& s : motion.steps()) {
-    if (s.is_rotation) rotations.push_back({elementary_axis(s.axis), coordinate_index(model, s.angle)});
+    if (s.is_rotation)
+      rotations.push_back({elementary_axis(s.axis), coordinate_index(model, s.angle)});
   }
   for (std::size_t k = 0; k + 2 < rotations.size(); ++k) {
     const Rotation &a = rotations[k], &b = rotations[k + 1], &c = rotations[k + 2];
     const bool coordinates = a.coordinate >= 0 && b.coordinate >= 0 && c.coordinate >= 0 &&
                              a.coordinate != b.coordinate && b.coordinate != c.coordinate &&
                              a.coordinate != c.coordinate;
-    const bool axes = a.axis != 0 && b.axis != 0 && c.axis != 0 && a.axis != b.axis && b.axis != c.axis;
+    const bool axes =
+        a.axis != 0 && b.axis != 0 && c.axis != 0 && a.axis != b.axis && b.axis != c.axis;
     if (coordinates && axes) {
       AngleSequence seq;
       seq.coordinates = {a.coordinate, b.coordinate, c.coordinate};
@@ -74,9 +81,11 @@ std::optional<AngleSequence> first_sequence(const Model& model, const Transform&
 }  // namespace
 
 std::vector<DomainCheck> domain_checks(const Model& model) {
-  std::vector<std::pair<std::string, Expr>> named;  // declared, then inlined (a model has one kind or both)
+  std::vector<std::pair<std::string, Expr>>
+      named;  // declared, then inlined (a model has one kind or both)
   for (const Dependent& d : model.dependents()) named.emplace_back(d.symbol.name(), d.expression);
-  for (const InlinedDependent& d : model.inlined_dependents()) named.emplace_back(d.name, d.expression);
+  for (const InlinedDependent& d : model.inlined_dependents())
+    named.emplace_back(d.name, d.expression);
   std::vector<DomainCheck> checks;
   std::vector<Expr> seen;  // an inlined parameter's operations reappear in the later ones
   for (const auto& [name, root] : named) {

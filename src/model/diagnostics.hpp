@@ -28,19 +28,21 @@ namespace symdyn::model {
 struct DomainCheck {
   std::string dependent;  // the dependent parameter's name
   std::string function;   // "asin", "acos", "sqrt", "log" or "pow"
-  Expr argument;          // the argument (pow: the base), as written, of q, t, parameters, dependents
-  Expr exponent;          // pow: the exponent; otherwise 0
+  Expr argument;  // the argument (pow: the base), as written, of q, t, parameters, dependents
+  Expr exponent;  // pow: the exponent; otherwise 0
 };
 
 // In evaluation order (see above); each distinct operation once.
 std::vector<DomainCheck> domain_checks(const Model& model);
 
 struct AngleSequence {
-  int body = 0;                        // index into Model::bodies()
-  std::array<int, 3> coordinates{};    // indices into Model::coordinates()
-  std::array<char, 3> axes{};          // 'x', 'y' or 'z'
-  bool proper() const { return axes[0] == axes[2]; }  // Euler (Z-X-Z) rather than Tait-Bryan (Z-Y-X)
-  std::string name() const;            // "Z-Y-X"
+  int body = 0;                      // index into Model::bodies()
+  std::array<int, 3> coordinates{};  // indices into Model::coordinates()
+  std::array<char, 3> axes{};        // 'x', 'y' or 'z'
+  bool proper() const {
+    return axes[0] == axes[2];
+  }                          // Euler (Z-X-Z) rather than Tait-Bryan (Z-Y-X)
+  std::string name() const;  // "Z-Y-X"
 };
 
 // Every body's sequences, bodies in model order, at most one per body (the first).

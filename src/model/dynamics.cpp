@@ -1,11 +1,10 @@
-#include <symdyn/model/dynamics.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <optional>
 #include <unordered_map>
 
+#include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/dynamics_terms.hpp>
 #include <symdyn/model/intermediates.hpp>
 #include <symdyn/symbolic/diff.hpp>
@@ -82,9 +81,11 @@ class EquationsOfMotion {
     d_.bias.assign(nq_, Expr(0));
     for (std::size_t k = 0; k < nq_; ++k) {
       std::vector<Expr> terms;
-      for (const Mover& m : movers_[k]) terms.push_back(m.coefficient * dot(direction(m), bodies_[m.body].wrench));
+      for (const Mover& m : movers_[k])
+        terms.push_back(m.coefficient * dot(direction(m), bodies_[m.body].wrench));
       d_.bias[k] = symbolic::add(terms);
-      for (std::size_t j = 0; j <= k; ++j) d_.mass_matrix[j * nq_ + k] = d_.mass_matrix[k * nq_ + j] = mass_matrix_entry(j, k);
+      for (std::size_t j = 0; j <= k; ++j)
+        d_.mass_matrix[j * nq_ + k] = d_.mass_matrix[k * nq_ + j] = mass_matrix_entry(j, k);
     }
     d_.inverse = detail::inverse_dynamics(model_, bodies_, d_.bias, names_);
     detail::forward_dynamics(model_, bodies_, names_, d_);
@@ -103,8 +104,10 @@ class EquationsOfMotion {
 
   static symbolic::RateMap rates(const Model& model) {
     symbolic::RateMap rates;
-    for (const Coordinate& c : model.coordinates()) rates.emplace(c.q, c.qd), rates.emplace(c.qd, c.qdd);
-    for (const Dependent& d : model.dependents()) rates.emplace(d.symbol, d.rate), rates.emplace(d.rate, d.acceleration);
+    for (const Coordinate& c : model.coordinates())
+      rates.emplace(c.q, c.qd), rates.emplace(c.qd, c.qdd);
+    for (const Dependent& d : model.dependents())
+      rates.emplace(d.symbol, d.rate), rates.emplace(d.rate, d.acceleration);
     return rates;
   }
 
@@ -125,7 +128,8 @@ class EquationsOfMotion {
         at_zero_qdd_.add(symbol, at_rest_value);
         continue;
       }
-      const Expr at_rest = symbolic::symbol(fmt::format("{}__0", symbol.name()), symbolic::SymbolKind::DependentAcceleration);
+      const Expr at_rest = symbolic::symbol(fmt::format("{}__0", symbol.name()),
+                                            symbolic::SymbolKind::DependentAcceleration);
       d_.definitions.push_back({at_rest, at_rest_value});
       at_zero_qdd_.add(symbol, at_rest);
     }
@@ -133,7 +137,9 @@ class EquationsOfMotion {
 
   Expr simplified(Expr e) const { return simplify_ ? simplify_(e) : e; }
   Vec3 d_dt(const Vec3& v) { return {d_dt_(v[0]), d_dt_(v[1]), d_dt_(v[2])}; }
-  Vec3 at_zero_qdd(const Vec3& v) { return {at_zero_qdd_(v[0]), at_zero_qdd_(v[1]), at_zero_qdd_(v[2])}; }
+  Vec3 at_zero_qdd(const Vec3& v) {
+    return {at_zero_qdd_(v[0]), at_zero_qdd_(v[1]), at_zero_qdd_(v[2])};
+  }
 
   void name(Spatial& s, const std::string& prefix) {
     names_.name_all(s.angular, prefix + "w");
@@ -151,7 +157,8 @@ class EquationsOfMotion {
     out.x = k_.bodies[i].relative.x;
     names_.name_all(out.x, n + ".xr");  // not ".x": the kinematics' name of the absolute one
     add_local_twists(local.screws, out);
-    for (std::size_t d = 0; d < out.directions.size(); ++d) name(out.directions[d], fmt::format("{}.l{}_", n, d));
+    for (std::size_t d = 0; d < out.directions.size(); ++d)
+      name(out.directions[d], fmt::format("{}.l{}_", n, d));
 
     // The local twist l = Σ σ'·screw and its rate Σ σ''·screw + σ'·screw',
     // at qdd = 0 (the scalars simplified: an inline dependent parameter's
@@ -160,7 +167,8 @@ class EquationsOfMotion {
     for (const Screw& s : local.screws) {
       const Expr rate = simplified(d_dt_(s.scalar));
       l = l + rate * s.twist;
-      dl = dl + simplified(at_zero_qdd_(d_dt_(rate))) * s.twist + rate * Spatial{d_dt(s.twist.angular), d_dt(s.twist.linear)};
+      dl = dl + simplified(at_zero_qdd_(d_dt_(rate))) * s.twist +
+           rate * Spatial{d_dt(s.twist.angular), d_dt(s.twist.linear)};
     }
     const Vec3 dw_l = at_zero_qdd(dl.angular);
     const Vec3 a_l = at_zero_qdd(cross(l.angular, l.linear) + dl.linear);
@@ -168,24 +176,27 @@ class EquationsOfMotion {
     // The reference's twist and acceleration (the ground's: 0 and -g), turned
     // to the body's axes.
     Spatial twist_B, acceleration_B{zero3(), zero3() - model_.gravity()};
-    if (refs_[i] >= 0) twist_B = bodies_[refs_[i]].twist, acceleration_B = bodies_[refs_[i]].acceleration;
+    if (refs_[i] >= 0)
+      twist_B = bodies_[refs_[i]].twist, acceleration_B = bodies_[refs_[i]].acceleration;
     Vec3 w_B = transpose_times(out.R, twist_B.angular);
     Vec3 dw_B = transpose_times(out.R, acceleration_B.angular);
     names_.name_all(w_B, n + ".wB");
     names_.name_all(dw_B, n + ".dwB");
     Vec3 r = local.r;
     names_.name_all(r, n + ".r");
-    out.twist = {w_B + l.angular, transpose_times(out.R, twist_B.linear) + cross(w_B, r) + l.linear};
+    out.twist = {w_B + l.angular,
+                 transpose_times(out.R, twist_B.linear) + cross(w_B, r) + l.linear};
     out.acceleration = {dw_B + cross(w_B, l.angular) + dw_l,
-                        transpose_times(out.R, acceleration_B.linear) + cross(dw_B, r) + cross(w_B, cross(w_B, r)) +
-                            Expr(2) * cross(w_B, l.linear) + a_l};
+                        transpose_times(out.R, acceleration_B.linear) + cross(dw_B, r) +
+                            cross(w_B, cross(w_B, r)) + Expr(2) * cross(w_B, l.linear) + a_l};
     name(out.twist, n + ".t");
     name(out.acceleration, n + ".a");
 
     const Mat3& J = body.inertia();
     const Vec3& w = out.twist.angular;
     out.inertia = out.own_inertia = {body.mass(), zero3(), J};
-    out.wrench = out.own_wrench = {J * out.acceleration.angular + cross(w, J * w), body.mass() * out.acceleration.linear};
+    out.wrench = out.own_wrench = {J * out.acceleration.angular + cross(w, J * w),
+                                   body.mass() * out.acceleration.linear};
     out.r = r;
   }
 
@@ -213,12 +224,13 @@ class EquationsOfMotion {
       for (std::size_t s = 0; s < screws.size(); ++s) by_screws.add(screws[s].twist, dscalar_dq[s]);
       spans.push_back(by_screws);
     }
-    const Span& fewest = *std::min_element(spans.begin(), spans.end(), [](const Span& x, const Span& y) {
-      return x.directions.size() < y.directions.size();
-    });
+    const Span& fewest = *std::min_element(
+        spans.begin(), spans.end(),
+        [](const Span& x, const Span& y) { return x.directions.size() < y.directions.size(); });
     for (std::size_t d = 0; d < fewest.directions.size(); ++d) {
       for (std::size_t j = 0; j < nq_; ++j) {
-        if (!fewest.coefficients[d][j].is_zero()) out.local.push_back({j, fewest.coefficients[d][j], d});
+        if (!fewest.coefficients[d][j].is_zero())
+          out.local.push_back({j, fewest.coefficients[d][j], d});
       }
       out.directions.push_back(fewest.directions[d]);
     }
@@ -239,7 +251,8 @@ class EquationsOfMotion {
     // Keeps a direction unless it or all its coefficients are zero.
     void add(const Spatial& direction, std::vector<Expr> coefficient) {
       if (is_zero(direction.angular) && is_zero(direction.linear)) return;
-      if (std::all_of(coefficient.begin(), coefficient.end(), [](Expr e) { return e.is_zero(); })) return;
+      if (std::all_of(coefficient.begin(), coefficient.end(), [](Expr e) { return e.is_zero(); }))
+        return;
       directions.push_back(direction);
       coefficients.push_back(std::move(coefficient));
     }
@@ -309,7 +322,8 @@ class EquationsOfMotion {
   void find_movers() {
     movers_.assign(nq_, {});
     for (int i : order_) {
-      for (const LocalTwist& l : bodies_[i].local) movers_[l.j].push_back({static_cast<std::size_t>(i), l.coefficient, l.direction});
+      for (const LocalTwist& l : bodies_[i].local)
+        movers_[l.j].push_back({static_cast<std::size_t>(i), l.coefficient, l.direction});
     }
   }
 
@@ -337,10 +351,12 @@ class EquationsOfMotion {
   Expr mass_matrix_entry(std::size_t j, std::size_t k) const {
     std::vector<Expr> terms;
     for (const Mover& m : movers_[j]) {
-      if (const auto& G = bodies_[m.body].gathered[k]) terms.push_back(m.coefficient * dot(direction(m), *G));
+      if (const auto& G = bodies_[m.body].gathered[k])
+        terms.push_back(m.coefficient * dot(direction(m), *G));
     }
     for (const Mover& m : movers_[k]) {
-      if (const auto& G = bodies_[m.body].from_children[j]) terms.push_back(m.coefficient * dot(direction(m), *G));
+      if (const auto& G = bodies_[m.body].from_children[j])
+        terms.push_back(m.coefficient * dot(direction(m), *G));
     }
     return symbolic::add(terms);
   }
@@ -365,11 +381,13 @@ class EquationsOfMotion {
 
 std::vector<Expr> generalized_force_symbols(const Model& model) {
   std::vector<Expr> tau;
-  for (const Coordinate& c : model.coordinates()) tau.push_back(symbolic::symbol("tau." + c.q.name(), symbolic::SymbolKind::Free));
+  for (const Coordinate& c : model.coordinates())
+    tau.push_back(symbolic::symbol("tau." + c.q.name(), symbolic::SymbolKind::Free));
   return tau;
 }
 
-Dynamics derive_dynamics(const Model& model, const Kinematics& k, const SimplifyFunction& simplify) {
+Dynamics derive_dynamics(const Model& model, const Kinematics& k,
+                         const SimplifyFunction& simplify) {
   return EquationsOfMotion(model, k, simplify).run();
 }
 

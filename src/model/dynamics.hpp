@@ -91,6 +91,7 @@ std::vector<Expr> generalized_force_symbols(const Model& model);
 
 // Uses the kinematics' relative motions and dependent parameters; `simplify`
 // (if any) simplifies the rates of the motions' angles and displacements.
-Dynamics derive_dynamics(const Model& model, const Kinematics& kinematics, const SimplifyFunction& simplify = {});
+Dynamics derive_dynamics(const Model& model, const Kinematics& kinematics,
+                         const SimplifyFunction& simplify = {});
 
 }  // namespace symdyn::model

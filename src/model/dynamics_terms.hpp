@@ -22,13 +22,21 @@ struct Spatial {
   Vec3 angular = zero3(), linear = zero3();
 };
 
-inline Expr dot(const Spatial& a, const Spatial& b) { return model::dot(a.angular, b.angular) + model::dot(a.linear, b.linear); }
+inline Expr dot(const Spatial& a, const Spatial& b) {
+  return model::dot(a.angular, b.angular) + model::dot(a.linear, b.linear);
+}
 
-inline Spatial operator+(const Spatial& a, const Spatial& b) { return {a.angular + b.angular, a.linear + b.linear}; }
+inline Spatial operator+(const Spatial& a, const Spatial& b) {
+  return {a.angular + b.angular, a.linear + b.linear};
+}
 
-inline Spatial operator*(Expr c, const Spatial& s) { return {c * s.angular, c * s.linear}; }
+inline Spatial operator*(Expr c, const Spatial& s) {
+  return {c * s.angular, c * s.linear};
+}
 
-inline Mat3 zero_matrix() { return {Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0)}; }
+inline Mat3 zero_matrix() {
+  return {Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0), Expr(0)};
+}
 
 // The inertia of a body or a subtree about a point: mass m, first moment h
 // (m times the centre of mass from the point) and rotational inertia K.
@@ -46,7 +54,8 @@ inline SpatialInertia operator+(const SpatialInertia& a, const SpatialInertia& b
 
 // The momentum a twist s gives: (K·ω + h×v, m·v + ω×h).
 inline Spatial momentum(const SpatialInertia& I, const Spatial& s) {
-  return {I.rotational * s.angular + cross(I.moment, s.linear), I.mass * s.linear + cross(s.angular, I.moment)};
+  return {I.rotational * s.angular + cross(I.moment, s.linear),
+          I.mass * s.linear + cross(s.angular, I.moment)};
 }
 
 // R·K·Rᵀ for a symmetric K: the upper triangle, mirrored.
@@ -55,7 +64,8 @@ inline Mat3 rotate_symmetric(const Mat3& R, const Mat3& K) {
   Mat3 out;
   for (int i = 0; i < 3; ++i) {
     for (int j = i; j < 3; ++j) {
-      out[3 * i + j] = out[3 * j + i] = sum3(RK[3 * i] * R[3 * j], RK[3 * i + 1] * R[3 * j + 1], RK[3 * i + 2] * R[3 * j + 2]);
+      out[3 * i + j] = out[3 * j + i] =
+          sum3(RK[3 * i] * R[3 * j], RK[3 * i + 1] * R[3 * j + 1], RK[3 * i + 2] * R[3 * j + 2]);
     }
   }
   return out;
@@ -70,7 +80,8 @@ inline SpatialInertia to_reference(const SpatialInertia& I, const Mat3& R, const
   const Expr& m = I.mass;
   for (int i = 0; i < 3; ++i) {
     const int u = (i + 1) % 3, w = (i + 2) % 3;
-    out.rotational[4 * i] += m * (d[u] * d[u] + d[w] * d[w]) + Expr(2) * (d[u] * h[u] + d[w] * h[w]);
+    out.rotational[4 * i] +=
+        m * (d[u] * d[u] + d[w] * d[w]) + Expr(2) * (d[u] * h[u] + d[w] * h[w]);
     for (int j = i + 1; j < 3; ++j) {
       const Expr shift = -(m * d[i] * d[j]) - d[i] * h[j] - h[i] * d[j];
       out.rotational[3 * i + j] += shift;
@@ -87,7 +98,6 @@ inline Spatial to_reference(const Spatial& wrench, const Mat3& R, const Vec3& d)
   return {R * wrench.angular + cross(d, f), f};
 }
 
-
 // The local twist l_j = coefficient·direction of coordinate j.
 struct LocalTwist {
   std::size_t j;
@@ -95,27 +105,26 @@ struct LocalTwist {
   std::size_t direction;
 };
 
-
 // What the sums need of each body, in its axes about its G.
 struct BodyTerms {
-  Mat3 R;                                 // its axes to its reference's
-  Vec3 x;                                 // its G from its reference's, reference axes
-  Spatial twist, acceleration;            // (ω, v) and (dω/dt, a) at qdd = 0, less gravity
-  std::vector<Spatial> directions;        // of the local twists
-  std::vector<LocalTwist> local;          // l_j = coefficient·direction, for every nonzero l_j
-  std::vector<Spatial> momenta;           // F = I^C·direction, for each direction
-  Vec3 r;                                 // its G from its reference's, its axes
-  SpatialInertia inertia, own_inertia;    // of the body, then of its subtree; of the body
-  Spatial wrench, own_wrench;             // of the body, then of its subtree (at qdd = 0); of the body
+  Mat3 R;                               // its axes to its reference's
+  Vec3 x;                               // its G from its reference's, reference axes
+  Spatial twist, acceleration;          // (ω, v) and (dω/dt, a) at qdd = 0, less gravity
+  std::vector<Spatial> directions;      // of the local twists
+  std::vector<LocalTwist> local;        // l_j = coefficient·direction, for every nonzero l_j
+  std::vector<Spatial> momenta;         // F = I^C·direction, for each direction
+  Vec3 r;                               // its G from its reference's, its axes
+  SpatialInertia inertia, own_inertia;  // of the body, then of its subtree; of the body
+  Spatial wrench, own_wrench;  // of the body, then of its subtree (at qdd = 0); of the body
   std::vector<std::optional<Spatial>> gathered, from_children;  // (nq) G_k and G'_k, where nonzero
 };
 
-
 // tau = M·qdd + h (nq) by recursive Newton-Euler, h the derived bias forces.
-std::vector<Expr> inverse_dynamics(const Model& model, const std::vector<BodyTerms>& bodies, const std::vector<Expr>& bias,
-                                   IntermediateNames& names);
+std::vector<Expr> inverse_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
+                                   const std::vector<Expr>& bias, IntermediateNames& names);
 
 // d.forward and d.pivots by the articulated-body algorithm, or d.why_not.
-void forward_dynamics(const Model& model, const std::vector<BodyTerms>& bodies, IntermediateNames& names, Dynamics& d);
+void forward_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
+                      IntermediateNames& names, Dynamics& d);
 
 }  // namespace symdyn::model::detail

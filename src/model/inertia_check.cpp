@@ -1,5 +1,3 @@
-#include <symdyn/model/inertia_check.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -7,6 +5,7 @@
 #include <numbers>
 
 #include <symdyn/model/errors.hpp>
+#include <symdyn/model/inertia_check.hpp>
 
 namespace symdyn::model {
 
@@ -17,7 +16,8 @@ std::array<double, 3> principal_moments(const std::array<double, 9>& A) {
   std::array<double, 3> e{A[0], A[4], A[8]};
   if (p1 > 0.0) {
     const double q = trace / 3.0;
-    const double p2 = (A[0] - q) * (A[0] - q) + (A[4] - q) * (A[4] - q) + (A[8] - q) * (A[8] - q) + 2.0 * p1;
+    const double p2 =
+        (A[0] - q) * (A[0] - q) + (A[4] - q) * (A[4] - q) + (A[8] - q) * (A[8] - q) + 2.0 * p1;
     const double p = std::sqrt(p2 / 6.0);
     std::array<double, 9> B{};
     for (int i = 0; i < 9; ++i) B[i] = (A[i] - (i % 4 == 0 ? q : 0.0)) / p;
@@ -40,7 +40,8 @@ void check_inertia(std::string_view where, double mass, const std::array<double,
   double scale = 0.0;
   for (int k = 0; k < 9; ++k) {
     if (!std::isfinite(I[k])) {
-      throw ModelError(fmt::format("{}: inertia I{}{} = {} is not finite", where, k / 3, k % 3, I[k]));
+      throw ModelError(
+          fmt::format("{}: inertia I{}{} = {} is not finite", where, k / 3, k % 3, I[k]));
     }
     scale = std::max(scale, std::abs(I[k]));
   }
@@ -48,20 +49,22 @@ void check_inertia(std::string_view where, double mass, const std::array<double,
   for (int i = 0; i < 3; ++i) {
     for (int j = i + 1; j < 3; ++j) {
       if (std::abs(I[3 * i + j] - I[3 * j + i]) > 1e-9 * scale) {
-        throw ModelError(fmt::format("{}: inertia is not symmetric (I{}{} = {} but I{}{} = {})", where, i, j,
-                                     I[3 * i + j], j, i, I[3 * j + i]));
+        throw ModelError(fmt::format("{}: inertia is not symmetric (I{}{} = {} but I{}{} = {})",
+                                     where, i, j, I[3 * i + j], j, i, I[3 * j + i]));
       }
     }
   }
   const auto m = principal_moments(I);
   if (!(m[0] > 0.0)) {
-    throw ModelError(fmt::format("{}: inertia is not positive definite (principal moments {}, {}, {})", where,
-                                 m[0], m[1], m[2]));
+    throw ModelError(
+        fmt::format("{}: inertia is not positive definite (principal moments {}, {}, {})", where,
+                    m[0], m[1], m[2]));
   }
   // A thin rod or disc is exactly at the limit: rounding allowed.
   if (m[0] + m[1] < m[2] * (1.0 - 1e-9)) {
-    throw ModelError(fmt::format("{}: inertia violates the triangle inequality (principal moments {} + {} < {})",
-                                 where, m[0], m[1], m[2]));
+    throw ModelError(
+        fmt::format("{}: inertia violates the triangle inequality (principal moments {} + {} < {})",
+                    where, m[0], m[1], m[2]));
   }
 }
 

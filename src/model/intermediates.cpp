@@ -1,6 +1,6 @@
-#include <symdyn/model/intermediates.hpp>
-
 #include <stdexcept>
+
+#include <symdyn/model/intermediates.hpp>
 
 namespace symdyn::model {
 
@@ -11,7 +11,8 @@ symbolic::Expr IntermediateNames::operator()(symbolic::Expr value, const std::st
   if (inserted) {
     // Symbols are interned by name: a second value under one name would be
     // the first one's symbol, silently.
-    if (!used_names_.insert(name).second) throw std::logic_error("intermediate '" + name + "' named twice");
+    if (!used_names_.insert(name).second)
+      throw std::logic_error("intermediate '" + name + "' named twice");
     it->second = symbolic::symbol(name, symbolic::SymbolKind::Intermediate);
     definitions_.push_back({it->second, rest});
   }

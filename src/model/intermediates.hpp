@@ -26,7 +26,8 @@ class IntermediateNames {
   // Names every entry of an array of expressions "<prefix><index>".
   template <class Array>
   void name_all(Array& entries, const std::string& prefix) {
-    for (std::size_t i = 0; i < entries.size(); ++i) entries[i] = (*this)(entries[i], prefix + std::to_string(i));
+    for (std::size_t i = 0; i < entries.size(); ++i)
+      entries[i] = (*this)(entries[i], prefix + std::to_string(i));
   }
 
   // The definitions made so far, each after those it uses.

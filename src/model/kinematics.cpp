@@ -1,10 +1,9 @@
-#include <symdyn/model/kinematics.hpp>
-
 #include <fmt/format.h>
 
 #include <unordered_map>
 
 #include <symdyn/model/intermediates.hpp>
+#include <symdyn/model/kinematics.hpp>
 #include <symdyn/symbolic/diff.hpp>
 
 namespace symdyn::model {
@@ -29,7 +28,8 @@ class Deriver {
 
   Kinematics run() {
     Kinematics k;
-    for (const Dependent& d : model_.dependents()) k.dependents.push_back(derive_dependent(d, k.dependents));
+    for (const Dependent& d : model_.dependents())
+      k.dependents.push_back(derive_dependent(d, k.dependents));
     const std::vector<int> refs = model_.reference_indices();
     k.bodies.resize(model_.bodies().size());
     if (options_.symbolic_partials) {
@@ -61,7 +61,8 @@ class Deriver {
   }
   Vec3 d_dt(const Vec3& v) const { return {(*d_dt_)(v[0]), (*d_dt_)(v[1]), (*d_dt_)(v[2])}; }
 
-  DependentKinematics derive_dependent(const Dependent& d, const std::vector<DependentKinematics>& earlier) {
+  DependentKinematics derive_dependent(const Dependent& d,
+                                       const std::vector<DependentKinematics>& earlier) {
     DependentKinematics out;
     out.symbols = d;
     out.value = simplify(d.expression);
@@ -76,10 +77,11 @@ class Deriver {
       }
       out.jacobian.push_back(simplify(total));
       const Expr entry = out.jacobian.back();
-      out.jacobian_symbols.push_back(entry.is_number() || entry.is_symbol()
-                                         ? entry
-                                         : symbolic::symbol(fmt::format("{}__d{}", d.symbol.name(), c.q.name()),
-                                                            SymbolKind::Dependent));
+      out.jacobian_symbols.push_back(
+          entry.is_number() || entry.is_symbol()
+              ? entry
+              : symbolic::symbol(fmt::format("{}__d{}", d.symbol.name(), c.q.name()),
+                                 SymbolKind::Dependent));
     }
     return out;
   }
@@ -91,7 +93,7 @@ class Deriver {
     k.x = simplify(pose.x);
     k.v = simplify(d_dt(k.x));
     Vec3 w = zero3();
-    for (const auto& [axis, angle] : pose.axes) w = w + (*d_dt_)(angle) * axis;
+    for (const auto& [axis, angle] : pose.axes) w = w + (*d_dt_)(angle)*axis;
     k.w = simplify(w);
     k.a = simplify(d_dt(k.v));
     k.dw = simplify(d_dt(k.w));
@@ -108,7 +110,8 @@ class Deriver {
     b.x = B.x + r;
     b.w = B.w + w_rel;
     b.v = B.v + cross(B.w, r) + v_rel;
-    b.a = B.a + cross(B.dw, r) + cross(B.w, cross(B.w, r)) + Expr(2) * cross(B.w, v_rel) + B.R * l.a;
+    b.a =
+        B.a + cross(B.dw, r) + cross(B.w, cross(B.w, r)) + Expr(2) * cross(B.w, v_rel) + B.R * l.a;
     b.dw = B.dw + cross(B.w, w_rel) + B.R * l.dw;
   }
 
@@ -118,7 +121,8 @@ class Deriver {
     for (std::size_t j = 0; j < by_qd_.size(); ++j) {
       auto partial = [&](Expr e) {
         Expr total = by_qd_[j](e);
-        for (std::size_t m = 0; m < by_pd_.size(); ++m) total += by_pd_[m](e) * dependents[m].jacobian_symbols[j];
+        for (std::size_t m = 0; m < by_pd_.size(); ++m)
+          total += by_pd_[m](e) * dependents[m].jacobian_symbols[j];
         return simplify(total);
       };
       l.dv_dqd.push_back({partial(l.v[0]), partial(l.v[1]), partial(l.v[2])});
@@ -148,8 +152,10 @@ class Deriver {
   // Names every entry of a reference body's quantities (intermediates.hpp):
   // "<body>.<quantity><index>".
   void name_quantities(const std::string& body, BodyKinematics& b) {
-    names_.name_all(b.R, body + ".R"), names_.name_all(b.x, body + ".x"), names_.name_all(b.v, body + ".v");
-    names_.name_all(b.w, body + ".w"), names_.name_all(b.a, body + ".a"), names_.name_all(b.dw, body + ".dw");
+    names_.name_all(b.R, body + ".R"), names_.name_all(b.x, body + ".x"),
+        names_.name_all(b.v, body + ".v");
+    names_.name_all(b.w, body + ".w"), names_.name_all(b.a, body + ".a"),
+        names_.name_all(b.dw, body + ".dw");
     for (std::size_t j = 0; j < b.dv_dqd.size(); ++j) {
       names_.name_all(b.dv_dqd[j], fmt::format("{}.dv_dqd{}_", body, j));
       names_.name_all(b.dw_dqd[j], fmt::format("{}.dw_dqd{}_", body, j));

@@ -67,7 +67,7 @@ struct Kinematics {
 using SimplifyFunction = std::function<Expr(Expr)>;
 
 struct DeriveOptions {
-  SimplifyFunction simplify;      // empty: no simplification
+  SimplifyFunction simplify;  // empty: no simplification
   bool symbolic_partials = false;
   // Only what CAGeM derived: each body's motion relative to its reference
   // (BodyKinematics::relative). The absolute motion of a body relative to

@@ -1,5 +1,3 @@
-#include <symdyn/model/model.hpp>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -9,6 +7,7 @@
 
 #include <symdyn/model/identifier.hpp>
 #include <symdyn/model/inertia_check.hpp>
+#include <symdyn/model/model.hpp>
 #include <symdyn/symbolic/eval.hpp>
 #include <symdyn/symbolic/traversal.hpp>
 
@@ -20,8 +19,9 @@ namespace {
 
 // Names of the derivatives of a symbol: q3 -> qd3, qdd3; yaw -> yaw_d, yaw_dd.
 std::pair<std::string, std::string> derivative_names(std::string_view name) {
-  const bool q_style = name.size() > 1 && name[0] == 'q' &&
-                       std::all_of(name.begin() + 1, name.end(), [](char c) { return std::isdigit(c) != 0; });
+  const bool q_style =
+      name.size() > 1 && name[0] == 'q' &&
+      std::all_of(name.begin() + 1, name.end(), [](char c) { return std::isdigit(c) != 0; });
   if (q_style) return {fmt::format("qd{}", name.substr(1)), fmt::format("qdd{}", name.substr(1))};
   return {fmt::format("{}_d", name), fmt::format("{}_dd", name)};
 }
@@ -35,16 +35,23 @@ Expr declare(std::string_view name, SymbolKind kind) {
   }
 }
 
-void check_builder_name(std::string_view name, std::string_view what) { check_name(name, fmt::format("{} name", what)); }
+void check_builder_name(std::string_view name, std::string_view what) {
+  check_name(name, fmt::format("{} name", what));
+}
 
 // "coordinate 'q0'", "time 't'", ...: a symbol as a message names it.
 std::string describe_symbol(Expr s) {
   switch (s.symbol_kind()) {
-    case SymbolKind::Variable: return fmt::format("coordinate '{}'", s.name());
-    case SymbolKind::Time: return fmt::format("time '{}'", s.name());
-    case SymbolKind::Parameter: return fmt::format("run-time parameter '{}'", s.name());
-    case SymbolKind::Dependent: return fmt::format("dependent parameter '{}'", s.name());
-    default: return fmt::format("rate or acceleration '{}'", s.name());
+    case SymbolKind::Variable:
+      return fmt::format("coordinate '{}'", s.name());
+    case SymbolKind::Time:
+      return fmt::format("time '{}'", s.name());
+    case SymbolKind::Parameter:
+      return fmt::format("run-time parameter '{}'", s.name());
+    case SymbolKind::Dependent:
+      return fmt::format("dependent parameter '{}'", s.name());
+    default:
+      return fmt::format("rate or acceleration '{}'", s.name());
   }
 }
 
@@ -82,7 +89,8 @@ Body::Body(std::string name) : name_(std::move(name)), mass_(0), inertia_{} {}
 
 Expr Scalar::to_expr(std::string_view what) const {
   if (!is_number_) return expr_;
-  if (!std::isfinite(number_)) throw ModelError(fmt::format("{} is not finite ({})", what, number_));
+  if (!std::isfinite(number_))
+    throw ModelError(fmt::format("{} is not finite ({})", what, number_));
   return Expr(number_);
 }
 
@@ -117,16 +125,15 @@ Body& Body::relative_to(std::string_view reference) {
 }
 
 Model::Model(std::string name)
-    : name_(std::move(name)),
-      gravity_(zero3()),
-      time_(declare("t", SymbolKind::Time)) {
+    : name_(std::move(name)), gravity_(zero3()), time_(declare("t", SymbolKind::Time)) {
   check_builder_name(name_, "model");
 }
 
 bool Model::is_declared(Expr s) const {
   if (s == time_) return true;
   auto in = [&](const auto& list, auto field) {
-    return std::any_of(list.begin(), list.end(), [&](const auto& item) { return item.*field == s; });
+    return std::any_of(list.begin(), list.end(),
+                       [&](const auto& item) { return item.*field == s; });
   };
   return in(coordinates_, &Coordinate::q) || in(dependents_, &Dependent::symbol) ||
          in(parameters_, &Parameter::symbol);
@@ -136,8 +143,8 @@ void Model::check_declared(Expr e, std::string_view where) const {
   if (e.is_number()) return;
   for (Expr s : symbolic::free_symbols(std::span<const Expr>(&e, 1))) {
     if (!is_declared(s)) {
-      throw ModelError(fmt::format("{} uses '{}', which is not declared in model '{}' before it", where,
-                                   s.name(), name_));
+      throw ModelError(fmt::format("{} uses '{}', which is not declared in model '{}' before it",
+                                   where, s.name(), name_));
     }
   }
 }
@@ -162,7 +169,8 @@ std::vector<Expr> Model::coordinates(int n, std::string_view prefix) {
 
 Expr Model::parameter(std::string_view name, double value, bool runtime) {
   check_builder_name(name, "parameter");
-  if (!std::isfinite(value)) throw ModelError(fmt::format("parameter '{}' = {} is not finite", name, value));
+  if (!std::isfinite(value))
+    throw ModelError(fmt::format("parameter '{}' = {} is not finite", name, value));
   if (!(runtime || runtime_parameters_)) return Expr(value);
   const Expr s = declare(name, SymbolKind::Parameter);
   if (is_declared(s)) throw ModelError(fmt::format("parameter '{}' is declared twice", name));
@@ -178,7 +186,8 @@ Expr Model::dependent(std::string_view name, Expr expression) {
     return expression;
   }
   const Expr s = declare(name, SymbolKind::Dependent);
-  if (is_declared(s)) throw ModelError(fmt::format("dependent parameter '{}' is declared twice", name));
+  if (is_declared(s))
+    throw ModelError(fmt::format("dependent parameter '{}' is declared twice", name));
   auto [rate, acceleration] = derivative_names(name);
   dependents_.push_back({s, declare(rate, SymbolKind::DependentRate),
                          declare(acceleration, SymbolKind::DependentAcceleration), expression});
@@ -231,7 +240,9 @@ std::vector<int> Model::reference_indices() const {
       continue;
     }
     const int r = body_index(*b.reference());
-    if (r < 0) throw ModelError(fmt::format("body '{}' is relative to '{}', which is not a body", b.name(), *b.reference()));
+    if (r < 0)
+      throw ModelError(fmt::format("body '{}' is relative to '{}', which is not a body", b.name(),
+                                   *b.reference()));
     refs.push_back(r);
   }
   return refs;
@@ -244,7 +255,8 @@ Model Model::with_shared_motions_relative() const {
     const Body* base = nullptr;
     for (const Body& other : bodies_) {
       const std::size_t n = other.motion().steps().size();
-      const bool shares = n < motion.steps().size() && other.reference() == bodies_[i].reference() &&
+      const bool shares = n < motion.steps().size() &&
+                          other.reference() == bodies_[i].reference() &&
                           other.motion().has_rotation() && motion.starts_with(other.motion());
       if (shares && (base == nullptr || n > base->motion().steps().size())) base = &other;
     }
@@ -271,7 +283,8 @@ std::vector<int> Model::topological_order() const {
     if (b >= 0 && state[b] == 1) {
       std::string cycle = bodies_[b].name();
       for (int c = refs[b]; c != b; c = refs[c]) cycle += " -> " + bodies_[c].name();
-      throw ModelError(fmt::format("relative motions form a cycle: {} -> {}", cycle, bodies_[b].name()));
+      throw ModelError(
+          fmt::format("relative motions form a cycle: {} -> {}", cycle, bodies_[b].name()));
     }
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
       state[*it] = 2;
@@ -283,9 +296,9 @@ std::vector<int> Model::topological_order() const {
 
 void Model::validate() const {
   // In this order (docs/errors.md): the first culprit found is reported.
-  static constexpr void (Model::*kChecks[])() const = {
-      &Model::validate_structure, &Model::validate_bodies, &Model::validate_gravity,
-      &Model::validate_coordinates_move_bodies, &Model::validate_initial_configuration};
+  static constexpr void (Model::*kChecks[])()
+      const = {&Model::validate_structure, &Model::validate_bodies, &Model::validate_gravity,
+               &Model::validate_coordinates_move_bodies, &Model::validate_initial_configuration};
   for (auto check : kChecks) (this->*check)();
 }
 
@@ -315,9 +328,12 @@ void Model::validate_body(const Body& b) const {
   // k: the entry of the inertia tensor, -1 for the mass (named only in the error).
   const auto constant = [&](Expr e, int k) {
     if (const auto s = non_constant_symbol(e)) {
-      const std::string quantity = k < 0 ? std::string("mass") : fmt::format("inertia I{}{}", k / 3, k % 3);
-      throw ModelError(fmt::format("{}: {} depends on {}; a mass or inertia may use only constants and run-time "
-                                   "parameters", where, quantity, describe_symbol(*s)));
+      const std::string quantity =
+          k < 0 ? std::string("mass") : fmt::format("inertia I{}{}", k / 3, k % 3);
+      throw ModelError(
+          fmt::format("{}: {} depends on {}; a mass or inertia may use only constants and run-time "
+                      "parameters",
+                      where, quantity, describe_symbol(*s)));
     }
   };
   constant(b.mass(), -1);
@@ -336,8 +352,8 @@ void Model::validate_gravity() const {
     const Expr g = gravity_[k];
     if (g.is_number()) continue;
     const auto symbols = symbolic::free_symbols(std::span<const Expr>(&g, 1));
-    throw ModelError(fmt::format("gravity {}: '{}' depends on {}; gravity must be a number", "xyz"[k], g.str(),
-                                 describe_symbol(symbols.front())));
+    throw ModelError(fmt::format("gravity {}: '{}' depends on {}; gravity must be a number",
+                                 "xyz"[k], g.str(), describe_symbol(symbols.front())));
   }
 }
 
@@ -355,12 +371,15 @@ void Model::validate_coordinates_move_bodies() const {
   // Dependent parameters are declared in order: the later ones first expand into the earlier ones.
   for (auto d = dependents_.rbegin(); d != dependents_.rend(); ++d) {
     if (std::find(used.begin(), used.end(), d->symbol) == used.end()) continue;
-    for (Expr s : symbolic::free_symbols(std::span<const Expr>(&d->expression, 1))) used.push_back(s);
+    for (Expr s : symbolic::free_symbols(std::span<const Expr>(&d->expression, 1)))
+      used.push_back(s);
   }
   for (const Coordinate& c : coordinates_) {
     if (std::find(used.begin(), used.end(), c.q) == used.end()) {
-      throw ModelError(fmt::format("coordinate '{}' moves no body: no body's position or rotation depends on it "
-                                   "(its mass matrix row would be zero)", c.q.name()));
+      throw ModelError(
+          fmt::format("coordinate '{}' moves no body: no body's position or rotation depends on it "
+                      "(its mass matrix row would be zero)",
+                      c.q.name()));
     }
   }
 }
@@ -374,11 +393,13 @@ void Model::validate_initial_configuration() const {
   for (const Parameter& p : parameters_) values.emplace(p.symbol, p.value);
   for (const Coordinate& c : coordinates_) values.emplace(c.q, c.initial);
   // `owner` and `name` say where e is, formatted only for an error.
-  const auto check = [&](Expr e, symbolic::Evaluator<double>& evaluate, const char* owner, const std::string& name,
-                         const char* what) {
+  const auto check = [&](Expr e, symbolic::Evaluator<double>& evaluate, const char* owner,
+                         const std::string& name, const char* what) {
     if (const auto operation = undefined_operation(e, evaluate)) {
-      throw ModelError(fmt::format("{} '{}'{}: {} is not defined at the initial configuration (t = 0, coordinates "
-                                   "at their initial values)", owner, name, what, *operation));
+      throw ModelError(fmt::format(
+          "{} '{}'{}: {} is not defined at the initial configuration (t = 0, coordinates "
+          "at their initial values)",
+          owner, name, what, *operation));
     }
   };
   for (const Dependent& d : dependents_) {
@@ -409,7 +430,8 @@ Model Definition::make(std::string_view variant) const {
   Model m(name);
   try {
     build(m, chosen);
-  } catch (const symbolic::SymbolicError& e) {  // a constant out of a function's domain, folded at construction
+  } catch (const symbolic::SymbolicError&
+               e) {  // a constant out of a function's domain, folded at construction
     throw ModelError(fmt::format("model '{}' variant '{}': {}", name, chosen, e.what()));
   }
   return m;

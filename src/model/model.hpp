@@ -6,8 +6,8 @@
 //   const Expr l1 = m.parameter("l1", 0.1), l2 = m.parameter("l2", 0.3);
 //   const Expr alpha = m.dependent("alpha", asin(l1 * sin(q0) / l2));
 //   const Expr x = m.dependent("x", l1 * cos(q0) + l2 * cos(alpha));
-//   m.body("crank").mass(1.0).inertia(1e-4, 8.3e-4, 8.3e-4).motion(Trotz(q0) * Tdisp(l1 / 2, 0, 0));
-//   m.body("rod").mass(0.5).inertia(1e-4, 3.75e-3, 3.75e-3)
+//   m.body("crank").mass(1.0).inertia(1e-4, 8.3e-4, 8.3e-4).motion(Trotz(q0) * Tdisp(l1 / 2, 0,
+//   0)); m.body("rod").mass(0.5).inertia(1e-4, 3.75e-3, 3.75e-3)
 //       .motion(Tdisp(x, 0, 0) * Trotz(-alpha) * Tdisp(-l2 / 2, 0, 0));
 //   m.gravity(0, -9.81, 0);
 //   m.initial(q0, 0.0, 50.0);
@@ -27,8 +27,8 @@
 // to another body. Mistakes raise ModelError naming the culprit.
 // What is checked where (builder, validate(), generator, runtime): docs/errors.md.
 
-#include <functional>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -45,7 +45,7 @@ namespace symdyn::model {
 class Scalar {
  public:
   Scalar(Expr e) : expr_(e), is_number_(false) {}  // NOLINT(google-explicit-constructor)
-  Scalar(double v) : number_(v) {}                // NOLINT(google-explicit-constructor)
+  Scalar(double v) : number_(v) {}                 // NOLINT(google-explicit-constructor)
   // The expression; throws ModelError "<what> is not finite (nan)" for a non-finite number.
   Expr to_expr(std::string_view what) const;
 
@@ -59,8 +59,8 @@ class Body {
  public:
   Body& mass(Scalar m);
   Body& inertia(Scalar ixx, Scalar iyy, Scalar izz);  // principal, diagonal in body axes
-  Body& inertia(const Mat3& tensor);              // full, symmetric
-  Body& motion(const Transform& T0G);             // absolute, or T_BG when relative_to
+  Body& inertia(const Mat3& tensor);                  // full, symmetric
+  Body& motion(const Transform& T0G);                 // absolute, or T_BG when relative_to
   Body& relative_to(std::string_view reference);
 
   const std::string& name() const { return name_; }
@@ -195,7 +195,8 @@ struct Definition {
 // Model files register their definition with a static Registration; the
 // generator's main and the tests find them here by name.
 std::vector<Definition>& registry();
-const Definition& find_definition(std::string_view name);  // throws ModelError listing the known ones
+const Definition& find_definition(
+    std::string_view name);  // throws ModelError listing the known ones
 
 struct Registration {
   explicit Registration(Definition definition) { registry().push_back(std::move(definition)); }

@@ -12,9 +12,13 @@
 namespace symdyn::model::detail {
 namespace {
 
-Mat3 transpose(const Mat3& A) { return {A[0], A[3], A[6], A[1], A[4], A[7], A[2], A[5], A[8]}; }
+Mat3 transpose(const Mat3& A) {
+  return {A[0], A[3], A[6], A[1], A[4], A[7], A[2], A[5], A[8]};
+}
 
-Mat3 skew(const Vec3& d) { return {Expr(0), -d[2], d[1], d[2], Expr(0), -d[0], -d[1], d[0], Expr(0)}; }
+Mat3 skew(const Vec3& d) {
+  return {Expr(0), -d[2], d[1], d[2], Expr(0), -d[0], -d[1], d[0], Expr(0)};
+}
 
 // A general symmetric spatial inertia, an articulated body's: the momentum of
 // a twist (ω, v) is (A·ω + B·v, Bᵀ·ω + C·v), A and C symmetric. A rigid body
@@ -25,7 +29,9 @@ struct ArticulatedInertia {
 
 ArticulatedInertia articulated(const SpatialInertia& I) {
   const Expr m = I.mass;
-  return {I.rotational, skew(I.moment), {m, Expr(0), Expr(0), Expr(0), m, Expr(0), Expr(0), Expr(0), m}};
+  return {I.rotational,
+          skew(I.moment),
+          {m, Expr(0), Expr(0), Expr(0), m, Expr(0), Expr(0), Expr(0), m}};
 }
 
 Spatial momentum(const ArticulatedInertia& I, const Spatial& s) {
@@ -45,7 +51,8 @@ Mat3 turned_in_plane(const Mat3& B, int k, Expr c, Expr s, Expr c2, Expr s2) {
   const int i = (k + 1) % 3, j = (k + 2) % 3;
   const auto at = [](int r, int col) { return 3 * r + col; };
   Mat3 out = B;
-  const Expr half = Expr(1) / Expr(2), sum = B[at(i, i)] + B[at(j, j)], h = half * (B[at(i, i)] - B[at(j, j)]);
+  const Expr half = Expr(1) / Expr(2), sum = B[at(i, i)] + B[at(j, j)],
+             h = half * (B[at(i, i)] - B[at(j, j)]);
   const Expr sigma = half * (B[at(i, j)] + B[at(j, i)]), alpha = half * (B[at(i, j)] - B[at(j, i)]);
   out[at(i, i)] = half * sum + h * c2 - sigma * s2;
   out[at(j, j)] = sum - out[at(i, i)];
@@ -64,8 +71,9 @@ Mat3 turned_in_plane(const Mat3& B, int k, Expr c, Expr s, Expr c2, Expr s2) {
 int plane_rotation_axis(const Mat3& R) {
   for (int k = 0; k < 3; ++k) {
     const int i = (k + 1) % 3, j = (k + 2) % 3;
-    if (R[4 * k].is_one() && R[3 * k + i].is_zero() && R[3 * k + j].is_zero() && R[3 * i + k].is_zero() &&
-        R[3 * j + k].is_zero() && R[3 * i + i] == R[3 * j + j] && R[3 * i + j] == -R[3 * j + i]) {
+    if (R[4 * k].is_one() && R[3 * k + i].is_zero() && R[3 * k + j].is_zero() &&
+        R[3 * i + k].is_zero() && R[3 * j + k].is_zero() && R[3 * i + i] == R[3 * j + j] &&
+        R[3 * i + j] == -R[3 * j + i]) {
       return k;
     }
   }
@@ -90,7 +98,8 @@ ArticulatedInertia moved(const ArticulatedInertia& I, const Vec3& d) {
   for (int i = 0; i < 9; ++i) out.B[i] = B[i] + SC[i];
   for (int i = 0; i < 3; ++i) {
     for (int j = i; j < 3; ++j) {
-      out.A[3 * i + j] = out.A[3 * j + i] = A[3 * i + j] - P[3 * i + j] - P[3 * j + i] - SCS[3 * i + j];
+      out.A[3 * i + j] = out.A[3 * j + i] =
+          A[3 * i + j] - P[3 * i + j] - P[3 * j + i] - SCS[3 * i + j];
     }
   }
   return out;
@@ -124,10 +133,13 @@ using Step = Transform::Step;
 
 bool varies(const Step& s) {
   if (s.is_rotation) return !s.angle.is_number();
-  return !(s.displacement[0].is_number() && s.displacement[1].is_number() && s.displacement[2].is_number());
+  return !(s.displacement[0].is_number() && s.displacement[1].is_number() &&
+           s.displacement[2].is_number());
 }
 
-Mat3 rotation(const Step& s) { return Transform::rotation_matrix(s.axis, s.angle); }
+Mat3 rotation(const Step& s) {
+  return Transform::rotation_matrix(s.axis, s.angle);
+}
 
 Spatial twist_up(const Spatial& s, const Step& step) {
   if (step.is_rotation) return {rotation(step) * s.angular, rotation(step) * s.linear};
@@ -135,7 +147,8 @@ Spatial twist_up(const Spatial& s, const Step& step) {
 }
 
 Spatial twist_down(const Spatial& s, const Step& step) {
-  if (step.is_rotation) return {transpose_times(rotation(step), s.angular), transpose_times(rotation(step), s.linear)};
+  if (step.is_rotation)
+    return {transpose_times(rotation(step), s.angular), transpose_times(rotation(step), s.linear)};
   return {s.angular, s.linear - cross(step.displacement, s.angular)};
 }
 
@@ -188,7 +201,8 @@ class Recursion {
         order_(model.topological_order()),
         movers_(nq_) {
     for (int i : order_) {
-      for (const LocalTwist& l : bodies_[i].local) movers_[l.j].push_back({static_cast<std::size_t>(i), l.coefficient, l.direction});
+      for (const LocalTwist& l : bodies_[i].local)
+        movers_[l.j].push_back({static_cast<std::size_t>(i), l.coefficient, l.direction});
     }
   }
 
@@ -199,7 +213,8 @@ class Recursion {
     for (int i : order_) {
       const BodyTerms& b = bodies_[i];
       Spatial a = refs_[i] < 0 ? Spatial{} : to_body(alpha[refs_[i]], b.R, b.r);
-      for (const LocalTwist& l : b.local) a = a + (l.coefficient * model_.coordinates()[l.j].qdd) * b.directions[l.direction];
+      for (const LocalTwist& l : b.local)
+        a = a + (l.coefficient * model_.coordinates()[l.j].qdd) * b.directions[l.direction];
       name(a, model_.bodies()[i].name() + ".qa");
       alpha[i] = a;
       gathered[i] = momentum(b.own_inertia, a);
@@ -207,13 +222,15 @@ class Recursion {
     for (auto i = order_.rbegin(); i != order_.rend(); ++i) {
       name(gathered[*i], model_.bodies()[*i].name() + ".qf");
       if (refs_[*i] >= 0) {
-        gathered[refs_[*i]] = gathered[refs_[*i]] + to_reference(gathered[*i], bodies_[*i].R, bodies_[*i].x);
+        gathered[refs_[*i]] =
+            gathered[refs_[*i]] + to_reference(gathered[*i], bodies_[*i].R, bodies_[*i].x);
       }
     }
     std::vector<Expr> tau;
     for (std::size_t k = 0; k < nq_; ++k) {
       std::vector<Expr> terms{bias[k]};
-      for (const Mover& m : movers_[k]) terms.push_back(m.coefficient * dot(direction(m), gathered[m.body]));
+      for (const Mover& m : movers_[k])
+        terms.push_back(m.coefficient * dot(direction(m), gathered[m.body]));
       tau.push_back(symbolic::add(terms));
     }
     return tau;
@@ -225,7 +242,8 @@ class Recursion {
     for (std::size_t j = 0; j < nq_; ++j) {
       std::vector<std::size_t> bodies;
       for (const Mover& m : movers_[j]) {
-        if (std::find(bodies.begin(), bodies.end(), m.body) == bodies.end()) bodies.push_back(m.body);
+        if (std::find(bodies.begin(), bodies.end(), m.body) == bodies.end())
+          bodies.push_back(m.body);
       }
       const std::string& q = model_.coordinates()[j].q.name();
       if (bodies.empty()) return fmt::format("coordinate '{}' drives no body's motion", q);
@@ -282,7 +300,8 @@ class Recursion {
   // Children first: I^A and p^A complete, the body's coordinates eliminated
   // (D factored, Y, z), I^a and p^a added to the reference's. False (why_not
   // said) where a pivot is exactly zero: M is singular everywhere.
-  bool articulate(int i, Articulated& out, std::vector<ArticulatedInertia>& inertia, std::vector<Spatial>& bias) {
+  bool articulate(int i, Articulated& out, std::vector<ArticulatedInertia>& inertia,
+                  std::vector<Spatial>& bias) {
     const BodyTerms& b = bodies_[i];
     const std::string& n = model_.bodies()[i].name();
     ArticulatedInertia& IA = inertia[i];
@@ -291,7 +310,8 @@ class Recursion {
     names_.name_all(IA.C, n + ".IAc");
     name(bias[i], n + ".pA");
     for (const LocalTwist& l : b.local) {
-      if (std::find(out.coordinates.begin(), out.coordinates.end(), l.j) == out.coordinates.end()) out.coordinates.push_back(l.j);
+      if (std::find(out.coordinates.begin(), out.coordinates.end(), l.j) == out.coordinates.end())
+        out.coordinates.push_back(l.j);
     }
     std::sort(out.coordinates.begin(), out.coordinates.end());
     const std::size_t k = out.coordinates.size();
@@ -321,17 +341,19 @@ class Recursion {
     names_.name_all(Ia.C, n + ".Iac");
     name(pa, n + ".pa");
     // Out through the body's joint steps, then in to the reference's F.
-    const std::vector<Step> up = merged(reversed(out.joint) + reversed(articulated_[refs_[i]].constant));
+    const std::vector<Step> up =
+        merged(reversed(out.joint) + reversed(articulated_[refs_[i]].constant));
     const ArticulatedInertia carried = carry(Ia, up, n + ".X");
     ArticulatedInertia& IB = inertia[refs_[i]];
-    for (int e = 0; e < 9; ++e) IB.A[e] += carried.A[e], IB.B[e] += carried.B[e], IB.C[e] += carried.C[e];
+    for (int e = 0; e < 9; ++e)
+      IB.A[e] += carried.A[e], IB.B[e] += carried.B[e], IB.C[e] += carried.C[e];
     bias[refs_[i]] = bias[refs_[i]] + carry(pa, up, wrench_up, n + ".pc");
     return true;
   }
 
   // A twist or wrench through steps, named after each.
-  Spatial carry(Spatial s, const std::vector<Step>& steps, Spatial (*through)(const Spatial&, const Step&),
-                const std::string& prefix) {
+  Spatial carry(Spatial s, const std::vector<Step>& steps,
+                Spatial (*through)(const Spatial&, const Step&), const std::string& prefix) {
     for (std::size_t k = 0; k < steps.size(); ++k) {
       s = through(s, steps[k]);
       name(s, fmt::format("{}{}_", prefix, k));
@@ -339,7 +361,8 @@ class Recursion {
     return s;
   }
 
-  ArticulatedInertia carry(ArticulatedInertia I, const std::vector<Step>& steps, const std::string& prefix) {
+  ArticulatedInertia carry(ArticulatedInertia I, const std::vector<Step>& steps,
+                           const std::string& prefix) {
     for (std::size_t k = 0; k < steps.size(); ++k) {
       I = inertia_up(I, steps[k]);
       names_.name_all(I.A, fmt::format("{}{}a", prefix, k));
@@ -352,7 +375,8 @@ class Recursion {
   // D = Sᵀ·U = L·diag(d)·Lᵀ unrolled (no square root), Y = U·L⁻ᵀ and
   // z = L⁻¹·(tau - Sᵀ·p^A), with E_nm = L_nm·d_m:
   //   E_nm = D_nm - Σ_{p<m} L_np·E_mp,   d_m = D_mm - Σ_{p<m} L_mp·E_mp.
-  bool factor(const std::string& n, const std::vector<Spatial>& U, const Spatial& pA, Articulated& out) {
+  bool factor(const std::string& n, const std::vector<Spatial>& U, const Spatial& pA,
+              Articulated& out) {
     const std::size_t k = U.size();
     const std::vector<Expr> tau = generalized_force_symbols(model_);
     out.L.assign(k, std::vector<Expr>(k, Expr(0)));
@@ -363,8 +387,9 @@ class Recursion {
       for (std::size_t p = 0; p < m; ++p) pivot.push_back(-(out.L[m][p] * E[m][p]));
       const Expr d = names_(symbolic::add(pivot), fmt::format("{}.d{}", n, m));
       if (d.is_zero()) {
-        d_->why_not = fmt::format("the pivot of coordinate '{}' in body '{}' is zero whatever the state",
-                                 model_.coordinates()[out.coordinates[m]].q.name(), n);
+        d_->why_not =
+            fmt::format("the pivot of coordinate '{}' in body '{}' is zero whatever the state",
+                        model_.coordinates()[out.coordinates[m]].q.name(), n);
         return false;
       }
       out.inverse_pivot.push_back(Expr(1) / d);
@@ -394,7 +419,9 @@ class Recursion {
     const std::string& n = model_.bodies()[i].name();
     // In from the reference's F: its constant steps, then the body's joint steps.
     Spatial carried;
-    if (refs_[i] >= 0) carried = carry(alpha[refs_[i]], merged(articulated_[refs_[i]].constant + a.joint), twist_down, n + ".ac");
+    if (refs_[i] >= 0)
+      carried = carry(alpha[refs_[i]], merged(articulated_[refs_[i]].constant + a.joint),
+                      twist_down, n + ".ac");
     const std::size_t k = a.coordinates.size();
     std::vector<Expr> qdd(k);
     for (std::size_t m = k; m-- > 0;) {
@@ -438,12 +465,13 @@ class Recursion {
 
 }  // namespace
 
-std::vector<Expr> inverse_dynamics(const Model& model, const std::vector<BodyTerms>& bodies, const std::vector<Expr>& bias,
-                                   IntermediateNames& names) {
+std::vector<Expr> inverse_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
+                                   const std::vector<Expr>& bias, IntermediateNames& names) {
   return Recursion(model, bodies, names).inverse_dynamics(bias);
 }
 
-void forward_dynamics(const Model& model, const std::vector<BodyTerms>& bodies, IntermediateNames& names, Dynamics& d) {
+void forward_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
+                      IntermediateNames& names, Dynamics& d) {
   Recursion recursion(model, bodies, names);
   d.why_not = recursion.articulated_body_obstacle();
   if (d.why_not.empty()) recursion.articulated_body_algorithm(d);

@@ -1,11 +1,10 @@
-#include <symdyn/model/transform.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include <fmt/format.h>
-
 #include <symdyn/model/errors.hpp>
+#include <symdyn/model/transform.hpp>
 
 namespace symdyn::model {
 namespace {
@@ -35,12 +34,14 @@ bool Transform::has_rotation() const {
 }
 
 bool Transform::starts_with(const Transform& prefix) const {
-  return prefix.steps_.size() <= steps_.size() && std::equal(prefix.steps_.begin(), prefix.steps_.end(), steps_.begin());
+  return prefix.steps_.size() <= steps_.size() &&
+         std::equal(prefix.steps_.begin(), prefix.steps_.end(), steps_.begin());
 }
 
 Transform Transform::after(std::size_t n) const {
   Transform t;
-  t.steps_.assign(steps_.begin() + static_cast<std::ptrdiff_t>(std::min(n, steps_.size())), steps_.end());
+  t.steps_.assign(steps_.begin() + static_cast<std::ptrdiff_t>(std::min(n, steps_.size())),
+                  steps_.end());
   return t;
 }
 
@@ -83,7 +84,8 @@ Transform Tdisp(Expr x, Expr y, Expr z) {
 Transform Trot(const Vec3& axis, Expr angle) {
   double norm2 = 0.0;
   for (Expr a : axis) {
-    if (!a.is_number()) throw ModelError(fmt::format("Trot: the axis must be constant, got '{}'", a.str()));
+    if (!a.is_number())
+      throw ModelError(fmt::format("Trot: the axis must be constant, got '{}'", a.str()));
     norm2 += a.number().to_double() * a.number().to_double();
   }
   if (std::abs(norm2 - 1.0) > 1e-12) {
@@ -95,8 +97,14 @@ Transform Trot(const Vec3& axis, Expr angle) {
   return t;
 }
 
-Transform Trotx(Expr angle) { return Trot({Expr(1), Expr(0), Expr(0)}, angle); }
-Transform Troty(Expr angle) { return Trot({Expr(0), Expr(1), Expr(0)}, angle); }
-Transform Trotz(Expr angle) { return Trot({Expr(0), Expr(0), Expr(1)}, angle); }
+Transform Trotx(Expr angle) {
+  return Trot({Expr(1), Expr(0), Expr(0)}, angle);
+}
+Transform Troty(Expr angle) {
+  return Trot({Expr(0), Expr(1), Expr(0)}, angle);
+}
+Transform Trotz(Expr angle) {
+  return Trot({Expr(0), Expr(0), Expr(1)}, angle);
+}
 
 }  // namespace symdyn::model

@@ -1,7 +1,6 @@
-#include <symdyn/model/trig_reduction.hpp>
-
 #include <algorithm>
 
+#include <symdyn/model/trig_reduction.hpp>
 #include <symdyn/symbolic/cost.hpp>
 #include <symdyn/symbolic/trig_polynomial.hpp>
 
@@ -15,8 +14,10 @@ namespace {
 class ChoiceCost {
  public:
   // Lists 2·k and 2·k + 1 are the given and the reduced forms of part k.
-  explicit ChoiceCost(const std::vector<std::vector<Expr>>& lists) : marks_(symbolic::Context::current().size(), 0) {
-    for (std::size_t i = 0; i < lists.size(); ++i) mark(lists[i], static_cast<std::uint8_t>(1U << i));
+  explicit ChoiceCost(const std::vector<std::vector<Expr>>& lists)
+      : marks_(symbolic::Context::current().size(), 0) {
+    for (std::size_t i = 0; i < lists.size(); ++i)
+      mark(lists[i], static_cast<std::uint8_t>(1U << i));
   }
 
   // `lists`: a mask of the lists chosen.
@@ -43,7 +44,7 @@ class ChoiceCost {
     }
   }
 
-  std::vector<std::uint8_t> marks_;                 // (by node id) the lists that reach it
+  std::vector<std::uint8_t> marks_;                     // (by node id) the lists that reach it
   std::vector<std::pair<std::uint32_t, int>> reached_;  // each node reached, with its own cost
 };
 
@@ -66,17 +67,21 @@ void reduce_trigonometry(Dynamics& dynamics, const Kinematics& kinematics) {
   const auto n = static_cast<std::ptrdiff_t>(dynamics.mass_matrix.size());
   const std::vector<Expr> M(reduced.outputs.begin(), reduced.outputs.begin() + n);
   const std::vector<Expr> h(reduced.outputs.begin() + n, reduced.outputs.end());
-  if (M == dynamics.mass_matrix && h == dynamics.bias && reduced.definitions.size() == dynamics.definitions.size() &&
-      std::equal(reduced.definitions.begin(), reduced.definitions.end(), dynamics.definitions.begin(),
-                 [](const symbolic::Definition& a, const symbolic::Definition& b) { return a.value == b.value; })) {
+  if (M == dynamics.mass_matrix && h == dynamics.bias &&
+      reduced.definitions.size() == dynamics.definitions.size() &&
+      std::equal(reduced.definitions.begin(), reduced.definitions.end(),
+                 dynamics.definitions.begin(),
+                 [](const symbolic::Definition& a, const symbolic::Definition& b) {
+                   return a.value == b.value;
+                 })) {
     return;  // nothing reduced
   }
   struct Choice {
     int operations;
     bool definitions, M, h;  // reduced or not
   };
-  const ChoiceCost operations({dynamics.mass_matrix, M, dynamics.bias, h, values(dynamics.definitions),
-                               values(reduced.definitions)});
+  const ChoiceCost operations({dynamics.mass_matrix, M, dynamics.bias, h,
+                               values(dynamics.definitions), values(reduced.definitions)});
   Choice best{-1, false, false, false};
   for (const bool d : {false, true}) {
     for (const bool m : {false, true}) {

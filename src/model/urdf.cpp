@@ -1,5 +1,3 @@
-#include <symdyn/model/urdf.hpp>
-
 #include <console_bridge/console.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -15,6 +13,8 @@
 #include <map>
 #include <set>
 #include <sstream>
+
+#include <symdyn/model/urdf.hpp>
 
 namespace symdyn::model {
 
@@ -65,7 +65,9 @@ ParsedRobot parse(std::string_view xml) {
   CollectedMessages messages;
   urdf::ModelInterfaceSharedPtr robot = urdf::parseURDF(std::string(xml));
   if (!robot || !messages.errors().empty()) {
-    const std::string why = messages.errors().empty() ? "not a URDF robot" : fmt::format("{}", fmt::join(messages.errors(), "; "));
+    const std::string why = messages.errors().empty()
+                                ? "not a URDF robot"
+                                : fmt::format("{}", fmt::join(messages.errors(), "; "));
     throw ModelError(fmt::format("URDF: {}", why));
   }
   return ParsedRobot(std::move(robot));
@@ -107,8 +109,8 @@ const std::map<std::string_view, std::vector<const char*>>& numeric_attributes()
 // The numbers of an attribute, each finite: ModelError naming the owner (link
 // or joint), the element's path and the attribute. A word that is not a
 // number is left to urdfdom's own message.
-std::vector<double> finite_numbers(const std::string& owner, const std::string& element, const char* attribute,
-                                   const std::string& text) {
+std::vector<double> finite_numbers(const std::string& owner, const std::string& element,
+                                   const char* attribute, const std::string& text) {
   std::vector<double> out;
   std::istringstream words(text);
   std::string word;
@@ -118,7 +120,8 @@ std::vector<double> finite_numbers(const std::string& owner, const std::string& 
     double v = 0.0;
     const auto [end, ec] = std::from_chars(first, last, v);
     const auto refuse = [&](const char* why) {
-      throw ModelError(fmt::format("URDF {}: <{} {}=\"{}\">: '{}' {}", owner, element, attribute, text, word, why));
+      throw ModelError(fmt::format("URDF {}: <{} {}=\"{}\">: '{}' {}", owner, element, attribute,
+                                   text, word, why));
     };
     if (ec == std::errc::result_out_of_range) refuse("is beyond the range of a double");
     if (ec != std::errc() || end != last) return {};
@@ -135,7 +138,8 @@ void check_element(const TiXmlElement& e, const std::string& owner, const std::s
       if (const char* text = e.Attribute(attribute)) finite_numbers(owner, path, attribute, text);
     }
   }
-  for (const TiXmlElement* child = e.FirstChildElement(); child != nullptr; child = child->NextSiblingElement()) {
+  for (const TiXmlElement* child = e.FirstChildElement(); child != nullptr;
+       child = child->NextSiblingElement()) {
     check_element(*child, owner, path + "><" + child->ValueStr());
   }
 }
@@ -156,19 +160,22 @@ WrittenNumbers read_written_numbers(std::string_view xml) {
   document.Parse(std::string(xml).c_str());
   const TiXmlElement* robot = document.Error() ? nullptr : document.FirstChildElement("robot");
   if (robot == nullptr) return out;  // urdfdom says what is wrong
-  for (const TiXmlElement* e = robot->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
+  for (const TiXmlElement* e = robot->FirstChildElement(); e != nullptr;
+       e = e->NextSiblingElement()) {
     const bool link = e->ValueStr() == "link", joint = e->ValueStr() == "joint";
     if (!link && !joint) continue;
     const char* name = e->Attribute("name");
     const std::string owner = fmt::format("{} '{}'", e->ValueStr(), name != nullptr ? name : "");
-    for (const TiXmlElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+    for (const TiXmlElement* c = e->FirstChildElement(); c != nullptr;
+         c = c->NextSiblingElement()) {
       check_element(*c, owner, c->ValueStr());
     }
     if (name == nullptr) continue;
     if (joint) {
       out.joint_rpy[name] = written_rpy(e->FirstChildElement("origin"), owner, "origin");
     } else if (const TiXmlElement* inertial = e->FirstChildElement("inertial")) {
-      out.inertial_rpy[name] = written_rpy(inertial->FirstChildElement("origin"), owner, "inertial><origin");
+      out.inertial_rpy[name] =
+          written_rpy(inertial->FirstChildElement("origin"), owner, "inertial><origin");
     }
   }
   return out;
@@ -180,12 +187,16 @@ std::string identifier_shaped(const std::string& name) {
   for (char& c : out) {
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   }
-  if (out.empty() || std::isdigit(static_cast<unsigned char>(out.front()))) out.insert(out.begin(), '_');
+  if (out.empty() || std::isdigit(static_cast<unsigned char>(out.front())))
+    out.insert(out.begin(), '_');
   return out;
 }
 
-// Zero mass makes a frame; any other mass a body, a negative or NaN one refused by the builder's checks naming it.
-bool is_massive(const urdf::Link& link) { return link.inertial && link.inertial->mass != 0.0; }
+// Zero mass makes a frame; any other mass a body, a negative or NaN one refused by the builder's
+// checks naming it.
+bool is_massive(const urdf::Link& link) {
+  return link.inertial && link.inertial->mass != 0.0;
+}
 
 // Translation by xyz, then rotation Rz(yaw)·Ry(pitch)·Rx(roll) with the
 // angles as written; factors that do nothing are left out.
@@ -215,20 +226,28 @@ Vec3 unit_axis(const urdf::Joint& joint) {
   const urdf::Vector3& a = joint.axis;
   const double norm = std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
   if (!(norm > 0.0) || !std::isfinite(norm)) {
-    throw ModelError(fmt::format("URDF joint '{}': the axis ({}, {}, {}) has no direction", joint.name, a.x, a.y, a.z));
+    throw ModelError(fmt::format("URDF joint '{}': the axis ({}, {}, {}) has no direction",
+                                 joint.name, a.x, a.y, a.z));
   }
   return {Expr(a.x / norm), Expr(a.y / norm), Expr(a.z / norm)};
 }
 
 const char* type_name(const urdf::Joint& joint) {
   switch (joint.type) {
-    case urdf::Joint::FIXED: return "fixed";
-    case urdf::Joint::REVOLUTE: return "revolute";
-    case urdf::Joint::CONTINUOUS: return "continuous";
-    case urdf::Joint::PRISMATIC: return "prismatic";
-    case urdf::Joint::FLOATING: return "floating";
-    case urdf::Joint::PLANAR: return "planar";
-    default: return "unknown";
+    case urdf::Joint::FIXED:
+      return "fixed";
+    case urdf::Joint::REVOLUTE:
+      return "revolute";
+    case urdf::Joint::CONTINUOUS:
+      return "continuous";
+    case urdf::Joint::PRISMATIC:
+      return "prismatic";
+    case urdf::Joint::FLOATING:
+      return "floating";
+    case urdf::Joint::PLANAR:
+      return "planar";
+    default:
+      return "unknown";
   }
 }
 
@@ -244,7 +263,8 @@ Transform floating_motion(Model& m, const std::string& base, std::vector<std::st
 
 class Importer {
  public:
-  Importer(Model& m, const urdf::ModelInterface& robot, const WrittenNumbers& written, const UrdfOptions& options)
+  Importer(Model& m, const urdf::ModelInterface& robot, const WrittenNumbers& written,
+           const UrdfOptions& options)
       : m_(m), robot_(robot), written_(written), options_(options) {}
 
   std::vector<UrdfJoint> run() {
@@ -257,7 +277,8 @@ class Importer {
     }
     const bool massive = visit(root, placement, std::nullopt);
     if (options_.floating_base && !massive) {
-      throw ModelError(fmt::format("URDF: floating base '{}' moves no body: no link of the robot has mass", root.name));
+      throw ModelError(fmt::format(
+          "URDF: floating base '{}' moves no body: no link of the robot has mass", root.name));
     }
     check_all_links_reached();
     m_.gravity(options_.gravity[0], options_.gravity[1], options_.gravity[2]);
@@ -268,9 +289,11 @@ class Importer {
   // Adds the link (a body if it has mass) and the links beyond it; `placement`
   // goes from the reference's frame (G of the nearest massive ancestor, or the
   // ground) to the link's frame. Returns whether any of them has mass.
-  bool visit(const urdf::Link& link, const Transform& placement, const std::optional<std::string>& reference) {
+  bool visit(const urdf::Link& link, const Transform& placement,
+             const std::optional<std::string>& reference) {
     if (!visited_.insert(link.name).second) {
-      throw ModelError(fmt::format("URDF: link '{}' is reached twice: the joints form a closed loop", link.name));
+      throw ModelError(fmt::format(
+          "URDF: link '{}' is reached twice: the joints form a closed loop", link.name));
     }
     Transform to_link = placement;
     std::optional<std::string> children_reference = reference;
@@ -284,24 +307,28 @@ class Importer {
       const urdf::LinkConstSharedPtr child = robot_.getLink(joint->child_link_name);
       const std::size_t coordinates_before = m_.coordinates().size();
       const Transform motion = joint_motion(*joint);
-      const bool child_massive =
-          visit(*child, to_link * pose_transform(joint->parent_to_joint_origin_transform, joint_rpy(*joint)) * motion,
-                children_reference);
+      const bool child_massive = visit(
+          *child,
+          to_link * pose_transform(joint->parent_to_joint_origin_transform, joint_rpy(*joint)) *
+              motion,
+          children_reference);
       if (!child_massive && m_.coordinates().size() > coordinates_before) {
-        throw ModelError(fmt::format("URDF joint '{}' ({}) moves no body: link '{}' and the links beyond it have no mass",
-                                     joint->name, type_name(*joint), joint->child_link_name));
+        throw ModelError(fmt::format(
+            "URDF joint '{}' ({}) moves no body: link '{}' and the links beyond it have no mass",
+            joint->name, type_name(*joint), joint->child_link_name));
       }
       massive = massive || child_massive;
     }
     return massive;
   }
 
-  void add_body(const urdf::Link& link, const Transform& placement, const std::optional<std::string>& reference) {
+  void add_body(const urdf::Link& link, const Transform& placement,
+                const std::optional<std::string>& reference) {
     const urdf::Inertial& in = *link.inertial;
     Body& body = m_.body(identifier_shaped(link.name));
     body.mass(in.mass)
-        .inertia(Mat3{Expr(in.ixx), Expr(in.ixy), Expr(in.ixz), Expr(in.ixy), Expr(in.iyy), Expr(in.iyz), Expr(in.ixz),
-                      Expr(in.iyz), Expr(in.izz)})
+        .inertia(Mat3{Expr(in.ixx), Expr(in.ixy), Expr(in.ixz), Expr(in.ixy), Expr(in.iyy),
+                      Expr(in.iyz), Expr(in.ixz), Expr(in.iyz), Expr(in.izz)})
         .motion(placement * pose_transform(in.origin, inertial_rpy(link)));
     if (reference) body.relative_to(*reference);
   }
@@ -309,36 +336,44 @@ class Importer {
   // The joint's own motion, declaring its coordinates; refuses what symdyn cannot represent.
   Transform joint_motion(const urdf::Joint& joint) {
     if (joint.mimic) {
-      throw ModelError(fmt::format("URDF joint '{}': mimic joints are not supported (it mimics '{}')", joint.name,
-                                   joint.mimic->joint_name));
+      throw ModelError(
+          fmt::format("URDF joint '{}': mimic joints are not supported (it mimics '{}')",
+                      joint.name, joint.mimic->joint_name));
     }
     UrdfJoint record{joint.name, type_name(joint), {}, std::nullopt};
     if (joint.limits) {
-      record.limits = UrdfJoint::Limits{joint.limits->lower, joint.limits->upper, joint.limits->velocity,
-                                        joint.limits->effort};
+      record.limits = UrdfJoint::Limits{joint.limits->lower, joint.limits->upper,
+                                        joint.limits->velocity, joint.limits->effort};
     }
     Transform motion;
     switch (joint.type) {
-      case urdf::Joint::FIXED: break;
+      case urdf::Joint::FIXED:
+        break;
       case urdf::Joint::REVOLUTE:
-      case urdf::Joint::CONTINUOUS: motion = Trot(unit_axis(joint), declare(joint, record)); break;
+      case urdf::Joint::CONTINUOUS:
+        motion = Trot(unit_axis(joint), declare(joint, record));
+        break;
       case urdf::Joint::PRISMATIC: {
         const Vec3 axis = unit_axis(joint);
         const Expr q = declare(joint, record);
         motion = Tdisp(axis[0] * q, axis[1] * q, axis[2] * q);
         break;
       }
-      case urdf::Joint::FLOATING: motion = floating_motion(m_, identifier_shaped(joint.name), record.coordinates); break;
+      case urdf::Joint::FLOATING:
+        motion = floating_motion(m_, identifier_shaped(joint.name), record.coordinates);
+        break;
       default:
-        throw ModelError(fmt::format("URDF joint '{}': {} joints are not supported (fixed, revolute, continuous, "
-                                     "prismatic, floating are)",
-                                     joint.name, type_name(joint)));
+        throw ModelError(fmt::format(
+            "URDF joint '{}': {} joints are not supported (fixed, revolute, continuous, "
+            "prismatic, floating are)",
+            joint.name, type_name(joint)));
     }
     joints_.push_back(std::move(record));
     return motion;
   }
 
-  // One coordinate named after the joint, starting at 0 or at the nearest limit when 0 is outside them.
+  // One coordinate named after the joint, starting at 0 or at the nearest limit when 0 is outside
+  // them.
   Expr declare(const urdf::Joint& joint, UrdfJoint& record) {
     record.coordinates.push_back(identifier_shaped(joint.name));
     const Expr q = m_.coordinate(record.coordinates.back());
@@ -360,8 +395,9 @@ class Importer {
   void check_all_links_reached() const {
     for (const auto& [name, link] : robot_.links_) {
       if (!visited_.count(name)) {
-        throw ModelError(fmt::format("URDF: link '{}' is not connected to the root link '{}' (a closed loop?)", name,
-                                     robot_.getRoot()->name));
+        throw ModelError(
+            fmt::format("URDF: link '{}' is not connected to the root link '{}' (a closed loop?)",
+                        name, robot_.getRoot()->name));
       }
     }
   }
@@ -376,7 +412,8 @@ class Importer {
 
 }  // namespace
 
-std::vector<UrdfJoint> add_urdf(Model& model, std::string_view urdf_xml, const UrdfOptions& options) {
+std::vector<UrdfJoint> add_urdf(Model& model, std::string_view urdf_xml,
+                                const UrdfOptions& options) {
   const WrittenNumbers written = read_written_numbers(urdf_xml);
   const ParsedRobot robot = parse(urdf_xml);
   return Importer(model, *robot, written, options).run();
@@ -390,7 +427,8 @@ std::string urdf_robot_name(std::string_view urdf_xml) {
 UrdfRobot import_urdf(std::string_view urdf_xml, const UrdfOptions& options) {
   const WrittenNumbers written = read_written_numbers(urdf_xml);
   const ParsedRobot robot = parse(urdf_xml);
-  UrdfRobot out{Model(options.name.empty() ? identifier_shaped(robot->getName()) : options.name), {}};
+  UrdfRobot out{Model(options.name.empty() ? identifier_shaped(robot->getName()) : options.name),
+                {}};
   out.joints = Importer(out.model, *robot, written, options).run();
   return out;
 }

@@ -64,8 +64,8 @@ struct UrdfJoint {
     double velocity = 0.0;            // rad/s or m/s
     double effort = 0.0;              // N·m or N
   };
-  std::string name;                      // as in the URDF
-  std::string type;                      // "fixed", "revolute", "continuous", "prismatic", "floating"
+  std::string name;  // as in the URDF
+  std::string type;  // "fixed", "revolute", "continuous", "prismatic", "floating"
   std::vector<std::string> coordinates;  // the names given to the model's coordinates
   std::optional<Limits> limits;
 };
@@ -77,7 +77,8 @@ struct UrdfRobot {
 
 // Adds the robot's bodies, coordinates and gravity to `model` (whose name is
 // kept); returns the joints. For model::Definition::build.
-std::vector<UrdfJoint> add_urdf(Model& model, std::string_view urdf_xml, const UrdfOptions& options = {});
+std::vector<UrdfJoint> add_urdf(Model& model, std::string_view urdf_xml,
+                                const UrdfOptions& options = {});
 
 UrdfRobot import_urdf(std::string_view urdf_xml, const UrdfOptions& options = {});
 UrdfRobot import_urdf_file(const std::string& path, const UrdfOptions& options = {});

@@ -12,15 +12,27 @@ using symbolic::Expr;
 using Vec3 = std::array<Expr, 3>;
 using Mat3 = std::array<Expr, 9>;  // row-major
 
-inline Vec3 zero3() { return {Expr(0), Expr(0), Expr(0)}; }
+inline Vec3 zero3() {
+  return {Expr(0), Expr(0), Expr(0)};
+}
 
-inline bool is_zero(const Vec3& v) { return v[0].is_zero() && v[1].is_zero() && v[2].is_zero(); }
+inline bool is_zero(const Vec3& v) {
+  return v[0].is_zero() && v[1].is_zero() && v[2].is_zero();
+}
 
-inline Mat3 identity3() { return {Expr(1), Expr(0), Expr(0), Expr(0), Expr(1), Expr(0), Expr(0), Expr(0), Expr(1)}; }
+inline Mat3 identity3() {
+  return {Expr(1), Expr(0), Expr(0), Expr(0), Expr(1), Expr(0), Expr(0), Expr(0), Expr(1)};
+}
 
-inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-inline Vec3 operator*(Expr s, const Vec3& a) { return {s * a[0], s * a[1], s * a[2]}; }
+inline Vec3 operator+(const Vec3& a, const Vec3& b) {
+  return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+inline Vec3 operator-(const Vec3& a, const Vec3& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+inline Vec3 operator*(Expr s, const Vec3& a) {
+  return {s * a[0], s * a[1], s * a[2]};
+}
 
 // Sums of three terms are built at once (the engine's n-ary add), not pairwise:
 // the same expression, without interning the partial sums.
@@ -29,7 +41,9 @@ inline Expr sum3(Expr a, Expr b, Expr c) {
   return symbolic::add(terms);
 }
 
-inline Expr dot(const Vec3& a, const Vec3& b) { return sum3(a[0] * b[0], a[1] * b[1], a[2] * b[2]); }
+inline Expr dot(const Vec3& a, const Vec3& b) {
+  return sum3(a[0] * b[0], a[1] * b[1], a[2] * b[2]);
+}
 
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
@@ -51,7 +65,8 @@ inline Vec3 transpose_times(const Mat3& A, const Vec3& b) {
 inline Mat3 operator*(const Mat3& A, const Mat3& B) {
   Mat3 C;
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) C[3 * i + j] = sum3(A[3 * i] * B[j], A[3 * i + 1] * B[3 + j], A[3 * i + 2] * B[6 + j]);
+    for (int j = 0; j < 3; ++j)
+      C[3 * i + j] = sum3(A[3 * i] * B[j], A[3 * i + 1] * B[3 + j], A[3 * i + 2] * B[6 + j]);
   }
   return C;
 }

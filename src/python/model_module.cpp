@@ -14,13 +14,10 @@
 // The GIL is held throughout: a Python callable used as a force runs inside
 // the integrator like any other code, and its exceptions propagate unchanged.
 
-#include <symdyn/python/model_module.hpp>
-
+#include <fmt/format.h>
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
-
-#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -32,6 +29,7 @@
 #include <string_view>
 #include <vector>
 
+#include <symdyn/python/model_module.hpp>
 #include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/runtime.hpp>
 
@@ -113,7 +111,9 @@ Vector vector_arg(const py::handle& value, Eigen::Index n, std::string_view what
   return Eigen::Map<const Vector>(a.data(), n);
 }
 
-Vec3 vec3_arg(const py::handle& value, std::string_view what) { return vector_arg(value, 3, what); }
+Vec3 vec3_arg(const py::handle& value, std::string_view what) {
+  return vector_arg(value, 3, what);
+}
 
 // A 3 x 3 matrix from a nested sequence or array.
 runtime::Mat3 mat3_arg(const py::handle& value, std::string_view what) {
@@ -199,7 +199,8 @@ py::array_t<double> column(const std::vector<double>& values) {
 }
 
 py::array_t<double> rows_array(const std::vector<double>& values, Eigen::Index columns) {
-  const auto rows = columns == 0 ? py::ssize_t{0} : static_cast<py::ssize_t>(values.size()) / columns;
+  const auto rows =
+      columns == 0 ? py::ssize_t{0} : static_cast<py::ssize_t>(values.size()) / columns;
   py::array_t<double> a({rows, static_cast<py::ssize_t>(columns)});
   if (!values.empty()) std::memcpy(a.mutable_data(), values.data(), values.size() * sizeof(double));
   return a;
@@ -250,7 +251,8 @@ std::string field_names(const std::vector<Field<P>>& fields) {
 
 // TypeError naming an unknown keyword and the valid ones.
 template <class P>
-P properties_from(const py::kwargs& given, const std::vector<Field<P>>& fields, std::string_view element) {
+P properties_from(const py::kwargs& given, const std::vector<Field<P>>& fields,
+                  std::string_view element) {
   P p;
   for (const auto& [key, value] : given) {
     const auto name = py::cast<std::string>(key);
@@ -289,32 +291,38 @@ runtime::Plane plane_from(py::kwargs& kwargs, std::string_view element) {
 const std::vector<Field<runtime::ContactProperties>>& contact_fields() {
   using P = runtime::ContactProperties;
   static const std::vector<Field<P>> fields{
-      {"stiffness", &P::stiffness},       {"stiffness_exponent", &P::stiffness_exponent},
-      {"damping", &P::damping},           {"damping_exponent", &P::damping_exponent},
-      {"friction", &P::friction},         {"slip_speed", &P::slip_speed}};
+      {"stiffness", &P::stiffness}, {"stiffness_exponent", &P::stiffness_exponent},
+      {"damping", &P::damping},     {"damping_exponent", &P::damping_exponent},
+      {"friction", &P::friction},   {"slip_speed", &P::slip_speed}};
   return fields;
 }
 
 const std::vector<Field<runtime::SimpleTyreProperties>>& simple_tyre_fields() {
   using P = runtime::SimpleTyreProperties;
   static const std::vector<Field<P>> fields{
-      {"radius", &P::radius},     {"stiffness", &P::stiffness}, {"damping", &P::damping},
-      {"friction", &P::friction}, {"epsilon", &P::epsilon},     {"axis", nullptr, &P::axis},
+      {"radius", &P::radius},         {"stiffness", &P::stiffness}, {"damping", &P::damping},
+      {"friction", &P::friction},     {"epsilon", &P::epsilon},     {"axis", nullptr, &P::axis},
       {"centre", nullptr, &P::centre}};
   return fields;
 }
 
 const std::vector<Field<runtime::GimTyreProperties>>& gim_tyre_fields() {
   using P = runtime::GimTyreProperties;
-  static const std::vector<Field<P>> fields{
-      {"r1", &P::r1},                 {"r2", &P::r2},
-      {"Kz", &P::Kz},                 {"Cz", &P::Cz},
-      {"Fznom", &P::Fznom},           {"Clongnom", &P::Clongnom},
-      {"nlong", &P::nlong},           {"Clatnom", &P::Clatnom},
-      {"nlat", &P::nlat},             {"Ccambernom", &P::Ccambernom},
-      {"ncamber", &P::ncamber},       {"mu_static", &P::mu_static},
-      {"mu_dynamic", &P::mu_dynamic}, {"axis", nullptr, &P::axis},
-      {"centre", nullptr, &P::centre}};
+  static const std::vector<Field<P>> fields{{"r1", &P::r1},
+                                            {"r2", &P::r2},
+                                            {"Kz", &P::Kz},
+                                            {"Cz", &P::Cz},
+                                            {"Fznom", &P::Fznom},
+                                            {"Clongnom", &P::Clongnom},
+                                            {"nlong", &P::nlong},
+                                            {"Clatnom", &P::Clatnom},
+                                            {"nlat", &P::nlat},
+                                            {"Ccambernom", &P::Ccambernom},
+                                            {"ncamber", &P::ncamber},
+                                            {"mu_static", &P::mu_static},
+                                            {"mu_dynamic", &P::mu_dynamic},
+                                            {"axis", nullptr, &P::axis},
+                                            {"centre", nullptr, &P::centre}};
   return fields;
 }
 
@@ -333,8 +341,7 @@ const std::vector<Field<runtime::BushingProperties>>& bushing_fields() {
 Force coordinate_spring_damper(const py::object& coordinate, double stiffness, double damping,
                                double free_value, const py::object& name) {
   const std::string n = name_or(name, coordinate);
-  return {fmt::format("CoordinateSpringDamper('{}')", n),
-          [=](const Model& m) -> ElementPtr {
+  return {fmt::format("CoordinateSpringDamper('{}')", n), [=](const Model& m) -> ElementPtr {
             return std::make_shared<runtime::CoordinateSpringDamper>(
                 n, coordinate_arg(m, coordinate), stiffness, damping, free_value);
           }};
@@ -430,13 +437,15 @@ Force bushing(const py::object& body_a, const py::object& body_b, const py::obje
               const std::string& order, const py::object& name, py::kwargs kwargs) {
   const std::string n = name_or(name, body_b);
   const Vec3 oa = vec3_arg(origin_a, "origin_a"), ob = vec3_arg(origin_b, "origin_b");
-  const runtime::Mat3 ra = axes_a.is_none() ? runtime::Mat3::Identity() : mat3_arg(axes_a, "axes_a");
-  const runtime::Mat3 rb = axes_b.is_none() ? runtime::Mat3::Identity() : mat3_arg(axes_b, "axes_b");
+  const runtime::Mat3 ra =
+      axes_a.is_none() ? runtime::Mat3::Identity() : mat3_arg(axes_a, "axes_a");
+  const runtime::Mat3 rb =
+      axes_b.is_none() ? runtime::Mat3::Identity() : mat3_arg(axes_b, "axes_b");
   const auto props = properties_from(kwargs, bushing_fields(), "Bushing");
   return {fmt::format("Bushing('{}')", n), [=](const Model& m) -> ElementPtr {
-            return std::make_shared<runtime::Bushing>(n, runtime::BodyFrame{body_arg(m, body_a), oa, ra},
-                                                      runtime::BodyFrame{body_arg(m, body_b), ob, rb},
-                                                      props, order);
+            return std::make_shared<runtime::Bushing>(
+                n, runtime::BodyFrame{body_arg(m, body_a), oa, ra},
+                runtime::BodyFrame{body_arg(m, body_b), ob, rb}, props, order);
           }};
 }
 
@@ -512,7 +521,8 @@ class System {
 
   py::dict parameters() const {
     py::dict d;
-    for (int k = 0; k < model().nparam(); ++k) d[py::str(model().param_names()[k])] = model().parameters()[k];
+    for (int k = 0; k < model().nparam(); ++k)
+      d[py::str(model().param_names()[k])] = model().parameters()[k];
     return d;
   }
   double parameter(const std::string& name) const {
@@ -535,7 +545,8 @@ py::tuple positions(System& self, const py::object& q, double t) {
   const State s = state_arg(self.base(), t, q, py::none());
   Kinematics k = m.make_kinematics();
   m.positions(t, s.q.data(), k);
-  return py::make_tuple(body_array(k.R_data(), m.nbody(), true), body_array(k.x_data(), m.nbody(), false));
+  return py::make_tuple(body_array(k.R_data(), m.nbody(), true),
+                        body_array(k.x_data(), m.nbody(), false));
 }
 
 py::tuple velocities(System& self, const py::object& q, const py::object& qd, double t) {
@@ -543,7 +554,8 @@ py::tuple velocities(System& self, const py::object& q, const py::object& qd, do
   const State s = state_arg(self.base(), t, q, qd);
   Kinematics k = m.make_kinematics();
   m.velocities(t, s.q.data(), s.qd.data(), k);
-  return py::make_tuple(body_array(k.v_data(), m.nbody(), false), body_array(k.w_data(), m.nbody(), false));
+  return py::make_tuple(body_array(k.v_data(), m.nbody(), false),
+                        body_array(k.w_data(), m.nbody(), false));
 }
 
 py::tuple body_accelerations(System& self, const py::object& q, const py::object& qd,
@@ -554,7 +566,8 @@ py::tuple body_accelerations(System& self, const py::object& q, const py::object
   check_finite(a, m, "qdd");
   Kinematics k = m.make_kinematics();
   m.accelerations(t, s.q.data(), s.qd.data(), a.data(), k);
-  return py::make_tuple(body_array(k.a_data(), m.nbody(), false), body_array(k.dw_data(), m.nbody(), false));
+  return py::make_tuple(body_array(k.a_data(), m.nbody(), false),
+                        body_array(k.dw_data(), m.nbody(), false));
 }
 
 py::tuple dependent_parameters(System& self, const py::object& q, const py::object& qd,
@@ -634,10 +647,11 @@ py::object statistics_of(const runtime::Statistics& s) {
   return namespace_of(d);
 }
 
-py::object result_of(const Recording& r, Eigen::Index nq, const Model& m, std::string_view integrator,
-                     const runtime::Statistics& stats) {
+py::object result_of(const Recording& r, Eigen::Index nq, const Model& m,
+                     std::string_view integrator, const runtime::Statistics& stats) {
   std::vector<double> total(r.kinetic.size());
-  for (std::size_t i = 0; i < total.size(); ++i) total[i] = r.kinetic[i] + r.gravitational[i] + r.elastic[i];
+  for (std::size_t i = 0; i < total.size(); ++i)
+    total[i] = r.kinetic[i] + r.gravitational[i] + r.elastic[i];
   py::dict e;
   e["kinetic"] = column(r.kinetic);
   e["gravitational"] = column(r.gravitational);
@@ -657,8 +671,8 @@ py::object result_of(const Recording& r, Eigen::Index nq, const Model& m, std::s
 
 py::object simulate(System& self, double t_end, const std::string& integrator, double rtol,
                     double atol, double interval, const py::object& times, const py::object& q0,
-                    const py::object& qd0, double t0, double step, double max_step,
-                    bool fixed_step, double global_tolerance, const std::vector<Force>& forces) {
+                    const py::object& qd0, double t0, double step, double max_step, bool fixed_step,
+                    double global_tolerance, const std::vector<Force>& forces) {
   MultibodySystem& system = self.with(forces);
   const State initial = state_arg(system, t0, q0, qd0);
   runtime::IntegratorOptions o;
@@ -757,8 +771,9 @@ py::object dynamics_derivatives(System& self, const py::object& q, const py::obj
 
 // One rk4 step of h from (q, qd) with generalized forces u (held over the
 // step; default zero) and its exact derivatives A = dx1/dx0, B = dx1/du.
-py::object step_derivatives(System& self, const py::object& q, const py::object& qd, const py::object& u, double h,
-                            double t, const std::vector<Force>& forces) {
+py::object step_derivatives(System& self, const py::object& q, const py::object& qd,
+                            const py::object& u, double h, double t,
+                            const std::vector<Force>& forces) {
   MultibodySystem& system = self.with(forces);
   const Eigen::Index n = system.num_coordinates();
   const Vector input = u.is_none() ? Vector::Zero(n) : u.cast<Vector>();
@@ -836,24 +851,27 @@ void define_system(py::module_& module, ModelFactory make_model) {
            }),
            "forces"_a = no_forces, "A system of this model with the given force elements.")
       .def("add", &System::add, "force"_a, "Adds a force element (a Force of this module).")
-      .def_property_readonly("forces", &System::force_names, "Names of the force elements, in order.")
+      .def_property_readonly("forces", &System::force_names,
+                             "Names of the force elements, in order.")
       .def_property_readonly("parameters", &System::parameters,
                              "The run-time parameters, {name: value}.")
       .def("get_parameter", &System::parameter, "name"_a, "A run-time parameter's value.")
-      .def("set_parameter",
-           [](System& self, const std::string& name, double value) {
-             self.base().set_parameter(name, value);
-           },
-           "name"_a, "value"_a,
-           "Sets a run-time parameter; the inertia is re-validated (ModelError naming the body "
-           "or the parameter, the old values kept).")
-      .def("set_parameters",
-           [](System& self, const py::dict& values) {
-             for (const auto& [name, value] : values) {
-               self.base().set_parameter(name.cast<std::string>(), value.cast<double>());
-             }
-           },
-           "values"_a, "Sets several run-time parameters from {name: value}.")
+      .def(
+          "set_parameter",
+          [](System& self, const std::string& name, double value) {
+            self.base().set_parameter(name, value);
+          },
+          "name"_a, "value"_a,
+          "Sets a run-time parameter; the inertia is re-validated (ModelError naming the body "
+          "or the parameter, the old values kept).")
+      .def(
+          "set_parameters",
+          [](System& self, const py::dict& values) {
+            for (const auto& [name, value] : values) {
+              self.base().set_parameter(name.cast<std::string>(), value.cast<double>());
+            }
+          },
+          "values"_a, "Sets several run-time parameters from {name: value}.")
       .def("positions", &positions, "q"_a = none, "t"_a = 0.0,
            "(R, x): every body's rotation body -> global (nbody x 3 x 3) and centre of "
            "gravity (nbody x 3).")
@@ -864,15 +882,16 @@ void define_system(py::module_& module, ModelFactory make_model) {
       .def("dependent_parameters", &dependent_parameters, "q"_a = none, "qd"_a = none,
            "qdd"_a = none, "t"_a = 0.0,
            "(p, pd, pdd): the dependent parameters and their time derivatives (ndep each).")
-      .def("mass_matrix", &mass_matrix, "q"_a = none, "t"_a = 0.0, "The mass matrix M(q) (nq x nq).")
+      .def("mass_matrix", &mass_matrix, "q"_a = none, "t"_a = 0.0,
+           "The mass matrix M(q) (nq x nq).")
       .def("bias_forces", &bias_forces, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
            "h(q, qd): inertia and gravity terms, M qdd + h = Q (nq).")
       .def("applied_forces", &applied_forces, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
            "forces"_a = no_forces, "Q: generalized forces of the force elements (nq).")
       .def("accelerations", &accelerations, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
            "forces"_a = no_forces, "qdd solving M qdd = Q - h (nq).")
-      .def("energies", &energies, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
-           "forces"_a = no_forces, "{kinetic, gravitational, elastic, total} at the state.")
+      .def("energies", &energies, "q"_a = none, "qd"_a = none, "t"_a = 0.0, "forces"_a = no_forces,
+           "{kinetic, gravitational, elastic, total} at the state.")
       .def("simulate", &simulate, "t_end"_a, "integrator"_a = "dopri5", "rtol"_a = 1e-6,
            "atol"_a = 1e-8, "interval"_a = 0.0, "times"_a = none, "q0"_a = none, "qd0"_a = none,
            "t0"_a = 0.0, "step"_a = 0.0, "max_step"_a = std::numeric_limits<double>::infinity(),
@@ -894,14 +913,20 @@ void define_system(py::module_& module, ModelFactory make_model) {
            "state matrix A (2n x 2n), locked coordinates removed.")
       .def("dynamics_derivatives", &dynamics_derivatives, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
            "forces"_a = no_forces,
-           "The forward dynamics' derivatives at (q, qd), generalized forces u on the coordinates: qdd, "
-           "dqdd_dq, dqdd_dqd, dqdd_dtau (nq x nq each), the continuous-time A (2nq x 2nq) and B (2nq x nq) of "
-           "xd = f(x, u), x = (q, qd), and method: exact where the model was emitted with its derivatives.")
-      .def("step_derivatives", &step_derivatives, "q"_a = none, "qd"_a = none, "u"_a = none, "h"_a = 0.01,
-           "t"_a = 0.0, "forces"_a = no_forces,
-           "One step of h of the classical Runge-Kutta method (the rk4 integrator's) from (q, qd), with "
-           "generalized forces u on the coordinates held over the step (default zero), and its exact "
-           "derivatives: q, qd, t at the end, A = d(q1, qd1)/d(q0, qd0) (2nq x 2nq), B = d(q1, qd1)/du "
+           "The forward dynamics' derivatives at (q, qd), generalized forces u on the coordinates: "
+           "qdd, "
+           "dqdd_dq, dqdd_dqd, dqdd_dtau (nq x nq each), the continuous-time A (2nq x 2nq) and B "
+           "(2nq x nq) of "
+           "xd = f(x, u), x = (q, qd), and method: exact where the model was emitted with its "
+           "derivatives.")
+      .def("step_derivatives", &step_derivatives, "q"_a = none, "qd"_a = none, "u"_a = none,
+           "h"_a = 0.01, "t"_a = 0.0, "forces"_a = no_forces,
+           "One step of h of the classical Runge-Kutta method (the rk4 integrator's) from (q, qd), "
+           "with "
+           "generalized forces u on the coordinates held over the step (default zero), and its "
+           "exact "
+           "derivatives: q, qd, t at the end, A = d(q1, qd1)/d(q0, qd0) (2nq x 2nq), B = d(q1, "
+           "qd1)/du "
            "(2nq x nq), method.")
       .def("modes", &modes, "q"_a = none, "qd"_a = none, "t"_a = 0.0, "locked"_a = empty,
            "forces"_a = no_forces,
@@ -916,8 +941,9 @@ void define_system(py::module_& module, ModelFactory make_model) {
 void define_model_module(py::module_& module, ModelFactory make_model) {
   define_exceptions(module);
   const Model model = make_model();
-  module.doc() = fmt::format("symdyn model '{}' variant '{}': {} coordinates, {} bodies (docs/python.md).",
-                             model.name(), model.variant(), model.nq(), model.nbody());
+  module.doc() =
+      fmt::format("symdyn model '{}' variant '{}': {} coordinates, {} bodies (docs/python.md).",
+                  model.name(), model.variant(), model.nq(), model.nbody());
   define_constants(module, model);
   define_forces(module);
   define_system(module, make_model);

@@ -22,8 +22,8 @@ void define_model_module(pybind11::module_& module, ModelFactory make_model);
 
 }  // namespace symdyn::python
 
-#define SYMDYN_PYTHON_MODULE(target)                                                      \
-  PYBIND11_MODULE(target, module) {                                                       \
-    symdyn::python::define_model_module(                                                  \
-        module, &symdyn::runtime::Model::from<symdyn_generated::target>);                 \
+#define SYMDYN_PYTHON_MODULE(target)                                                              \
+  PYBIND11_MODULE(target, module) {                                                               \
+    symdyn::python::define_model_module(module,                                                   \
+                                        &symdyn::runtime::Model::from<symdyn_generated::target>); \
   }

@@ -1,11 +1,10 @@
-#include <symdyn/runtime/animation.hpp>
-
 #include <fmt/format.h>
 
 #include <cmath>
 #include <complex>
 #include <numbers>
 
+#include <symdyn/runtime/animation.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/model.hpp>
 
@@ -16,14 +15,15 @@ Animation::Animation(const Model& model)
 
 void Animation::record(const State& s) {
   if (!times_.empty() && !(s.t > times_.back())) {
-    throw OptionError(fmt::format("animation: frame at t = {} after t = {}: times must increase", s.t,
-                                  times_.back()));
+    throw OptionError(fmt::format("animation: frame at t = {} after t = {}: times must increase",
+                                  s.t, times_.back()));
   }
   model_.positions(s.t, s.q.data(), k_);
   for (int i = 0; i < nbody_; ++i) {
     Eigen::Quaterniond q(Mat3(k_.R(i)));
     q.normalize();
-    if (frames() > 0 && q.coeffs().dot(rotation(frames() - 1, i).coeffs()) < 0) q.coeffs() = -q.coeffs();
+    if (frames() > 0 && q.coeffs().dot(rotation(frames() - 1, i).coeffs()) < 0)
+      q.coeffs() = -q.coeffs();
     const Vec3 x = k_.x(i);
     if (!q.coeffs().allFinite() || !x.allFinite()) {
       throw NumericError(fmt::format("animation: t = {}: the pose of body '{}' is not finite", s.t,

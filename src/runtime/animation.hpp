@@ -33,7 +33,9 @@ class Animation {
   Mat3 R(std::size_t frame, int body) const { return rotation(frame, body).toRotationMatrix(); }
 
  private:
-  const double* pose(std::size_t frame, int body) const { return &poses_[7 * (frame * nbody_ + body)]; }
+  const double* pose(std::size_t frame, int body) const {
+    return &poses_[7 * (frame * nbody_ + body)];
+  }
 
   const Model& model_;
   int nbody_;

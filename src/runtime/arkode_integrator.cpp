@@ -1,7 +1,6 @@
-#include <symdyn/runtime/arkode_integrator.hpp>
-
 #include <arkode/arkode_arkstep.h>
 
+#include <symdyn/runtime/arkode_integrator.hpp>
 #include <symdyn/runtime/sundials_integrator.hpp>
 #include <symdyn/runtime/sundials_support.hpp>
 
@@ -15,9 +14,10 @@ const detail::SundialsSolver arkode{
     .name = "arkode",
     .title = "ARKODE",
     .one_step = ARK_ONE_STEP,
-    .create = [](SUNContext context, N_Vector x, double t0) {
-      return ARKStepCreate(nullptr, detail::right_hand_side, t0, x, context);
-    },
+    .create =
+        [](SUNContext context, N_Vector x, double t0) {
+          return ARKStepCreate(nullptr, detail::right_hand_side, t0, x, context);
+        },
     .initialize = [](void* mem, N_Vector, double) { return ARKStepSetOrder(mem, 4); },
     .initialize_call = "SetOrder",
     .free = ARKStepFree,

@@ -1,10 +1,9 @@
-#include <symdyn/runtime/breakpoints.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <utility>
 
+#include <symdyn/runtime/breakpoints.hpp>
 #include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
@@ -16,8 +15,9 @@ void check_breakpoints(const std::vector<double>& breakpoints, double t_begin, d
   for (std::size_t k = 0; k < breakpoints.size(); ++k) {
     const double t = breakpoints[k];
     if (!(t > previous && t < t_end)) {
-      throw OptionError(fmt::format("breakpoint {} at t = {}: breakpoints must increase strictly inside ({}, {})", k,
-                                    t, t_begin, t_end));
+      throw OptionError(
+          fmt::format("breakpoint {} at t = {}: breakpoints must increase strictly inside ({}, {})",
+                      k, t, t_begin, t_end));
     }
     previous = t;
   }
@@ -36,7 +36,8 @@ void add(Statistics& sum, const Statistics& s, bool first, double global_toleran
   }
   sum.last_relative_tolerance = s.last_relative_tolerance;
   sum.last_step = s.last_step;
-  sum.global_tolerance_met = global_tolerance > 0.0 && sum.global_error_estimate <= global_tolerance;
+  sum.global_tolerance_met =
+      global_tolerance > 0.0 && sum.global_error_estimate <= global_tolerance;
   sum.steps += s.steps;
   sum.rejected_steps += s.rejected_steps;
   sum.rhs_evaluations += s.rhs_evaluations;
@@ -47,7 +48,8 @@ void add(Statistics& sum, const Statistics& s, bool first, double global_toleran
 
 }  // namespace
 
-SegmentedRun integrate_with_breakpoints(Integrator& integrator, DynamicSystem& system, const State& initial,
+SegmentedRun integrate_with_breakpoints(Integrator& integrator, DynamicSystem& system,
+                                        const State& initial,
                                         const std::vector<double>& breakpoints, double t_end,
                                         const BreakpointCallback& at_breakpoint) {
   check_breakpoints(breakpoints, initial.t, t_end);

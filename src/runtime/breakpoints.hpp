@@ -31,7 +31,8 @@ struct SegmentedRun {
 // the system, and the state the next segment starts from.
 using BreakpointCallback = std::function<void(std::size_t k, State& s)>;
 
-SegmentedRun integrate_with_breakpoints(Integrator& integrator, DynamicSystem& system, const State& initial,
+SegmentedRun integrate_with_breakpoints(Integrator& integrator, DynamicSystem& system,
+                                        const State& initial,
                                         const std::vector<double>& breakpoints, double t_end,
                                         const BreakpointCallback& at_breakpoint);
 

@@ -1,8 +1,7 @@
-#include <symdyn/runtime/bushing.hpp>
-
 #include <Eigen/LU>
 #include <utility>
 
+#include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/element_properties.hpp>
 
 namespace symdyn::runtime {
@@ -32,9 +31,8 @@ Bushing::Deflection Bushing::deflection(const Kinematics& k) const {
   const Vec3 wB = b_.body == ground ? Vec3::Zero() : Vec3(k.w(b_.body));
   Deflection def;
   def.d = RA.transpose() * (OB - OA);
-  def.dd = RA.transpose() *
-           (k.point_velocity(b_.body, b_.origin) - k.point_velocity(a_.body, a_.origin) -
-            wA.cross(OB - OA));
+  def.dd = RA.transpose() * (k.point_velocity(b_.body, b_.origin) -
+                             k.point_velocity(a_.body, a_.origin) - wA.cross(OB - OA));
   def.theta = cardan_angles(order_, RA.transpose() * RB);
   const Mat3 E = cardan_rate_matrix(order_, def.theta);
   def.thetad = E.partialPivLu().solve(RA.transpose() * (wB - wA));
@@ -44,14 +42,15 @@ Bushing::Deflection Bushing::deflection(const Kinematics& k) const {
 void Bushing::apply(const State& /*s*/, const Kinematics& k, Loads& loads) const {
   const Deflection def = deflection(k);
   const Mat3 RA = k.rotation(a_.body) * a_.axes;
-  const Vec3 f = p_.preload_force - p_.stiffness.cwiseProduct(def.d) -
-                 p_.damping.cwiseProduct(def.dd);
+  const Vec3 f =
+      p_.preload_force - p_.stiffness.cwiseProduct(def.d) - p_.damping.cwiseProduct(def.dd);
   const Vec3 tau = p_.preload_torque - p_.rotational_stiffness.cwiseProduct(def.theta) -
                    p_.rotational_damping.cwiseProduct(def.thetad);
   const Mat3 E = cardan_rate_matrix(order_, def.theta);
   const Vec3 F = RA * f;
   const Vec3 Mom = RA * E.transpose().partialPivLu().solve(tau);
-  const Vec3 mid = 0.5 * (k.point_position(a_.body, a_.origin) + k.point_position(b_.body, b_.origin));
+  const Vec3 mid =
+      0.5 * (k.point_position(a_.body, a_.origin) + k.point_position(b_.body, b_.origin));
   loads.add_force_at(b_.body, k, mid, F);
   loads.add_force_at(a_.body, k, mid, -F);
   loads.add_moment(b_.body, Mom);

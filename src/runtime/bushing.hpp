@@ -30,12 +30,12 @@ struct BodyFrame {
 };
 
 struct BushingProperties {
-  Vec3 stiffness = Vec3::Zero();            // K_t per A axis (N/m)
-  Vec3 damping = Vec3::Zero();              // C_t (N s/m)
-  Vec3 rotational_stiffness = Vec3::Zero(); // K_r per Cardan angle (N m/rad)
-  Vec3 rotational_damping = Vec3::Zero();   // C_r (N m s/rad)
-  Vec3 preload_force = Vec3::Zero();        // on b, A axes, at zero deflection
-  Vec3 preload_torque = Vec3::Zero();       // per Cardan angle
+  Vec3 stiffness = Vec3::Zero();             // K_t per A axis (N/m)
+  Vec3 damping = Vec3::Zero();               // C_t (N s/m)
+  Vec3 rotational_stiffness = Vec3::Zero();  // K_r per Cardan angle (N m/rad)
+  Vec3 rotational_damping = Vec3::Zero();    // C_r (N m s/rad)
+  Vec3 preload_force = Vec3::Zero();         // on b, A axes, at zero deflection
+  Vec3 preload_torque = Vec3::Zero();        // per Cardan angle
 };
 
 class Bushing : public ForceElement {

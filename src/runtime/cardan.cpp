@@ -1,10 +1,9 @@
-#include <symdyn/runtime/cardan.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include <symdyn/runtime/cardan.hpp>
 #include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {

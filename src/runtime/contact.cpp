@@ -1,9 +1,8 @@
-#include <symdyn/runtime/contact.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
+#include <symdyn/runtime/contact.hpp>
 #include <symdyn/runtime/element_properties.hpp>
 
 namespace symdyn::runtime {
@@ -86,8 +85,8 @@ SimpleTyre::Result SimpleTyre::evaluate(const Kinematics& k) const {
   const Vec3& vP = r.contact_velocity;
   r.normal_force = std::max(0.0, p_.stiffness * r.penetration - p_.damping * vP.dot(n));
   const Vec3 vt = vP - vP.dot(n) * n;
-  r.force = r.normal_force * n -
-            p_.friction * r.normal_force * vt / std::sqrt(vt.squaredNorm() + p_.epsilon * p_.epsilon);
+  r.force = r.normal_force * n - p_.friction * r.normal_force * vt /
+                                     std::sqrt(vt.squaredNorm() + p_.epsilon * p_.epsilon);
   return r;
 }
 

@@ -77,8 +77,8 @@ struct SimpleTyreProperties {
   double damping = 500.0;
   double friction = 0.9;
   double epsilon = 0.05;
-  Vec3 axis = Vec3::UnitY();    // spin axis in body axes
-  Vec3 centre = Vec3::Zero();   // wheel centre in body coordinates
+  Vec3 axis = Vec3::UnitY();   // spin axis in body axes
+  Vec3 centre = Vec3::Zero();  // wheel centre in body coordinates
 };
 
 class SimpleTyre : public ForceElement {

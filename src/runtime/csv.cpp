@@ -1,13 +1,13 @@
-#include <symdyn/runtime/csv.hpp>
-
 #include <iterator>
 #include <utility>
 
+#include <symdyn/runtime/csv.hpp>
 #include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::runtime {
 
-CsvRecorder::CsvRecorder(std::ostream& out, MultibodySystem& system) : CsvRecorder(out, system, Columns{}) {}
+CsvRecorder::CsvRecorder(std::ostream& out, MultibodySystem& system)
+    : CsvRecorder(out, system, Columns{}) {}
 
 CsvRecorder::CsvRecorder(std::ostream& out, MultibodySystem& system, Columns columns)
     : out_(out), system_(system), groups_(columns) {}
@@ -34,7 +34,8 @@ std::vector<std::string> CsvRecorder::columns() const {
     for (int j = 0; j < system_.num_extra_states(); ++j) c.push_back(system_.extra_state_name(j));
   }
   if (groups_.energies) {
-    for (const char* e : {"kinetic_energy", "gravitational_energy", "elastic_energy", "total_energy"}) {
+    for (const char* e :
+         {"kinetic_energy", "gravitational_energy", "elastic_energy", "total_energy"}) {
       c.emplace_back(e);
     }
   }
@@ -70,8 +71,8 @@ void CsvRecorder::write(const State& s, const Vector& qdd) {
   values(groups_.coordinates, s.q);
   values(groups_.rates, s.qd);
   if (groups_.accelerations && qdd.size() != s.q.size()) {
-    throw ModelError(fmt::format("CSV row at t = {}: qdd has {} entries, the system {} coordinates", s.t, qdd.size(),
-                                 s.q.size()));
+    throw ModelError(fmt::format("CSV row at t = {}: qdd has {} entries, the system {} coordinates",
+                                 s.t, qdd.size(), s.q.size()));
   }
   values(groups_.accelerations, qdd);
   values(groups_.extra_states, s.y);

@@ -51,7 +51,7 @@ class CsvRecorder {
   std::vector<std::string> names_;
   std::vector<Channel> channels_;
   bool header_written_ = false;
-  Vector qdd_, yd_;           // (nq), (m): write(s) computes them
+  Vector qdd_, yd_;          // (nq), (m): write(s) computes them
   fmt::memory_buffer line_;  // the row being formatted
 };
 

@@ -1,8 +1,7 @@
-#include <symdyn/runtime/cvode_integrator.hpp>
-
 #include <cvode/cvode.h>
 #include <cvode/cvode_ls.h>
 
+#include <symdyn/runtime/cvode_integrator.hpp>
 #include <symdyn/runtime/sundials_integrator.hpp>
 #include <symdyn/runtime/sundials_support.hpp>
 
@@ -16,7 +15,8 @@ const detail::SundialsSolver cvode{
     .title = "CVODE",
     .one_step = CV_ONE_STEP,
     .create = [](SUNContext context, N_Vector, double) { return CVodeCreate(CV_BDF, context); },
-    .initialize = [](void* mem, N_Vector x, double t0) { return CVodeInit(mem, detail::right_hand_side, t0, x); },
+    .initialize = [](void* mem, N_Vector x,
+                     double t0) { return CVodeInit(mem, detail::right_hand_side, t0, x); },
     .initialize_call = "Init",
     .free = CVodeFree,
     .flag_name = CVodeGetReturnFlagName,

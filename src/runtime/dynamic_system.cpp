@@ -1,15 +1,19 @@
-#include <symdyn/runtime/dynamic_system.hpp>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <limits>
 
-#include <fmt/format.h>
+#include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime {
 
-std::string DynamicSystem::coordinate_name(int i) const { return fmt::format("q{}", i); }
+std::string DynamicSystem::coordinate_name(int i) const {
+  return fmt::format("q{}", i);
+}
 
-std::string DynamicSystem::extra_state_name(int i) const { return fmt::format("y{}", i); }
+std::string DynamicSystem::extra_state_name(int i) const {
+  return fmt::format("y{}", i);
+}
 
 namespace {
 

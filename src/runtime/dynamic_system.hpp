@@ -31,10 +31,10 @@ class DynamicSystem {
  public:
   virtual ~DynamicSystem() = default;
 
-  virtual int num_coordinates() const = 0;              // n
-  virtual int num_extra_states() const { return 0; }    // m
-  virtual std::string coordinate_name(int i) const;     // "q<i>" unless overridden
-  virtual std::string extra_state_name(int i) const;    // "y<i>" unless overridden
+  virtual int num_coordinates() const = 0;            // n
+  virtual int num_extra_states() const { return 0; }  // m
+  virtual std::string coordinate_name(int i) const;   // "q<i>" unless overridden
+  virtual std::string extra_state_name(int i) const;  // "y<i>" unless overridden
 
   // Explicit form: qdd (n) and yd (m) at the state. Throws NumericError (naming the
   // state) when M is singular or a value is not finite.
@@ -52,8 +52,8 @@ class DynamicSystem {
   // dqdd/dq and dqdd/dqd (n x n) of the explicit form at s, whose accelerations
   // are qdd, where the system knows them exactly (-M⁻¹·K and -M⁻¹·C); false
   // (the default) where it does not: the caller differentiates.
-  virtual bool exact_acceleration_derivatives(const State& /*s*/, const Vector& /*qdd*/, Matrix& /*dqdd_dq*/,
-                                              Matrix& /*dqdd_dqd*/) {
+  virtual bool exact_acceleration_derivatives(const State& /*s*/, const Vector& /*qdd*/,
+                                              Matrix& /*dqdd_dq*/, Matrix& /*dqdd_dqd*/) {
     return false;
   }
 };

@@ -1,11 +1,10 @@
-#include <symdyn/runtime/easyanim.hpp>
-
 #include <fmt/format.h>
 #include <fmt/os.h>
 
 #include <array>
 #include <map>
 
+#include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/model.hpp>
 
@@ -41,16 +40,17 @@ Wireframe wireframe(const Scene& scene) {
         return it->second;
       };
       for (std::size_t t = 0; t < m.triangle_count(); ++t) {
-        w.faces.push_back({{node(m.indices[3 * t]), node(m.indices[3 * t + 1]), node(m.indices[3 * t + 2])},
-                           easyanim_colour(shape.colour)});
+        w.faces.push_back(
+            {{node(m.indices[3 * t]), node(m.indices[3 * t + 1]), node(m.indices[3 * t + 2])},
+             easyanim_colour(shape.colour)});
       }
     }
   }
   return w;
 }
 
-void write_vol(const std::filesystem::path& file, const Wireframe& w, const std::vector<Vec3>& first,
-               const std::string& title) {
+void write_vol(const std::filesystem::path& file, const Wireframe& w,
+               const std::vector<Vec3>& first, const std::string& title) {
   auto out = fmt::output_file(file.string());
   out.print("{}\n{}\n", title, w.nodes.size());
   for (std::size_t i = 0; i < first.size(); ++i) {
@@ -63,7 +63,8 @@ void write_vol(const std::filesystem::path& file, const Wireframe& w, const std:
   }
 }
 
-std::vector<Vec3> node_positions(const Wireframe& w, const Animation& animation, std::size_t frame) {
+std::vector<Vec3> node_positions(const Wireframe& w, const Animation& animation,
+                                 std::size_t frame) {
   std::vector<Vec3> p;
   p.reserve(w.nodes.size());
   for (const auto& n : w.nodes) {
@@ -81,10 +82,22 @@ std::filesystem::path with_extension(std::filesystem::path stem, const char* ext
 
 int easyanim_colour(const Colour& c) {
   static constexpr std::array<std::array<float, 3>, 16> ega = {{
-      {0, 0, 0},          {0, 0, 0.67f},       {0, 0.67f, 0},       {0, 0.67f, 0.67f},
-      {0.67f, 0, 0},      {0.67f, 0, 0.67f},   {0.67f, 0.33f, 0},   {0.67f, 0.67f, 0.67f},
-      {0.33f, 0.33f, 0.33f}, {0.33f, 0.33f, 1}, {0.33f, 1, 0.33f},  {0.33f, 1, 1},
-      {1, 0.33f, 0.33f},  {1, 0.33f, 1},       {1, 1, 0.33f},       {1, 1, 1},
+      {0, 0, 0},
+      {0, 0, 0.67f},
+      {0, 0.67f, 0},
+      {0, 0.67f, 0.67f},
+      {0.67f, 0, 0},
+      {0.67f, 0, 0.67f},
+      {0.67f, 0.33f, 0},
+      {0.67f, 0.67f, 0.67f},
+      {0.33f, 0.33f, 0.33f},
+      {0.33f, 0.33f, 1},
+      {0.33f, 1, 0.33f},
+      {0.33f, 1, 1},
+      {1, 0.33f, 0.33f},
+      {1, 0.33f, 1},
+      {1, 1, 0.33f},
+      {1, 1, 1},
   }};
   int best = 0;
   float best_distance = 1e9f;
@@ -96,20 +109,22 @@ int easyanim_colour(const Colour& c) {
   return best;
 }
 
-void write_easyanim(const std::filesystem::path& stem, const Scene& scene, const Animation& animation,
-                    const std::string& title) {
+void write_easyanim(const std::filesystem::path& stem, const Scene& scene,
+                    const Animation& animation, const std::string& title) {
   if (animation.frames() == 0) throw OptionError("EasyAnim: the animation has no frame");
   const Wireframe w = wireframe(scene);
   write_vol(with_extension(stem, ".vol"), w, node_positions(w, animation, 0), title);
   auto van = fmt::output_file(with_extension(stem, ".van").string());
   for (std::size_t k = 0; k < animation.frames(); ++k) {
-    for (const Vec3& p : node_positions(w, animation, k)) van.print("{} {} {}\n", p.x(), p.y(), p.z());
+    for (const Vec3& p : node_positions(w, animation, k))
+      van.print("{} {} {}\n", p.x(), p.y(), p.z());
   }
 }
 
 void write_easyanim_modes(const std::filesystem::path& stem, const Scene& scene, const Model& model,
                           const State& reference, const Linearization& lin,
-                          const std::vector<Mode>& modes, double amplitude, const std::string& title) {
+                          const std::vector<Mode>& modes, double amplitude,
+                          const std::string& title) {
   const Wireframe w = wireframe(scene);
   Kinematics k = model.make_kinematics();
   auto positions_at = [&](const Vector& q) {

@@ -26,15 +26,16 @@ namespace symdyn::runtime {
 class Model;
 
 // Writes <stem>.vol and <stem>.van.
-void write_easyanim(const std::filesystem::path& stem, const Scene& scene, const Animation& animation,
-                    const std::string& title);
+void write_easyanim(const std::filesystem::path& stem, const Scene& scene,
+                    const Animation& animation, const std::string& title);
 
 // Writes <stem>.vol (the scene at the reference state) and <stem>.vmo: each mode
 // of the linearization about `reference`, its shape scaled so that the largest
 // coordinate moves by `amplitude` (rad or m).
 void write_easyanim_modes(const std::filesystem::path& stem, const Scene& scene, const Model& model,
                           const State& reference, const Linearization& lin,
-                          const std::vector<Mode>& modes, double amplitude, const std::string& title);
+                          const std::vector<Mode>& modes, double amplitude,
+                          const std::string& title);
 
 // EasyAnim's colour index nearest to a colour.
 int easyanim_colour(const Colour& c);

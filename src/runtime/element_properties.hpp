@@ -30,8 +30,10 @@ class PropertyError : public ModelError {
 enum class Sign { any, non_negative, positive };
 
 // Each throws PropertyError naming `element` and `property`.
-void check_property(const std::string& element, const char* property, double value, Sign sign = Sign::any);
-void check_property(const std::string& element, const char* property, const Vec3& value, Sign sign = Sign::any);
+void check_property(const std::string& element, const char* property, double value,
+                    Sign sign = Sign::any);
+void check_property(const std::string& element, const char* property, const Vec3& value,
+                    Sign sign = Sign::any);
 // A direction: finite and not zero.
 void check_direction(const std::string& element, const char* property, const Vec3& value);
 // A frame's axes (columns): finite and orthonormal, right-handed, to 1e-6.

@@ -1,6 +1,6 @@
-#include <symdyn/runtime/energy.hpp>
-
 #include <Eigen/Geometry>
+
+#include <symdyn/runtime/energy.hpp>
 
 namespace symdyn::runtime {
 

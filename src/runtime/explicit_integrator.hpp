@@ -60,7 +60,8 @@ class ExplicitIntegrator : public SteppingIntegrator {
     if (!derivative(current_.t + h0, xs, k).empty()) return h0;
     const double d2 = rms_scaled(k - dx_, x_, x_) / h0;
     const double dmax = std::max(d1, d2);
-    const double h1 = dmax <= 1e-15 ? std::max(1e-6 * span, h0 * 1e-3) : std::pow(0.01 / dmax, 1.0 / order);
+    const double h1 =
+        dmax <= 1e-15 ? std::max(1e-6 * span, h0 * 1e-3) : std::pow(0.01 / dmax, 1.0 / order);
     return std::min({100.0 * h0, h1, span});
   }
 

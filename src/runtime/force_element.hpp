@@ -95,9 +95,7 @@ class ForceElement {
                                     const KinematicsDerivatives& /*dk*/, Matrix& /*dQ_dq*/,
                                     Matrix& /*dQ_dqd*/) const {}
   // Elastic energy stored in the element (0 for non-conservative elements).
-  virtual double potential_energy(const State& /*s*/, const Kinematics& /*k*/) const {
-    return 0.0;
-  }
+  virtual double potential_energy(const State& /*s*/, const Kinematics& /*k*/) const { return 0.0; }
 };
 
 }  // namespace symdyn::runtime

@@ -1,14 +1,12 @@
-#include <symdyn/runtime/generalized_forces.hpp>
-
 #include <utility>
 
 #include <symdyn/runtime/element_properties.hpp>
+#include <symdyn/runtime/generalized_forces.hpp>
 
 namespace symdyn::runtime {
 
-CoordinateSpringDamper::CoordinateSpringDamper(std::string name, int coordinate,
-                                               double stiffness, double damping,
-                                               double free_value)
+CoordinateSpringDamper::CoordinateSpringDamper(std::string name, int coordinate, double stiffness,
+                                               double damping, double free_value)
     : name_(std::move(name)), j_(coordinate), k_(stiffness), c_(damping), q0_(free_value) {
   check_property(this->name(), "stiffness", k_, Sign::non_negative);
   check_property(this->name(), "damping", c_, Sign::non_negative);
@@ -20,8 +18,8 @@ void CoordinateSpringDamper::apply(const State& s, const Kinematics& /*k*/, Load
 }
 
 void CoordinateSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematics& /*k*/,
-                                                  const KinematicsDerivatives& /*dk*/, Matrix& dQ_dq,
-                                                  Matrix& dQ_dqd) const {
+                                                  const KinematicsDerivatives& /*dk*/,
+                                                  Matrix& dQ_dq, Matrix& dQ_dqd) const {
   dQ_dq(j_, j_) -= k_;
   dQ_dqd(j_, j_) -= c_;
 }
@@ -40,7 +38,11 @@ void CoordinateForce::apply(const State& s, const Kinematics& /*k*/, Loads& load
 
 CoordinateTracking::CoordinateTracking(std::string name, int coordinate, double kp, double kd,
                                        Reference r, Reference rd)
-    : name_(std::move(name)), j_(coordinate), kp_(kp), kd_(kd), r_(std::move(r)),
+    : name_(std::move(name)),
+      j_(coordinate),
+      kp_(kp),
+      kd_(kd),
+      r_(std::move(r)),
       rd_(std::move(rd)) {
   check_property(this->name(), "kp", kp_, Sign::non_negative);
   check_property(this->name(), "kd", kd_, Sign::non_negative);

@@ -19,8 +19,8 @@ class CoordinateSpringDamper : public ForceElement {
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
   // dQ/dq_j = -k, dQ/dqd_j = -c
   LoadDerivatives load_derivatives() const override { return LoadDerivatives::exact; }
-  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk, Matrix& dQ_dq,
-                            Matrix& dQ_dqd) const override;
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
   // 1/2 k (q - free_value)^2
   double potential_energy(const State& s, const Kinematics& k) const override;
 
@@ -59,8 +59,8 @@ class CoordinateTracking : public ForceElement {
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
   // dQ/dq_j = -kp, dQ/dqd_j = -kd
   LoadDerivatives load_derivatives() const override { return LoadDerivatives::exact; }
-  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk, Matrix& dQ_dq,
-                            Matrix& dQ_dqd) const override;
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
 
  private:
   std::string name_;

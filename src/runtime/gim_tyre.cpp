@@ -1,13 +1,12 @@
-#include <symdyn/runtime/gim_tyre.hpp>
-
-#include <Eigen/Geometry>
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
 #include <symdyn/runtime/element_properties.hpp>
+#include <symdyn/runtime/gim_tyre.hpp>
 
 namespace symdyn::runtime {
 
@@ -61,8 +60,7 @@ BrushOutput gim_brush(const BrushInput& in) {
   }
   out.Fx = -(X * xs2 + muFz * tx * S);
   out.Fy = -(Y * xs2 + G * (3.0 * xs2 - 2.0 * xs3) + muFz * ty * S);
-  out.Mz = -in.half_length *
-           (Y * (xs2 - 4.0 / 3.0 * xs3) + 3.0 * (G - muFz * ty) * xs2 * u * u);
+  out.Mz = -in.half_length * (Y * (xs2 - 4.0 / 3.0 * xs3) + 3.0 * (G - muFz * ty) * xs2 * u * u);
   return out;
 }
 
@@ -72,7 +70,9 @@ GimTyre::GimTyre(std::string name, int body, const GimTyreProperties& p, const P
   check_property(me, "r1", p_.r1, Sign::positive);
   check_property(me, "r2", p_.r2, Sign::positive);
   if (!(p_.r2 <= p_.r1)) {
-    throw PropertyError(me, "r2", fmt::format("expected the section radius <= r1 = {:.6g}, found {:.6g}", p_.r1, p_.r2));
+    throw PropertyError(
+        me, "r2",
+        fmt::format("expected the section radius <= r1 = {:.6g}, found {:.6g}", p_.r1, p_.r2));
   }
   check_property(me, "Kz", p_.Kz, Sign::positive);
   check_property(me, "Cz", p_.Cz, Sign::non_negative);

@@ -65,17 +65,17 @@ struct BrushOutput {
 BrushOutput gim_brush(const BrushInput& in);
 
 struct GimTyreProperties {
-  double r1 = 0.3;                 // outer radius (m)
-  double r2 = 0.1;                 // section radius (m)
-  double Kz = 2e5;                 // vertical stiffness (N/m)
-  double Cz = 500.0;               // vertical damping at Fznom (N s/m)
-  double Fznom = 3000.0;           // nominal load (N)
+  double r1 = 0.3;        // outer radius (m)
+  double r2 = 0.1;        // section radius (m)
+  double Kz = 2e5;        // vertical stiffness (N/m)
+  double Cz = 500.0;      // vertical damping at Fznom (N s/m)
+  double Fznom = 3000.0;  // nominal load (N)
   double Clongnom = 5e4, nlong = 1.0;
   double Clatnom = 4e4, nlat = 1.0;
   double Ccambernom = 2e3, ncamber = 1.0;
   double mu_static = 1.0, mu_dynamic = 0.8;
-  Vec3 axis = Vec3::UnitY();       // spin axis in body axes
-  Vec3 centre = Vec3::Zero();      // wheel centre in body coordinates
+  Vec3 axis = Vec3::UnitY();   // spin axis in body axes
+  Vec3 centre = Vec3::Zero();  // wheel centre in body coordinates
 };
 
 class GimTyre : public ForceElement {

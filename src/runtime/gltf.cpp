@@ -1,5 +1,3 @@
-#include <symdyn/runtime/gltf.hpp>
-
 #include <fmt/format.h>
 
 #include <cstring>
@@ -7,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/gltf.hpp>
 
 namespace symdyn::runtime {
 
@@ -48,15 +47,21 @@ class GlbBuilder {
       }
     }
     const int v = view(values.data(), values.size() * sizeof(float), target);
-    doc["accessors"].push_back({{"bufferView", v}, {"componentType", float_component},
-                                {"count", count}, {"type", type}, {"min", lo}, {"max", hi}});
+    doc["accessors"].push_back({{"bufferView", v},
+                                {"componentType", float_component},
+                                {"count", count},
+                                {"type", type},
+                                {"min", lo},
+                                {"max", hi}});
     return static_cast<int>(doc["accessors"].size()) - 1;
   }
 
   int indices(const std::vector<std::uint32_t>& values) {
     const int v = view(values.data(), values.size() * sizeof(std::uint32_t), element_array_buffer);
-    doc["accessors"].push_back({{"bufferView", v}, {"componentType", uint_component},
-                                {"count", values.size()}, {"type", "SCALAR"}});
+    doc["accessors"].push_back({{"bufferView", v},
+                                {"componentType", uint_component},
+                                {"count", values.size()},
+                                {"type", "SCALAR"}});
     return static_cast<int>(doc["accessors"].size()) - 1;
   }
 
@@ -102,16 +107,16 @@ json body_mesh(GlbBuilder& glb, const Scene& scene, int body) {
     if (m.indices.empty()) continue;
     const Colour& c = shape.colour;
     json material = {{"pbrMetallicRoughness",
-                      {{"baseColorFactor", {c.r, c.g, c.b, c.a}}, {"metallicFactor", 0.1},
+                      {{"baseColorFactor", {c.r, c.g, c.b, c.a}},
+                       {"metallicFactor", 0.1},
                        {"roughnessFactor", 0.6}}}};
     if (c.a < 1.0f) material["alphaMode"] = "BLEND";
     glb.doc["materials"].push_back(material);
-    primitives.push_back(
-        {{"attributes",
-          {{"POSITION", glb.floats(flatten(m.positions), 3, "VEC3", array_buffer)},
-           {"NORMAL", glb.floats(flatten(m.normals), 3, "VEC3", array_buffer)}}},
-         {"indices", glb.indices(m.indices)},
-         {"material", static_cast<int>(glb.doc["materials"].size()) - 1}});
+    primitives.push_back({{"attributes",
+                           {{"POSITION", glb.floats(flatten(m.positions), 3, "VEC3", array_buffer)},
+                            {"NORMAL", glb.floats(flatten(m.normals), 3, "VEC3", array_buffer)}}},
+                          {"indices", glb.indices(m.indices)},
+                          {"material", static_cast<int>(glb.doc["materials"].size()) - 1}});
   }
   if (primitives.empty()) return nullptr;
   return {{"name", scene.body_name(body)}, {"primitives", primitives}};
@@ -126,12 +131,12 @@ void add_channels(GlbBuilder& glb, json& anim, const Animation& animation, int b
     translation.insert(translation.end(), {float(x.x()), float(x.y()), float(x.z())});
     rotation.insert(rotation.end(), {float(q.x()), float(q.y()), float(q.z()), float(q.w())});
   }
-  for (const auto& [path, values, n, type] :
-       {std::tuple{"translation", &translation, 3, "VEC3"}, std::tuple{"rotation", &rotation, 4, "VEC4"}}) {
+  for (const auto& [path, values, n, type] : {std::tuple{"translation", &translation, 3, "VEC3"},
+                                              std::tuple{"rotation", &rotation, 4, "VEC4"}}) {
     anim["samplers"].push_back(
         {{"input", input}, {"output", glb.floats(*values, n, type)}, {"interpolation", "LINEAR"}});
-    anim["channels"].push_back({{"sampler", anim["samplers"].size() - 1},
-                                {"target", {{"node", node}, {"path", path}}}});
+    anim["channels"].push_back(
+        {{"sampler", anim["samplers"].size() - 1}, {"target", {{"node", node}, {"path", path}}}});
   }
 }
 
@@ -153,8 +158,8 @@ void check_clip(const Scene& scene, const Clip& clip) {
     throw OptionError(fmt::format("glTF: the animation '{}' has no frame", clip.name));
   }
   if (clip.animation->nbody() != scene.nbody()) {
-    throw OptionError(fmt::format("glTF: the scene has {} bodies, the animation '{}' {}", scene.nbody(),
-                                  clip.name, clip.animation->nbody()));
+    throw OptionError(fmt::format("glTF: the scene has {} bodies, the animation '{}' {}",
+                                  scene.nbody(), clip.name, clip.animation->nbody()));
   }
 }
 
@@ -173,7 +178,8 @@ void write_glb(std::ostream& out, const Scene& scene, const std::vector<Clip>& c
   for (int i = 0; i < scene.nbody(); ++i) {
     const Vec3 x = first.translation(0, i);
     const Eigen::Quaterniond q = first.rotation(0, i);
-    json node = {{"name", scene.body_name(i)}, {"translation", {x.x(), x.y(), x.z()}},
+    json node = {{"name", scene.body_name(i)},
+                 {"translation", {x.x(), x.y(), x.z()}},
                  {"rotation", {q.x(), q.y(), q.z(), q.w()}}};
     if (json mesh = body_mesh(glb, scene, i); !mesh.is_null()) {
       glb.doc["meshes"].push_back(mesh);
@@ -190,7 +196,8 @@ void write_glb(std::ostream& out, const Scene& scene, const Animation& animation
   write_glb(out, scene, {Clip{"motion", &animation}});
 }
 
-void write_glb(const std::filesystem::path& file, const Scene& scene, const std::vector<Clip>& clips) {
+void write_glb(const std::filesystem::path& file, const Scene& scene,
+               const std::vector<Clip>& clips) {
   std::ofstream out(file, std::ios::binary);
   if (!out) throw OptionError(fmt::format("glTF: cannot write '{}'", file.string()));
   write_glb(out, scene, clips);

@@ -29,7 +29,8 @@ struct Clip {
 // nodes start in the first clip's first pose. OptionError when a clip has no
 // frame or the scene and a clip differ in bodies.
 void write_glb(std::ostream& out, const Scene& scene, const std::vector<Clip>& clips);
-void write_glb(const std::filesystem::path& file, const Scene& scene, const std::vector<Clip>& clips);
+void write_glb(const std::filesystem::path& file, const Scene& scene,
+               const std::vector<Clip>& clips);
 // One clip, "motion".
 void write_glb(std::ostream& out, const Scene& scene, const Animation& animation);
 void write_glb(const std::filesystem::path& file, const Scene& scene, const Animation& animation);

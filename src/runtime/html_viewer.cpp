@@ -1,5 +1,3 @@
-#include <symdyn/runtime/html_viewer.hpp>
-
 #include <fmt/format.h>
 
 #include <fstream>
@@ -7,6 +5,7 @@
 #include <sstream>
 
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/html_viewer.hpp>
 
 namespace symdyn::runtime {
 
@@ -19,13 +18,15 @@ extern const char* const viewer_bundle[];
 namespace {
 
 std::string base64(const std::string& bytes) {
-  static constexpr char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static constexpr char digits[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   for (std::size_t i = 0; i < bytes.size(); i += 3) {
     const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
     std::uint32_t v = 0;
-    for (std::size_t k = 0; k < 3; ++k) v = v << 8 | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 3; ++k)
+      v = v << 8 | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
     for (std::size_t k = 0; k < 4; ++k) out += k <= n ? digits[(v >> (18 - 6 * k)) & 63] : '=';
   }
   return out;
@@ -33,31 +34,36 @@ std::string base64(const std::string& bytes) {
 
 // JSON inside a <script> element: "</" would end the element early.
 std::string script_safe(std::string text) {
-  for (std::size_t at = 0; (at = text.find("</", at)) != std::string::npos; at += 3) text.replace(at, 2, "<\\/");
+  for (std::size_t at = 0; (at = text.find("</", at)) != std::string::npos; at += 3)
+    text.replace(at, 2, "<\\/");
   return text;
 }
 
 void check_series(const TimeSeries& series) {
   if (series.names.size() != series.columns.size()) {
-    throw OptionError(fmt::format("HTML viewer: {} series names for {} columns", series.names.size(),
-                                  series.columns.size()));
+    throw OptionError(fmt::format("HTML viewer: {} series names for {} columns",
+                                  series.names.size(), series.columns.size()));
   }
   for (std::size_t k = 1; k < series.columns.size(); ++k) {
     if (series.columns[k].size() != series.columns[0].size()) {
-      throw OptionError(fmt::format("HTML viewer: series '{}' has {} values, the time {}", series.names[k],
-                                    series.columns[k].size(), series.columns[0].size()));
+      throw OptionError(fmt::format("HTML viewer: series '{}' has {} values, the time {}",
+                                    series.names[k], series.columns[k].size(),
+                                    series.columns[0].size()));
     }
   }
 }
 
 }  // namespace
 
-bool html_viewer_available() { return detail::viewer_bundle[0] != nullptr; }
+bool html_viewer_available() {
+  return detail::viewer_bundle[0] != nullptr;
+}
 
 void write_html(const std::filesystem::path& file, const std::string& title, const Scene& scene,
                 const std::vector<Clip>& clips, const TimeSeries& series) {
   if (!html_viewer_available()) {
-    throw OptionError("HTML viewer: this runtime was built without it (npm was not found when it was built)");
+    throw OptionError(
+        "HTML viewer: this runtime was built without it (npm was not found when it was built)");
   }
   check_series(series);
   std::ostringstream glb;
@@ -69,7 +75,8 @@ void write_html(const std::filesystem::path& file, const std::string& title, con
   if (!out) throw OptionError(fmt::format("HTML viewer: cannot write '{}'", file.string()));
   out << "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
-      << "<title>symdyn</title>\n</head>\n<body>\n<script id=\"symdyn-data\" type=\"application/json\">"
+      << "<title>symdyn</title>\n</head>\n<body>\n<script id=\"symdyn-data\" "
+         "type=\"application/json\">"
       << script_safe(data.dump()) << "</script>\n<script>\n";
   for (const char* const* chunk = detail::viewer_bundle; *chunk; ++chunk) out << *chunk;
   out << "\n</script>\n</body>\n</html>\n";

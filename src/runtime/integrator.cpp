@@ -1,4 +1,4 @@
-#include <symdyn/runtime/integrator.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -6,9 +6,8 @@
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
@@ -71,7 +70,9 @@ Integrator::OutputInstants::OutputInstants(const IntegratorOptions& o, double t_
     : t_begin_(t_begin), t_end_(t_end), interval_(o.output_interval) {
   if (interval_ > 0.0) {
     // Instants k = 1 .. K before t_end, K from the ratio then corrected by the test itself.
-    const auto inside = [&](double k) { return t_begin + k * interval_ < t_end - 1e-9 * interval_; };
+    const auto inside = [&](double k) {
+      return t_begin + k * interval_ < t_end - 1e-9 * interval_;
+    };
     double K = std::max(0.0, std::floor((t_end - t_begin) / interval_));
     while (K > 0.0 && !inside(K)) K -= 1.0;
     while (inside(K + 1.0)) K += 1.0;
@@ -107,9 +108,10 @@ State Integrator::integrate(DynamicSystem& system, const State& initial, double 
   if (options_.global_tolerance > 0.0) {
     if (fixed_step_order() > 0) return run_by_step_halving(system, initial, t_end);
     if (options_.fixed_step) {
-      throw OptionError(fmt::format("integrator '{}': global_tolerance at a fixed step needs the method's order, "
-                                    "which '{}' does not give: drop fixed_step or global_tolerance",
-                                    name(), name()));
+      throw OptionError(
+          fmt::format("integrator '{}': global_tolerance at a fixed step needs the method's order, "
+                      "which '{}' does not give: drop fixed_step or global_tolerance",
+                      name(), name()));
     }
     return run_to_global_tolerance(system, initial, t_end);
   }
@@ -154,8 +156,8 @@ double difference(const State& a, const State& b, const std::vector<double>& q_s
 
 // The largest difference between two runs at their final states and, when both
 // delivered the same instants, at every output.
-double difference(const State& a, const State& b, const std::vector<Output>& oa, const std::vector<Output>& ob,
-                  const std::vector<double>& q_scale) {
+double difference(const State& a, const State& b, const std::vector<Output>& oa,
+                  const std::vector<Output>& ob, const std::vector<double>& q_scale) {
   double d = difference(a, b, q_scale);
   if (oa.size() != ob.size()) return d;
   for (std::size_t k = 0; k < oa.size(); ++k) {
@@ -184,7 +186,8 @@ void add(Statistics& total, const Statistics& run) {
 // fall 0.1 per two decades before (the fall every adaptive integrator shows on the
 // reference problems, tests/simulation/integrator_accuracy_test.cpp). A fall slower
 // than 1/2 per two decades is not yet the method's order: tighten again.
-State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& initial, double t_end) {
+State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& initial,
+                                          double t_end) {
   const IntegratorOptions user = options_;
   struct Restore {  // the user's options back, however the runs end
     IntegratorOptions& options;
@@ -217,11 +220,12 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
       stats_ = total;
       const std::string estimate =
           k < 2 ? std::string()
-                : fmt::format("; the run at {:g} was estimated {:g} off", total.last_relative_tolerance,
-                              total.global_error_estimate);
-      throw NumericError(fmt::format("integrator '{}': global_tolerance {:g} not reached: the run at a local "
-                                     "tolerance of {:g} failed{}: {}",
-                                     name(), user.global_tolerance, options_.relative_tolerance, estimate, e.what()));
+                : fmt::format("; the run at {:g} was estimated {:g} off",
+                              total.last_relative_tolerance, total.global_error_estimate);
+      throw NumericError(fmt::format(
+          "integrator '{}': global_tolerance {:g} not reached: the run at a local "
+          "tolerance of {:g} failed{}: {}",
+          name(), user.global_tolerance, options_.relative_tolerance, estimate, e.what()));
     }
     add(total, stats_);
     ++total.runs;
@@ -232,7 +236,8 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
       if (k >= 2) exponent = -std::log(d / previous_difference) / std::log(previous_tightening);
       const double fall = std::pow(tightening, -exponent);
       const bool order = std::pow(kTightening, -exponent) < 0.5;
-      const double estimate = order ? d * fall / (1.0 - fall) : std::numeric_limits<double>::infinity();
+      const double estimate =
+          order ? d * fall / (1.0 - fall) : std::numeric_limits<double>::infinity();
       total.global_error_estimate = estimate;
       if (estimate <= user.global_tolerance) {
         total.global_tolerance_met = true;
@@ -243,15 +248,17 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
       previous_difference = d;
       previous_tightening = tightening;
     }
-    const double tightest = tightest_tolerance() / std::max(user.relative_tolerance, user.absolute_tolerance);
+    const double tightest =
+        tightest_tolerance() / std::max(user.relative_tolerance, user.absolute_tolerance);
     const double next = std::max(scale / kTightening, std::min(scale, tightest));
     if (!(next < scale)) {
       stats_ = total;
-      throw NumericError(fmt::format(
-          "integrator '{}': global_tolerance {:g} not reached: at a local tolerance of {:g} the error is "
-          "estimated at {:g} (the last two runs differ by {:g})",
-          name(), user.global_tolerance, total.last_relative_tolerance, total.global_error_estimate,
-          previous_difference));
+      throw NumericError(
+          fmt::format("integrator '{}': global_tolerance {:g} not reached: at a local tolerance of "
+                      "{:g} the error is "
+                      "estimated at {:g} (the last two runs differ by {:g})",
+                      name(), user.global_tolerance, total.last_relative_tolerance,
+                      total.global_error_estimate, previous_difference));
     }
     tightening = scale / next;
     scale = next;
@@ -291,23 +298,26 @@ State Integrator::run_by_step_halving(DynamicSystem& system, const State& initia
   const auto not_reached = [&](const std::string& why) {
     stats_ = total;
     const std::string reached =
-        total.runs >= 3 ? fmt::format("the run at a step of {:g} s is estimated {:g} off", total.last_step,
-                                      total.global_error_estimate)
-                        : fmt::format("{} run(s), down to a step of {:g} s, too few for an estimate", total.runs,
-                                      total.last_step);
-    return NumericError(fmt::format("integrator '{}': global_tolerance {:g} not reached by step halving from "
-                                    "initial_step {:g} ({}): {}",
-                                    name(), user.global_tolerance, user.initial_step, why, reached));
+        total.runs >= 3
+            ? fmt::format("the run at a step of {:g} s is estimated {:g} off", total.last_step,
+                          total.global_error_estimate)
+            : fmt::format("{} run(s), down to a step of {:g} s, too few for an estimate",
+                          total.runs, total.last_step);
+    return NumericError(
+        fmt::format("integrator '{}': global_tolerance {:g} not reached by step halving from "
+                    "initial_step {:g} ({}): {}",
+                    name(), user.global_tolerance, user.initial_step, why, reached));
   };
   for (int k = 0;; ++k) {
     options_.initial_step = std::ldexp(user.initial_step, -k);
     if (k > 0 && options_.initial_step < user.min_step) {
-      throw not_reached(fmt::format("the next step {:g} s is below min_step {:g}", options_.initial_step,
-                                    user.min_step));
+      throw not_reached(fmt::format("the next step {:g} s is below min_step {:g}",
+                                    options_.initial_step, user.min_step));
     }
-    if (k > 0 && (t_end - initial.t) / options_.initial_step > static_cast<double>(user.max_steps)) {
-      throw not_reached(fmt::format("a step of {:g} s would take more than max_steps {}", options_.initial_step,
-                                    user.max_steps));
+    if (k > 0 &&
+        (t_end - initial.t) / options_.initial_step > static_cast<double>(user.max_steps)) {
+      throw not_reached(fmt::format("a step of {:g} s would take more than max_steps {}",
+                                    options_.initial_step, user.max_steps));
     }
     outputs.clear();
     State end;
@@ -315,7 +325,8 @@ State Integrator::run_by_step_halving(DynamicSystem& system, const State& initia
       end = run_once(system, initial, t_end);
     } catch (const NumericError& e) {
       if (k == 0) throw;
-      throw not_reached(fmt::format("the run at a step of {:g} s failed: {}", options_.initial_step, e.what()));
+      throw not_reached(
+          fmt::format("the run at a step of {:g} s failed: {}", options_.initial_step, e.what()));
     }
     add(total, stats_);
     ++total.runs;
@@ -324,7 +335,8 @@ State Integrator::run_by_step_halving(DynamicSystem& system, const State& initia
     if (k > 0) {
       const double d = difference(previous, end, previous_outputs, outputs, user.q_scale);
       if (k >= 2) {
-        const double fall = previous_difference > 0.0 ? d / previous_difference : (d > 0.0 ? 1.0 : 0.0);
+        const double fall =
+            previous_difference > 0.0 ? d / previous_difference : (d > 0.0 ? 1.0 : 0.0);
         total.global_error_estimate = fall < kSlowestFall
                                           ? d * std::max(richardson, fall / (1.0 - fall))
                                           : std::numeric_limits<double>::infinity();
@@ -363,8 +375,9 @@ ErrorWeights::ErrorWeights(const IntegratorOptions& options, std::string_view in
   const auto& scale = options.q_scale;
   if (scale.empty()) return;
   if (static_cast<int>(scale.size()) != n) {
-    throw OptionError(fmt::format("integrator '{}': q_scale has {} entries, the system has {} coordinates",
-                                  integrator, scale.size(), n));
+    throw OptionError(
+        fmt::format("integrator '{}': q_scale has {} entries, the system has {} coordinates",
+                    integrator, scale.size(), n));
   }
   for (int i = 0; i < n; ++i) {
     const double s = scale[static_cast<std::size_t>(i)];
@@ -394,7 +407,8 @@ const Vector& ErrorWeights::update(const State& s0, const State& s1) {
 }
 
 double ErrorWeights::rms(const Vector& e) const {
-  const double mean = e.cwiseQuotient(w_).squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, w_.size()));
+  const double mean =
+      e.cwiseQuotient(w_).squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, w_.size()));
   return std::sqrt(mean);
 }
 
@@ -411,24 +425,28 @@ std::string non_finite_entry(const DynamicSystem& system, const char* quantity, 
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (std::isfinite(v[i])) continue;
     const int k = static_cast<int>(i);
-    return extra ? fmt::format("{} of extra state '{}' is {}", quantity,
-                               system.extra_state_name(k), v[i])
-                 : fmt::format("{} of coordinate '{}' is {}", quantity,
-                               system.coordinate_name(k), v[i]);
+    return extra ? fmt::format("{} of extra state '{}' is {}", quantity, system.extra_state_name(k),
+                               v[i])
+                 : fmt::format("{} of coordinate '{}' is {}", quantity, system.coordinate_name(k),
+                               v[i]);
   }
   return {};
 }
 
 std::string non_finite_value(const DynamicSystem& system, const State& s, const Vector& qdd,
                              const Vector& yd) {
-  if (s.q.allFinite() && s.qd.allFinite() && s.y.allFinite() && qdd.allFinite() && yd.allFinite()) return {};
+  if (s.q.allFinite() && s.qd.allFinite() && s.y.allFinite() && qdd.allFinite() && yd.allFinite())
+    return {};
   struct Entry {
     const char* quantity;
     const Vector& v;
     bool extra;
   };
-  const Entry entries[] = {{"q", s.q, false},   {"qd", s.qd, false}, {"y", s.y, true},
-                           {"qdd", qdd, false}, {"yd", yd, true}};
+  const Entry entries[] = {{"q", s.q, false},
+                           {"qd", s.qd, false},
+                           {"y", s.y, true},
+                           {"qdd", qdd, false},
+                           {"yd", yd, true}};
   for (const auto& e : entries) {
     std::string bad = non_finite_entry(system, e.quantity, e.v, e.extra);
     if (!bad.empty()) return bad;

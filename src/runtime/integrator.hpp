@@ -142,12 +142,12 @@ struct IntegratorOptions {
 
 // Counters of the last run (reset by integrate).
 struct Statistics {
-  long steps = 0;                   // accepted steps
-  long rejected_steps = 0;          // error test, Newton or non-finite failures
-  long rhs_evaluations = 0;         // DynamicSystem::accelerations calls
-  long residual_evaluations = 0;    // DynamicSystem::residual calls by the integrator
-  long jacobian_evaluations = 0;    // iteration matrices evaluated (jacobians, or CVODE's)
-  long newton_iterations = 0;       // linear solves with the iteration matrix
+  long steps = 0;                 // accepted steps
+  long rejected_steps = 0;        // error test, Newton or non-finite failures
+  long rhs_evaluations = 0;       // DynamicSystem::accelerations calls
+  long residual_evaluations = 0;  // DynamicSystem::residual calls by the integrator
+  long jacobian_evaluations = 0;  // iteration matrices evaluated (jacobians, or CVODE's)
+  long newton_iterations = 0;     // linear solves with the iteration matrix
   // With global_tolerance: the runs made (their work summed above), the local
   // tolerance of the last one (and its step, at a fixed step) and the estimated
   // error of its result, whether below global_tolerance (a run that returns has met

@@ -1,9 +1,9 @@
 // make_integrator: the table of integrators by name.
 
-#include <array>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include <array>
 
 #include <symdyn/runtime/arkode_integrator.hpp>
 #include <symdyn/runtime/cvode_integrator.hpp>

@@ -1,7 +1,7 @@
-#include <symdyn/runtime/kinematics.hpp>
-
 #include <Eigen/Geometry>
 #include <algorithm>
+
+#include <symdyn/runtime/kinematics.hpp>
 
 namespace symdyn::runtime {
 
@@ -47,7 +47,8 @@ Mat3 Kinematics::rotation(int body) const {
 
 namespace {
 bool finite(const std::vector<double>& a) {
-  return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size())).allFinite();
+  return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size()))
+      .allFinite();
 }
 }  // namespace
 

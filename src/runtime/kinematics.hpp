@@ -69,17 +69,17 @@ class Kinematics {
   Mat3 rotation(int body) const;
 
   // Raw arrays for the emitted entry points (shapes as in the contract).
-  double* R_data() { return R_.data(); }            // (nbody x 3 x 3)
-  double* x_data() { return x_.data(); }            // (nbody x 3)
-  double* v_data() { return v_.data(); }            // (nbody x 3)
-  double* w_data() { return w_.data(); }            // (nbody x 3)
-  double* a_data() { return a_.data(); }            // (nbody x 3)
-  double* dw_data() { return dw_.data(); }          // (nbody x 3)
-  double* dv_dqd_data() { return dv_.data(); }      // (nbody x nq x 3)
-  double* dw_dqd_data() { return dwq_.data(); }     // (nbody x nq x 3)
-  double* p_data() { return p_.data(); }            // (max(ndep, 1))
-  double* pd_data() { return pd_.data(); }          // (max(ndep, 1))
-  double* pdd_data() { return pdd_.data(); }        // (max(ndep, 1))
+  double* R_data() { return R_.data(); }         // (nbody x 3 x 3)
+  double* x_data() { return x_.data(); }         // (nbody x 3)
+  double* v_data() { return v_.data(); }         // (nbody x 3)
+  double* w_data() { return w_.data(); }         // (nbody x 3)
+  double* a_data() { return a_.data(); }         // (nbody x 3)
+  double* dw_data() { return dw_.data(); }       // (nbody x 3)
+  double* dv_dqd_data() { return dv_.data(); }   // (nbody x nq x 3)
+  double* dw_dqd_data() { return dwq_.data(); }  // (nbody x nq x 3)
+  double* p_data() { return p_.data(); }         // (max(ndep, 1))
+  double* pd_data() { return pd_.data(); }       // (max(ndep, 1))
+  double* pdd_data() { return pdd_.data(); }     // (max(ndep, 1))
 
   // Sets v, w (and a, dw) to zero; used before evaluating positions only.
   void clear_rates();

@@ -27,8 +27,12 @@ class KinematicsDerivatives {
   Eigen::Map<const Vec3> dv_dq(int i, int k) const { return vec(dv_dq_, i * nq_ + k); }
   Eigen::Map<const Vec3> dw_dq(int i, int k) const { return vec(dw_dq_, i * nq_ + k); }
   // ∂(dv_i/dqd_j)/∂q_k, ∂(dw_i/dqd_j)/∂q_k (3 each).
-  Eigen::Map<const Vec3> ddv_dq(int i, int j, int k) const { return vec(ddv_dq_, (i * nq_ + j) * nq_ + k); }
-  Eigen::Map<const Vec3> ddw_dq(int i, int j, int k) const { return vec(ddw_dq_, (i * nq_ + j) * nq_ + k); }
+  Eigen::Map<const Vec3> ddv_dq(int i, int j, int k) const {
+    return vec(ddv_dq_, (i * nq_ + j) * nq_ + k);
+  }
+  Eigen::Map<const Vec3> ddw_dq(int i, int j, int k) const {
+    return vec(ddw_dq_, (i * nq_ + j) * nq_ + k);
+  }
 
   // Of the point of `body` at r = P - x (global axes), with the kinematics k
   // of the same state: J_j, ∂J_j/∂q_k and ∂Ṗ/∂q_k above.
@@ -46,7 +50,9 @@ class KinematicsDerivatives {
   bool all_finite() const;
 
  private:
-  static Eigen::Map<const Vec3> vec(const std::vector<double>& a, int i) { return Eigen::Map<const Vec3>(&a[3 * i]); }
+  static Eigen::Map<const Vec3> vec(const std::vector<double>& a, int i) {
+    return Eigen::Map<const Vec3>(&a[3 * i]);
+  }
 
   int nq_ = 0;
   std::vector<double> dv_dq_, dw_dq_, ddv_dq_, ddw_dq_;

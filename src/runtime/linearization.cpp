@@ -1,5 +1,3 @@
-#include <symdyn/runtime/linearization.hpp>
-
 #include <fmt/format.h>
 
 #include <Eigen/Cholesky>
@@ -9,6 +7,7 @@
 #include <numbers>
 
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
 
@@ -83,9 +82,10 @@ Linearization linearize(DynamicSystem& sys, const State& s, const LinearizationO
     // The model's reason (an angle sequence at its singular configuration) when it knows one.
     const auto* mbs = dynamic_cast<const MultibodySystem*>(&sys);
     const auto why = mbs != nullptr ? mbs->explain_singular(s, M) : std::nullopt;
-    throw NumericError(fmt::format(
-        "linearize: mass matrix is singular or indefinite at t = {}: {}", s.t,
-        why ? *why : mass_matrix_singularity(lin.M, [&](int r) { return sys.coordinate_name(lin.kept[r]); })));
+    throw NumericError(fmt::format("linearize: mass matrix is singular or indefinite at t = {}: {}",
+                                   s.t, why ? *why : mass_matrix_singularity(lin.M, [&](int r) {
+                                     return sys.coordinate_name(lin.kept[r]);
+                                   })));
   }
   const Eigen::LDLT<Matrix> ldlt(lin.M);
   lin.A = Matrix::Zero(2 * nk, 2 * nk);
@@ -122,9 +122,8 @@ std::vector<Mode> modes(const Linearization& lin) {
     mode.shape = psi;
     out.push_back(std::move(mode));
   }
-  std::sort(out.begin(), out.end(), [](const Mode& a, const Mode& b) {
-    return std::abs(a.pole) < std::abs(b.pole);
-  });
+  std::sort(out.begin(), out.end(),
+            [](const Mode& a, const Mode& b) { return std::abs(a.pole) < std::abs(b.pole); });
   return out;
 }
 

@@ -38,10 +38,10 @@ struct Input {
 };
 
 struct LinearizationOptions {
-  std::vector<int> locked;          // coordinates removed
-  std::vector<Input> inputs;        // columns of B
-  std::optional<Vector> qdd;        // default: the accelerations at the state
-  double input_step = 1e-6;         // relative, floor 1e-6
+  std::vector<int> locked;    // coordinates removed
+  std::vector<Input> inputs;  // columns of B
+  std::optional<Vector> qdd;  // default: the accelerations at the state
+  double input_step = 1e-6;   // relative, floor 1e-6
 };
 
 struct Linearization {

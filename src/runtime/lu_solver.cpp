@@ -1,7 +1,7 @@
-#include <symdyn/runtime/lu_solver.hpp>
-
 #include <cmath>
 #include <utility>
+
+#include <symdyn/runtime/lu_solver.hpp>
 
 namespace symdyn::runtime {
 

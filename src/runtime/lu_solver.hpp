@@ -34,8 +34,8 @@ class LuSolver {
   static constexpr int kLoopUpTo = 40;
 
  private:
-  Matrix lu_;                        // (n x n) L below the diagonal (unit diagonal), U on and above
-  Eigen::VectorXi pivot_;            // (n) row k of U came from row pivot_[k] of A, as swaps in order
+  Matrix lu_;              // (n x n) L below the diagonal (unit diagonal), U on and above
+  Eigen::VectorXi pivot_;  // (n) row k of U came from row pivot_[k] of A, as swaps in order
   Eigen::PartialPivLU<Matrix> big_;  // above kLoopUpTo
 };
 

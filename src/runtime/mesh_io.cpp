@@ -26,7 +26,8 @@ void add_flat_triangle(TriangleMesh& m, const Vec3f& a, const Vec3f& b, const Ve
   m.indices.insert(m.indices.end(), {first, first + 1, first + 2});
 }
 
-[[noreturn]] void fail(const std::filesystem::path& file, std::size_t line, const std::string& what) {
+[[noreturn]] void fail(const std::filesystem::path& file, std::size_t line,
+                       const std::string& what) {
   throw ModelError(fmt::format("mesh '{}'{}: {}", file.string(),
                                line ? fmt::format(", line {}", line) : "", what));
 }
@@ -43,7 +44,8 @@ TriangleMesh read_obj(const std::filesystem::path& file, std::istream& in) {
     words >> keyword;
     if (keyword == "v") {
       Vec3f v;
-      if (!(words >> v.x() >> v.y() >> v.z()) || !v.allFinite()) fail(file, line, "a vertex needs three finite numbers");
+      if (!(words >> v.x() >> v.y() >> v.z()) || !v.allFinite())
+        fail(file, line, "a vertex needs three finite numbers");
       vertices.push_back(v);
     } else if (keyword == "f") {
       std::vector<Vec3f> corners;
@@ -81,7 +83,8 @@ TriangleMesh read_ascii_stl(const std::filesystem::path& file, std::istream& in)
     words >> keyword;
     if (keyword == "vertex") {
       Vec3f v;
-      if (!(words >> v.x() >> v.y() >> v.z()) || !v.allFinite()) fail(file, line, "a vertex needs three finite numbers");
+      if (!(words >> v.x() >> v.y() >> v.z()) || !v.allFinite())
+        fail(file, line, "a vertex needs three finite numbers");
       corners.push_back(v);
     } else if (keyword == "endfacet") {
       if (corners.size() != 3) fail(file, line, "a facet needs three vertices");
@@ -95,25 +98,29 @@ TriangleMesh read_ascii_stl(const std::filesystem::path& file, std::istream& in)
 // Binary STL: an 80-byte header, a triangle count, then 50 bytes per triangle
 // (normal, three vertices as little-endian floats, two attribute bytes).
 TriangleMesh read_binary_stl(const std::filesystem::path& file, const std::string& bytes) {
-  if (bytes.size() < 84) fail(file, 0, fmt::format("{} bytes: too short for a binary STL (84 at least)", bytes.size()));
+  if (bytes.size() < 84)
+    fail(file, 0, fmt::format("{} bytes: too short for a binary STL (84 at least)", bytes.size()));
   std::uint32_t count = 0;
   std::memcpy(&count, bytes.data() + 80, 4);
   if (bytes.size() != 84 + 50 * std::size_t{count}) {
-    fail(file, 0, fmt::format("binary STL of {} triangles must be {} bytes, not {}", count,
-                              84 + 50 * std::size_t{count}, bytes.size()));
+    fail(file, 0,
+         fmt::format("binary STL of {} triangles must be {} bytes, not {}", count,
+                     84 + 50 * std::size_t{count}, bytes.size()));
   }
   TriangleMesh m;
   for (std::uint32_t t = 0; t < count; ++t) {
     float f[12];
     std::memcpy(f, bytes.data() + 84 + 50 * std::size_t{t}, sizeof f);
-    add_flat_triangle(m, Vec3f(f[3], f[4], f[5]), Vec3f(f[6], f[7], f[8]), Vec3f(f[9], f[10], f[11]));
+    add_flat_triangle(m, Vec3f(f[3], f[4], f[5]), Vec3f(f[6], f[7], f[8]),
+                      Vec3f(f[9], f[10], f[11]));
   }
   return m;
 }
 
 std::string lowercase_extension(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
 
@@ -133,7 +140,8 @@ TriangleMesh read_mesh(const std::filesystem::path& file) {
     if (bytes.size() >= 84) std::memcpy(&count, bytes.data() + 80, 4);
     const bool binary = bytes.size() >= 84 && bytes.size() == 84 + 50 * std::size_t{count};
     std::istringstream text(bytes);
-    m = binary || bytes.rfind("solid", 0) != 0 ? read_binary_stl(file, bytes) : read_ascii_stl(file, text);
+    m = binary || bytes.rfind("solid", 0) != 0 ? read_binary_stl(file, bytes)
+                                               : read_ascii_stl(file, text);
   } else {
     fail(file, 0, "unknown format (OBJ or STL expected, by the extension .obj or .stl)");
   }

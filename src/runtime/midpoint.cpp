@@ -1,13 +1,12 @@
-#include <symdyn/runtime/midpoint.hpp>
+#include <fmt/format.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include <Eigen/LU>
-#include <fmt/format.h>
-
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/midpoint.hpp>
 #include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
@@ -39,16 +38,16 @@ class Midpoint final : public detail::SteppingIntegrator {
 
   int n_ = 0;
   int m_ = 0;
-  Vector q_scale_;               // (n) options.q_scale, or ones
-  Vector p_;                     // (n) momentum at current_
-  Vector pdot_;                  // (n) the last step's midpoint dp/dt: the next step's guess
-  Vector q1_, p1_, y1_;          // (n), (n), (m) the step being solved
-  Vector qm_, pm_, vm_, ym_;     // midpoint values
-  Vector qdd_m_, yd_m_;          // accelerations at the midpoint
-  Matrix M_;                     // (n x n)
+  Vector q_scale_;            // (n) options.q_scale, or ones
+  Vector p_;                  // (n) momentum at current_
+  Vector pdot_;               // (n) the last step's midpoint dp/dt: the next step's guess
+  Vector q1_, p1_, y1_;       // (n), (n), (m) the step being solved
+  Vector qm_, pm_, vm_, ym_;  // midpoint values
+  Vector qdd_m_, yd_m_;       // accelerations at the midpoint
+  Matrix M_;                  // (n x n)
   Eigen::PartialPivLU<Matrix> lu_;
   Eigen::PartialPivLU<Matrix> newton_lu_;  // of I - dG/dz, (2n+m x 2n+m)
-  State probe_;                  // scratch state for the residuals
+  State probe_;                            // scratch state for the residuals
   Vector f0_, f1_, g_, zero_n_, zero_m_, Mv_plus_, Mv_minus_;
   // Workspaces sized once, so that a step allocates nothing.
   Vector amplified_, unit_, shifted_q_;  // (n) λ·x, λ·e_j, q ± d·v

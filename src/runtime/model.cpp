@@ -1,14 +1,14 @@
-#include <symdyn/runtime/model.hpp>
-
 #include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <algorithm>
-#include <cmath>
 #include <cctype>
+#include <cmath>
 #include <numbers>
 #include <utility>
+
+#include <symdyn/runtime/model.hpp>
 
 namespace symdyn::runtime {
 
@@ -17,7 +17,8 @@ namespace {
 int find_name(const std::vector<std::string>& names, std::string_view name, const char* what,
               const std::string& model) {
   const auto it = std::find(names.begin(), names.end(), name);
-  if (it == names.end()) throw ModelError(fmt::format("model '{}': no {} named '{}'", model, what, name));
+  if (it == names.end())
+    throw ModelError(fmt::format("model '{}': no {} named '{}'", model, what, name));
   return static_cast<int>(it - names.begin());
 }
 
@@ -30,21 +31,22 @@ void validate_inertia(const std::string& body, double m, const Mat3& I) {
   const double scale = std::max(I.cwiseAbs().maxCoeff(), 1e-300);
   const double asym = (I - I.transpose()).cwiseAbs().maxCoeff();
   if (asym > 1e-9 * scale) {
-    throw ModelError(fmt::format("body '{}': inertia is not symmetric (|I - I^T| = {})", body, asym));
+    throw ModelError(
+        fmt::format("body '{}': inertia is not symmetric (|I - I^T| = {})", body, asym));
   }
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (I + I.transpose()), Eigen::EigenvaluesOnly);
   const Vec3 p = eig.eigenvalues();  // ascending
   if (!(p(0) > 0.0)) {
-    throw ModelError(fmt::format(
-        "body '{}': inertia is not positive definite (principal moments {}, {}, {})", body, p(0),
-        p(1), p(2)));
+    throw ModelError(
+        fmt::format("body '{}': inertia is not positive definite (principal moments {}, {}, {})",
+                    body, p(0), p(1), p(2)));
   }
   // A + B >= C for the principal moments; rounding allowed (a thin rod or disc
   // is exactly at the limit).
   if (p(0) + p(1) < p(2) * (1.0 - 1e-9)) {
-    throw ModelError(fmt::format(
-        "body '{}': principal moments {}, {}, {} violate the triangle inequality", body, p(0),
-        p(1), p(2)));
+    throw ModelError(
+        fmt::format("body '{}': principal moments {}, {}, {} violate the triangle inequality", body,
+                    p(0), p(1), p(2)));
   }
 }
 
@@ -58,17 +60,23 @@ struct RestrictedDomain {
   bool (*edge)(double x, double e);
 };
 
-bool is_integer(double e) { return std::nearbyint(e) == e; }
+bool is_integer(double e) {
+  return std::nearbyint(e) == e;
+}
 
 constexpr RestrictedDomain kRestrictedDomains[] = {
     {"asin", "[-1, 1]", [](double x, double) { return std::abs(x) <= 1.0; },
      [](double x, double) { return std::abs(x) == 1.0; }},
     {"acos", "[-1, 1]", [](double x, double) { return std::abs(x) <= 1.0; },
      [](double x, double) { return std::abs(x) == 1.0; }},
-    {"sqrt", "[0, inf)", [](double x, double) { return x >= 0.0; }, [](double x, double) { return x == 0.0; }},
-    {"log", "(0, inf)", [](double x, double) { return x > 0.0; }, [](double, double) { return false; }},
+    {"sqrt", "[0, inf)", [](double x, double) { return x >= 0.0; },
+     [](double x, double) { return x == 0.0; }},
+    {"log", "(0, inf)", [](double x, double) { return x > 0.0; },
+     [](double, double) { return false; }},
     {"pow", "a base > 0, or 0 with an exponent > 0, or < 0 with an integer exponent",
-     [](double x, double e) { return x > 0.0 || (x == 0.0 && e > 0.0) || (x < 0.0 && is_integer(e)); },
+     [](double x, double e) {
+       return x > 0.0 || (x == 0.0 && e > 0.0) || (x < 0.0 && is_integer(e));
+     },
      [](double x, double e) { return x == 0.0 && e > 0.0 && e < 1.0; }},
 };
 
@@ -89,8 +97,8 @@ std::string call(std::string_view function, double x, double e) {
 Model::Model(ModelDescription d) : d_(std::move(d)) {
   const auto check_size = [&](std::size_t got, int want, const char* what) {
     if (got != static_cast<std::size_t>(want)) {
-      throw ModelError(fmt::format("model '{}': {} has {} entries, expected {}", d_.model, what,
-                                   got, want));
+      throw ModelError(
+          fmt::format("model '{}': {} has {} entries, expected {}", d_.model, what, got, want));
     }
   };
   if (d_.nq < 0 || d_.nbody < 0 || d_.ndep < 0 || d_.nparam < 0) {
@@ -115,18 +123,24 @@ void Model::validate_diagnostics() const {
   const auto fail = [&](const std::string& what) {
     throw ModelError(fmt::format("model '{}': {}", d_.model, what));
   };
-  if (!d_.dependent_names.empty() && d_.dependent_names.size() != static_cast<std::size_t>(d_.ndep)) {
-    fail(fmt::format("dependent_names has {} entries, expected {}", d_.dependent_names.size(), d_.ndep));
+  if (!d_.dependent_names.empty() &&
+      d_.dependent_names.size() != static_cast<std::size_t>(d_.ndep)) {
+    fail(fmt::format("dependent_names has {} entries, expected {}", d_.dependent_names.size(),
+                     d_.ndep));
   }
-  if (!d_.domain_checks.empty() && d_.domain_arguments == nullptr) fail("domain checks without domain_arguments");
+  if (!d_.domain_checks.empty() && d_.domain_arguments == nullptr)
+    fail("domain checks without domain_arguments");
   for (const DomainCheck& c : d_.domain_checks) {
     if (c.dependent.empty()) fail("domain check of an unnamed dependent parameter");
-    if (restricted_domain(c.function) == nullptr) fail(fmt::format("domain check of unknown function '{}'", c.function));
+    if (restricted_domain(c.function) == nullptr)
+      fail(fmt::format("domain check of unknown function '{}'", c.function));
   }
   for (const AngleSequence& a : d_.angle_sequences) {
     const bool indices = a.body >= 0 && a.body < d_.nbody &&
-                         std::all_of(a.coordinates.begin(), a.coordinates.end(), [&](int j) { return j >= 0 && j < d_.nq; });
-    if (!indices || a.axes.size() != 3) fail(fmt::format("angle sequence '{}' of body {} is malformed", a.axes, a.body));
+                         std::all_of(a.coordinates.begin(), a.coordinates.end(),
+                                     [&](int j) { return j >= 0 && j < d_.nq; });
+    if (!indices || a.axes.size() != 3)
+      fail(fmt::format("angle sequence '{}' of body {} is malformed", a.axes, a.body));
   }
 }
 
@@ -144,7 +158,8 @@ std::optional<std::string> Model::domain_error(double t, const double* q) const 
   // Outside first, in evaluation order (an inner failure makes the outer arguments NaN: skipped).
   for (std::size_t k = 0; k < n; ++k) {
     const double x = args[2 * k], e = args[2 * k + 1];
-    if (std::isfinite(x) && std::isfinite(e) && !restricted_domain(d_.domain_checks[k].function)->inside(x, e)) {
+    if (std::isfinite(x) && std::isfinite(e) &&
+        !restricted_domain(d_.domain_checks[k].function)->inside(x, e)) {
       return describe(k, "outside its function's domain");
     }
   }
@@ -157,9 +172,11 @@ std::optional<std::string> Model::domain_error(double t, const double* q) const 
 }
 
 std::optional<std::string> Model::singular_angle_sequence(const double* q, const Matrix& M) const {
-  if (d_.angle_sequences.empty() || M.rows() != d_.nq || M.rows() == 0 || !M.allFinite()) return std::nullopt;
+  if (d_.angle_sequences.empty() || M.rows() != d_.nq || M.rows() == 0 || !M.allFinite())
+    return std::nullopt;
   const Eigen::JacobiSVD<Matrix> svd(M, Eigen::ComputeFullV);
-  const Vector u = svd.matrixV().col(M.cols() - 1);  // the null direction (singular values decrease)
+  const Vector u =
+      svd.matrixV().col(M.cols() - 1);  // the null direction (singular values decrease)
   const AngleSequence* best = nullptr;
   double best_share = 0.5;  // at least half of the null direction
   for (const AngleSequence& a : d_.angle_sequences) {
@@ -180,12 +197,14 @@ std::optional<std::string> Model::singular_angle_sequence(const double* q, const
   const double offset = best->axes.front() == best->axes.back() ? 0.0 : pi / 2;
   const double singular = offset + pi * std::nearbyint((b - offset) / pi);
   std::string axes;
-  for (char c : best->axes) axes += fmt::format("{}{}", axes.empty() ? "" : "-", static_cast<char>(std::toupper(c)));
+  for (char c : best->axes)
+    axes += fmt::format("{}{}", axes.empty() ? "" : "-", static_cast<char>(std::toupper(c)));
   const auto& names = d_.q_names;
-  return fmt::format("coordinates '{}', '{}', '{}' of body '{}' form a {} angle sequence singular at {} = {} deg "
-                     "({} = {} rad = {:.9g} deg): its first and third axes are aligned",
-                     names[best->coordinates[0]], names[j], names[best->coordinates[2]], d_.body_names[best->body],
-                     axes, names[j], std::round(singular * 180.0 / pi), names[j], b, b * 180.0 / pi);
+  return fmt::format(
+      "coordinates '{}', '{}', '{}' of body '{}' form a {} angle sequence singular at {} = {} deg "
+      "({} = {} rad = {:.9g} deg): its first and third axes are aligned",
+      names[best->coordinates[0]], names[j], names[best->coordinates[2]], d_.body_names[best->body],
+      axes, names[j], std::round(singular * 180.0 / pi), names[j], b, b * 180.0 / pi);
 }
 
 void Model::evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
@@ -284,13 +303,14 @@ void Model::relative_accelerations(double t, const double* q, const double* qd, 
                                    RelativeMotion& rel) const {
   if (d_.relative_accelerations == nullptr) missing("relative_accelerations");
   Kinematics& r = rel.relative();
-  d_.relative_accelerations(t, q, qd, qdd, param_.data(), r.R_data(), r.x_data(), r.v_data(), r.w_data(), r.a_data(),
-                            r.dw_data());
+  d_.relative_accelerations(t, q, qd, qdd, param_.data(), r.R_data(), r.x_data(), r.v_data(),
+                            r.w_data(), r.a_data(), r.dw_data());
 }
 
 void Model::relative_partial_velocities(double t, const double* q, RelativeMotion& rel) const {
   if (d_.relative_partial_velocities == nullptr) missing("relative_partial_velocities");
-  d_.relative_partial_velocities(t, q, param_.data(), rel.relative().dv_dqd_data(), rel.relative().dw_dqd_data());
+  d_.relative_partial_velocities(t, q, param_.data(), rel.relative().dv_dqd_data(),
+                                 rel.relative().dw_dqd_data());
 }
 
 void Model::partial_velocities(double t, const double* q, Kinematics& k) const {
@@ -324,13 +344,14 @@ void Model::dynamics(double t, const double* q, const double* qd, KinematicsLeve
                                  k.dw_dqd_data());
   }
   if (level == velocities && d_.dynamics_velocities != nullptr) {
-    return d_.dynamics_velocities(t, q, qd, p, M, h, k.R_data(), k.x_data(), k.v_data(),
-                                  k.w_data(), k.dv_dqd_data(), k.dw_dqd_data());
+    return d_.dynamics_velocities(t, q, qd, p, M, h, k.R_data(), k.x_data(), k.v_data(), k.w_data(),
+                                  k.dv_dqd_data(), k.dw_dqd_data());
   }
   dynamics_separately(t, q, qd, level, M, h, k);
 }
 
-void Model::inverse_dynamics(double t, const double* q, const double* qd, const double* qdd, double* tau) const {
+void Model::inverse_dynamics(double t, const double* q, const double* qd, const double* qdd,
+                             double* tau) const {
   if (d_.inverse_dynamics == nullptr) missing("inverse_dynamics");
   d_.inverse_dynamics(t, q, qd, qdd, param_.data(), tau);
 }
@@ -349,8 +370,9 @@ void transpose_square(Matrix& a) {
 
 }  // namespace
 
-void Model::inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
-                                         Matrix& dtau_dq, Matrix& dtau_dqd) const {
+void Model::inverse_dynamics_derivatives(double t, const double* q, const double* qd,
+                                         const double* qdd, Matrix& dtau_dq,
+                                         Matrix& dtau_dqd) const {
   if (d_.inverse_dynamics_derivatives == nullptr) missing("inverse_dynamics_derivatives");
   dtau_dq.resize(d_.nq, d_.nq);
   dtau_dqd.resize(d_.nq, d_.nq);
@@ -360,20 +382,21 @@ void Model::inverse_dynamics_derivatives(double t, const double* q, const double
   transpose_square(dtau_dqd);
 }
 
-void Model::kinematics_derivatives(double t, const double* q, const double* qd, KinematicsDerivatives& dk) const {
+void Model::kinematics_derivatives(double t, const double* q, const double* qd,
+                                   KinematicsDerivatives& dk) const {
   if (d_.kinematics_derivatives == nullptr) missing("kinematics_derivatives");
-  d_.kinematics_derivatives(t, q, qd, param_.data(), dk.dv_dq_data(), dk.dw_dq_data(), dk.ddv_dq_data(),
-                            dk.ddw_dq_data());
+  d_.kinematics_derivatives(t, q, qd, param_.data(), dk.dv_dq_data(), dk.dw_dq_data(),
+                            dk.ddv_dq_data(), dk.ddw_dq_data());
 }
 
-int Model::forward_dynamics(double t, const double* q, const double* qd, const double* tau, double* qdd) const {
+int Model::forward_dynamics(double t, const double* q, const double* qd, const double* tau,
+                            double* qdd) const {
   if (d_.forward_dynamics == nullptr) missing("forward_dynamics");
   return d_.forward_dynamics(t, q, qd, tau, param_.data(), qdd);
 }
 
-void Model::dynamics_separately(double t, const double* q, const double* qd,
-                                KinematicsLevel level, double* M, double* h,
-                                Kinematics& k) const {
+void Model::dynamics_separately(double t, const double* q, const double* qd, KinematicsLevel level,
+                                double* M, double* h, Kinematics& k) const {
   if (level == KinematicsLevel::positions) positions(t, q, k);
   if (level == KinematicsLevel::velocities) velocities(t, q, qd, k);
   if (level != KinematicsLevel::none) partial_velocities(t, q, k);

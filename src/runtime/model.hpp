@@ -49,7 +49,8 @@ using BiasForcesFn = void (*)(double t, const double* q, const double* qd, const
                               double* h);
 // Cold diagnostics: the arguments of the dependent parameters' restricted
 // operations, (ndomain x 2) (docs/emitted_interface.md).
-using DomainArgumentsFn = void (*)(double t, const double* q, const double* param, double* arguments);
+using DomainArgumentsFn = void (*)(double t, const double* q, const double* param,
+                                   double* arguments);
 // M and h in one call, alone or with the kinematics force elements read.
 using DynamicsFn = void (*)(double t, const double* q, const double* qd, const double* param,
                             double* M, double* h);
@@ -70,8 +71,9 @@ using InverseDynamicsDerivativesFn = void (*)(double t, const double* q, const d
                                               double* dtau_dq, double* dtau_dqd);
 // The derivatives with respect to q of v, w (nbody x nq x 3 each) and of the
 // partial velocities (nbody x nq x nq x 3 each) (runtime/kinematics_derivatives.hpp).
-using KinematicsDerivativesFn = void (*)(double t, const double* q, const double* qd, const double* param,
-                                         double* dv_dq, double* dw_dq, double* ddv_dq, double* ddw_dq);
+using KinematicsDerivativesFn = void (*)(double t, const double* q, const double* qd,
+                                         const double* param, double* dv_dq, double* dw_dq,
+                                         double* ddv_dq, double* ddw_dq);
 // qdd = M⁻¹·(tau - h) (nq) by the articulated-body algorithm; returns -1, or the
 // first coordinate whose pivot failed (then qdd is not to be used).
 using ForwardDynamicsFn = int (*)(double t, const double* q, const double* qd, const double* tau,
@@ -215,7 +217,7 @@ struct ModelDescription {
   InverseDynamicsFn inverse_dynamics = nullptr;
   ForwardDynamicsFn forward_dynamics = nullptr;  // only where the generator chose it
   InverseDynamicsDerivativesFn inverse_dynamics_derivatives = nullptr;  // only where asked for
-  KinematicsDerivativesFn kinematics_derivatives = nullptr;              // likewise
+  KinematicsDerivativesFn kinematics_derivatives = nullptr;             // likewise
   // Cold diagnostics; empty or null for code emitted before them.
   std::vector<std::string> dependent_names;  // (ndep)
   std::vector<DomainCheck> domain_checks;
@@ -282,7 +284,9 @@ class Model {
   }
   bool has_inverse_dynamics() const { return d_.inverse_dynamics != nullptr; }
   bool has_forward_dynamics() const { return d_.forward_dynamics != nullptr; }
-  bool has_inverse_dynamics_derivatives() const { return d_.inverse_dynamics_derivatives != nullptr; }
+  bool has_inverse_dynamics_derivatives() const {
+    return d_.inverse_dynamics_derivatives != nullptr;
+  }
   bool has_kinematics_derivatives() const { return d_.kinematics_derivatives != nullptr; }
 
   // A kinematics buffer of the right sizes for this model.
@@ -315,16 +319,21 @@ class Model {
   void dynamics(double t, const double* q, const double* qd, KinematicsLevel level, double* M,
                 double* h, Kinematics& k) const;
   // tau = M·qdd + h (nq each), emitted recursively.
-  void inverse_dynamics(double t, const double* q, const double* qd, const double* qdd, double* tau) const;
+  void inverse_dynamics(double t, const double* q, const double* qd, const double* qdd,
+                        double* tau) const;
   // dtau/dq and dtau/dqd (nq x nq each) at (q, qd, qdd), exact (emitted).
   void inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
                                     Matrix& dtau_dq, Matrix& dtau_dqd) const;
   // The derivatives of the kinematics with respect to q at (t, q, qd), exact (emitted).
-  void kinematics_derivatives(double t, const double* q, const double* qd, KinematicsDerivatives& dk) const;
-  KinematicsDerivatives make_kinematics_derivatives() const { return KinematicsDerivatives(d_.nq, d_.nbody); }
+  void kinematics_derivatives(double t, const double* q, const double* qd,
+                              KinematicsDerivatives& dk) const;
+  KinematicsDerivatives make_kinematics_derivatives() const {
+    return KinematicsDerivatives(d_.nq, d_.nbody);
+  }
   // qdd = M⁻¹·(tau - h) (nq each) without M; -1, or the coordinate of the first
   // failed pivot (qdd then unusable: the mass matrix names the culprit).
-  int forward_dynamics(double t, const double* q, const double* qd, const double* tau, double* qdd) const;
+  int forward_dynamics(double t, const double* q, const double* qd, const double* tau,
+                       double* qdd) const;
   // The emitted entry points, or null: for callers that dispatch once, with parameters().data().
   InverseDynamicsFn emitted_inverse_dynamics() const { return d_.inverse_dynamics; }
   ForwardDynamicsFn emitted_forward_dynamics() const { return d_.forward_dynamics; }
@@ -397,7 +406,8 @@ ModelDescription Model::describe() {
   if constexpr (detail::has_velocities<G>) d.velocities = &G::velocities;
   if constexpr (detail::has_accelerations<G>) d.accelerations = &G::accelerations;
   if constexpr (detail::has_partial_velocities<G>) d.partial_velocities = &G::partial_velocities;
-  if constexpr (detail::has_relative_accelerations<G>) d.relative_accelerations = &G::relative_accelerations;
+  if constexpr (detail::has_relative_accelerations<G>)
+    d.relative_accelerations = &G::relative_accelerations;
   if constexpr (detail::has_relative_partial_velocities<G>) {
     d.relative_partial_velocities = &G::relative_partial_velocities;
   }
@@ -406,7 +416,8 @@ ModelDescription Model::describe() {
   }
   if constexpr (detail::has_domain_checks<G>) {
     for (int k = 0; k < G::ndep; ++k) d.dependent_names.emplace_back(G::dependent_names[k]);
-    for (int k = 0; k < G::ndomain; ++k) d.domain_checks.push_back({G::domain_dependents[k], G::domain_functions[k]});
+    for (int k = 0; k < G::ndomain; ++k)
+      d.domain_checks.push_back({G::domain_dependents[k], G::domain_functions[k]});
     d.domain_arguments = &G::domain_arguments;
   }
   if constexpr (detail::has_angle_sequences<G>) {
@@ -425,13 +436,16 @@ ModelDescription Model::describe() {
       d.mass_matrix = &G::mass_matrix;
       d.bias_forces = &G::bias_forces;
       if constexpr (detail::has_dynamics<G>) d.dynamics = &G::dynamics;
-      if constexpr (detail::has_dynamics_positions<G>) d.dynamics_positions = &G::dynamics_positions;
-      if constexpr (detail::has_dynamics_velocities<G>) d.dynamics_velocities = &G::dynamics_velocities;
+      if constexpr (detail::has_dynamics_positions<G>)
+        d.dynamics_positions = &G::dynamics_positions;
+      if constexpr (detail::has_dynamics_velocities<G>)
+        d.dynamics_velocities = &G::dynamics_velocities;
       if constexpr (detail::has_inverse_dynamics<G>) d.inverse_dynamics = &G::inverse_dynamics;
       if constexpr (detail::has_inverse_dynamics_derivatives<G>) {
         d.inverse_dynamics_derivatives = &G::inverse_dynamics_derivatives;
       }
-      if constexpr (detail::has_kinematics_derivatives<G>) d.kinematics_derivatives = &G::kinematics_derivatives;
+      if constexpr (detail::has_kinematics_derivatives<G>)
+        d.kinematics_derivatives = &G::kinematics_derivatives;
       bool forward = true;
       if constexpr (requires { G::has_forward_dynamics; }) forward = G::has_forward_dynamics;
       if constexpr (detail::has_forward_dynamics<G>) {

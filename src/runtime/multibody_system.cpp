@@ -1,5 +1,3 @@
-#include <symdyn/runtime/multibody_system.hpp>
-
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
@@ -9,6 +7,7 @@
 #include <utility>
 
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 
 namespace symdyn::runtime {
 
@@ -69,15 +68,16 @@ void MultibodySystem::update_level() {
   level_ = extra_reads_;
   for (const auto& e : elements_) level_ = std::max(level_, e->reads());
   dynamics_ = level_ == KinematicsLevel::none ? model_.emitted_dynamics() : nullptr;
-  const bool alone = source_ == EquationsSource::emitted && level_ == KinematicsLevel::none && elements_.empty();
+  const bool alone =
+      source_ == EquationsSource::emitted && level_ == KinematicsLevel::none && elements_.empty();
   forward_alone_ = alone ? forward_ : nullptr;
 }
 
 void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vector& initial,
                                        ExtraEquations e, KinematicsLevel reads) {
   if (initial.size() != static_cast<Eigen::Index>(names.size())) {
-    throw ModelError(fmt::format("{} extra states named but {} initial values given",
-                                 names.size(), initial.size()));
+    throw ModelError(fmt::format("{} extra states named but {} initial values given", names.size(),
+                                 initial.size()));
   }
   if (!e && !names.empty()) throw ModelError("extra states need their equations");
   extra_names_ = std::move(names);
@@ -145,14 +145,14 @@ void MultibodySystem::state_error(const State& s) const {
   if (!std::isfinite(s.t)) throw NumericError(fmt::format("time is not finite ({})", s.t));
   for (int j = 0; j < nq; ++j) {
     if (!std::isfinite(s.q(j)) || !std::isfinite(s.qd(j))) {
-      throw NumericError(fmt::format("t = {}: coordinate '{}' is not finite (q = {}, qd = {})",
-                                     s.t, model_.q_names()[j], s.q(j), s.qd(j)));
+      throw NumericError(fmt::format("t = {}: coordinate '{}' is not finite (q = {}, qd = {})", s.t,
+                                     model_.q_names()[j], s.q(j), s.qd(j)));
     }
   }
   for (int j = 0; j < num_extra_states(); ++j) {
     if (!std::isfinite(s.y(j))) {
-      throw NumericError(fmt::format("t = {}: extra state '{}' is not finite ({})", s.t,
-                                     extra_names_[j], s.y(j)));
+      throw NumericError(
+          fmt::format("t = {}: extra state '{}' is not finite ({})", s.t, extra_names_[j], s.y(j)));
     }
   }
   throw std::logic_error("MultibodySystem::state_error called on a valid state");
@@ -199,9 +199,10 @@ void MultibodySystem::compute_loads(const State& s) {
       Loads one(model_.nq(), model_.nbody());
       e->apply(s, k_, one);
       if (one.on_bodies()) {
-        throw ModelError(fmt::format("{} applies a force on a body but declares that it reads no kinematics "
-                                     "(ForceElement::reads() must be positions or velocities)",
-                                     e->name()));
+        throw ModelError(
+            fmt::format("{} applies a force on a body but declares that it reads no kinematics "
+                        "(ForceElement::reads() must be positions or velocities)",
+                        e->name()));
       }
     }
   }
@@ -218,8 +219,9 @@ void MultibodySystem::compute_loads(const State& s) {
     }
     for (int j = 0; j < model_.nq(); ++j) {
       if (!std::isfinite(one.Q(j))) {
-        throw NumericError(fmt::format("t = {}: {}: generalized force on coordinate '{}' is not finite",
-                                       s.t, e->name(), model_.q_names()[j]));
+        throw NumericError(
+            fmt::format("t = {}: {}: generalized force on coordinate '{}' is not finite", s.t,
+                        e->name(), model_.q_names()[j]));
       }
     }
   }
@@ -341,7 +343,8 @@ void MultibodySystem::mass_matrix_refused(const State& s) const {
   const auto sequence = model_.singular_angle_sequence(s.q.data(), M_);
   throw NumericError(fmt::format(
       "t = {}: mass matrix is singular or indefinite: {} (pivot {:.3g} of its diagonal) at {}", s.t,
-      sequence ? *sequence : mass_matrix_singularity(M_, [this](int j) { return model_.q_names()[j]; }),
+      sequence ? *sequence
+               : mass_matrix_singularity(M_, [this](int j) { return model_.q_names()[j]; }),
       solver_.smallest_pivot_ratio(), describe(s)));
 }
 
@@ -350,7 +353,8 @@ void MultibodySystem::accelerations_not_finite(const State& s) const {
   explain_non_finite(s);
 }
 
-std::optional<std::string> MultibodySystem::explain_singular(const State& s, const Matrix& M) const {
+std::optional<std::string> MultibodySystem::explain_singular(const State& s,
+                                                             const Matrix& M) const {
   if (s.q.size() != model_.nq()) return std::nullopt;
   return model_.singular_angle_sequence(s.q.data(), M);
 }
@@ -371,8 +375,8 @@ void MultibodySystem::explain_non_finite(const State& s, const char* result) con
   }
   for (int j = 0; j < model_.nq(); ++j) {
     if (!std::isfinite(h_(j))) {
-      throw NumericError(fmt::format("t = {}: bias force on coordinate '{}' is not finite at {}", s.t,
-                                     model_.q_names()[j], describe(s)));
+      throw NumericError(fmt::format("t = {}: bias force on coordinate '{}' is not finite at {}",
+                                     s.t, model_.q_names()[j], describe(s)));
     }
   }
   check_kinematics(s, level_, false);
@@ -392,7 +396,8 @@ bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
   evaluate_loads(s);
   qdd.resize(h_.size());
   const double* tau = elements_.empty() ? zero_.data() : Qa_.data();
-  const int failed = forward_(s.t, s.q.data(), s.qd.data(), tau, model_.parameters().data(), qdd.data());
+  const int failed =
+      forward_(s.t, s.q.data(), s.qd.data(), tau, model_.parameters().data(), qdd.data());
   return failed < 0 && all_finite(qdd.data(), qdd.size());
 }
 
@@ -406,8 +411,8 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
       // qdd = M⁻¹·(-h) by the articulated-body algorithm, inline: nothing else to evaluate.
       // The state's values are checked with qdd's after it, as on the way of M below.
       qdd.resize(nq);
-      recursive = forward_alone_(s.t, s.q.data(), s.qd.data(), zero_.data(), model_.parameters().data(),
-                                 qdd.data()) < 0 &&
+      recursive = forward_alone_(s.t, s.q.data(), s.qd.data(), zero_.data(),
+                                 model_.parameters().data(), qdd.data()) < 0 &&
                   all_finite(s, qdd);
     } else if (source_ == EquationsSource::emitted) {
       // With force elements or kinematics read: the state checked before them.
@@ -465,7 +470,8 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
                                Vector& g) {
   check_state(s);
   if (qdd.size() != model_.nq()) {
-    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(), qdd.size(), model_.nq()));
+    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
+                                 qdd.size(), model_.nq()));
   }
   f.resize(model_.nq());
   if (source_ == EquationsSource::assembled) {
@@ -479,7 +485,8 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
     evaluate_loads(s);
     inverse_(s.t, s.q.data(), s.qd.data(), qdd.data(), model_.parameters().data(), f.data());
     if (!elements_.empty()) f -= Qa_;
-    if (!all_finite(f.data(), f.size())) evaluate_equations(s);  // cold: M and h to name the culprit
+    if (!all_finite(f.data(), f.size()))
+      evaluate_equations(s);  // cold: M and h to name the culprit
   } else {
     // f = M qdd + h - Q
     evaluate_equations(s);
@@ -487,7 +494,8 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
     f += h_;
     if (!elements_.empty()) f -= Qa_;
   }
-  if (!all_finite(f.data(), f.size())) explain_non_finite(s, "residual is");  // cold: names the culprit
+  if (!all_finite(f.data(), f.size()))
+    explain_non_finite(s, "residual is");  // cold: names the culprit
   g.resize(num_extra_states());
   if (extra_) {
     extra_(s, k_, g);
@@ -507,18 +515,22 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
   mass_matrix_emitted(s, M);
 }
 
-void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K) {
+void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C,
+                                              Matrix& K) {
   check_state(s);
   if (qdd.size() != model_.nq()) {
-    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(), qdd.size(), model_.nq()));
+    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
+                                 qdd.size(), model_.nq()));
   }
   model_.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C);
-  if (!(all_finite(K.data(), K.size()) && all_finite(C.data(), C.size()))) derivatives_not_finite(s);
+  if (!(all_finite(K.data(), K.size()) && all_finite(C.data(), C.size())))
+    derivatives_not_finite(s);
   if (!elements_.empty()) subtract_load_derivatives(s, C, K);
 }
 
 bool MultibodySystem::exact_jacobians() const {
-  return use_exact_jacobians_ && source_ == EquationsSource::emitted && model_.has_inverse_dynamics_derivatives();
+  return use_exact_jacobians_ && source_ == EquationsSource::emitted &&
+         model_.has_inverse_dynamics_derivatives();
 }
 
 std::string MultibodySystem::jacobian_method() const {
@@ -533,9 +545,12 @@ std::string MultibodySystem::jacobian_method() const {
 
 bool MultibodySystem::exact_loads(const ForceElement& e) const {
   switch (e.load_derivatives()) {
-    case LoadDerivatives::exact: return true;
-    case LoadDerivatives::exact_with_kinematics_derivatives: return model_.has_kinematics_derivatives();
-    case LoadDerivatives::differenced: return false;
+    case LoadDerivatives::exact:
+      return true;
+    case LoadDerivatives::exact_with_kinematics_derivatives:
+      return model_.has_kinematics_derivatives();
+    case LoadDerivatives::differenced:
+      return false;
   }
   return false;
 }
@@ -551,8 +566,10 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
   bool differenced = false, kinematics_derivatives = false;
   for (const auto& e : elements_) {
     differenced = differenced || !exact_loads(*e);
-    kinematics_derivatives = kinematics_derivatives || (exact_loads(*e) && e->load_derivatives() ==
-                                                                               LoadDerivatives::exact_with_kinematics_derivatives);
+    kinematics_derivatives =
+        kinematics_derivatives ||
+        (exact_loads(*e) &&
+         e->load_derivatives() == LoadDerivatives::exact_with_kinematics_derivatives);
   }
   evaluate_loads_kinematics(s);
   if (kinematics_derivatives) {
@@ -601,8 +618,9 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
   }
   if (!(all_finite(dQ_dq.data(), dQ_dq.size()) && all_finite(dQ_dqd.data(), dQ_dqd.size()))) {
     compute_loads(s);  // names a non-finite load
-    throw NumericError(fmt::format("t = {}: the derivatives of the force elements' loads are not finite at {}", s.t,
-                                   describe(s)));
+    throw NumericError(
+        fmt::format("t = {}: the derivatives of the force elements' loads are not finite at {}",
+                    s.t, describe(s)));
   }
   K -= dQ_dq;
   C -= dQ_dqd;
@@ -640,18 +658,19 @@ void MultibodySystem::differenced_loads(const State& s, Vector& Q) {
   for (const auto& e : elements_) {
     if (!exact_loads(*e)) e->apply(s, k_, loads_);
   }
-  if (!(loads_.F.allFinite() && loads_.M.allFinite() && loads_.Q.allFinite())) compute_loads(s);  // names the culprit
+  if (!(loads_.F.allFinite() && loads_.M.allFinite() && loads_.Q.allFinite()))
+    compute_loads(s);  // names the culprit
   project_loads(Q);
 }
 
 void MultibodySystem::derivatives_not_finite(const State& s) const {
   throw_domain_error(s);
-  throw NumericError(fmt::format("t = {}: the derivatives of the equations of motion are not finite at {}", s.t,
-                                 describe(s)));
+  throw NumericError(fmt::format(
+      "t = {}: the derivatives of the equations of motion are not finite at {}", s.t, describe(s)));
 }
 
-void MultibodySystem::jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M, Matrix& C,
-                                               Matrix& K) {
+void MultibodySystem::jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M,
+                                               Matrix& C, Matrix& K) {
   const int n = model_.nq();
   mass_matrix(s, M);
   C.resize(n, n);
@@ -681,8 +700,8 @@ void MultibodySystem::jacobians_by_differences(const State& s, const Vector& qdd
   }
 }
 
-bool MultibodySystem::exact_acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
-                                                     Matrix& dqdd_dqd) {
+bool MultibodySystem::exact_acceleration_derivatives(const State& s, const Vector& qdd,
+                                                     Matrix& dqdd_dq, Matrix& dqdd_dqd) {
   if (!exact_jacobians() || num_extra_states() > 0) return false;
   acceleration_derivatives(s, qdd, dqdd_dq, dqdd_dqd);
   return true;
@@ -706,16 +725,17 @@ void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd
   solver_.solve_negated_in_place(dqdd_dqd);
 }
 
-void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix,
-                                           const Vector& tau) {
+void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out,
+                                           bool with_input_matrix, const Vector& tau) {
   accelerations(s, out.qdd, jacobian_yd_);
   // Where accelerations() took the way of M, M at s is factored already.
   bool factored = mass_factored_;
   if (tau.size() > 0) {
     // qdd += M⁻¹·tau: the residual M·qdd + h - Q - tau vanishes there.
     if (tau.size() != model_.nq() || !all_finite(tau.data(), tau.size())) {
-      throw ModelError(fmt::format("model '{}': generalized forces tau must be {} finite values ({} given)",
-                                   model_.name(), model_.nq(), tau.size()));
+      throw ModelError(
+          fmt::format("model '{}': generalized forces tau must be {} finite values ({} given)",
+                      model_.name(), model_.nq(), tau.size()));
     }
     if (!factored) {
       mass_matrix(s, derivative_M_);

@@ -110,8 +110,7 @@ class MultibodySystem : public DynamicSystem {
   std::string coordinate_name(int i) const override { return model_.q_names()[i]; }
   std::string extra_state_name(int i) const override { return extra_names_[i]; }
   void accelerations(const State& s, Vector& qdd, Vector& yd) override;
-  void residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
-                Vector& g) override;
+  void residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f, Vector& g) override;
   // M = df/dqdd, C = df/dqd, K = df/dq at (s, qdd). Exact where the model was
   // emitted with inverse_dynamics_derivatives (and the source is emitted): C
   // and K are dtau/dqd and dtau/dq less the force elements' dQ/dqd and dQ/dq,
@@ -137,8 +136,8 @@ class MultibodySystem : public DynamicSystem {
   //   dqdd/dq = -M⁻¹·K,  dqdd/dqd = -M⁻¹·C,  dqdd/dtau = M⁻¹
   // (K, C of jacobians() at qdd), by solves with M's factorization; M⁻¹ is
   // formed only with `with_input_matrix`. Exact as jacobians() is.
-  void dynamics_derivatives(const State& s, DynamicsDerivatives& out, bool with_input_matrix = false,
-                            const Vector& tau = Vector());
+  void dynamics_derivatives(const State& s, DynamicsDerivatives& out,
+                            bool with_input_matrix = false, const Vector& tau = Vector());
 
   // The pieces, each evaluated at the state s (nq x nq and nq).
   void mass_matrix(const State& s, Matrix& M);
@@ -203,16 +202,16 @@ class MultibodySystem : public DynamicSystem {
   [[noreturn, gnu::cold, gnu::noinline]] void mass_matrix_refused(const State& s) const;
   [[noreturn, gnu::cold, gnu::noinline]] void accelerations_not_finite(const State& s) const;
   // Names why `result` (the accelerations or the residual) is not finite.
-  [[noreturn, gnu::cold, gnu::noinline]] void explain_non_finite(const State& s,
-                                                                 const char* result = "accelerations are") const;
+  [[noreturn, gnu::cold, gnu::noinline]] void explain_non_finite(
+      const State& s, const char* result = "accelerations are") const;
   // Throws naming the dependent parameter out of its domain at s, if any.
   [[gnu::cold, gnu::noinline]] void throw_domain_error(const State& s) const;
   std::string describe(const State& s) const;
   void jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);
   // dqdd/dq and dqdd/dqd from jacobians() at (s, qdd): -M⁻¹·K and -M⁻¹·C by
   // solves; with `factored`, solver_ holds M at s already (exact Jacobians only).
-  void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq, Matrix& dqdd_dqd,
-                                bool factored = false);
+  void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
+                                Matrix& dqdd_dqd, bool factored = false);
   // The exact C and K of jacobians(), without M.
   void exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K);
   void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
@@ -234,7 +233,8 @@ class MultibodySystem : public DynamicSystem {
   ExtraEquations extra_;
   KinematicsLevel extra_reads_ = KinematicsLevel::none;
   KinematicsLevel level_ = KinematicsLevel::none;
-  DynamicsFn dynamics_ = nullptr;  // the emitted dynamics() when level_ is none: no dispatch per call
+  DynamicsFn dynamics_ =
+      nullptr;  // the emitted dynamics() when level_ is none: no dispatch per call
   ForwardDynamicsFn forward_ = nullptr;  // the emitted recursive ones, when used
   InverseDynamicsFn inverse_ = nullptr;
   // forward_ when the emitted source has nothing else to evaluate (no force element,
@@ -250,12 +250,12 @@ class MultibodySystem : public DynamicSystem {
   Matrix M_;
   Eigen::Matrix<double, Eigen::Dynamic, 3> DwJ_;  // (nq x 3)
   SpdSolver solver_;
-  State jacobian_state_;                                   // jacobians(): the shifted state,
+  State jacobian_state_;                                         // jacobians(): the shifted state,
   Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
-  Matrix derivative_M_;                                    // dynamics_derivatives(): M
-  Matrix load_dq_, load_dqd_;                              // the force elements' dQ/dq, dQ/dqd
-  KinematicsDerivatives dk_;                               // where the model has them
-  std::vector<double> base_v_, base_w_;                    // k_'s v, w at the state differenced (nbody x 3)
+  Matrix derivative_M_;                                          // dynamics_derivatives(): M
+  Matrix load_dq_, load_dqd_;            // the force elements' dQ/dq, dQ/dqd
+  KinematicsDerivatives dk_;             // where the model has them
+  std::vector<double> base_v_, base_w_;  // k_'s v, w at the state differenced (nbody x 3)
 };
 
 // Largest absolute differences between the assembled and the emitted mass

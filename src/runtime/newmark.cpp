@@ -1,14 +1,13 @@
-#include <symdyn/runtime/newmark.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
 
-#include <fmt/format.h>
-
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/lu_solver.hpp>
+#include <symdyn/runtime/newmark.hpp>
 #include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
@@ -87,15 +86,15 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   const double error_qd_;  // cv: e_qd = cv·h³·q''''
   int n_ = 0;
   int m_ = 0;
-  double scale_ = 1.0;     // the error test's bound (header), relative to the weights
+  double scale_ = 1.0;  // the error test's bound (header), relative to the weights
 
   // Committed step (with current_, qdd_, yd_ of the base).
-  Vector a_;               // (n) algorithmic acceleration
-  Vector slope_;           // (n) (qdd1 - qdd0)/h over the last step: q''' at its middle
-  Vector yslope_;          // (m) (yd1 - yd0)/h, y''
-  Vector curvature_;       // (n) second divided difference of qdd over the last two steps
-  Vector ycurvature_;      // (m) the same of yd
-  double h_previous_ = 0.0;  // that step; 0 at the start, where the slopes are at t0
+  Vector a_;                  // (n) algorithmic acceleration
+  Vector slope_;              // (n) (qdd1 - qdd0)/h over the last step: q''' at its middle
+  Vector yslope_;             // (m) (yd1 - yd0)/h, y''
+  Vector curvature_;          // (n) second divided difference of qdd over the last two steps
+  Vector ycurvature_;         // (m) the same of yd
+  double h_previous_ = 0.0;   // that step; 0 at the start, where the slopes are at t0
   bool have_slopes_ = false;  // false when the start's evaluation failed
   double first_step_ = 0.0;
   bool after_rejection_ = false;
@@ -112,21 +111,21 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   double rate_ = 0.0;
 
   // Iteration matrix: partials and factorization.
-  Matrix M_, C_, K_;                      // (n x n)
-  Matrix f_y_, f_yd_;                     // (n x m)
-  Matrix g_q_, g_qd_;                     // (m x n)
-  Matrix g_y_, g_yd_;                     // (m x m)
+  Matrix M_, C_, K_;   // (n x n)
+  Matrix f_y_, f_yd_;  // (n x m)
+  Matrix g_q_, g_qd_;  // (m x n)
+  Matrix g_y_, g_yd_;  // (m x m)
   bool have_jacobian_ = false;
-  bool refresh_jacobian_ = false;         // re-evaluate before the next attempt
-  bool jacobian_fresh_ = false;           // evaluated during this attempt
+  bool refresh_jacobian_ = false;  // re-evaluate before the next attempt
+  bool jacobian_fresh_ = false;    // evaluated during this attempt
   bool factored_ = false;
-  bool hopeless_ = false;                 // the last iteration met a non-finite value
+  bool hopeless_ = false;  // the last iteration met a non-finite value
   double factored_h_ = 0.0;
-  Matrix S_;                              // (n+m x n+m)
+  Matrix S_;  // (n+m x n+m)
   LuSolver lu_;
 
-  Vector f_, g_, rhs_, delta_;            // scratch (n), (m), (n+m), (n+m)
-  Vector error_;                          // scratch (2n+m)
+  Vector f_, g_, rhs_, delta_;  // scratch (n), (m), (n+m), (n+m)
+  Vector error_;                // scratch (2n+m)
 };
 
 // The qd error constant of the scheme (header): a_n = qdd(t_n + d·h) + c2·h²·q'''' solves
@@ -165,8 +164,8 @@ void NewmarkFamily::start(const State& initial) {
   after_rejection_ = false;
   const std::string failure = consistent_accelerations();
   if (!failure.empty()) {
-    throw NumericError(fmt::format("{} (consistent initial accelerations, integrator '{}')",
-                                   failure, name()));
+    throw NumericError(
+        fmt::format("{} (consistent initial accelerations, integrator '{}')", failure, name()));
   }
   qdd_ = trial_qdd_;
   yd_ = trial_yd_;
@@ -224,7 +223,9 @@ double NewmarkFamily::first_step(double t_end) {
 }
 
 // Below it, the error test's bound is kRoundings roundings whatever the tolerance (start()).
-double NewmarkFamily::tightest_tolerance() const { return std::cbrt(kRoundings * eps * kRoundings * eps); }
+double NewmarkFamily::tightest_tolerance() const {
+  return std::cbrt(kRoundings * eps * kRoundings * eps);
+}
 
 // The component of the last error estimate furthest above its weight.
 std::string NewmarkFamily::step_limit() const {
@@ -329,7 +330,8 @@ double NewmarkFamily::rounding_norm() {
     sum += std::pow(std::max(std::abs(trial_.q[i]), w[i]) / w[i], 2) +
            std::pow(std::max(std::abs(trial_.qd[i]), w[n_ + i]) / w[n_ + i], 2);
   }
-  for (int j = 0; j < m_; ++j) sum += std::pow(std::max(std::abs(trial_.y[j]), w[2 * n_ + j]) / w[2 * n_ + j], 2);
+  for (int j = 0; j < m_; ++j)
+    sum += std::pow(std::max(std::abs(trial_.y[j]), w[2 * n_ + j]) / w[2 * n_ + j], 2);
   return 10.0 * eps * std::sqrt(sum / std::max(1, 2 * n_ + m_)) / scale_;
 }
 
@@ -408,7 +410,8 @@ std::string NewmarkFamily::consistent_accelerations() {
   for (int k = 1; k <= options_.max_newton_iterations; ++k) {
     const bool finite = trial_.q.allFinite() && trial_.qd.allFinite() && trial_.y.allFinite();
     if (finite) residual(trial_, trial_qdd_, trial_yd_, f_, g_);
-    if (!finite || !f_.allFinite() || !g_.allFinite()) return detail::at_time(trial_.t, bad_values());
+    if (!finite || !f_.allFinite() || !g_.allFinite())
+      return detail::at_time(trial_.t, bad_values());
     if (!newton_correction(0.0)) return detail::at_time(trial_.t, "singular iteration matrix");
     trial_qdd_ -= delta_.head(n_);
     trial_yd_ -= delta_.tail(m_);
@@ -421,7 +424,8 @@ std::string NewmarkFamily::consistent_accelerations() {
       const double rate = norm / previous;
       if (rate < 1.0 && rate / (1.0 - rate) * norm <= kappa) return {};
       if (rate >= 1.0) {
-        return detail::at_time(trial_.t, fmt::format("Newton iteration diverges (rate {:.3g})", rate));
+        return detail::at_time(trial_.t,
+                               fmt::format("Newton iteration diverges (rate {:.3g})", rate));
       }
     }
     previous = norm;
@@ -463,12 +467,14 @@ std::string NewmarkFamily::iterate(double h, bool fixed) {
     if (norm <= floor_) return {};
     // The remaining error against a part of the step's own error (at a fixed step, of
     // at most the error test's bound: such a step is not refused for its error).
-    const double target = std::max(kNewtonFraction * (fixed ? std::min(estimate_, 1.0) : estimate_), floor_);
+    const double target =
+        std::max(kNewtonFraction * (fixed ? std::min(estimate_, 1.0) : estimate_), floor_);
     if (k >= 2) {
       const double rate = norm / previous;
       rate_ = std::max(rate_, rate);
       if (rate >= 1.0) {
-        return jacobian_fresh_ ? fmt::format("Newton iteration diverges (rate {:.3g})", rate) : "slow";
+        return jacobian_fresh_ ? fmt::format("Newton iteration diverges (rate {:.3g})", rate)
+                               : "slow";
       }
       if (rate > kSlowRate && !jacobian_fresh_) return "slow";
       eta_ = rate / (1.0 - rate);
@@ -554,8 +560,8 @@ std::unique_ptr<Integrator> make_newmark(IntegratorOptions options) {
 std::unique_ptr<Integrator> make_generalized_alpha(IntegratorOptions options) {
   const double rho = options.rho_infinity;
   if (!(rho >= 0.0 && rho <= 1.0)) {
-    throw OptionError(fmt::format(
-        "integrator 'generalized-alpha': rho_infinity {} is outside [0, 1]", rho));
+    throw OptionError(
+        fmt::format("integrator 'generalized-alpha': rho_infinity {} is outside [0, 1]", rho));
   }
   const double am = (2.0 * rho - 1.0) / (rho + 1.0);
   const double af = rho / (rho + 1.0);

@@ -1,16 +1,15 @@
-#include <symdyn/runtime/point_forces.hpp>
-
 #include <fmt/format.h>
 
 #include <utility>
 
 #include <symdyn/runtime/element_properties.hpp>
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/point_forces.hpp>
 
 namespace symdyn::runtime {
 
-PointSpringDamper::PointSpringDamper(std::string name, BodyPoint a, BodyPoint b,
-                                     double stiffness, double free_length, double damping)
+PointSpringDamper::PointSpringDamper(std::string name, BodyPoint a, BodyPoint b, double stiffness,
+                                     double free_length, double damping)
     : name_(std::move(name)), a_(a), b_(b), k_(stiffness), L0_(free_length), c_(damping) {
   check_property(this->name(), "point_a", a_.point);
   check_property(this->name(), "point_b", b_.point);
@@ -29,13 +28,14 @@ void PointSpringDamper::apply(const State& s, const Kinematics& k, Loads& loads)
   const Vec3 d = Pb - Pa;
   const double L = d.norm();
   if (!(L > 0.0)) {
-    throw NumericError(fmt::format("t = {}: {}: its two points coincide (direction undefined)",
-                                   s.t, name()));
+    throw NumericError(
+        fmt::format("t = {}: {}: its two points coincide (direction undefined)", s.t, name()));
   }
   const Vec3 u = d / L;
   // Ld = u . (v_Pb - v_Pa)
-  const double Ld = c_ == 0.0 ? 0.0
-                              : u.dot(k.point_velocity(b_.body, b_.point) - k.point_velocity(a_.body, a_.point));
+  const double Ld =
+      c_ == 0.0 ? 0.0
+                : u.dot(k.point_velocity(b_.body, b_.point) - k.point_velocity(a_.body, a_.point));
   const double tension = k_ * (L - L0_) + c_ * Ld;
   loads.add_force_at(b_.body, k, Pb, -tension * u);
   loads.add_force_at(a_.body, k, Pa, tension * u);
@@ -44,8 +44,9 @@ void PointSpringDamper::apply(const State& s, const Kinematics& k, Loads& loads)
 // With Δ = P_b - P_a, L = |Δ|, u = Δ/L, G_j = ∂Δ/∂q_j and g_j = u·G_j = ∂L/∂q_j:
 //   ∂u/∂q_k = (G_k - u·g_k)/L,   ∂Ld/∂q_k = ∂u/∂q_k·ΔṖ + u·∂ΔṖ/∂q_k,   ∂Ld/∂qd_k = g_k,
 //   ∂²L/∂q_j∂q_k = (G_j·G_k - g_j·g_k)/L + u·∂G_j/∂q_k.
-void PointSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematics& k, const KinematicsDerivatives& dk,
-                                             Matrix& dQ_dq, Matrix& dQ_dqd) const {
+void PointSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematics& k,
+                                             const KinematicsDerivatives& dk, Matrix& dQ_dq,
+                                             Matrix& dQ_dqd) const {
   const Vec3 Pa = k.point_position(a_.body, a_.point), Pb = k.point_position(b_.body, b_.point);
   const Vec3 ra = k.to_global(a_.body, a_.point), rb = k.to_global(b_.body, b_.point);  // from G
   const Vec3 d = Pb - Pa;
@@ -53,7 +54,9 @@ void PointSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematic
   const Vec3 u = d / L;
   const Vec3 dPd = k.point_velocity(b_.body, b_.point) - k.point_velocity(a_.body, a_.point);
   const double tension = k_ * (L - L0_) + c_ * u.dot(dPd);
-  const auto G = [&](int j) { return Vec3(dk.point_partial(k, b_.body, rb, j) - dk.point_partial(k, a_.body, ra, j)); };
+  const auto G = [&](int j) {
+    return Vec3(dk.point_partial(k, b_.body, rb, j) - dk.point_partial(k, a_.body, ra, j));
+  };
   for (int kk = 0; kk < k.nq(); ++kk) {
     const Vec3 Gk = G(kk);
     const double gk = u.dot(Gk);
@@ -64,7 +67,8 @@ void PointSpringDamper::add_load_derivatives(const State& /*s*/, const Kinematic
     for (int j = 0; j < k.nq(); ++j) {
       const Vec3 Gj = G(j);
       const double gj = u.dot(Gj);
-      const Vec3 dGj = dk.point_partial_derivative(k, b_.body, rb, j, kk) - dk.point_partial_derivative(k, a_.body, ra, j, kk);
+      const Vec3 dGj = dk.point_partial_derivative(k, b_.body, rb, j, kk) -
+                       dk.point_partial_derivative(k, a_.body, ra, j, kk);
       const double d2L = (Gj.dot(Gk) - gj * gk) / L + u.dot(dGj);
       dQ_dq(j, kk) -= dT_dq * gj + tension * d2L;
       dQ_dqd(j, kk) -= dT_dqd * gj;
@@ -85,7 +89,10 @@ PointLoad::PointLoad(std::string name, BodyPoint at, const Vec3& force, const Ve
 }
 
 PointLoad::PointLoad(std::string name, BodyPoint at, Law law)
-    : name_(std::move(name)), at_(at), force_(Vec3::Zero()), torque_(Vec3::Zero()),
+    : name_(std::move(name)),
+      at_(at),
+      force_(Vec3::Zero()),
+      torque_(Vec3::Zero()),
       law_(std::move(law)) {
   check_property(this->name(), "point", at_.point);
 }
@@ -98,8 +105,9 @@ void PointLoad::apply(const State& s, const Kinematics& k, Loads& loads) const {
   loads.add_moment(at_.body, m);
 }
 
-void PointLoad::add_load_derivatives(const State& /*s*/, const Kinematics& k, const KinematicsDerivatives& dk,
-                                     Matrix& dQ_dq, Matrix& /*dQ_dqd*/) const {
+void PointLoad::add_load_derivatives(const State& /*s*/, const Kinematics& k,
+                                     const KinematicsDerivatives& dk, Matrix& dQ_dq,
+                                     Matrix& /*dQ_dqd*/) const {
   if (at_.body == ground) return;
   const Vec3 r = k.to_global(at_.body, at_.point);
   for (int j = 0; j < k.nq(); ++j) {

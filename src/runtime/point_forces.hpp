@@ -30,10 +30,13 @@ class PointSpringDamper : public ForceElement {
     return c_ != 0.0 ? KinematicsLevel::velocities : KinematicsLevel::positions;
   }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
-  LoadDerivatives load_derivatives() const override { return LoadDerivatives::exact_with_kinematics_derivatives; }
-  // Q_j = -T·∂L/∂q_j: ∂Q_j/∂q_k = -∂T/∂q_k·∂L/∂q_j - T·∂²L/∂q_j∂q_k, ∂Q_j/∂qd_k = -c·∂L/∂q_k·∂L/∂q_j.
-  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk, Matrix& dQ_dq,
-                            Matrix& dQ_dqd) const override;
+  LoadDerivatives load_derivatives() const override {
+    return LoadDerivatives::exact_with_kinematics_derivatives;
+  }
+  // Q_j = -T·∂L/∂q_j: ∂Q_j/∂q_k = -∂T/∂q_k·∂L/∂q_j - T·∂²L/∂q_j∂q_k, ∂Q_j/∂qd_k =
+  // -c·∂L/∂q_k·∂L/∂q_j.
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
   // 1/2 k (L - free_length)^2
   double potential_energy(const State& s, const Kinematics& k) const override;
   // Length and its rate at the last kinematics given.
@@ -60,12 +63,13 @@ class PointLoad : public ForceElement {
     return law_ ? KinematicsLevel::velocities : KinematicsLevel::positions;
   }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
-  // A constant load: Q_j = F·J_j + T·dw_j, ∂Q_j/∂q_k = F·∂J_j/∂q_k + T·∂dw_j/∂q_k; a law is differenced.
+  // A constant load: Q_j = F·J_j + T·dw_j, ∂Q_j/∂q_k = F·∂J_j/∂q_k + T·∂dw_j/∂q_k; a law is
+  // differenced.
   LoadDerivatives load_derivatives() const override {
     return law_ ? LoadDerivatives::differenced : LoadDerivatives::exact_with_kinematics_derivatives;
   }
-  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk, Matrix& dQ_dq,
-                            Matrix& dQ_dqd) const override;
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
 
  private:
   std::string name_;

@@ -1,10 +1,10 @@
-#include <symdyn/runtime/progress_bar.hpp>
+#include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <string>
 
-#include <fmt/format.h>
-#include <unistd.h>
+#include <symdyn/runtime/progress_bar.hpp>
 
 namespace symdyn::runtime {
 
@@ -19,7 +19,9 @@ ProgressBar::ProgressBar() : ProgressBar(stderr, isatty(STDERR_FILENO) != 0) {}
 ProgressBar::ProgressBar(std::FILE* stream, bool terminal)
     : stream_(stream), terminal_(terminal), start_(Clock::now()), last_draw_(start_) {}
 
-ProgressBar::~ProgressBar() { finish(); }
+ProgressBar::~ProgressBar() {
+  finish();
+}
 
 ProgressCallback ProgressBar::callback() {
   return [this](double t, double t_begin, double t_end) { update(t, t_begin, t_end); };

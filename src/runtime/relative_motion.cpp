@@ -1,8 +1,7 @@
-#include <symdyn/runtime/relative_motion.hpp>
-
 #include <fmt/format.h>
 
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/relative_motion.hpp>
 
 namespace symdyn::runtime {
 namespace {
@@ -19,9 +18,11 @@ std::vector<int> references_first(const std::vector<int>& reference) {
     std::vector<int> path;
     for (int i = start; i >= 0 && state[i] != 2; i = reference[i]) {
       if (reference[i] < -1 || reference[i] >= n) {
-        throw ModelError(fmt::format("relative motion: body {} has reference {}, not a body", i, reference[i]));
+        throw ModelError(
+            fmt::format("relative motion: body {} has reference {}, not a body", i, reference[i]));
       }
-      if (state[i] == 1) throw ModelError(fmt::format("relative motion: body {} is relative to itself", i));
+      if (state[i] == 1)
+        throw ModelError(fmt::format("relative motion: body {} is relative to itself", i));
       state[i] = 1;
       path.push_back(i);
     }

@@ -1,13 +1,12 @@
-#include <symdyn/runtime/runge_kutta.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include <fmt/format.h>
-
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/explicit_integrator.hpp>
+#include <symdyn/runtime/runge_kutta.hpp>
 
 namespace symdyn::runtime {
 
@@ -88,7 +87,9 @@ class Dopri5 final : public detail::ExplicitIntegrator {
   bool rejected_ = false;
 };
 
-double Dopri5::first_step(double t_end) { return starting_step(t_end, 5, k2_); }
+double Dopri5::first_step(double t_end) {
+  return starting_step(t_end, 5, k2_);
+}
 
 detail::StepOutcome Dopri5::attempt(double h, bool fixed) {
   const double t = current_.t;

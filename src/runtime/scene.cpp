@@ -1,5 +1,3 @@
-#include <symdyn/runtime/scene.hpp>
-
 #include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
@@ -9,6 +7,7 @@
 
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/model.hpp>
+#include <symdyn/runtime/scene.hpp>
 
 namespace symdyn::runtime {
 
@@ -16,8 +15,8 @@ namespace {
 
 using Vec3f = Eigen::Vector3f;
 
-void add_triangle(TriangleMesh& m, const Vec3f& a, const Vec3f& b, const Vec3f& c,
-                  const Vec3f& na, const Vec3f& nb, const Vec3f& nc) {
+void add_triangle(TriangleMesh& m, const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& na,
+                  const Vec3f& nb, const Vec3f& nc) {
   // A ring that closes on the axis gives triangles with two equal corners: no surface.
   if (a == b || b == c || c == a) return;
   const auto first = static_cast<std::uint32_t>(m.positions.size());

@@ -50,7 +50,7 @@ struct Shape {
   // capsule: (radius, length, -), along the local z axis, length between the
   // end faces (cylinder) or the centres of the end caps (capsule).
   Vec3 size = Vec3::Ones();
-  std::shared_ptr<const TriangleMesh> mesh;       // Kind::mesh
+  std::shared_ptr<const TriangleMesh> mesh;                // Kind::mesh
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // in the body's frame
   Colour colour;
 
@@ -60,8 +60,14 @@ struct Shape {
   static Shape capsule(double radius, double length);
   static Shape triangles(std::shared_ptr<const TriangleMesh> mesh);
 
-  Shape& at(const Eigen::Isometry3d& p) { pose = p; return *this; }
-  Shape& with(Colour c) { colour = c; return *this; }
+  Shape& at(const Eigen::Isometry3d& p) {
+    pose = p;
+    return *this;
+  }
+  Shape& with(Colour c) {
+    colour = c;
+    return *this;
+  }
 };
 
 // The triangles of a shape in its body's frame (its pose applied); curved

@@ -1,5 +1,3 @@
-#include <symdyn/runtime/spd_solver.hpp>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -8,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <vector>
+
+#include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
 
@@ -58,9 +58,13 @@ bool SpdSolver::factor_blocked(const Matrix& M) {
 }
 
 // L·y = b forward, then Lᵀ·x = y backward.
-void SpdSolver::solve_in_place(Vector& b) const { solve<false>(b.data(), b); }
+void SpdSolver::solve_in_place(Vector& b) const {
+  solve<false>(b.data(), b);
+}
 
-void SpdSolver::solve_negated(const Vector& b, Vector& x) const { solve<true>(b.data(), x); }
+void SpdSolver::solve_negated(const Vector& b, Vector& x) const {
+  solve<true>(b.data(), x);
+}
 
 // x := ±M⁻¹·b; b may be x's own storage.
 template <bool negate>
@@ -96,9 +100,13 @@ template <bool negate>
   }
 }
 
-void SpdSolver::solve_in_place(Matrix& B) const { solve_matrix<false>(B); }
+void SpdSolver::solve_in_place(Matrix& B) const {
+  solve_matrix<false>(B);
+}
 
-void SpdSolver::solve_negated_in_place(Matrix& B) const { solve_matrix<true>(B); }
+void SpdSolver::solve_negated_in_place(Matrix& B) const {
+  solve_matrix<true>(B);
+}
 
 template <bool negate>
 void SpdSolver::solve_matrix(Matrix& B) const {
@@ -139,7 +147,8 @@ namespace {
 std::vector<int> main_components(const Vector& u) {
   std::vector<int> order(static_cast<std::size_t>(u.size()));
   for (int j = 0; j < u.size(); ++j) order[static_cast<std::size_t>(j)] = j;
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(u(a)) > std::abs(u(b)); });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return std::abs(u(a)) > std::abs(u(b)); });
   std::vector<int> main;
   double covered = 0.0;
   for (int j : order) {
@@ -181,8 +190,8 @@ std::string mass_matrix_singularity(const Matrix& M, const std::function<std::st
   if (main.size() == 1) return fmt::format("coordinate '{}' moves no mass", name(main[0]));
   const std::vector<int> last(main.end() - 1, main.end());
   const std::vector<int> rest(main.begin(), main.end() - 1);
-  return fmt::format("coordinates {} and {} move the bodies the same way", components(u, main, rest, name),
-                     components(u, main, last, name));
+  return fmt::format("coordinates {} and {} move the bodies the same way",
+                     components(u, main, rest, name), components(u, main, last, name));
 }
 
 }  // namespace symdyn::runtime

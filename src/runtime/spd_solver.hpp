@@ -18,7 +18,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-
 #include <functional>
 #include <string>
 

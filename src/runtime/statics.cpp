@@ -1,5 +1,3 @@
-#include <symdyn/runtime/statics.hpp>
-
 #include <fmt/format.h>
 
 #include <Eigen/LU>
@@ -9,6 +7,7 @@
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
+#include <symdyn/runtime/statics.hpp>
 
 namespace symdyn::runtime {
 
@@ -30,7 +29,8 @@ double static_residual(DynamicSystem& sys, const State& s, const std::vector<boo
 // The residual at a trial point of the line search: a state the system refuses
 // (a dependent parameter out of its domain) counts as no decrease, so that a
 // shorter step is tried; the full step, taken when none decreases, says why.
-double trial_residual(DynamicSystem& sys, const State& s, const std::vector<bool>& locked, Vector& f) {
+double trial_residual(DynamicSystem& sys, const State& s, const std::vector<bool>& locked,
+                      Vector& f) {
   try {
     return static_residual(sys, s, locked, f);
   } catch (const NumericError&) {
@@ -54,8 +54,7 @@ std::string StaticsReport::summary() const {
                      iterations, residual_norm, step_norm);
 }
 
-StaticsReport solve_statics(DynamicSystem& sys, const State& start,
-                            const StaticsOptions& options) {
+StaticsReport solve_statics(DynamicSystem& sys, const State& start, const StaticsOptions& options) {
   const int n = sys.num_coordinates();
   std::vector<bool> locked(n, false);
   for (int j : options.locked) {
@@ -80,8 +79,9 @@ StaticsReport solve_statics(DynamicSystem& sys, const State& start,
     }
     const Eigen::FullPivLU<Matrix> lu(A);
     if (!lu.isInvertible()) {
-      throw NumericError(fmt::format("statics: iteration matrix {}·M + K is singular at iteration {} (|f| = {:.3e}): {}",
-                                     options.mass_weight, r.iterations, fnorm, singular_because(sys, r.state, A)));
+      throw NumericError(fmt::format(
+          "statics: iteration matrix {}·M + K is singular at iteration {} (|f| = {:.3e}): {}",
+          options.mass_weight, r.iterations, fnorm, singular_because(sys, r.state, A)));
     }
     const Vector dq = -lu.solve(f);
     // Backtracking on |f|: halve while the residual does not decrease.
@@ -94,7 +94,8 @@ StaticsReport solve_statics(DynamicSystem& sys, const State& start,
       trial.q = r.state.q + alpha * dq;
       tnorm = trial_residual(sys, trial, locked, ftrial);
     }
-    if (!(tnorm < fnorm)) {  // no decrease found: take the full step (EasyDyn); a refusal there stops
+    if (!(tnorm <
+          fnorm)) {  // no decrease found: take the full step (EasyDyn); a refusal there stops
       alpha = 1.0;
       trial.q = r.state.q + dq;
       tnorm = static_residual(sys, trial, locked, ftrial);

@@ -30,7 +30,7 @@ struct StaticsOptions {
 };
 
 struct StaticsReport {
-  State state;               // the equilibrium (qd = 0)
+  State state;  // the equilibrium (qd = 0)
   int iterations = 0;
   double residual_norm = 0;  // |f| at the solution, over free coordinates
   double step_norm = 0;      // |dq| of the last iteration

@@ -1,10 +1,9 @@
-#include <symdyn/runtime/step_derivatives.hpp>
-
 #include <fmt/format.h>
 
 #include <cmath>
 
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/step_derivatives.hpp>
 
 namespace symdyn::runtime {
 namespace {
@@ -15,8 +14,8 @@ struct Stage {
   Matrix fx, fu;
 };
 
-void evaluate_stage(MultibodySystem& system, double t, const Vector& x, const Vector& u, DynamicsDerivatives& d,
-                    Stage& stage) {
+void evaluate_stage(MultibodySystem& system, double t, const Vector& x, const Vector& u,
+                    DynamicsDerivatives& d, Stage& stage) {
   const int n = system.num_coordinates();
   State s;
   s.t = t;
@@ -35,14 +34,19 @@ void evaluate_stage(MultibodySystem& system, double t, const Vector& x, const Ve
 
 }  // namespace
 
-void rk4_step_derivatives(MultibodySystem& system, const State& s, const Vector& u, double h, StepDerivatives& out) {
+void rk4_step_derivatives(MultibodySystem& system, const State& s, const Vector& u, double h,
+                          StepDerivatives& out) {
   const int n = system.num_coordinates();
   if (system.num_extra_states() > 0) {
-    throw ModelError("rk4_step_derivatives: the system has extra states, whose equations are not differentiated");
+    throw ModelError(
+        "rk4_step_derivatives: the system has extra states, whose equations are not "
+        "differentiated");
   }
-  if (!(std::isfinite(h) && h > 0.0)) throw ModelError(fmt::format("rk4_step_derivatives: step {} is not positive", h));
+  if (!(std::isfinite(h) && h > 0.0))
+    throw ModelError(fmt::format("rk4_step_derivatives: step {} is not positive", h));
   if (u.size() != n) {
-    throw ModelError(fmt::format("rk4_step_derivatives: {} generalized forces u given; expected {}", u.size(), n));
+    throw ModelError(fmt::format("rk4_step_derivatives: {} generalized forces u given; expected {}",
+                                 u.size(), n));
   }
   Vector x0(2 * n);
   x0 << s.q, s.qd;
@@ -52,8 +56,9 @@ void rk4_step_derivatives(MultibodySystem& system, const State& s, const Vector&
   DynamicsDerivatives d;
   Stage stage;
   Vector x = x0, sum = Vector::Zero(2 * n);
-  Matrix dx_dx0 = Matrix::Identity(2 * n, 2 * n), dx_du = Matrix::Zero(2 * n, n);  // of the stage's point
-  Matrix dk_dx0, dk_du;                                                                // of the stage's slope
+  Matrix dx_dx0 = Matrix::Identity(2 * n, 2 * n),
+         dx_du = Matrix::Zero(2 * n, n);  // of the stage's point
+  Matrix dk_dx0, dk_du;                   // of the stage's slope
   out.A = Matrix::Identity(2 * n, 2 * n);
   out.B = Matrix::Zero(2 * n, n);
   for (int k = 0; k < 4; ++k) {

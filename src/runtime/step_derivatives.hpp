@@ -27,6 +27,7 @@ struct StepDerivatives {
 // Throws ModelError for a system with extra states (their equations are not
 // differentiated), a step that is not finite and positive, or u of the wrong
 // size; NumericError as dynamics_derivatives.
-void rk4_step_derivatives(MultibodySystem& system, const State& s, const Vector& u, double h, StepDerivatives& out);
+void rk4_step_derivatives(MultibodySystem& system, const State& s, const Vector& u, double h,
+                          StepDerivatives& out);
 
 }  // namespace symdyn::runtime

@@ -1,12 +1,11 @@
-#include <symdyn/runtime/stepping_integrator.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include <fmt/format.h>
-
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime::detail {
 
@@ -14,11 +13,11 @@ namespace {
 
 // Hermite bases on [0, 1] as coefficients of 1, th, ..., th^5. Quintic, for
 // (x0, h·x0', h²·x0'', x1, h·x1', h²·x1''); cubic, for (x0, h·x0', x1, h·x1').
-constexpr double quintic[6][6] = {{1, 0, 0, -10, 15, -6},     {0, 1, 0, -6, 8, -3},
+constexpr double quintic[6][6] = {{1, 0, 0, -10, 15, -6},       {0, 1, 0, -6, 8, -3},
                                   {0, 0, 0.5, -1.5, 1.5, -0.5}, {0, 0, 0, 10, -15, 6},
                                   {0, 0, 0, -4, 7, -3},         {0, 0, 0, 0.5, -1, 0.5}};
-constexpr double cubic[4][6] = {{1, 0, -3, 2, 0, 0}, {0, 1, -2, 1, 0, 0}, {0, 0, 3, -2, 0, 0},
-                                {0, 0, -1, 1, 0, 0}};
+constexpr double cubic[4][6] = {
+    {1, 0, -3, 2, 0, 0}, {0, 1, -2, 1, 0, 0}, {0, 0, 3, -2, 0, 0}, {0, 0, -1, 1, 0, 0}};
 
 // The value and the first two derivatives in th of a polynomial of degree <= 5.
 std::array<double, 3> evaluate(const double (&c)[6], double th) {
@@ -50,10 +49,12 @@ void SteppingIntegrator::interpolate(double t, State& s, Vector& qdd, Vector& yd
   s.q = p[0][0] * a.q + (h * p[1][0]) * a.qd + (h * h * p[2][0]) * previous_qdd_ + p[3][0] * b.q +
         (h * p[4][0]) * b.qd + (h * h * p[5][0]) * qdd_;
   s.qd = (p[0][1] * a.q + (h * p[1][1]) * a.qd + (h * h * p[2][1]) * previous_qdd_ + p[3][1] * b.q +
-          (h * p[4][1]) * b.qd + (h * h * p[5][1]) * qdd_) / h;
+          (h * p[4][1]) * b.qd + (h * h * p[5][1]) * qdd_) /
+         h;
   // qdd from the cubic of qd, not from the quintic's second derivative, which would
   // divide the step's local error in q by h².
-  qdd = (c[0][1] * a.qd + (h * c[1][1]) * previous_qdd_ + c[2][1] * b.qd + (h * c[3][1]) * qdd_) / h;
+  qdd =
+      (c[0][1] * a.qd + (h * c[1][1]) * previous_qdd_ + c[2][1] * b.qd + (h * c[3][1]) * qdd_) / h;
   s.y = c[0][0] * a.y + (h * c[1][0]) * previous_yd_ + c[2][0] * b.y + (h * c[3][0]) * yd_;
   yd = (c[0][1] * a.y + (h * c[1][1]) * previous_yd_ + c[2][1] * b.y + (h * c[3][1]) * yd_) / h;
   s.t = t;
@@ -79,9 +80,10 @@ double SteppingIntegrator::initial_step(double t_end) {
     // The number of steps is known: refuse at once what would not finish.
     const double steps = (t_end - current_.t) / options_.initial_step;
     if (steps > static_cast<double>(options_.max_steps)) {
-      throw OptionError(fmt::format(
-          "integrator '{}': a fixed step of {:g} s from t = {:g} to {:g} takes {:.3g} steps, over max_steps {}",
-          name(), options_.initial_step, current_.t, t_end, steps, options_.max_steps));
+      throw OptionError(
+          fmt::format("integrator '{}': a fixed step of {:g} s from t = {:g} to {:g} takes {:.3g} "
+                      "steps, over max_steps {}",
+                      name(), options_.initial_step, current_.t, t_end, steps, options_.max_steps));
     }
     return options_.initial_step;
   }
@@ -122,8 +124,9 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
   FailureStreak streak;
   while (current_.t < t_end) {
     if (stats_.steps + stats_.rejected_steps >= options_.max_steps) {
-      throw NumericError(at_time(current_.t, fmt::format("{} step attempts reached max_steps (integrator '{}')",
-                                                         options_.max_steps, name())));
+      throw NumericError(
+          at_time(current_.t, fmt::format("{} step attempts reached max_steps (integrator '{}')",
+                                          options_.max_steps, name())));
     }
     const double limit = t_end;
     double step = h;
@@ -144,22 +147,23 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
         last_failure = outcome.failure;
         if (streak.failed(step)) {
           throw NumericError(fmt::format(
-              "{} (integrator '{}': {} failed steps from {:g} s down to {:g} s without recovering; the solution "
+              "{} (integrator '{}': {} failed steps from {:g} s down to {:g} s without recovering; "
+              "the solution "
               "runs into values it cannot take, such as a dependent parameter out of its domain)",
               outcome.failure, name(), streak.count(), streak.first_step(), step));
         }
       }
       if (fixed) {
-        throw NumericError(fmt::format("{} (fixed step {} from t = {})", outcome.failure, step,
-                                       t_previous));
+        throw NumericError(
+            fmt::format("{} (fixed step {} from t = {})", outcome.failure, step, t_previous));
       }
       h = std::min(outcome.next_step, options_.max_step);
       if (h < options_.min_step) {
-        throw NumericError(at_time(
-            t_previous,
-            fmt::format("step size {} below min_step {} (integrator '{}'){}{}", h, options_.min_step,
-                        name(), limited_by(step_limit()),
-                        last_failure.empty() ? "" : "; last failure: " + last_failure)));
+        throw NumericError(
+            at_time(t_previous,
+                    fmt::format("step size {} below min_step {} (integrator '{}'){}{}", h,
+                                options_.min_step, name(), limited_by(step_limit()),
+                                last_failure.empty() ? "" : "; last failure: " + last_failure)));
       }
       continue;
     }
@@ -175,8 +179,9 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
     h = shortened && outcome.next_step >= step ? std::max(outcome.next_step, h) : outcome.next_step;
     h = std::min(h, options_.max_step);
     if (h < options_.min_step) {
-      throw NumericError(at_time(current_.t, fmt::format("step size {} below min_step {} (integrator '{}'){}",
-                                                         h, options_.min_step, name(), limited_by(step_limit()))));
+      throw NumericError(
+          at_time(current_.t, fmt::format("step size {} below min_step {} (integrator '{}'){}", h,
+                                          options_.min_step, name(), limited_by(step_limit()))));
     }
   }
   return current_;

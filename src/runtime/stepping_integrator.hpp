@@ -82,7 +82,9 @@ class SteppingIntegrator : public Integrator {
 
   // The order p of the method at a fixed step (global error ~ h^p).
   virtual int order() const = 0;
-  int fixed_step_order() const final { return options_.fixed_step || fixed_step_only() ? order() : 0; }
+  int fixed_step_order() const final {
+    return options_.fixed_step || fixed_step_only() ? order() : 0;
+  }
 
   // What set the last step size, for the message of a step below min_step: "" or,
   // say, "the local error of qd of coordinate 'crank'".
@@ -102,8 +104,8 @@ class SteppingIntegrator : public Integrator {
   DynamicSystem* system_ = nullptr;
   std::optional<ErrorWeights> weights_;  // set before start()
   State current_;
-  Vector qdd_;  // (n) at current_
-  Vector yd_;   // (m) at current_
+  Vector qdd_;      // (n) at current_
+  Vector yd_;       // (m) at current_
   State previous_;  // the start of the last accepted step
   Vector previous_qdd_, previous_yd_;
 

@@ -1,4 +1,7 @@
-#include <symdyn/runtime/sundials_integrator.hpp>
+#include <fmt/format.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -6,13 +9,9 @@
 #include <string>
 #include <type_traits>
 
-#include <fmt/format.h>
-#include <nvector/nvector_serial.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/stepping_integrator.hpp>
+#include <symdyn/runtime/sundials_integrator.hpp>
 #include <symdyn/runtime/sundials_support.hpp>
 
 namespace symdyn::runtime::detail {
@@ -67,21 +66,24 @@ std::string SundialsIntegrator::flag_name(int flag) const {
 
 void SundialsIntegrator::check(int flag, const char* call, const CallbackData& data) const {
   if (flag >= 0) return;
-  throw NumericError(fmt::format("integrator '{}': {}{} failed with {} ({})", name(), solver_.prefix, call,
-                                 flag_name(flag), data.solver_message));
+  throw NumericError(fmt::format("integrator '{}': {}{} failed with {} ({})", name(),
+                                 solver_.prefix, call, flag_name(flag), data.solver_message));
 }
 
-void SundialsIntegrator::setup(Sundials& sun, CallbackData& data, const State& initial, double t_end) {
+void SundialsIntegrator::setup(Sundials& sun, CallbackData& data, const State& initial,
+                               double t_end) {
   const int size = 2 * data.n + data.m;
   if (SUNContext_Create(nullptr, &sun.context) != 0) {
     throw NumericError(fmt::format("integrator '{}': SUNContext_Create failed", name()));
   }
   sun.x = N_VNew_Serial(size, sun.context);
   sun.A = SUNDenseMatrix(size, size, sun.context);
-  if (sun.x != nullptr) Eigen::Map<Vector>(N_VGetArrayPointer(sun.x), size) << initial.q, initial.qd, initial.y;
+  if (sun.x != nullptr)
+    Eigen::Map<Vector>(N_VGetArrayPointer(sun.x), size) << initial.q, initial.qd, initial.y;
   if (sun.x != nullptr) sun.mem = solver_.create(sun.context, sun.x, initial.t);
   if (sun.x == nullptr || sun.A == nullptr || sun.mem == nullptr) {
-    throw NumericError(fmt::format("integrator '{}': out of memory creating {}", name(), solver_.title));
+    throw NumericError(
+        fmt::format("integrator '{}': out of memory creating {}", name(), solver_.title));
   }
   sun.linear_solver = SUNLinSol_Dense(sun.x, sun.A, sun.context);
 
@@ -95,7 +97,8 @@ void SundialsIntegrator::setup(Sundials& sun, CallbackData& data, const State& i
   check(solver_.set_max_steps(mem, 1000000000L), "SetMaxNumSteps", data);
   check(solver_.set_stop_time(mem, t_end), "SetStopTime", data);
   check(solver_.set_min_step(mem, options_.min_step), "SetMinStep", data);
-  if (std::isfinite(options_.max_step)) check(solver_.set_max_step(mem, options_.max_step), "SetMaxStep", data);
+  if (std::isfinite(options_.max_step))
+    check(solver_.set_max_step(mem, options_.max_step), "SetMaxStep", data);
   if (options_.fixed_step) {
     check(solver_.set_fixed_step(mem, options_.initial_step), "SetFixedStep", data);
   } else if (options_.initial_step > 0.0) {
@@ -130,21 +133,24 @@ void SundialsIntegrator::collect_statistics(const Sundials& sun, const CallbackD
 
 State SundialsIntegrator::run(DynamicSystem& system, const State& initial, double t_end) {
   if (options_.fixed_step && solver_.set_fixed_step == nullptr) {
-    throw OptionError(fmt::format("integrator '{}': fixed_step is not available ({} is adaptive)", name(),
-                                  solver_.title));
+    throw OptionError(fmt::format("integrator '{}': fixed_step is not available ({} is adaptive)",
+                                  name(), solver_.title));
   }
   if (options_.fixed_step && !(options_.initial_step > 0.0)) {
-    throw OptionError(fmt::format("integrator '{}': a fixed-step run needs initial_step > 0 (the step)", name()));
+    throw OptionError(
+        fmt::format("integrator '{}': a fixed-step run needs initial_step > 0 (the step)", name()));
   }
   CallbackData data;
   data.system = &system;
   data.n = system.num_coordinates();
   data.m = system.num_extra_states();
-  if (2 * data.n + data.m == 0) throw ModelError(fmt::format("integrator '{}': the system has no state", name()));
+  if (2 * data.n + data.m == 0)
+    throw ModelError(fmt::format("integrator '{}': the system has no state", name()));
   ErrorWeights weights(options_, name(), data.n, data.m);
   data.weights = &weights;
   data.scale = Vector::Ones(2 * data.n + data.m);
-  for (std::size_t i = 0; i < options_.q_scale.size(); ++i) data.scale[static_cast<Eigen::Index>(i)] = options_.q_scale[i];
+  for (std::size_t i = 0; i < options_.q_scale.size(); ++i)
+    data.scale[static_cast<Eigen::Index>(i)] = options_.q_scale[i];
   data.x.resize(2 * data.n + data.m);
   data.qdd.resize(data.n);
   data.yd.resize(data.m);
@@ -163,8 +169,10 @@ State SundialsIntegrator::run(DynamicSystem& system, const State& initial, doubl
     if (flag < 0) {
       solver_.current_time(sun.mem, &reached);
       throw NumericError(at_time(
-          reached, fmt::format("integrator '{}' failed with {} ({}){}", name(), flag_name(flag), data.solver_message,
-                               data.last_failure.empty() ? "" : "; last failure: " + data.last_failure)));
+          reached,
+          fmt::format("integrator '{}' failed with {} ({}){}", name(), flag_name(flag),
+                      data.solver_message,
+                      data.last_failure.empty() ? "" : "; last failure: " + data.last_failure)));
     }
     return reached;
   };
@@ -180,7 +188,8 @@ State SundialsIntegrator::run(DynamicSystem& system, const State& initial, doubl
       deliver(data, t, sun.x);
       continue;
     }
-    for (; next_output < output_instants().size() && output_instants()[next_output] <= t; ++next_output) {
+    for (; next_output < output_instants().size() && output_instants()[next_output] <= t;
+         ++next_output) {
       const double ti = output_instants()[next_output];
       check(solver_.interpolate(sun.mem, ti, 0, at), "GetDky", data);
       deliver(data, ti, at);
@@ -193,7 +202,8 @@ State SundialsIntegrator::run(DynamicSystem& system, const State& initial, doubl
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_sundials_integrator(IntegratorOptions options, const SundialsSolver& solver) {
+std::unique_ptr<Integrator> make_sundials_integrator(IntegratorOptions options,
+                                                     const SundialsSolver& solver) {
   return std::make_unique<SundialsIntegrator>(std::move(options), solver);
 }
 

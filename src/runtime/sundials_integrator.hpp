@@ -9,21 +9,21 @@
 // (never past t_end), each output instant in a step from the solver's
 // interpolating polynomial, so that outputs never change the steps.
 
-#include <memory>
-
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nvector.h>
+
+#include <memory>
 
 #include <symdyn/runtime/integrator.hpp>
 
 namespace symdyn::runtime::detail {
 
 struct SundialsSolver {
-  const char* name;    // make_integrator's name: "cvode"
-  const char* title;   // in messages: "CVODE"
-  int one_step;        // the evolve mode of one internal step (CV_ONE_STEP)
+  const char* name;   // make_integrator's name: "cvode"
+  const char* title;  // in messages: "CVODE"
+  int one_step;       // the evolve mode of one internal step (CV_ONE_STEP)
   // Creates the solver's memory at (t0, x) with the first-order right-hand
   // side; null when out of memory. Then `initialize` (named `initialize_call`
   // in messages), after the error handler is set.
@@ -32,13 +32,14 @@ struct SundialsSolver {
   const char* initialize_call;
   void (*free)(void** mem);
   char* (*flag_name)(long flag);  // allocated with malloc
-  int (*set_error_handler)(void* mem, void (*)(int, const char*, const char*, char*, void*), void* data);
+  int (*set_error_handler)(void* mem, void (*)(int, const char*, const char*, char*, void*),
+                           void* data);
   int (*set_user_data)(void* mem, void* data);
   int (*set_weights)(void* mem, int (*)(N_Vector, N_Vector, void*));
   int (*set_linear_solver)(void* mem, SUNLinearSolver solver, SUNMatrix A);
   // The Jacobian callback (CVodeSetJacFn): ours, jacobian() in sundials_support.hpp.
-  int (*set_jacobian)(void* mem, int (*)(double t, N_Vector x, N_Vector fx, SUNMatrix J, void* data, N_Vector,
-                                         N_Vector, N_Vector));
+  int (*set_jacobian)(void* mem, int (*)(double t, N_Vector x, N_Vector fx, SUNMatrix J, void* data,
+                                         N_Vector, N_Vector, N_Vector));
   int (*set_max_steps)(void* mem, long steps);
   int (*set_stop_time)(void* mem, double t);
   int (*set_min_step)(void* mem, double h);
@@ -56,6 +57,7 @@ struct SundialsSolver {
   const char* prefix;  // of the calls' names in messages: "CVode"
 };
 
-std::unique_ptr<Integrator> make_sundials_integrator(IntegratorOptions options, const SundialsSolver& solver);
+std::unique_ptr<Integrator> make_sundials_integrator(IntegratorOptions options,
+                                                     const SundialsSolver& solver);
 
 }  // namespace symdyn::runtime::detail

@@ -1,14 +1,13 @@
-#include <symdyn/runtime/sundials_support.hpp>
+#include <fmt/format.h>
+#include <sunmatrix/sunmatrix_dense.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include <fmt/format.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/stepping_integrator.hpp>
+#include <symdyn/runtime/sundials_support.hpp>
 
 namespace symdyn::runtime::detail {
 
@@ -46,10 +45,12 @@ int right_hand_side(realtype t, N_Vector x, N_Vector dx, void* user) {
   }
 }
 
-int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector) {
+int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vector, N_Vector,
+             N_Vector) {
   auto& d = *static_cast<CallbackData*>(user);
   const int n = d.n, m = d.m, size = 2 * n + m;
-  Eigen::Map<Matrix> jac(SUNDenseMatrix_Data(J), size, size);  // column-major, as SUNDIALS' dense matrices
+  Eigen::Map<Matrix> jac(SUNDenseMatrix_Data(J), size,
+                         size);  // column-major, as SUNDIALS' dense matrices
   const Eigen::Map<const Vector> f0(N_VGetArrayPointer(fx), size);
   try {
     unpack(d, t, x);
@@ -64,7 +65,8 @@ int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vec
     for (int j = 0; j < size; ++j) {
       double& xj = j < n ? d.s.q[j] : j < 2 * n ? d.s.qd[j - n] : d.s.y[j - 2 * n];
       const double saved = xj;
-      xj = saved + std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(std::abs(saved), d.scale[j]);
+      xj = saved + std::sqrt(std::numeric_limits<double>::epsilon()) *
+                       std::max(std::abs(saved), d.scale[j]);
       const double step = xj - saved;  // the step as represented
       ++d.evaluations;
       d.system->accelerations(d.s, d.qdd, d.yd);

@@ -12,7 +12,9 @@
 namespace symdyn::symbolic {
 namespace {
 
-Expr number(const Number& n) { return intern_number(n); }
+Expr number(const Number& n) {
+  return intern_number(n);
+}
 
 // Operands kept on the stack while a sum or product is built; more go to the heap.
 constexpr std::size_t kInlineOperands = 8;
@@ -40,9 +42,11 @@ class Collector {
   // Entries with a non-zero weight, in structural order of their keys (the
   // keys are distinct, so the order is total). Consumes the collector.
   std::span<const Entry> sorted() {
-    Entry* kept = std::remove_if(entries_.begin(), entries_.end(), [](const Entry& e) { return e.weight.is_zero(); });
+    Entry* kept = std::remove_if(entries_.begin(), entries_.end(),
+                                 [](const Entry& e) { return e.weight.is_zero(); });
     entries_.truncate(static_cast<std::size_t>(kept - entries_.begin()));
-    std::sort(entries_.begin(), entries_.end(), [](const Entry& x, const Entry& y) { return compare(x.key, y.key) < 0; });
+    std::sort(entries_.begin(), entries_.end(),
+              [](const Entry& x, const Entry& y) { return compare(x.key, y.key) < 0; });
     return entries_;
   }
 
@@ -87,7 +91,8 @@ Expr scale(const Number& coefficient, Expr monomial) {
 // Exact k-th root of a non-negative integer, if there is one.
 bool exact_root(std::int64_t value, std::int64_t k, std::int64_t* root) {
   if (value < 0) return false;
-  const auto guess = static_cast<std::int64_t>(std::llround(std::pow(static_cast<double>(value), 1.0 / static_cast<double>(k))));
+  const auto guess = static_cast<std::int64_t>(
+      std::llround(std::pow(static_cast<double>(value), 1.0 / static_cast<double>(k))));
   for (std::int64_t r = std::max<std::int64_t>(0, guess - 1); r <= guess + 1; ++r) {
     Number p = pow_integer(Number(r), k);
     if (p.is_exact() && p.num() == value) {
@@ -107,11 +112,13 @@ bool fold_power(const Number& base, const Number& exponent, Number* out) {
   }
   if (base.is_exact() && exponent.is_exact()) {
     if (base.is_negative()) {
-      throw DomainError(fmt::format("({})^({}): negative base with a fractional exponent", base.str(), exponent.str()));
+      throw DomainError(fmt::format("({})^({}): negative base with a fractional exponent",
+                                    base.str(), exponent.str()));
     }
     std::int64_t rn = 0;
     std::int64_t rd = 0;
-    if (exact_root(base.num(), exponent.den(), &rn) && exact_root(base.den(), exponent.den(), &rd)) {
+    if (exact_root(base.num(), exponent.den(), &rn) &&
+        exact_root(base.den(), exponent.den(), &rd)) {
       *out = pow_integer(Number(rn, rd), exponent.num());
       return true;
     }
@@ -120,7 +127,8 @@ bool fold_power(const Number& base, const Number& exponent, Number* out) {
   const double b = base.to_double();
   const double value = std::pow(b, exponent.to_double());
   if (!std::isfinite(value)) {
-    throw DomainError(fmt::format("({})^({}) is not a finite real number", base.str(), exponent.str()));
+    throw DomainError(
+        fmt::format("({})^({}) is not a finite real number", base.str(), exponent.str()));
   }
   *out = Number::from_double(value);
   return true;
@@ -144,14 +152,17 @@ std::pair<Expr, Number> split_power(Expr e) {
 bool has_negative_sign(Expr e) {
   switch (e.kind()) {
     case Kind::Rational:
-    case Kind::Real: return e.number().is_negative();
-    case Kind::Mul: return e.arg(0).is_number() && e.arg(0).number().is_negative();
+    case Kind::Real:
+      return e.number().is_negative();
+    case Kind::Mul:
+      return e.arg(0).is_number() && e.arg(0).number().is_negative();
     case Kind::Add: {
       const auto args = e.args();
       // The constant term sorts first; the sign is that of the first non-constant term.
       return has_negative_sign(args[0].is_number() ? args[1] : args[0]);
     }
-    default: return false;
+    default:
+      return false;
   }
 }
 
@@ -205,7 +216,8 @@ Expr mul(std::span<const Expr> factors) {
   detail::SmallVector<Expr, kInlineOperands> rest;
   for (const auto& [b, e] : collector.sorted()) rest.push_back(e.is_one() ? b : pow(b, Expr(e)));
   // pow may have folded a factor into a number (sqrt(2)·sqrt(2) = 2) or a product.
-  if (std::any_of(rest.begin(), rest.end(), [](Expr f) { return f.is_number() || f.kind() == Kind::Mul; })) {
+  if (std::any_of(rest.begin(), rest.end(),
+                  [](Expr f) { return f.is_number() || f.kind() == Kind::Mul; })) {
     rest.push_back(number(coefficient));
     return mul(rest);
   }
@@ -215,7 +227,8 @@ Expr mul(std::span<const Expr> factors) {
     std::vector<Expr> terms;
     for (Expr t : rest[0].args()) {
       auto [c, m] = split_coefficient(t);
-      terms.push_back(m.is_number() ? number(c * coefficient * m.number()) : scale(c * coefficient, m));
+      terms.push_back(m.is_number() ? number(c * coefficient * m.number())
+                                    : scale(c * coefficient, m));
     }
     return add(terms);
   }
@@ -227,7 +240,8 @@ Expr mul(std::span<const Expr> factors) {
 
 Expr pow(Expr base, Expr exponent) {
   if (!exponent.is_number()) {
-    throw UsageError(fmt::format("pow({}, {}): the exponent must be a number", base.str(), exponent.str()));
+    throw UsageError(
+        fmt::format("pow({}, {}): the exponent must be a number", base.str(), exponent.str()));
   }
   const Number& e = exponent.number();
   if (e.is_zero()) return number(Number(1));
@@ -247,16 +261,23 @@ Expr pow(Expr base, Expr exponent) {
       return mul(factors);
     }
   }
-  if (base.kind() == Kind::Pow && base.arg(1).number().is_integer() && base.arg(1).number().num() % 2 != 0) {
+  if (base.kind() == Kind::Pow && base.arg(1).number().is_integer() &&
+      base.arg(1).number().num() % 2 != 0) {
     // (x^odd)^a = x^(odd·a) holds for every real x where the left side is real.
     return pow(base.arg(0), Expr(base.arg(1).number() * e));
   }
   return intern_node(Kind::Pow, std::array{base, number(e)});
 }
 
-Expr pow(Expr base, int exponent) { return pow(base, Expr(exponent)); }
-Expr sqrt(Expr x) { return pow(x, rational(1, 2)); }
-Expr rational(std::int64_t num, std::int64_t den) { return number(Number(num, den)); }
+Expr pow(Expr base, int exponent) {
+  return pow(base, Expr(exponent));
+}
+Expr sqrt(Expr x) {
+  return pow(x, rational(1, 2));
+}
+Expr rational(std::int64_t num, std::int64_t den) {
+  return number(Number(num, den));
+}
 
 namespace {
 
@@ -264,20 +285,37 @@ namespace {
 // otherwise. Throws DomainError outside the function's real domain.
 Expr fold_function(Kind kind, double x, double (*f)(double), bool in_domain) {
   if (!in_domain) {
-    throw DomainError(fmt::format("{}({}) is outside the function's real domain", info(kind).name, x));
+    throw DomainError(
+        fmt::format("{}({}) is outside the function's real domain", info(kind).name, x));
   }
   const double value = f(x);
   return Expr(value);
 }
 
-double sin_d(double x) { return std::sin(x); }
-double cos_d(double x) { return std::cos(x); }
-double tan_d(double x) { return std::tan(x); }
-double asin_d(double x) { return std::asin(x); }
-double acos_d(double x) { return std::acos(x); }
-double atan_d(double x) { return std::atan(x); }
-double exp_d(double x) { return std::exp(x); }
-double log_d(double x) { return std::log(x); }
+double sin_d(double x) {
+  return std::sin(x);
+}
+double cos_d(double x) {
+  return std::cos(x);
+}
+double tan_d(double x) {
+  return std::tan(x);
+}
+double asin_d(double x) {
+  return std::asin(x);
+}
+double acos_d(double x) {
+  return std::acos(x);
+}
+double atan_d(double x) {
+  return std::atan(x);
+}
+double exp_d(double x) {
+  return std::exp(x);
+}
+double log_d(double x) {
+  return std::log(x);
+}
 
 // f(-x) = -f(x)
 Expr odd(Kind kind, Expr x, Expr (*f)(Expr)) {
@@ -288,8 +326,12 @@ Expr odd(Kind kind, Expr x, Expr (*f)(Expr)) {
 // sqrt(1 - u²) and sqrt(1 + u²): the cosine of asin u (the sine of acos u),
 // and the secant of atan u. The square root is the right branch: asin's range
 // [-π/2, π/2] has cos >= 0, acos's [0, π] has sin >= 0, atan's cos > 0.
-Expr sqrt_one_minus_square(Expr u) { return sqrt(1 - u * u); }
-Expr sqrt_one_plus_square(Expr u) { return sqrt(1 + u * u); }
+Expr sqrt_one_minus_square(Expr u) {
+  return sqrt(1 - u * u);
+}
+Expr sqrt_one_plus_square(Expr u) {
+  return sqrt(1 + u * u);
+}
 
 // sin, cos or tan of an inverse function of u, in closed form (false when x
 // is no inverse function): a call pair becomes arithmetic, and
@@ -302,14 +344,26 @@ bool of_inverse(Kind f, Expr x, Expr* out) {
   const Expr u = x.arg(0);
   Expr s, c;  // the sine and cosine of x
   switch (x.kind()) {
-    case Kind::Asin: s = u, c = sqrt_one_minus_square(u); break;
-    case Kind::Acos: s = sqrt_one_minus_square(u), c = u; break;
-    default: s = u / sqrt_one_plus_square(u), c = 1 / sqrt_one_plus_square(u); break;
+    case Kind::Asin:
+      s = u, c = sqrt_one_minus_square(u);
+      break;
+    case Kind::Acos:
+      s = sqrt_one_minus_square(u), c = u;
+      break;
+    default:
+      s = u / sqrt_one_plus_square(u), c = 1 / sqrt_one_plus_square(u);
+      break;
   }
   switch (f) {
-    case Kind::Sin: *out = s; break;
-    case Kind::Cos: *out = c; break;
-    default: *out = x.kind() == Kind::Atan ? u : s / c; break;
+    case Kind::Sin:
+      *out = s;
+      break;
+    case Kind::Cos:
+      *out = c;
+      break;
+    default:
+      *out = x.kind() == Kind::Atan ? u : s / c;
+      break;
   }
   return true;
 }
@@ -402,36 +456,66 @@ Expr abs(Expr x) {
 
 Expr make(Kind kind, std::span<const Expr> args) {
   switch (kind) {
-    case Kind::Add: return add(args);
-    case Kind::Mul: return mul(args);
-    case Kind::Pow: return pow(args[0], args[1]);
-    case Kind::Sin: return sin(args[0]);
-    case Kind::Cos: return cos(args[0]);
-    case Kind::Tan: return tan(args[0]);
-    case Kind::Asin: return asin(args[0]);
-    case Kind::Acos: return acos(args[0]);
-    case Kind::Atan: return atan(args[0]);
-    case Kind::Atan2: return atan2(args[0], args[1]);
-    case Kind::Exp: return exp(args[0]);
-    case Kind::Log: return log(args[0]);
-    case Kind::Abs: return abs(args[0]);
-    default: throw UsageError(fmt::format("make: '{}' is a leaf kind", info(kind).name));
+    case Kind::Add:
+      return add(args);
+    case Kind::Mul:
+      return mul(args);
+    case Kind::Pow:
+      return pow(args[0], args[1]);
+    case Kind::Sin:
+      return sin(args[0]);
+    case Kind::Cos:
+      return cos(args[0]);
+    case Kind::Tan:
+      return tan(args[0]);
+    case Kind::Asin:
+      return asin(args[0]);
+    case Kind::Acos:
+      return acos(args[0]);
+    case Kind::Atan:
+      return atan(args[0]);
+    case Kind::Atan2:
+      return atan2(args[0], args[1]);
+    case Kind::Exp:
+      return exp(args[0]);
+    case Kind::Log:
+      return log(args[0]);
+    case Kind::Abs:
+      return abs(args[0]);
+    default:
+      throw UsageError(fmt::format("make: '{}' is a leaf kind", info(kind).name));
   }
 }
 
-Expr operator+(Expr a, Expr b) { return add(std::array{a, b}); }
-Expr operator-(Expr a, Expr b) { return add(std::array{a, -b}); }
-Expr operator*(Expr a, Expr b) { return mul(std::array{a, b}); }
+Expr operator+(Expr a, Expr b) {
+  return add(std::array{a, b});
+}
+Expr operator-(Expr a, Expr b) {
+  return add(std::array{a, -b});
+}
+Expr operator*(Expr a, Expr b) {
+  return mul(std::array{a, b});
+}
 Expr operator/(Expr a, Expr b) {
   if (b.is_zero() && b.is_exact_number()) {
     throw DivisionByZero(fmt::format("({}) / 0: division by an exact zero", a.str()));
   }
   return mul(std::array{a, pow(b, -1)});
 }
-Expr operator-(Expr a) { return mul(std::array{Expr(-1), a}); }
-Expr& operator+=(Expr& a, Expr b) { return a = a + b; }
-Expr& operator-=(Expr& a, Expr b) { return a = a - b; }
-Expr& operator*=(Expr& a, Expr b) { return a = a * b; }
-Expr& operator/=(Expr& a, Expr b) { return a = a / b; }
+Expr operator-(Expr a) {
+  return mul(std::array{Expr(-1), a});
+}
+Expr& operator+=(Expr& a, Expr b) {
+  return a = a + b;
+}
+Expr& operator-=(Expr& a, Expr b) {
+  return a = a - b;
+}
+Expr& operator*=(Expr& a, Expr b) {
+  return a = a * b;
+}
+Expr& operator/=(Expr& a, Expr b) {
+  return a = a / b;
+}
 
 }  // namespace symdyn::symbolic

@@ -17,7 +17,8 @@ std::size_t mix(std::size_t h, std::size_t v) {
 }
 
 std::size_t hash_number(const Number& n) {
-  if (n.is_exact()) return mix(std::hash<std::int64_t>{}(n.num()), std::hash<std::int64_t>{}(n.den()));
+  if (n.is_exact())
+    return mix(std::hash<std::int64_t>{}(n.num()), std::hash<std::int64_t>{}(n.den()));
   return mix(0x51ed27, std::hash<double>{}(n.to_double()));
 }
 
@@ -82,7 +83,7 @@ class InternTable {
 }  // namespace
 
 struct Context::Impl {
-  std::deque<Node> nodes;                       // stable addresses
+  std::deque<Node> nodes;  // stable addresses
   std::pmr::monotonic_buffer_resource args_arena;
   std::deque<std::string> names;
   InternTable table;  // numbers and compound nodes; symbols are found by name
@@ -109,25 +110,37 @@ Context::Context() : impl_(std::make_unique<Impl>()) {
 }
 Context::~Context() = default;
 
-Context& Context::current() { return g_current != nullptr ? *g_current : default_context(); }
-std::size_t Context::size() const { return impl_->nodes.size(); }
-std::size_t Context::symbol_count() const { return impl_->symbol_count; }
+Context& Context::current() {
+  return g_current != nullptr ? *g_current : default_context();
+}
+std::size_t Context::size() const {
+  return impl_->nodes.size();
+}
+std::size_t Context::symbol_count() const {
+  return impl_->symbol_count;
+}
 std::size_t Context::memory_bytes() const {
   return impl_->nodes.size() * sizeof(Node) + impl_->args_bytes + impl_->table.bytes();
 }
 
-Context::Scope::Scope(Context& context) : previous_(g_current) { g_current = &context; }
-Context::Scope::~Scope() { g_current = previous_; }
+Context::Scope::Scope(Context& context) : previous_(g_current) {
+  g_current = &context;
+}
+Context::Scope::~Scope() {
+  g_current = previous_;
+}
 
 Expr intern_node(Kind kind, std::span<const Expr> args) {
   Context::Impl& impl = *Context::current().impl_;
   std::size_t h = mix(0x1234567, static_cast<std::size_t>(kind));
   for (Expr a : args) h = mix(h, a.hash());
   const Node* found = impl.table.find(h, [&](const Node* n) {
-    return n->kind() == kind && n->n_args_ == args.size() && std::equal(args.begin(), args.end(), n->args_);
+    return n->kind() == kind && n->n_args_ == args.size() &&
+           std::equal(args.begin(), args.end(), n->args_);
   });
   if (found != nullptr) return Expr(found);
-  auto* stored = static_cast<Expr*>(impl.args_arena.allocate(args.size() * sizeof(Expr), alignof(Expr)));
+  auto* stored =
+      static_cast<Expr*>(impl.args_arena.allocate(args.size() * sizeof(Expr), alignof(Expr)));
   std::uninitialized_copy(args.begin(), args.end(), stored);
   impl.args_bytes += args.size() * sizeof(Expr);
   Node& node = impl.nodes.emplace_back();
@@ -143,11 +156,13 @@ Expr intern_node(Kind kind, std::span<const Expr> args) {
 Expr intern_number(const Number& value) {
   Context::Impl& impl = *Context::current().impl_;
   const bool small = value.is_integer() && value.num() >= -16 && value.num() <= 16;
-  const Node** cached = small ? &impl.small_integers[static_cast<std::size_t>(value.num() + 16)] : nullptr;
+  const Node** cached =
+      small ? &impl.small_integers[static_cast<std::size_t>(value.num() + 16)] : nullptr;
   if (cached != nullptr && *cached != nullptr) return Expr(*cached);
   const Kind kind = value.is_exact() ? Kind::Rational : Kind::Real;
   const std::size_t h = mix(static_cast<std::size_t>(kind), hash_number(value));
-  const Node* found = impl.table.find(h, [&](const Node* n) { return n->kind() == kind && n->number_ == value; });
+  const Node* found =
+      impl.table.find(h, [&](const Node* n) { return n->kind() == kind && n->number_ == value; });
   if (found == nullptr) {
     Node& node = impl.nodes.emplace_back();
     node.kind_ = kind;
@@ -196,23 +211,32 @@ Expr::Expr(double value) : node_(nullptr) {
 }
 Expr::Expr(const Number& value) : Expr(intern_number(value)) {}
 
-
 void Expr::throw_not_a(std::string_view what) const {
   throw UsageError(fmt::format("'{}' is not a {}", str(), what));
 }
 
 std::string_view to_string(SymbolKind kind) {
   switch (kind) {
-    case SymbolKind::Variable: return "variable";
-    case SymbolKind::Rate: return "rate";
-    case SymbolKind::Acceleration: return "acceleration";
-    case SymbolKind::Dependent: return "dependent";
-    case SymbolKind::DependentRate: return "dependent rate";
-    case SymbolKind::DependentAcceleration: return "dependent acceleration";
-    case SymbolKind::Parameter: return "parameter";
-    case SymbolKind::Time: return "time";
-    case SymbolKind::Intermediate: return "intermediate";
-    case SymbolKind::Free: return "free";
+    case SymbolKind::Variable:
+      return "variable";
+    case SymbolKind::Rate:
+      return "rate";
+    case SymbolKind::Acceleration:
+      return "acceleration";
+    case SymbolKind::Dependent:
+      return "dependent";
+    case SymbolKind::DependentRate:
+      return "dependent rate";
+    case SymbolKind::DependentAcceleration:
+      return "dependent acceleration";
+    case SymbolKind::Parameter:
+      return "parameter";
+    case SymbolKind::Time:
+      return "time";
+    case SymbolKind::Intermediate:
+      return "intermediate";
+    case SymbolKind::Free:
+      return "free";
   }
   return "?";
 }
@@ -226,6 +250,8 @@ const KindInfo& info(Kind kind) {
   return table[static_cast<int>(kind)];
 }
 
-bool is_function(Kind kind) { return kind >= Kind::Sin; }
+bool is_function(Kind kind) {
+  return kind >= Kind::Sin;
+}
 
 }  // namespace symdyn::symbolic

@@ -1,9 +1,9 @@
 // The operation count of a DAG; see cost.hpp for the model.
-#include <symdyn/symbolic/cost.hpp>
-
 #include <algorithm>
 #include <bit>
 #include <vector>
+
+#include <symdyn/symbolic/cost.hpp>
 
 namespace symdyn::symbolic {
 namespace {
@@ -54,7 +54,11 @@ int power_cost(const Number& exponent) {
 // clearing a fresh mark per node of the context dominated each call.
 class CostCounter {
  public:
-  CostCounter() : seen_(marks()), stamp_(++current_stamp()), stack_(scratch().stack), operands_(scratch().operands) {
+  CostCounter()
+      : seen_(marks()),
+        stamp_(++current_stamp()),
+        stack_(scratch().stack),
+        operands_(scratch().operands) {
     if (stamp_ == 0) {  // the stamps wrapped around: old marks could collide
       std::fill(seen_.begin(), seen_.end(), 0);
       std::fill(scratch().sincos.begin(), scratch().sincos.end(), 0);
@@ -96,7 +100,8 @@ class CostCounter {
   // Queues a node unless it is already counted.
   void push(Expr e) {
     const std::uint32_t id = e.id();
-    if (id >= seen_.size()) seen_.resize(std::max<std::size_t>(id + 1, Context::current().size()), 0);
+    if (id >= seen_.size())
+      seen_.resize(std::max<std::size_t>(id + 1, Context::current().size()), 0);
     if (seen_[id] == stamp_) return;
     seen_[id] = stamp_;
     stack_.push_back(e);
@@ -135,9 +140,12 @@ int own_cost(Expr e, std::vector<Expr>* operands) {
   switch (e.kind()) {
     case Kind::Rational:
     case Kind::Real:
-    case Kind::Symbol: return 0;
-    case Kind::Mul: return product_cost(e, operands);
-    default: break;
+    case Kind::Symbol:
+      return 0;
+    case Kind::Mul:
+      return product_cost(e, operands);
+    default:
+      break;
   }
   operands->insert(operands->end(), e.args().begin(), e.args().end());
   if (e.kind() == Kind::Add) return static_cast<int>(e.args().size()) - 1;
@@ -150,10 +158,16 @@ int power_multiplications(std::int64_t n) {
   return static_cast<int>(std::bit_width(u)) - 1 + std::popcount(u) - 1;
 }
 
-int operation_cost(std::span<const Expr> outputs) { return CostCounter().total(outputs); }
+int operation_cost(std::span<const Expr> outputs) {
+  return CostCounter().total(outputs);
+}
 
-int operation_cost(Expr e) { return operation_cost(std::span<const Expr>(&e, 1)); }
+int operation_cost(Expr e) {
+  return operation_cost(std::span<const Expr>(&e, 1));
+}
 
-int fused_operation_cost(std::span<const Expr> outputs) { return CostCounter().total(outputs, true); }
+int fused_operation_cost(std::span<const Expr> outputs) {
+  return CostCounter().total(outputs, true);
+}
 
 }  // namespace symdyn::symbolic

@@ -1,7 +1,7 @@
-#include <symdyn/symbolic/dag_map.hpp>
-
 #include <algorithm>
 #include <utility>
+
+#include <symdyn/symbolic/dag_map.hpp>
 
 namespace symdyn::symbolic {
 
@@ -9,7 +9,8 @@ DagMap::DagMap(Rule rule) : rule_(std::move(rule)) {}
 
 const Node* DagMap::image(Expr e) const {
   const std::uint32_t page = e.id() >> kPageBits;
-  return page < pages_.size() && !pages_[page].empty() ? pages_[page][e.id() & (kPage - 1)] : nullptr;
+  return page < pages_.size() && !pages_[page].empty() ? pages_[page][e.id() & (kPage - 1)]
+                                                       : nullptr;
 }
 
 void DagMap::set_image(Expr e, Expr image) {
@@ -21,7 +22,8 @@ void DagMap::set_image(Expr e, Expr image) {
 
 Expr DagMap::operator()(Expr e) {
   if (context_ == nullptr) context_ = &Context::current();
-  if (context_ != &Context::current()) throw UsageError("DagMap: used from another context than the one of its first call");
+  if (context_ != &Context::current())
+    throw UsageError("DagMap: used from another context than the one of its first call");
 
   // Post-order: a frame is a node and the index of its next argument to visit.
   struct Frame {

@@ -1,13 +1,13 @@
 // Differentiation, total time derivative and substitution: three DagMap rules.
 // The calculus is in one place, the table of local partials below.
-#include <symdyn/symbolic/diff.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <utility>
 #include <vector>
+
+#include <symdyn/symbolic/diff.hpp>
 
 namespace symdyn::symbolic {
 namespace {
@@ -34,7 +34,8 @@ Expr product_of_others(Expr product, std::size_t i) {
 }
 
 Expr power_partial(Expr power, std::size_t i) {
-  if (i != 0) throw UsageError(fmt::format("partial: the exponent of '{}' is a constant", power.str()));
+  if (i != 0)
+    throw UsageError(fmt::format("partial: the exponent of '{}' is a constant", power.str()));
   const Number& e = power.arg(1).number();
   return Expr(e) * pow(power.arg(0), Expr(e - Number(1)));
 }
@@ -47,7 +48,9 @@ Expr atan2_partial(Expr node, std::size_t i) {
 }
 
 // 1/sqrt(1 - x²)
-Expr inverse_cosine_of_asin(Expr x) { return pow(1 - pow(x, 2), rational(-1, 2)); }
+Expr inverse_cosine_of_asin(Expr x) {
+  return pow(1 - pow(x, 2), rational(-1, 2));
+}
 
 constexpr PartialRow kPartials[] = {
     {Kind::Add, [](Expr, std::size_t) { return Expr(1); }},
@@ -137,12 +140,14 @@ DagMap::Rule time_derivative_rule(RateMap rates) {
   return derivative_rule([rates = std::move(rates)](Expr s) {
     if (auto it = rates.find(s); it != rates.end()) return it->second;
     switch (s.symbol_kind()) {
-      case SymbolKind::Time: return Expr(1);
+      case SymbolKind::Time:
+        return Expr(1);
       case SymbolKind::Parameter:
-      case SymbolKind::Free: return Expr(0);
+      case SymbolKind::Free:
+        return Expr(0);
       default:
-        throw UsageError(fmt::format("time derivative: symbol '{}' ({}) has no rate given", s.name(),
-                                     to_string(s.symbol_kind())));
+        throw UsageError(fmt::format("time derivative: symbol '{}' ({}) has no rate given",
+                                     s.name(), to_string(s.symbol_kind())));
     }
   });
 }
@@ -162,7 +167,8 @@ DagMap::Rule substitution_rule(const std::unordered_map<Expr, Expr>& replacement
       auto it = replacements.find(node);
       return it == replacements.end() ? node : it->second;
     }
-    if (std::equal(images.begin(), images.end(), node.args().begin(), node.args().end())) return node;
+    if (std::equal(images.begin(), images.end(), node.args().begin(), node.args().end()))
+      return node;
     return make(node.kind(), images);
   };
 }
@@ -182,29 +188,40 @@ Expr partial(Expr node, std::size_t i) {
 
 Differentiator::Differentiator(Expr variable) : map_(differentiation_rule(variable)) {}
 
-Expr Differentiator::operator()(Expr e) { return map_(e); }
+Expr Differentiator::operator()(Expr e) {
+  return map_(e);
+}
 
-Expr diff(Expr e, Expr variable) { return Differentiator(variable)(e); }
+Expr diff(Expr e, Expr variable) {
+  return Differentiator(variable)(e);
+}
 
 TimeDerivative::TimeDerivative(RateMap rates) : map_(time_derivative_rule(std::move(rates))) {}
 
-Expr TimeDerivative::operator()(Expr e) { return map_(e); }
+Expr TimeDerivative::operator()(Expr e) {
+  return map_(e);
+}
 
-Expr time_derivative(Expr e, const RateMap& rates) { return TimeDerivative(rates)(e); }
+Expr time_derivative(Expr e, const RateMap& rates) {
+  return TimeDerivative(rates)(e);
+}
 
 DirectionalDerivative::DirectionalDerivative(std::unordered_map<Expr, Expr> tangents)
     : tangents_(std::move(tangents)), map_(directional_rule(tangents_)) {
   require_symbol_keys(tangents_, "directional derivative");
 }
 
-Expr DirectionalDerivative::operator()(Expr e) { return map_(e); }
+Expr DirectionalDerivative::operator()(Expr e) {
+  return map_(e);
+}
 
 void DirectionalDerivative::add(Expr symbol, Expr tangent) {
   if (!symbol.is_symbol()) {
     throw UsageError(fmt::format("directional derivative: key '{}' is not a symbol", symbol.str()));
   }
   if (map_.has_mapped(symbol) || !tangents_.try_emplace(symbol, tangent).second) {
-    throw UsageError(fmt::format("directional derivative: '{}' is already met or given", symbol.name()));
+    throw UsageError(
+        fmt::format("directional derivative: '{}' is already met or given", symbol.name()));
   }
 }
 
@@ -213,10 +230,13 @@ Substitution::Substitution(std::unordered_map<Expr, Expr> replacements)
   require_symbol_keys(replacements_, "substitute");
 }
 
-Expr Substitution::operator()(Expr e) { return map_(e); }
+Expr Substitution::operator()(Expr e) {
+  return map_(e);
+}
 
 void Substitution::add(Expr symbol, Expr value) {
-  if (!symbol.is_symbol()) throw UsageError(fmt::format("substitute: key '{}' is not a symbol", symbol.str()));
+  if (!symbol.is_symbol())
+    throw UsageError(fmt::format("substitute: key '{}' is not a symbol", symbol.str()));
   if (map_.has_mapped(symbol) || !replacements_.try_emplace(symbol, value).second) {
     throw UsageError(fmt::format("substitute: '{}' is already met or replaced", symbol.name()));
   }

@@ -3,10 +3,10 @@
 // memoized by node id. The straight-line Program (program.hpp) is the fast path;
 // this is the simple reference it is tested against.
 
+#include <fmt/format.h>
+
 #include <unordered_map>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include <symdyn/symbolic/expr.hpp>
 #include <symdyn/symbolic/scalar_ops.hpp>
@@ -34,10 +34,12 @@ class Evaluator {
   S compute(Expr e) {
     switch (e.kind()) {
       case Kind::Rational:
-      case Kind::Real: return S(e.number().to_double());
+      case Kind::Real:
+        return S(e.number().to_double());
       case Kind::Symbol: {
         auto it = bindings_.find(e);
-        if (it == bindings_.end()) throw UsageError(fmt::format("evaluate: symbol '{}' has no value", e.name()));
+        if (it == bindings_.end())
+          throw UsageError(fmt::format("evaluate: symbol '{}' has no value", e.name()));
         return it->second;
       }
       case Kind::Add: {
@@ -50,7 +52,8 @@ class Evaluator {
         for (Expr a : e.args()) product = product * (*this)(a);
         return product;
       }
-      case Kind::Pow: return scalar::power((*this)(e.arg(0)), e.arg(1).number());
+      case Kind::Pow:
+        return scalar::power((*this)(e.arg(0)), e.arg(1).number());
       default: {
         std::vector<S> args;
         for (Expr a : e.args()) args.push_back((*this)(a));

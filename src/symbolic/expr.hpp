@@ -96,10 +96,10 @@ class Context;
 class Expr {
  public:
   Expr();
-  Expr(int value);                  // NOLINT(google-explicit-constructor): 2*x reads like math
-  Expr(std::int64_t value);         // NOLINT(google-explicit-constructor)
-  Expr(double value);               // NOLINT(google-explicit-constructor); throws if not finite
-  Expr(const Number& value);        // NOLINT(google-explicit-constructor)
+  Expr(int value);            // NOLINT(google-explicit-constructor): 2*x reads like math
+  Expr(std::int64_t value);   // NOLINT(google-explicit-constructor)
+  Expr(double value);         // NOLINT(google-explicit-constructor); throws if not finite
+  Expr(const Number& value);  // NOLINT(google-explicit-constructor)
   explicit Expr(const Node* node) : node_(node) {}
 
   const Node* node() const { return node_; }
@@ -216,14 +216,30 @@ class Node {
   const std::string* name_ = nullptr;
 };
 
-inline Kind Expr::kind() const { return node_->kind(); }
-inline std::uint32_t Expr::id() const { return node_->id(); }
-inline std::size_t Expr::hash() const { return node_->hash(); }
-inline std::span<const Expr> Expr::args() const { return node_->args(); }
-inline bool Expr::is_number() const { return kind() == Kind::Rational || kind() == Kind::Real; }
-inline bool Expr::is_exact_number() const { return kind() == Kind::Rational; }
-inline bool Expr::is_zero() const { return is_number() && node_->number_.is_zero(); }
-inline bool Expr::is_one() const { return is_number() && node_->number_.is_one(); }
+inline Kind Expr::kind() const {
+  return node_->kind();
+}
+inline std::uint32_t Expr::id() const {
+  return node_->id();
+}
+inline std::size_t Expr::hash() const {
+  return node_->hash();
+}
+inline std::span<const Expr> Expr::args() const {
+  return node_->args();
+}
+inline bool Expr::is_number() const {
+  return kind() == Kind::Rational || kind() == Kind::Real;
+}
+inline bool Expr::is_exact_number() const {
+  return kind() == Kind::Rational;
+}
+inline bool Expr::is_zero() const {
+  return is_number() && node_->number_.is_zero();
+}
+inline bool Expr::is_one() const {
+  return is_number() && node_->number_.is_one();
+}
 inline const Number& Expr::number() const {
   if (!is_number()) throw_not_a("number");
   return node_->number_;

@@ -1,18 +1,18 @@
-#include <symdyn/symbolic/jacobian.hpp>
-
 #include <fmt/format.h>
 
 #include <unordered_map>
 
 #include <symdyn/symbolic/diff.hpp>
 #include <symdyn/symbolic/errors.hpp>
+#include <symdyn/symbolic/jacobian.hpp>
 #include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::symbolic {
 namespace {
 
 // Which definitions the outputs read, directly or through other definitions.
-std::vector<bool> reached_definitions(std::span<const Expr> outputs, std::span<const Definition> definitions,
+std::vector<bool> reached_definitions(std::span<const Expr> outputs,
+                                      std::span<const Definition> definitions,
                                       const std::unordered_map<Expr, std::size_t>& index_of) {
   std::vector<bool> reached(definitions.size(), false);
   std::vector<std::size_t> pending;
@@ -41,8 +41,10 @@ ChainJacobian chain_jacobian(std::span<const Expr> outputs, std::span<const Expr
   std::unordered_map<Expr, std::size_t> index_of;
   for (std::size_t d = 0; d < definitions.size(); ++d) index_of.emplace(definitions[d].symbol, d);
   for (Expr x : variables) {
-    if (!x.is_symbol()) throw UsageError(fmt::format("chain_jacobian: the variable '{}' is not a symbol", x.str()));
-    if (index_of.contains(x)) throw UsageError(fmt::format("chain_jacobian: the variable '{}' is defined", x.name()));
+    if (!x.is_symbol())
+      throw UsageError(fmt::format("chain_jacobian: the variable '{}' is not a symbol", x.str()));
+    if (index_of.contains(x))
+      throw UsageError(fmt::format("chain_jacobian: the variable '{}' is defined", x.name()));
   }
   const std::vector<bool> reached = reached_definitions(outputs, definitions, index_of);
   ChainJacobian out;
@@ -59,11 +61,13 @@ ChainJacobian chain_jacobian(std::span<const Expr> outputs, std::span<const Expr
         d_dx.add(def.symbol, derivative);
         continue;
       }
-      const Expr named = symbol(fmt::format("d({})/d({})", def.symbol.name(), x.name()), SymbolKind::Intermediate);
+      const Expr named =
+          symbol(fmt::format("d({})/d({})", def.symbol.name(), x.name()), SymbolKind::Intermediate);
       out.definitions.push_back({named, derivative});
       d_dx.add(def.symbol, named);
     }
-    for (std::size_t i = 0; i < outputs.size(); ++i) out.entries[i * variables.size() + j] = d_dx(outputs[i]);
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      out.entries[i * variables.size() + j] = d_dx(outputs[i]);
   }
   return out;
 }

@@ -26,8 +26,9 @@
 namespace symdyn::symbolic {
 
 struct ChainJacobian {
-  std::vector<Expr> entries;            // (outputs x variables), row-major
-  std::vector<Definition> definitions;  // the defined symbols' derivatives, each after those it uses
+  std::vector<Expr> entries;  // (outputs x variables), row-major
+  std::vector<Definition>
+      definitions;  // the defined symbols' derivatives, each after those it uses
 };
 
 // d outputs_i / d variables_j through `definitions` (each after those it

@@ -24,7 +24,8 @@ class NodeTable {
   T get(Expr e) const { return e.id() < values_.size() ? values_[e.id()] : T{}; }
   T& at(Expr e) {
     const std::uint32_t id = e.id();
-    if (id >= values_.size()) values_.resize(std::max<std::size_t>(id + 1, 2 * values_.size()), T{});
+    if (id >= values_.size())
+      values_.resize(std::max<std::size_t>(id + 1, 2 * values_.size()), T{});
     return values_[id];
   }
 

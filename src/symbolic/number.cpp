@@ -1,5 +1,3 @@
-#include <symdyn/symbolic/number.hpp>
-
 #include <fmt/format.h>
 
 #include <cmath>
@@ -7,13 +5,16 @@
 #include <numeric>
 
 #include <symdyn/symbolic/errors.hpp>
+#include <symdyn/symbolic/number.hpp>
 
 namespace symdyn::symbolic {
 namespace {
 
 constexpr std::int64_t kInt64Max = std::numeric_limits<std::int64_t>::max();
 
-bool fits(WideInt v) { return v <= kInt64Max && v >= -kInt64Max; }
+bool fits(WideInt v) {
+  return v <= kInt64Max && v >= -kInt64Max;
+}
 
 WideInt gcd128(WideInt a, WideInt b) {
   if (a < 0) a = -a;
@@ -27,7 +28,8 @@ WideInt gcd128(WideInt a, WideInt b) {
 }
 
 std::int64_t gcd64(WideInt a, WideInt b) {
-  return static_cast<std::int64_t>(std::gcd(static_cast<std::uint64_t>(a < 0 ? -a : a), static_cast<std::uint64_t>(b < 0 ? -b : b)));
+  return static_cast<std::int64_t>(std::gcd(static_cast<std::uint64_t>(a < 0 ? -a : a),
+                                            static_cast<std::uint64_t>(b < 0 ? -b : b)));
 }
 
 Number inexact(double v) {
@@ -70,7 +72,7 @@ Number Number::from_double(double value) {
   // A double is a dyadic rational m·2^e; keep it exact when it is a small one.
   if (std::isfinite(value)) {
     int e = 0;
-    const double m = std::frexp(value, &e);  // value = m·2^e, 0.5 <= |m| < 1
+    const double m = std::frexp(value, &e);   // value = m·2^e, 0.5 <= |m| < 1
     const double scaled = std::ldexp(m, 53);  // exact integer
     constexpr int kMaxDenominatorBits = 20;
     // value = scaled · 2^(e - 53); strip trailing zero bits of scaled.
@@ -82,7 +84,8 @@ Number Number::from_double(double value) {
     }
     if (integer == 0) return Number(0);
     if (shift >= 0 && shift < 10) return Number(integer * (std::int64_t{1} << shift));
-    if (shift < 0 && -shift <= kMaxDenominatorBits) return Number(integer, std::int64_t{1} << -shift);
+    if (shift < 0 && -shift <= kMaxDenominatorBits)
+      return Number(integer, std::int64_t{1} << -shift);
   }
   Number n;
   n.exact_ = false;
@@ -96,7 +99,8 @@ double Number::to_double() const {
 
 Number operator+(const Number& a, const Number& b) {
   // Integers (exponents, most coefficients): no 128-bit arithmetic, same result.
-  if (std::int64_t sum = 0; a.is_integer() && b.is_integer() && !__builtin_add_overflow(a.num_, b.num_, &sum)) {
+  if (std::int64_t sum = 0;
+      a.is_integer() && b.is_integer() && !__builtin_add_overflow(a.num_, b.num_, &sum)) {
     return Number::make_exact(sum, 1);
   }
   if (a.exact_ && b.exact_) {
@@ -106,7 +110,9 @@ Number operator+(const Number& a, const Number& b) {
   return inexact(a.to_double() + b.to_double());
 }
 
-Number operator-(const Number& a, const Number& b) { return a + (-b); }
+Number operator-(const Number& a, const Number& b) {
+  return a + (-b);
+}
 
 Number operator*(const Number& a, const Number& b) {
   if (a.exact_ && b.exact_) {
@@ -157,7 +163,8 @@ std::strong_ordering compare(const Number& a, const Number& b) {
   const double y = b.to_double();
   if (x < y) return std::strong_ordering::less;
   if (x > y) return std::strong_ordering::greater;
-  if (a.exact_ != b.exact_) return a.exact_ ? std::strong_ordering::less : std::strong_ordering::greater;
+  if (a.exact_ != b.exact_)
+    return a.exact_ ? std::strong_ordering::less : std::strong_ordering::greater;
   // Both inexact and equal in value (NaN never reaches here: constants are finite).
   return std::strong_ordering::equal;
 }

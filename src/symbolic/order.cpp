@@ -10,9 +10,12 @@ namespace {
 int rank(Kind kind) {
   switch (kind) {
     case Kind::Rational:
-    case Kind::Real: return 0;
-    case Kind::Symbol: return 1;
-    default: return 2 + static_cast<int>(kind);
+    case Kind::Real:
+      return 0;
+    case Kind::Symbol:
+      return 1;
+    default:
+      return 2 + static_cast<int>(kind);
   }
 }
 

@@ -1,8 +1,8 @@
-#include <symdyn/symbolic/print.hpp>
-
 #include <fmt/format.h>
 
 #include <ostream>
+
+#include <symdyn/symbolic/print.hpp>
 
 namespace symdyn::symbolic {
 namespace {
@@ -25,12 +25,19 @@ class Printer {
   std::string print_bare(Expr e, int* prec) {
     switch (e.kind()) {
       case Kind::Rational:
-      case Kind::Real: return print_number(e.number(), prec);
-      case Kind::Symbol: return name_of_ ? name_of_(e) : e.name();
-      case Kind::Add: *prec = kSum; return print_sum(e);
-      case Kind::Mul: return print_product(e, prec);
-      case Kind::Pow: return print_power(e.arg(0), e.arg(1).number(), prec);
-      default: return print_call(e);
+      case Kind::Real:
+        return print_number(e.number(), prec);
+      case Kind::Symbol:
+        return name_of_ ? name_of_(e) : e.name();
+      case Kind::Add:
+        *prec = kSum;
+        return print_sum(e);
+      case Kind::Mul:
+        return print_product(e, prec);
+      case Kind::Pow:
+        return print_power(e.arg(0), e.arg(1).number(), prec);
+      default:
+        return print_call(e);
     }
   }
 
@@ -80,7 +87,8 @@ class Printer {
     for (Expr f : factors) {
       auto [base, exponent] = split_power(f);
       if (exponent.is_negative()) {
-        den.push_back(exponent == Number(-1) ? print(base, kPower) : print_power_string(base, -exponent));
+        den.push_back(exponent == Number(-1) ? print(base, kPower)
+                                             : print_power_string(base, -exponent));
       } else {
         num.push_back(print(f, kProduct));
       }
@@ -156,10 +164,16 @@ std::string to_infix(Expr e) {
   return Printer(false, none).print(e);
 }
 
-std::string to_cpp(Expr e, const SymbolNamer& name_of) { return Printer(true, name_of).print(e); }
+std::string to_cpp(Expr e, const SymbolNamer& name_of) {
+  return Printer(true, name_of).print(e);
+}
 
-std::string Expr::str() const { return to_infix(*this); }
+std::string Expr::str() const {
+  return to_infix(*this);
+}
 
-std::ostream& operator<<(std::ostream& os, Expr e) { return os << to_infix(e); }
+std::ostream& operator<<(std::ostream& os, Expr e) {
+  return os << to_infix(e);
+}
 
 }  // namespace symdyn::symbolic

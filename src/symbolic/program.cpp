@@ -1,13 +1,12 @@
 // IR -> instructions: binarization with sign folding, sincos fusion, slot
 // numbering and workspace allocation; the opcode table and operation counts.
-#include <symdyn/symbolic/program.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <map>
 #include <optional>
 
+#include <symdyn/symbolic/program.hpp>
 #include <symdyn/symbolic/program_code.hpp>
 #include <symdyn/symbolic/program_ir.hpp>
 #include <symdyn/symbolic/small_vector.hpp>
@@ -43,10 +42,12 @@ struct CountFields : OperationCount {
 int CountFields::*counted_field(Opcode op) {
   switch (op) {
 #define SYMDYN_COUNTED(op, name, arity, results, format, format2, counted) \
-  case Opcode::op: return &CountFields::counted;
+  case Opcode::op:                                                         \
+    return &CountFields::counted;
     SYMDYN_FOR_EACH_CORE_OPCODE(SYMDYN_COUNTED)
 #undef SYMDYN_COUNTED
-    default: return nullptr;  // calls, counted per kind
+    default:
+      return nullptr;  // calls, counted per kind
   }
 }
 
@@ -76,7 +77,8 @@ Opcode call_opcode(Kind kind) {
 class Scheduler {
  public:
   explicit Scheduler(const ir::Graph& graph) : g_(graph), resolved_(graph.nodes.size()) {
-    code_.reserve(2 * graph.nodes.size());  // binarized n-ary nodes make more instructions than nodes
+    code_.reserve(2 *
+                  graph.nodes.size());  // binarized n-ary nodes make more instructions than nodes
   }
 
   // The slots of the outputs, in order, except that negated products and
@@ -89,7 +91,8 @@ class Scheduler {
       const ir::Term r = resolve(terms[i].id);
       const ir::Term v{r.id, r.neg != terms[i].neg};
       const Opcode op = code_[v.id].op;
-      if (v.neg && (op == Opcode::Mul || op == Opcode::Add) && !scaled_by_constant(v) && !shifted_by_constant(v)) {
+      if (v.neg && (op == Opcode::Mul || op == Opcode::Add) && !scaled_by_constant(v) &&
+          !shifted_by_constant(v)) {
         deferred.emplace_back(i, v);
       } else {
         slots[i] = materialize(v);
@@ -133,15 +136,18 @@ class Scheduler {
 
   ir::Term build(const ir::Node& node) {
     switch (node.op) {
-      case ir::Op::Const: return {emit(Opcode::Const, {}, node.constant), false};
+      case ir::Op::Const:
+        return {emit(Opcode::Const, {}, node.constant), false};
       case ir::Op::Input: {
         Instruction ins;
         ins.op = Opcode::Input;
         ins.input = node.input;
         return {emit(ins), false};
       }
-      case ir::Op::Sum: return build_sum(node);
-      case ir::Op::Prod: return build_product(node);
+      case ir::Op::Sum:
+        return build_sum(node);
+      case ir::Op::Prod:
+        return build_product(node);
       case ir::Op::Div: {
         const ir::Term num = operand(node.terms[0]);
         const ir::Term den = operand(node.terms[1]);
@@ -151,11 +157,14 @@ class Scheduler {
         const ir::Term a = operand(node.terms[0]);
         return {a.id, !a.neg};
       }
-      case ir::Op::Sqrt: return {emit(Opcode::Sqrt, {materialize(operand(node.terms[0]))}), false};
-      case ir::Op::Pow: return {emit(Opcode::Pow, {materialize(operand(node.terms[0]))}, node.constant), false};
+      case ir::Op::Sqrt:
+        return {emit(Opcode::Sqrt, {materialize(operand(node.terms[0]))}), false};
+      case ir::Op::Pow:
+        return {emit(Opcode::Pow, {materialize(operand(node.terms[0]))}, node.constant), false};
       case ir::Op::Call: {
         std::array<std::uint32_t, 2> args{};
-        for (std::size_t i = 0; i < node.terms.size(); ++i) args[i] = materialize(operand(node.terms[i]));
+        for (std::size_t i = 0; i < node.terms.size(); ++i)
+          args[i] = materialize(operand(node.terms[i]));
         return {emit(call_opcode(node.kind), args), false};
       }
     }
@@ -203,19 +212,24 @@ class Scheduler {
     const Instruction ins = code_[v.id];
     const auto [a, b] = ins.args;
     switch (ins.op) {
-      case Opcode::Const: return emit(Opcode::Const, {}, -ins.constant);
-      case Opcode::Sub: return emit(Opcode::Sub, {b, a});
+      case Opcode::Const:
+        return emit(Opcode::Const, {}, -ins.constant);
+      case Opcode::Sub:
+        return emit(Opcode::Sub, {b, a});
       case Opcode::Mul:
-        if (code_[a].op == Opcode::Const) return emit(Opcode::Mul, {emit(Opcode::Const, {}, -code_[a].constant), b});
+        if (code_[a].op == Opcode::Const)
+          return emit(Opcode::Mul, {emit(Opcode::Const, {}, -code_[a].constant), b});
         if (const auto na = existing_negation(a)) return emit(Opcode::Mul, {*na, b});
         if (const auto nb = existing_negation(b)) return emit(Opcode::Mul, {a, *nb});
         break;
       case Opcode::Add:
-        if (code_[a].op == Opcode::Const) return emit(Opcode::Sub, {emit(Opcode::Const, {}, -code_[a].constant), b});
+        if (code_[a].op == Opcode::Const)
+          return emit(Opcode::Sub, {emit(Opcode::Const, {}, -code_[a].constant), b});
         if (const auto na = existing_negation(a)) return emit(Opcode::Sub, {*na, b});
         if (const auto nb = existing_negation(b)) return emit(Opcode::Sub, {*nb, a});
         break;
-      default: break;
+      default:
+        break;
     }
     return emit(Opcode::Neg, {v.id});
   }
@@ -239,7 +253,8 @@ class Scheduler {
     return existing(Opcode::Neg, {x, 0});
   }
 
-  std::optional<std::uint32_t> existing(Opcode op, std::array<std::uint32_t, 2> args, double constant = 0.0) const {
+  std::optional<std::uint32_t> existing(Opcode op, std::array<std::uint32_t, 2> args,
+                                        double constant = 0.0) const {
     return code_.find(op, args, constant);
   }
   std::uint32_t emit(Opcode op, std::array<std::uint32_t, 2> args, double constant = 0.0) {
@@ -249,15 +264,16 @@ class Scheduler {
 
   const ir::Graph& g_;
   std::vector<std::optional<ir::Term>> resolved_;  // by IR node id
-  std::vector<std::pair<std::uint32_t, bool>> stack_;  // resolve's: (node, operands pushed), empty between calls
+  std::vector<std::pair<std::uint32_t, bool>>
+      stack_;                 // resolve's: (node, operands pushed), empty between calls
   detail::CodeBuilder code_;  // every instruction value-numbered
 };
 
 // Drops what no output needs, fuses sin and cos of one argument into sincos
 // (at the place of the first), and renumbers the slots in schedule order.
 // `code` defines slot k at instruction k; `outputs` are slots of it.
-std::vector<Instruction> finalize(const std::vector<Instruction>& code, std::vector<std::uint32_t>& outputs,
-                                  std::uint32_t* slot_count) {
+std::vector<Instruction> finalize(const std::vector<Instruction>& code,
+                                  std::vector<std::uint32_t>& outputs, std::uint32_t* slot_count) {
   std::vector<char> needed(code.size(), 0);  // bytes: read and set much faster than bits
   for (std::uint32_t s : outputs) needed[s] = true;
   for (std::size_t k = code.size(); k-- > 0;) {
@@ -335,7 +351,8 @@ Allocation allocate(const std::vector<Instruction>& code, const std::vector<std:
     Instruction ins = code[k];
     const int arity = info(ins.op).arity;
     for (int a = 0; a < arity; ++a) ins.args[a] = where[code[k].args[a]];
-    for (int r = 0; r < info(ins.op).results; ++r) ins.results[r] = where[code[k].results[r]] = take();
+    for (int r = 0; r < info(ins.op).results; ++r)
+      ins.results[r] = where[code[k].results[r]] = take();
     for (int a = 0; a < arity; ++a) {
       const std::uint32_t s = code[k].args[a];
       const bool repeated = a == 1 && code[k].args[0] == s;
@@ -385,10 +402,13 @@ int operations(const Scheduled& s, std::span<const std::size_t> outputs) {
 
 }  // namespace
 
-const OpcodeInfo& info(Opcode op) { return kOpcodes[static_cast<std::size_t>(op)]; }
+const OpcodeInfo& info(Opcode op) {
+  return kOpcodes[static_cast<std::size_t>(op)];
+}
 
 Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
-                        std::span<const Definition> definitions, std::span<const std::vector<std::size_t>> groups) {
+                        std::span<const Definition> definitions,
+                        std::span<const std::vector<std::size_t>> groups) {
   std::vector<std::size_t> all;
   if (groups.empty()) {
     for (std::size_t i = 0; i < outputs.size(); ++i) all.push_back(i);
@@ -397,7 +417,8 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
   for (const std::vector<std::size_t>& group : groups) {
     for (std::size_t o : group) {
       if (o >= outputs.size()) {
-        throw UsageError(fmt::format("compile_program: a group names output {} of {}", o, outputs.size()));
+        throw UsageError(
+            fmt::format("compile_program: a group names output {} of {}", o, outputs.size()));
       }
     }
   }
@@ -407,9 +428,14 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
   Scheduled chosen = schedule(by_key ? *by_key : existing_first);
   if (by_key) {  // the ties changed something
     Scheduled other = schedule(existing_first);
-    auto longer = [&](const auto& group) { return operations(other, group) > operations(chosen, group); };
-    auto shorter = [&](const auto& group) { return operations(other, group) < operations(chosen, group); };
-    if (std::none_of(groups.begin(), groups.end(), longer) && std::any_of(groups.begin(), groups.end(), shorter)) {
+    auto longer = [&](const auto& group) {
+      return operations(other, group) > operations(chosen, group);
+    };
+    auto shorter = [&](const auto& group) {
+      return operations(other, group) < operations(chosen, group);
+    };
+    if (std::none_of(groups.begin(), groups.end(), longer) &&
+        std::any_of(groups.begin(), groups.end(), shorter)) {
       chosen = std::move(other);
     }
   }
@@ -424,17 +450,20 @@ Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outp
 }
 
 void Program::allocate_workspace() {
-  Allocation allocation = allocate(instructions_, outputs_, static_cast<std::uint32_t>(slot_count_));
+  Allocation allocation =
+      allocate(instructions_, outputs_, static_cast<std::uint32_t>(slot_count_));
   exec_ = std::move(allocation.code);
   exec_outputs_ = std::move(allocation.outputs);
   workspace_size_ = allocation.size;
 }
 
-Program Program::subprogram(std::span<const std::size_t> outputs, std::span<const std::size_t> inputs) const {
+Program Program::subprogram(std::span<const std::size_t> outputs,
+                            std::span<const std::size_t> inputs) const {
   constexpr std::uint32_t kNone = ~0U;
   std::vector<std::uint32_t> input_index(input_count_, kNone);
   for (std::size_t i = 0; i < inputs.size(); ++i) {
-    if (inputs[i] >= input_count_) throw UsageError(fmt::format("subprogram: no input {}", inputs[i]));
+    if (inputs[i] >= input_count_)
+      throw UsageError(fmt::format("subprogram: no input {}", inputs[i]));
     input_index[inputs[i]] = static_cast<std::uint32_t>(i);
   }
   std::vector<char> needed(slot_count_, 0);  // bytes: read and set much faster than bits
@@ -463,7 +492,8 @@ Program Program::subprogram(std::span<const std::size_t> outputs, std::span<cons
     for (int r = 0; r < results; ++r) copy.results[r] = renamed[ins.results[r]] = next++;
     if (ins.op == Opcode::Input) {
       if (input_index[ins.input] == kNone) {
-        throw UsageError(fmt::format("subprogram: the outputs need input {}, which is not given", ins.input));
+        throw UsageError(
+            fmt::format("subprogram: the outputs need input {}, which is not given", ins.input));
       }
       copy.input = input_index[ins.input];
     }
@@ -477,9 +507,10 @@ Program Program::subprogram(std::span<const std::size_t> outputs, std::span<cons
 
 void Program::check_sizes(std::size_t inputs, std::size_t outputs, std::size_t workspace) const {
   if (inputs != input_count_ || outputs != outputs_.size() || workspace < workspace_size_) {
-    throw UsageError(fmt::format(
-        "Program::run: given {} inputs, {} outputs, a workspace of {}; the program needs {}, {}, at least {}",
-        inputs, outputs, workspace, input_count_, outputs_.size(), workspace_size_));
+    throw UsageError(
+        fmt::format("Program::run: given {} inputs, {} outputs, a workspace of {}; the program "
+                    "needs {}, {}, at least {}",
+                    inputs, outputs, workspace, input_count_, outputs_.size(), workspace_size_));
   }
 }
 
@@ -496,8 +527,12 @@ OperationCount Program::operation_count() const {
   return static_cast<OperationCount>(count);
 }
 
-int& OperationCount::call(Kind kind) { return calls[function_index(kind)]; }
-int OperationCount::call(Kind kind) const { return calls[function_index(kind)]; }
+int& OperationCount::call(Kind kind) {
+  return calls[function_index(kind)];
+}
+int OperationCount::call(Kind kind) const {
+  return calls[function_index(kind)];
+}
 
 int OperationCount::total() const {
   int n = add + mul + div + neg + sqrt + pow + sincos;
@@ -506,7 +541,8 @@ int OperationCount::total() const {
 }
 
 int OperationCount::weighted() const {
-  int w = add + mul + neg + kDivWeight * div + kSqrtWeight * sqrt + kPowWeight * pow + kSinCosWeight * sincos;
+  int w = add + mul + neg + kDivWeight * div + kSqrtWeight * sqrt + kPowWeight * pow +
+          kSinCosWeight * sincos;
   for (std::size_t i = 0; i < calls.size(); ++i) w += calls[i] * info(kFunctionKinds[i]).cost;
   return w;
 }

@@ -67,6 +67,8 @@
 // Domain: the program computes what the expressions say, in the scalar type;
 // it adds no NaN (no rule divides by something the expression does not).
 
+#include <fmt/format.h>
+
 #include <array>
 #include <complex>
 #include <cstdint>
@@ -75,8 +77,6 @@
 #include <string_view>
 #include <utility>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include <symdyn/symbolic/errors.hpp>
 #include <symdyn/symbolic/expr.hpp>
@@ -91,24 +91,23 @@ struct OperationCount;
 // In a format, {0} and {1} are the operands, {2} the constant (a C++ literal)
 // and {3} the input's C++ name. `counted as` is the OperationCount field one
 // execution increments (none for loads).
-#define SYMDYN_FOR_EACH_CORE_OPCODE(X)                                    \
-  X(Const, "const", 0, 1, "{2}", "", none)                               \
-  X(Input, "input", 0, 1, "{3}", "", none)                               \
-  X(Add, "add", 2, 1, "{0} + {1}", "", add)                              \
-  X(Sub, "sub", 2, 1, "{0} - {1}", "", add)                              \
-  X(Mul, "mul", 2, 1, "{0}*{1}", "", mul)                                \
-  X(Div, "div", 2, 1, "{0}/{1}", "", div)                                \
-  X(Neg, "neg", 1, 1, "-{0}", "", neg)                                   \
-  X(Sqrt, "sqrt", 1, 1, "std::sqrt({0})", "", sqrt)                      \
-  X(Pow, "pow", 1, 1, "std::pow({0}, {2})", "", pow)                     \
+#define SYMDYN_FOR_EACH_CORE_OPCODE(X)               \
+  X(Const, "const", 0, 1, "{2}", "", none)           \
+  X(Input, "input", 0, 1, "{3}", "", none)           \
+  X(Add, "add", 2, 1, "{0} + {1}", "", add)          \
+  X(Sub, "sub", 2, 1, "{0} - {1}", "", add)          \
+  X(Mul, "mul", 2, 1, "{0}*{1}", "", mul)            \
+  X(Div, "div", 2, 1, "{0}/{1}", "", div)            \
+  X(Neg, "neg", 1, 1, "-{0}", "", neg)               \
+  X(Sqrt, "sqrt", 1, 1, "std::sqrt({0})", "", sqrt)  \
+  X(Pow, "pow", 1, 1, "std::pow({0}, {2})", "", pow) \
   X(SinCos, "sincos", 1, 2, "std::sin({0})", "std::cos({0})", sincos)
 // Every function kind of node_kinds.hpp is also an opcode of the same name,
 // arity and C++ spelling ("std::atan2({0}, {1})"), counted per kind.
 
 enum class Opcode : std::uint8_t {
 #define SYMDYN_OPCODE_ENUM(op, ...) op,
-  SYMDYN_FOR_EACH_CORE_OPCODE(SYMDYN_OPCODE_ENUM)
-  SYMDYN_FOR_EACH_FUNCTION_KIND(SYMDYN_OPCODE_ENUM)
+  SYMDYN_FOR_EACH_CORE_OPCODE(SYMDYN_OPCODE_ENUM) SYMDYN_FOR_EACH_FUNCTION_KIND(SYMDYN_OPCODE_ENUM)
 #undef SYMDYN_OPCODE_ENUM
 };
 
@@ -139,7 +138,7 @@ inline constexpr std::size_t kFunctionKindCount = 0
 
 // How many operations a program executes, by kind. Loads are free.
 struct OperationCount {
-  int add = 0;     // additions and subtractions
+  int add = 0;  // additions and subtractions
   int mul = 0;
   int div = 0;
   int neg = 0;
@@ -187,7 +186,8 @@ class Program {
   // they need, in this program's order, and nothing else. What a function
   // computing those outputs alone runs (emit_cpp_shared). Throws UsageError
   // for an index out of range, or if the outputs need an input not given.
-  Program subprogram(std::span<const std::size_t> outputs, std::span<const std::size_t> inputs) const;
+  Program subprogram(std::span<const std::size_t> outputs,
+                     std::span<const std::size_t> inputs) const;
 
  private:
   friend Program compile_program(std::span<const Expr> inputs, std::span<const Expr> outputs,
@@ -228,8 +228,8 @@ std::string to_string(const Program& program);
 // How emit_cpp names things. The input and output texts are pasted as they are:
 // an input's must be a primary or postfix expression ("q[0]", "qd_1").
 struct CppNaming {
-  std::vector<std::string> inputs;   // (input_count)  C++ text of each input, e.g. "q[0]"
-  std::vector<std::string> outputs;  // (output_count) lvalue of each output, e.g. "x[3]"
+  std::vector<std::string> inputs;     // (input_count)  C++ text of each input, e.g. "q[0]"
+  std::vector<std::string> outputs;    // (output_count) lvalue of each output, e.g. "x[3]"
   std::string temporary_prefix = "t";  // temporaries are <prefix>0, <prefix>1, ... in order
   std::string scalar_type = "double";
   std::string indent = "  ";
@@ -329,7 +329,8 @@ struct CppShared {
   std::vector<CppFunctionParts> functions;
 };
 CppShared emit_cpp_shared(const Program& program, const CppNaming& naming,
-                          std::span<const std::vector<std::size_t>> functions, std::size_t max_instructions);
+                          std::span<const std::vector<std::size_t>> functions,
+                          std::size_t max_instructions);
 
 // ---------------------------------------------------------------------------
 // Implementation of the interpreter.
@@ -343,13 +344,27 @@ void Program::run(std::span<const S> inputs, std::span<S> outputs, std::span<S> 
     const auto a = ins.args[0];
     const auto b = ins.args[1];
     switch (ins.op) {
-      case Opcode::Const: w[r] = S(ins.constant); break;
-      case Opcode::Input: w[r] = inputs[ins.input]; break;
-      case Opcode::Add: w[r] = w[a] + w[b]; break;
-      case Opcode::Sub: w[r] = w[a] - w[b]; break;
-      case Opcode::Mul: w[r] = w[a] * w[b]; break;
-      case Opcode::Div: w[r] = w[a] / w[b]; break;
-      case Opcode::Neg: w[r] = -w[a]; break;
+      case Opcode::Const:
+        w[r] = S(ins.constant);
+        break;
+      case Opcode::Input:
+        w[r] = inputs[ins.input];
+        break;
+      case Opcode::Add:
+        w[r] = w[a] + w[b];
+        break;
+      case Opcode::Sub:
+        w[r] = w[a] - w[b];
+        break;
+      case Opcode::Mul:
+        w[r] = w[a] * w[b];
+        break;
+      case Opcode::Div:
+        w[r] = w[a] / w[b];
+        break;
+      case Opcode::Neg:
+        w[r] = -w[a];
+        break;
       case Opcode::Sqrt: {
         using std::sqrt;
         w[r] = sqrt(w[a]);
@@ -364,11 +379,14 @@ void Program::run(std::span<const S> inputs, std::span<S> outputs, std::span<S> 
         using std::cos;
         using std::sin;
         w[r] = sin(w[a]);
-        w[ins.results[1]] = cos(w[a]);  // never the argument's slot: results and arguments are distinct
+        w[ins.results[1]] =
+            cos(w[a]);  // never the argument's slot: results and arguments are distinct
         break;
       }
-#define SYMDYN_RUN_CALL(kind, name, arity, ...) \
-  case Opcode::kind: w[r] = scalar::apply<Kind::kind>(w[a], w[arity == 2 ? b : a]); break;
+#define SYMDYN_RUN_CALL(kind, name, arity, ...)                    \
+  case Opcode::kind:                                               \
+    w[r] = scalar::apply<Kind::kind>(w[a], w[arity == 2 ? b : a]); \
+    break;
         SYMDYN_FOR_EACH_FUNCTION_KIND(SYMDYN_RUN_CALL)
 #undef SYMDYN_RUN_CALL
     }

@@ -1,10 +1,9 @@
 // Value-numbered emission of instructions (see program_code.hpp).
-#include <symdyn/symbolic/program_code.hpp>
-
 #include <algorithm>
 #include <bit>
 #include <utility>
 
+#include <symdyn/symbolic/program_code.hpp>
 #include <symdyn/symbolic/program_ir.hpp>
 
 namespace symdyn::symbolic::detail {
@@ -32,7 +31,8 @@ std::uint32_t CodeBuilder::emit(Instruction ins) {
   return slot;
 }
 
-std::optional<std::uint32_t> CodeBuilder::find(Opcode op, std::array<std::uint32_t, 2> args, double constant) const {
+std::optional<std::uint32_t> CodeBuilder::find(Opcode op, std::array<std::uint32_t, 2> args,
+                                               double constant) const {
   if (index_.empty()) return std::nullopt;
   Instruction ins;
   ins.op = op;
@@ -75,7 +75,9 @@ void CodeBuilder::reserve(std::size_t n) {
   if (size > index_.size()) rehash(size);
 }
 
-void CodeBuilder::grow_index() { rehash(std::max<std::size_t>(1024, 2 * index_.size())); }
+void CodeBuilder::grow_index() {
+  rehash(std::max<std::size_t>(1024, 2 * index_.size()));
+}
 
 // The index at `size` entries (a power of two), every instruction entered anew.
 void CodeBuilder::rehash(std::size_t size) {

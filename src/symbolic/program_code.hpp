@@ -19,7 +19,8 @@ class CodeBuilder {
   std::uint32_t emit(Instruction ins);
   std::uint32_t emit(Opcode op, std::array<std::uint32_t, 2> args, double constant = 0.0);
   // The slot of that instruction if it is emitted already.
-  std::optional<std::uint32_t> find(Opcode op, std::array<std::uint32_t, 2> args, double constant = 0.0) const;
+  std::optional<std::uint32_t> find(Opcode op, std::array<std::uint32_t, 2> args,
+                                    double constant = 0.0) const;
 
   // Room for about n instructions: the index sized once instead of doubled up to it.
   void reserve(std::size_t n);
@@ -43,6 +44,7 @@ class CodeBuilder {
 // Negations taken by the instructions that compute their operands where that
 // saves the neg (see program_negation.cpp). `code` defines slot k at
 // instruction k, and so does the result; `outputs` are slots, renumbered.
-std::vector<Instruction> absorb_negations(const CodeBuilder& code, std::vector<std::uint32_t>& outputs);
+std::vector<Instruction> absorb_negations(const CodeBuilder& code,
+                                          std::vector<std::uint32_t>& outputs);
 
 }  // namespace symdyn::symbolic::detail

@@ -33,26 +33,31 @@ struct Part {
 
 // Where each computing instruction and each output goes, and which values cross parts.
 struct PartPlan {
-  std::vector<Part> parts;               // in the order they run
-  std::vector<int> part_of_slot;         // (slot_count) defining part, kNoPart for loads
-  std::vector<bool> at_definition;       // (output_count) assigned right after its value's definition
-  std::vector<bool> unassigned;          // (output_count) a zero its zeroed array already holds
-  std::vector<std::int64_t> scratch_of;  // (slot_count) scratch entry, -1 if the value stays in its part
+  std::vector<Part> parts;          // in the order they run
+  std::vector<int> part_of_slot;    // (slot_count) defining part, kNoPart for loads
+  std::vector<bool> at_definition;  // (output_count) assigned right after its value's definition
+  std::vector<bool> unassigned;     // (output_count) a zero its zeroed array already holds
+  std::vector<std::int64_t>
+      scratch_of;  // (slot_count) scratch entry, -1 if the value stays in its part
   std::vector<std::size_t> scratch_top;  // (parts) 1 + the highest entry its values use, 0 if none
 };
 
-bool is_load(const Instruction& ins) { return ins.op == Opcode::Const || ins.op == Opcode::Input; }
+bool is_load(const Instruction& ins) {
+  return ins.op == Opcode::Const || ins.op == Opcode::Input;
+}
 
 // Appends an opcode's C++ format (program.hpp: "{0}*{1}", "std::pow({0}, {2})")
 // with {i} replaced by fields[i], as fmt would print it. Why not fmt: parsing
 // the format again for every instruction was most of the printing time.
-void append_format(std::string& out, std::string_view format, const std::array<std::string_view, 4>& fields) {
+void append_format(std::string& out, std::string_view format,
+                   const std::array<std::string_view, 4>& fields) {
   for (std::size_t i = 0; i < format.size(); ++i) {
     const char c = format[i];
     if ((c == '{' || c == '}') && i + 1 < format.size() && format[i + 1] == c) {  // "{{" or "}}"
       out += c;
       ++i;
-    } else if (c == '{' && i + 2 < format.size() && format[i + 2] == '}' && format[i + 1] >= '0' && format[i + 1] <= '3') {
+    } else if (c == '{' && i + 2 < format.size() && format[i + 2] == '}' && format[i + 1] >= '0' &&
+               format[i + 1] <= '3') {
       out.append(fields[static_cast<std::size_t>(format[i + 1] - '0')]);
       i += 2;
     } else {
@@ -64,8 +69,9 @@ void append_format(std::string& out, std::string_view format, const std::array<s
 // The output arrays zeroed whole by one loop before their other elements are
 // assigned (see kZeroedArrayShare), by array, and the outputs they hold
 // already (+0.0), by output. Only an array wanted by one set of functions is.
-std::pair<std::vector<bool>, std::vector<bool>> zeroed_arrays(const Program& program, const CppNaming& naming,
-                                                               const std::vector<Mask>& wanted_by) {
+std::pair<std::vector<bool>, std::vector<bool>> zeroed_arrays(const Program& program,
+                                                              const CppNaming& naming,
+                                                              const std::vector<Mask>& wanted_by) {
   const auto outputs = program.output_slots();
   std::vector<bool> zero(program.slot_count(), false);  // +0.0: all bits clear
   for (const Instruction& i : program.instructions()) {
@@ -81,7 +87,8 @@ std::pair<std::vector<bool>, std::vector<bool>> zeroed_arrays(const Program& pro
       zeros += zero[outputs[o]];
       one_set = one_set && wanted_by[o] == wanted_by[first];
     }
-    zeroed[a] = one_set && end - first >= kMinZeroedArray && zeros * kZeroedArrayShare >= end - first;
+    zeroed[a] =
+        one_set && end - first >= kMinZeroedArray && zeros * kZeroedArrayShare >= end - first;
     for (std::size_t o = first; zeroed[a] && o < end; ++o) unassigned[o] = zero[outputs[o]];
     first = end;
   }
@@ -89,28 +96,36 @@ std::pair<std::vector<bool>, std::vector<bool>> zeroed_arrays(const Program& pro
 }
 
 // Which functions want each output: bit f when function f lists it.
-std::vector<Mask> functions_of_outputs(const Program& program, std::span<const std::vector<std::size_t>> functions) {
+std::vector<Mask> functions_of_outputs(const Program& program,
+                                       std::span<const std::vector<std::size_t>> functions) {
   if (functions.size() > kMaxFunctions) {
-    throw UsageError(fmt::format("emit_cpp_shared: {} functions, at most {}", functions.size(), kMaxFunctions));
+    throw UsageError(
+        fmt::format("emit_cpp_shared: {} functions, at most {}", functions.size(), kMaxFunctions));
   }
   std::vector<Mask> wanted_by(program.output_count(), 0);
   for (std::size_t f = 0; f < functions.size(); ++f) {
     for (std::size_t o : functions[f]) {
-      if (o >= wanted_by.size()) throw UsageError(fmt::format("emit_cpp_shared: function {} lists output {}; the program has {}", f, o, wanted_by.size()));
+      if (o >= wanted_by.size())
+        throw UsageError(
+            fmt::format("emit_cpp_shared: function {} lists output {}; the program has {}", f, o,
+                        wanted_by.size()));
       wanted_by[o] |= Mask{1} << f;
     }
   }
   for (std::size_t o = 0; o < wanted_by.size(); ++o) {
-    if (wanted_by[o] == 0) throw UsageError(fmt::format("emit_cpp_shared: no function wants output {}", o));
+    if (wanted_by[o] == 0)
+      throw UsageError(fmt::format("emit_cpp_shared: no function wants output {}", o));
   }
   return wanted_by;
 }
 
 // Which functions need each instruction: those whose outputs depend on one of its results.
-std::vector<Mask> functions_of_instructions(const Program& program, const std::vector<Mask>& wanted_by) {
+std::vector<Mask> functions_of_instructions(const Program& program,
+                                            const std::vector<Mask>& wanted_by) {
   const auto ins = program.instructions();
   std::vector<Mask> of_slot(program.slot_count(), 0);
-  for (std::size_t o = 0; o < wanted_by.size(); ++o) of_slot[program.output_slots()[o]] |= wanted_by[o];
+  for (std::size_t o = 0; o < wanted_by.size(); ++o)
+    of_slot[program.output_slots()[o]] |= wanted_by[o];
   std::vector<Mask> of_instruction(ins.size(), 0);
   for (std::size_t k = ins.size(); k-- > 0;) {
     const OpcodeInfo& op = info(ins[k].op);
@@ -130,8 +145,8 @@ std::vector<Mask> functions_of_instructions(const Program& program, const std::v
 // arithmetic: a computing instruction weighs 1 plus the outputs it assigns;
 // other outputs weigh 1 each and go after the group's instructions, in
 // output order; the loop zeroing an array weighs 1 and goes first.
-PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<const std::vector<std::size_t>> functions,
-                    std::size_t max) {
+PartPlan plan_parts(const Program& program, const CppNaming& naming,
+                    std::span<const std::vector<std::size_t>> functions, std::size_t max) {
   PartPlan plan;
   const auto ins = program.instructions();
   const auto outputs = program.output_slots();
@@ -139,7 +154,8 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
   const std::vector<Mask> needed_by = functions_of_instructions(program, wanted_by);
   auto [zeroed, unassigned] = zeroed_arrays(program, naming, wanted_by);
   plan.unassigned = std::move(unassigned);
-  std::vector<std::size_t> defined_by(program.slot_count(), ins.size());  // instruction index, ins.size() for loads
+  std::vector<std::size_t> defined_by(program.slot_count(),
+                                      ins.size());  // instruction index, ins.size() for loads
   for (std::size_t k = 0; k < ins.size(); ++k) {
     if (is_load(ins[k])) continue;
     for (int r = 0; r < info(ins[k].op).results; ++r) defined_by[ins[k].results[r]] = k;
@@ -158,7 +174,8 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
   // outputs assigned with it), then the outputs assigned at the end.
   struct Group {
     Mask functions = 0;
-    std::size_t first = 0;  // where it first appears: instruction index, or ins.size() + output index
+    std::size_t first =
+        0;  // where it first appears: instruction index, or ins.size() + output index
     std::vector<std::size_t> zeroed;
     std::vector<std::pair<std::size_t, std::size_t>> instructions;  // (index, weight)
     std::vector<std::size_t> outputs;
@@ -204,10 +221,12 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
     for (const auto& [k, weight] : g.instructions) {
       const std::size_t p = first + done / per_part;
       plan.parts[p].instructions.push_back(k);
-      for (int r = 0; r < info(ins[k].op).results; ++r) plan.part_of_slot[ins[k].results[r]] = static_cast<int>(p);
+      for (int r = 0; r < info(ins[k].op).results; ++r)
+        plan.part_of_slot[ins[k].results[r]] = static_cast<int>(p);
       done += weight;
     }
-    for (std::size_t o : g.outputs) plan.parts[first + std::min(done++ / per_part, count - 1)].late_outputs.push_back(o);
+    for (std::size_t o : g.outputs)
+      plan.parts[first + std::min(done++ / per_part, count - 1)].late_outputs.push_back(o);
   }
   // One part: every output at its end, in order, as emit_cpp prints them.
   if (plan.parts.size() == 1) {
@@ -221,12 +240,14 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
   std::vector<int> last_reader(program.slot_count(), kNoPart);
   for (std::size_t p = 0; p < plan.parts.size(); ++p) {
     for (std::size_t k : plan.parts[p].instructions) {
-      for (int a = 0; a < info(ins[k].op).arity; ++a) last_reader[ins[k].args[a]] = static_cast<int>(p);
+      for (int a = 0; a < info(ins[k].op).arity; ++a)
+        last_reader[ins[k].args[a]] = static_cast<int>(p);
     }
     for (std::size_t o : plan.parts[p].late_outputs) last_reader[outputs[o]] = static_cast<int>(p);
   }
   // Values by defining part, and by the part from which their entry is free.
-  std::vector<std::vector<std::uint32_t>> defined(plan.parts.size()), released(plan.parts.size() + 1);
+  std::vector<std::vector<std::uint32_t>> defined(plan.parts.size()),
+      released(plan.parts.size() + 1);
   for (std::uint32_t s = 0; s < program.slot_count(); ++s) {
     const int part = plan.part_of_slot[s];
     if (part == kNoPart || last_reader[s] <= part) continue;
@@ -243,7 +264,8 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
       if (free.empty()) free.insert(entries++);
       plan.scratch_of[s] = *free.begin();
       free.erase(free.begin());
-      plan.scratch_top[p] = std::max(plan.scratch_top[p], static_cast<std::size_t>(plan.scratch_of[s]) + 1);
+      plan.scratch_top[p] =
+          std::max(plan.scratch_top[p], static_cast<std::size_t>(plan.scratch_of[s]) + 1);
     }
   }
   return plan;
@@ -252,8 +274,12 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming, std::span<c
 class Printer {
  public:
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
-      : program_(program), naming_(naming), plan_(plan), operand_(program.slot_count()),
-        whole_(program.slot_count()), declaration_(naming.indent + "const " + naming.scalar_type + " "),
+      : program_(program),
+        naming_(naming),
+        plan_(plan),
+        operand_(program.slot_count()),
+        whole_(program.slot_count()),
+        declaration_(naming.indent + "const " + naming.scalar_type + " "),
         array_of_input_(arrays_of(naming.input_arrays)),
         array_of_output_(arrays_of(naming.output_arrays)) {
     input_of_slot_.assign(program.slot_count(), kNotInput);
@@ -261,10 +287,12 @@ class Printer {
       if (is_load(ins)) load(ins);
       if (ins.op == Opcode::Input) input_of_slot_[ins.results[0]] = ins.input;
     }
-    // The outputs of each computed slot assigned at its definition, in output order (CSR: first_output_, by_slot_).
+    // The outputs of each computed slot assigned at its definition, in output order (CSR:
+    // first_output_, by_slot_).
     const auto outputs = program.output_slots();
     first_output_.assign(program.slot_count() + 1, 0);
-    for (std::size_t o = 0; o < outputs.size(); ++o) first_output_[outputs[o] + 1] += plan.at_definition[o];
+    for (std::size_t o = 0; o < outputs.size(); ++o)
+      first_output_[outputs[o] + 1] += plan.at_definition[o];
     for (std::size_t s = 0; s < program.slot_count(); ++s) first_output_[s + 1] += first_output_[s];
     by_slot_.resize(first_output_.back());
     std::vector<std::size_t> next(first_output_.begin(), first_output_.end() - 1);
@@ -289,7 +317,8 @@ class Printer {
         const Instruction& ins = program_.instructions()[k];
         for (int r = 0; r < info(ins.op).results; ++r) {
           const std::uint32_t s = ins.results[r];
-          if (plan_.scratch_of[s] >= 0) operand_[s] = whole_[s] = fmt::format("{}[{}]", naming_.scratch, plan_.scratch_of[s]);
+          if (plan_.scratch_of[s] >= 0)
+            operand_[s] = whole_[s] = fmt::format("{}[{}]", naming_.scratch, plan_.scratch_of[s]);
         }
       }
       sort_unique(part_.input_arrays);
@@ -301,7 +330,8 @@ class Printer {
 
  private:
   // arrays_of({(name, size)...}): the array of each element, or none if no arrays are named.
-  static std::vector<std::size_t> arrays_of(const std::vector<std::pair<std::string, std::size_t>>& arrays) {
+  static std::vector<std::size_t> arrays_of(
+      const std::vector<std::pair<std::string, std::size_t>>& arrays) {
     std::vector<std::size_t> of;
     for (std::size_t a = 0; a < arrays.size(); ++a) of.insert(of.end(), arrays[a].second, a);
     return of;
@@ -324,7 +354,8 @@ class Printer {
 
   void print(const Instruction& ins) {
     const OpcodeInfo& op = info(ins.op);
-    // Only pow prints its constant ({2}) among computing instructions; formatting a double is not free.
+    // Only pow prints its constant ({2}) among computing instructions; formatting a double is not
+    // free.
     const std::string literal = ins.op == Opcode::Pow ? cpp_literal(ins.constant) : std::string();
     // Views of the operands' texts: defining the results changes no operand's.
     std::array<std::string_view, 2> args{};
@@ -336,8 +367,8 @@ class Printer {
     if (op.results == 2) define(ins.results[1], op.format2, args, literal);
   }
 
-  void define(std::uint32_t slot, std::string_view format, const std::array<std::string_view, 2>& args,
-              const std::string& constant) {
+  void define(std::uint32_t slot, std::string_view format,
+              const std::array<std::string_view, 2>& args, const std::string& constant) {
     const std::string name = naming_.temporary_prefix + std::to_string(next_temporary_++);
     // indent "const" type name " = " value ";": appended, as fmt would print it.
     out().append(declaration_).append(name).append(" = ");
@@ -345,12 +376,21 @@ class Printer {
     out().append(";\n");
     if (plan_.scratch_of[slot] >= 0) {  // read by a later part
       out().append(naming_.indent).append(naming_.scratch).append("[");
-      out().append(std::to_string(plan_.scratch_of[slot])).append("] = ").append(name).append(";\n");
+      out()
+          .append(std::to_string(plan_.scratch_of[slot]))
+          .append("] = ")
+          .append(name)
+          .append(";\n");
       part_.scratch = true;
     }
     operand_[slot] = whole_[slot] = name;
     for (std::size_t k = first_output_[slot]; k < first_output_[slot + 1]; ++k) {
-      out().append(naming_.indent).append(naming_.outputs[by_slot_[k]]).append(" = ").append(name).append(";\n");
+      out()
+          .append(naming_.indent)
+          .append(naming_.outputs[by_slot_[k]])
+          .append(" = ")
+          .append(name)
+          .append(";\n");
       note_write(by_slot_[k]);
     }
   }
@@ -359,12 +399,18 @@ class Printer {
     const std::uint32_t slot = program_.output_slots()[o];
     note_read(slot);
     note_write(o);
-    out().append(naming_.indent).append(naming_.outputs[o]).append(" = ").append(whole_[slot]).append(";\n");
+    out()
+        .append(naming_.indent)
+        .append(naming_.outputs[o])
+        .append(" = ")
+        .append(whole_[slot])
+        .append(";\n");
   }
 
   void zero(std::size_t array) {
     const auto& [name, size] = naming_.output_arrays[array];
-    fmt::format_to(std::back_inserter(out()), "{}for (int i = 0; i < {}; ++i) {}[i] = 0.0;\n", naming_.indent, size, name);
+    fmt::format_to(std::back_inserter(out()), "{}for (int i = 0; i < {}; ++i) {}[i] = 0.0;\n",
+                   naming_.indent, size, name);
     part_.output_arrays.push_back(array);
   }
 
@@ -391,20 +437,25 @@ class Printer {
   const std::string declaration_;  // what every temporary's line starts with: "  const double "
   CppPart part_;                   // the part being printed
   int next_temporary_ = 0;
-  std::vector<std::size_t> array_of_input_;   // (input_count) its input array; empty if none named
-  std::vector<std::size_t> array_of_output_;  // (output_count) its output array; empty if none named
+  std::vector<std::size_t> array_of_input_;  // (input_count) its input array; empty if none named
+  std::vector<std::size_t>
+      array_of_output_;  // (output_count) its output array; empty if none named
   static constexpr std::uint32_t kNotInput = ~0U;
-  std::vector<std::uint32_t> input_of_slot_;  // (slot_count) the input a load reads, kNotInput otherwise
-  // The outputs of slot s assigned at its definition are by_slot_[first_output_[s] ... first_output_[s + 1] - 1].
+  std::vector<std::uint32_t>
+      input_of_slot_;  // (slot_count) the input a load reads, kNotInput otherwise
+  // The outputs of slot s assigned at its definition are by_slot_[first_output_[s] ...
+  // first_output_[s + 1] - 1].
   std::vector<std::size_t> first_output_;
   std::vector<std::size_t> by_slot_;
 };
 
 void check_naming(const Program& program, const CppNaming& naming) {
-  if (naming.inputs.size() != program.input_count() || naming.outputs.size() != program.output_count()) {
-    throw UsageError(fmt::format("emit_cpp: naming has {} inputs and {} outputs; the program has {} and {}",
-                                 naming.inputs.size(), naming.outputs.size(), program.input_count(),
-                                 program.output_count()));
+  if (naming.inputs.size() != program.input_count() ||
+      naming.outputs.size() != program.output_count()) {
+    throw UsageError(
+        fmt::format("emit_cpp: naming has {} inputs and {} outputs; the program has {} and {}",
+                    naming.inputs.size(), naming.outputs.size(), program.input_count(),
+                    program.output_count()));
   }
   auto covered = [](const auto& arrays) {
     std::size_t n = 0;
@@ -412,19 +463,22 @@ void check_naming(const Program& program, const CppNaming& naming) {
     return n;
   };
   if (!naming.output_arrays.empty() && covered(naming.output_arrays) != program.output_count()) {
-    throw UsageError(fmt::format("emit_cpp: naming's output arrays have {} elements; the program has {} outputs",
-                                 covered(naming.output_arrays), program.output_count()));
+    throw UsageError(
+        fmt::format("emit_cpp: naming's output arrays have {} elements; the program has {} outputs",
+                    covered(naming.output_arrays), program.output_count()));
   }
   if (!naming.input_arrays.empty() && covered(naming.input_arrays) != program.input_count()) {
-    throw UsageError(fmt::format("emit_cpp: naming's input arrays have {} elements; the program has {} inputs",
-                                 covered(naming.input_arrays), program.input_count()));
+    throw UsageError(
+        fmt::format("emit_cpp: naming's input arrays have {} elements; the program has {} inputs",
+                    covered(naming.input_arrays), program.input_count()));
   }
 }
 
 }  // namespace
 
 CppShared emit_cpp_shared(const Program& program, const CppNaming& naming,
-                          std::span<const std::vector<std::size_t>> functions, std::size_t max_instructions) {
+                          std::span<const std::vector<std::size_t>> functions,
+                          std::size_t max_instructions) {
   check_naming(program, naming);
   const PartPlan plan = plan_parts(program, naming, functions, max_instructions);
   CppShared code;
@@ -433,7 +487,8 @@ CppShared emit_cpp_shared(const Program& program, const CppNaming& naming,
   for (std::size_t p = 0; p < code.parts.size(); ++p) {
     for (std::size_t f : code.parts[p].functions) {
       code.functions[f].parts.push_back(p);
-      code.functions[f].scratch_size = std::max(code.functions[f].scratch_size, plan.scratch_top[p]);
+      code.functions[f].scratch_size =
+          std::max(code.functions[f].scratch_size, plan.scratch_top[p]);
     }
   }
   return code;
@@ -443,7 +498,8 @@ std::string emit_cpp(const Program& program, const CppNaming& naming) {
   std::vector<std::vector<std::size_t>> one(1, std::vector<std::size_t>(program.output_count()));
   std::iota(one[0].begin(), one[0].end(), std::size_t{0});
   CppShared code = emit_cpp_shared(program, naming, one, 0);
-  return code.parts.empty() ? std::string() : std::move(code.parts.front().body);  // no output: no part
+  return code.parts.empty() ? std::string()
+                            : std::move(code.parts.front().body);  // no output: no part
 }
 
 }  // namespace symdyn::symbolic

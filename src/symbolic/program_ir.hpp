@@ -29,8 +29,12 @@ namespace symdyn::symbolic::ir {
 // Hashing of the lowering and scheduling tables' keys: fold each field in with
 // mix_hash, then finish_hash. (The tables are looked up, never iterated, so
 // the hash never reaches the program.)
-inline std::size_t mix_hash(std::size_t h, std::uint64_t v) { return (h ^ v) * 0x9e3779b97f4a7c15ULL; }
-inline std::size_t finish_hash(std::size_t h) { return h ^ (h >> 29); }
+inline std::size_t mix_hash(std::size_t h, std::uint64_t v) {
+  return (h ^ v) * 0x9e3779b97f4a7c15ULL;
+}
+inline std::size_t finish_hash(std::size_t h) {
+  return h ^ (h >> 29);
+}
 
 enum class Op : std::uint8_t { Const, Input, Sum, Prod, Div, Neg, Sqrt, Pow, Call };
 
@@ -99,7 +103,8 @@ class Graph {
 
 // Throws UsageError for a bad input or definition list, or a symbol that is
 // neither an input nor defined.
-Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::span<const Definition> definitions);
+Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs,
+            std::span<const Definition> definitions);
 void fold_reciprocals(Graph& graph);
 // Among pairs of equally many holders, pair CSE extracts first the one of
 // the smallest key, or (ExistingFirst) the one with the most holders that are

@@ -24,7 +24,8 @@ std::size_t Graph::hash(const Node& node) {
 
 bool Graph::same(const Node& a, const Node& b) {
   return a.op == b.op && a.kind == b.kind && a.input == b.input &&
-         std::bit_cast<std::uint64_t>(a.constant) == std::bit_cast<std::uint64_t>(b.constant) && a.terms == b.terms;
+         std::bit_cast<std::uint64_t>(a.constant) == std::bit_cast<std::uint64_t>(b.constant) &&
+         a.terms == b.terms;
 }
 
 std::uint32_t Graph::intern(Node node) {
@@ -109,8 +110,12 @@ class Symbols {
       : definitions_(definitions), input_of_(inputs), definition_of_(definitions.size()) {}
 
   // Whether the symbol is new.
-  bool add_input(std::uint32_t id, std::uint32_t index) { return input_of_.try_emplace(id, index).second; }
-  bool add_definition(std::uint32_t id, std::uint32_t index) { return definition_of_.try_emplace(id, index).second; }
+  bool add_input(std::uint32_t id, std::uint32_t index) {
+    return input_of_.try_emplace(id, index).second;
+  }
+  bool add_definition(std::uint32_t id, std::uint32_t index) {
+    return definition_of_.try_emplace(id, index).second;
+  }
 
   const std::uint32_t* input(std::uint32_t id) const { return input_of_.find(id); }
   bool is_input(std::uint32_t id) const { return input_of_.find(id) != nullptr; }
@@ -166,7 +171,8 @@ class IdTable {
 
 class Lowerer {
  public:
-  Lowerer(Graph& graph, const Symbols& symbols) : g_(graph), symbols_(symbols), memo_(IdTable::fresh(0)) {}
+  Lowerer(Graph& graph, const Symbols& symbols)
+      : g_(graph), symbols_(symbols), memo_(IdTable::fresh(0)) {}
 
   // Lowers e, whose arguments are already lowered.
   void lower(Expr e) {
@@ -195,9 +201,12 @@ class Lowerer {
         node.input = *symbols_.input(e.id());
         return {g_.intern(std::move(node)), false};
       }
-      case Kind::Add: return lower_sum(e);
-      case Kind::Mul: return lower_product(e);
-      case Kind::Pow: return lower_power(lowered(e.arg(0)), e.arg(1).number());
+      case Kind::Add:
+        return lower_sum(e);
+      case Kind::Mul:
+        return lower_product(e);
+      case Kind::Pow:
+        return lower_power(lowered(e.arg(0)), e.arg(1).number());
       default: {
         Node node = Node::of(Op::Call);
         node.kind = e.kind();
@@ -301,23 +310,28 @@ Symbols index_symbols(std::span<const Expr> inputs, std::span<const Definition> 
   Symbols symbols(definitions, inputs.size());
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     if (!inputs[i].is_symbol()) {
-      throw UsageError(fmt::format("compile_program: input {} ({}) is not a symbol", i, inputs[i].str()));
+      throw UsageError(
+          fmt::format("compile_program: input {} ({}) is not a symbol", i, inputs[i].str()));
     }
     if (!symbols.add_input(inputs[i].id(), static_cast<std::uint32_t>(i))) {
-      throw UsageError(fmt::format("compile_program: symbol '{}' is given twice as an input (positions {} and {})",
-                                   inputs[i].name(), *symbols.input(inputs[i].id()), i));
+      throw UsageError(fmt::format(
+          "compile_program: symbol '{}' is given twice as an input (positions {} and {})",
+          inputs[i].name(), *symbols.input(inputs[i].id()), i));
     }
   }
   for (std::size_t i = 0; i < definitions.size(); ++i) {
     const Definition& d = definitions[i];
     if (!d.symbol.is_symbol()) {
-      throw UsageError(fmt::format("compile_program: a definition names '{}', which is not a symbol", d.symbol.str()));
+      throw UsageError(fmt::format(
+          "compile_program: a definition names '{}', which is not a symbol", d.symbol.str()));
     }
     if (symbols.is_input(d.symbol.id())) {
-      throw UsageError(fmt::format("compile_program: symbol '{}' is both an input and defined", d.symbol.name()));
+      throw UsageError(fmt::format("compile_program: symbol '{}' is both an input and defined",
+                                   d.symbol.name()));
     }
     if (!symbols.add_definition(d.symbol.id(), static_cast<std::uint32_t>(i))) {
-      throw UsageError(fmt::format("compile_program: symbol '{}' is defined twice", d.symbol.name()));
+      throw UsageError(
+          fmt::format("compile_program: symbol '{}' is defined twice", d.symbol.name()));
     }
   }
   return symbols;
@@ -337,8 +351,9 @@ void for_each_dependency(Expr e, const Symbols& symbols, F&& f) {
 // Nodes left waiting after Kahn's algorithm each wait for another: walking
 // from one to a waiting dependency, nodes.size() steps surely end on a cycle,
 // and every cycle passes through a definition (the DAG itself has none).
-[[noreturn]] void throw_cycle(const std::vector<Expr>& nodes, const std::vector<std::size_t>& waiting,
-                              const IdTable& index, const Symbols& symbols) {
+[[noreturn]] void throw_cycle(const std::vector<Expr>& nodes,
+                              const std::vector<std::size_t>& waiting, const IdTable& index,
+                              const Symbols& symbols) {
   std::size_t at = 0;
   while (waiting[at] == 0) ++at;
   auto step = [&](std::size_t i) {
@@ -354,14 +369,16 @@ void for_each_dependency(Expr e, const Symbols& symbols, F&& f) {
   };
   for (std::size_t k = 0; k < nodes.size(); ++k) at = step(at);
   while (!symbols.is_defined(nodes[at].id())) at = step(at);
-  throw UsageError(fmt::format("compile_program: the definition of '{}' depends on itself", nodes[at].name()));
+  throw UsageError(
+      fmt::format("compile_program: the definition of '{}' depends on itself", nodes[at].name()));
 }
 
 // Kahn's algorithm over `nodes` (closed under dependencies), the smallest
 // node id first among the ready ones. Without definitions this is id order.
 std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symbols) {
   IdTable& index = IdTable::fresh(1);  // node id -> position in nodes
-  for (std::size_t i = 0; i < nodes.size(); ++i) index.try_set(nodes[i].id(), static_cast<std::uint32_t>(i));
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    index.try_set(nodes[i].id(), static_cast<std::uint32_t>(i));
   std::vector<std::size_t> waiting(nodes.size(), 0);  // dependencies not yet ordered
   // The positions of every node's dependencies, node after node.
   std::vector<std::uint32_t> dependency;
@@ -378,7 +395,8 @@ std::vector<Expr> topological_order(std::vector<Expr> nodes, const Symbols& symb
   std::vector<std::uint32_t> users(dependency.size());
   std::vector<std::size_t> filled(first_user.begin(), first_user.end() - 1);
   for (std::size_t i = 0, k = 0; i < nodes.size(); ++i) {
-    for (const std::size_t end = k + waiting[i]; k < end; ++k) users[filled[dependency[k]]++] = static_cast<std::uint32_t>(i);
+    for (const std::size_t end = k + waiting[i]; k < end; ++k)
+      users[filled[dependency[k]]++] = static_cast<std::uint32_t>(i);
   }
   // Ready nodes as (node id, position): the smallest key is the smallest id.
   auto key = [&](std::size_t i) { return (std::uint64_t{nodes[i].id()} << 32) | i; };
@@ -414,7 +432,8 @@ std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbol
       if (!seen.try_set(e.id(), 0)) continue;
       if (e.is_symbol() && !symbols.is_input(e.id()) && !symbols.is_defined(e.id())) {
         throw UsageError(fmt::format(
-            "compile_program: output {} uses symbol '{}', which is neither an input nor defined", i, e.name()));
+            "compile_program: output {} uses symbol '{}', which is neither an input nor defined", i,
+            e.name()));
       }
       found.push_back(e);
       for_each_dependency(e, symbols, [&](Expr d) { stack.push_back(d); });
@@ -424,7 +443,8 @@ std::vector<Expr> reachable(std::span<const Expr> outputs, const Symbols& symbol
 }
 }  // namespace
 
-Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs, std::span<const Definition> definitions) {
+Graph lower(std::span<const Expr> inputs, std::span<const Expr> outputs,
+            std::span<const Definition> definitions) {
   const Symbols symbols = index_symbols(inputs, definitions);
   Graph graph;
   const std::vector<Expr> order = reachable(outputs, symbols);
@@ -442,7 +462,8 @@ void fold_reciprocals(Graph& graph) {
   const std::vector<char> live = graph.live();
   std::map<std::uint32_t, std::vector<std::uint32_t>> divisions;  // denominator -> divisions, by id
   for (std::uint32_t id = 0; id < graph.nodes.size(); ++id) {
-    if (live[id] && graph.nodes[id].op == Op::Div) divisions[graph.nodes[id].terms[1].id].push_back(id);
+    if (live[id] && graph.nodes[id].op == Op::Div)
+      divisions[graph.nodes[id].terms[1].id].push_back(id);
   }
   auto is_one = [&](std::uint32_t id) {
     return graph.nodes[id].op == Op::Const && graph.nodes[id].constant == 1.0;

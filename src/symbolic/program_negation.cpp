@@ -22,11 +22,11 @@
 // point of shared code runs): each rewrite drops a neg and adds at most one
 // instruction, the computed -v it ends on, over operands that v's readers
 // needed already.
-#include <symdyn/symbolic/program_code.hpp>
-
 #include <algorithm>
 #include <optional>
 #include <utility>
+
+#include <symdyn/symbolic/program_code.hpp>
 
 namespace symdyn::symbolic::detail {
 namespace {
@@ -61,12 +61,16 @@ const NegationRule* rule_for(Opcode op) {
 
 // The arguments of the rule's instruction computing -v, given the negated
 // operand -v.args[i] as slot `negated` (i = 0 or 1; unused for Swap).
-std::array<std::uint32_t, 2> rewritten_args(const NegationRule& rule, std::array<std::uint32_t, 2> args,
-                                            std::size_t i, std::uint32_t negated) {
+std::array<std::uint32_t, 2> rewritten_args(const NegationRule& rule,
+                                            std::array<std::uint32_t, 2> args, std::size_t i,
+                                            std::uint32_t negated) {
   switch (rule.sign) {
-    case Sign::Swap: return {args[1], args[0]};
-    case Sign::Operand: return i == 0 ? std::array{negated, args[1]} : std::array{args[0], negated};
-    case Sign::First: return {negated, args[1 - i]};
+    case Sign::Swap:
+      return {args[1], args[0]};
+    case Sign::Operand:
+      return i == 0 ? std::array{negated, args[1]} : std::array{args[0], negated};
+    case Sign::First:
+      return {negated, args[1 - i]};
   }
   return args;
 }
@@ -74,8 +78,13 @@ std::array<std::uint32_t, 2> rewritten_args(const NegationRule& rule, std::array
 class NegationAbsorber {
  public:
   NegationAbsorber(const CodeBuilder& code, std::span<const std::uint32_t> outputs)
-      : old_(code), size_(static_cast<std::uint32_t>(code.size())), needed_(size_, false), readers_(size_, 0),
-        negation_(size_, kNone), gain_(size_, kUnknown), built_(size_, kNone) {
+      : old_(code),
+        size_(static_cast<std::uint32_t>(code.size())),
+        needed_(size_, false),
+        readers_(size_, 0),
+        negation_(size_, kNone),
+        gain_(size_, kUnknown),
+        built_(size_, kNone) {
     for (std::uint32_t s : outputs) {
       needed_[s] = true;
       ++readers_[s];
@@ -196,17 +205,18 @@ class NegationAbsorber {
 
   const CodeBuilder& old_;
   std::uint32_t size_;
-  std::vector<bool> needed_;            // (old slots) read by an output, directly or not
-  std::vector<std::uint32_t> readers_;  // (old slots) reads by needed instructions and outputs
+  std::vector<bool> needed_;             // (old slots) read by an output, directly or not
+  std::vector<std::uint32_t> readers_;   // (old slots) reads by needed instructions and outputs
   std::vector<std::uint32_t> negation_;  // (old slots) the needed neg of it, or kNone
-  std::vector<std::int8_t> gain_;       // (old slots) memo of gain, kUnknown until asked
-  std::vector<std::uint32_t> built_;    // (old slots) its new slot, or kNone
+  std::vector<std::int8_t> gain_;        // (old slots) memo of gain, kUnknown until asked
+  std::vector<std::uint32_t> built_;     // (old slots) its new slot, or kNone
   CodeBuilder new_;
 };
 
 }  // namespace
 
-std::vector<Instruction> absorb_negations(const CodeBuilder& code, std::vector<std::uint32_t>& outputs) {
+std::vector<Instruction> absorb_negations(const CodeBuilder& code,
+                                          std::vector<std::uint32_t>& outputs) {
   NegationAbsorber absorber(code, outputs);
   return absorber.run(outputs);
 }

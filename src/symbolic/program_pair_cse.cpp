@@ -60,20 +60,31 @@ constexpr std::uint32_t kMaxPairOperandId = (1U << 31) - 1;
 std::uint64_t key_of(Op op, Term a, Term b) {
   if (b.id < a.id) std::swap(a, b);
   const bool differ = op == Op::Sum && a.neg != b.neg;
-  return (std::uint64_t{op == Op::Prod} << 63) | (std::uint64_t{a.id} << 32) | (std::uint64_t{b.id} << 1) |
-         std::uint64_t{differ};
+  return (std::uint64_t{op == Op::Prod} << 63) | (std::uint64_t{a.id} << 32) |
+         (std::uint64_t{b.id} << 1) | std::uint64_t{differ};
 }
-Op op_of(std::uint64_t key) { return (key >> 63) != 0 ? Op::Prod : Op::Sum; }
-std::uint32_t lo_of(std::uint64_t key) { return static_cast<std::uint32_t>(key >> 32) & kMaxPairOperandId; }
-std::uint32_t hi_of(std::uint64_t key) { return static_cast<std::uint32_t>(key >> 1) & kMaxPairOperandId; }
-bool differ_of(std::uint64_t key) { return (key & 1U) != 0; }
+Op op_of(std::uint64_t key) {
+  return (key >> 63) != 0 ? Op::Prod : Op::Sum;
+}
+std::uint32_t lo_of(std::uint64_t key) {
+  return static_cast<std::uint32_t>(key >> 32) & kMaxPairOperandId;
+}
+std::uint32_t hi_of(std::uint64_t key) {
+  return static_cast<std::uint32_t>(key >> 1) & kMaxPairOperandId;
+}
+bool differ_of(std::uint64_t key) {
+  return (key & 1U) != 0;
+}
 
 class PairTable {
  public:
   // `pairs`: how many the holders have at first (the index grows past it as pairs are extracted).
   // watch_by_key (with ExistingFirst): also follow what ties by key would choose, see fork().
   PairTable(Graph& graph, PairTies ties, std::size_t pairs, bool watch_by_key = false)
-      : g_(&graph), ties_(ties), watching_(watch_by_key && ties == PairTies::ExistingFirst), index_(pairs) {}
+      : g_(&graph),
+        ties_(ties),
+        watching_(watch_by_key && ties == PairTies::ExistingFirst),
+        index_(pairs) {}
 
   // Counts the pairs of a holder. Before rank(); holders in increasing order.
   void add_holder(std::uint32_t node) {
@@ -92,7 +103,8 @@ class PairTable {
   // Tracks the pairs with two holders or more, and ranks them.
   void rank() {
     record_of_.assign(initial_.size(), kNone);
-    std::size_t next = 0;  // in enumerated_: the pairs of each holder, in the order add_holder saw them
+    std::size_t next =
+        0;  // in enumerated_: the pairs of each holder, in the order add_holder saw them
     for (std::uint32_t node : holder_nodes_) {
       const std::size_t n = g_->nodes[node].terms.size();
       for (std::size_t k = 0; k < n * (n - 1) / 2; ++k) {
@@ -124,7 +136,8 @@ class PairTable {
     if (watching_ && pop_best(by_key_, false) != best) fork();
     if (best == kNone) return false;
     const std::uint64_t key = pairs_[best].key;
-    const std::uint32_t pair = g_->append(Node::of(op_of(key), {{lo_of(key), false}, {hi_of(key), differ_of(key)}}));
+    const std::uint32_t pair =
+        g_->append(Node::of(op_of(key), {{lo_of(key), false}, {hi_of(key), differ_of(key)}}));
     detail::SmallVector<std::uint32_t, 16> holder_list;  // increasing node order
     for (const Holder& h : pairs_[best].holders) holder_list.push_back(h.node);
     for (std::uint32_t node : holder_list) {
@@ -165,8 +178,8 @@ class PairTable {
   // A tracked pair.
   struct Pair {
     std::uint64_t key;
-    bool risen = false;           // in risen_
-    Holders holders;  // by increasing node
+    bool risen = false;  // in risen_
+    Holders holders;     // by increasing node
   };
 
   // The initial count of a pair: its distinct holders, and the last one counted.
@@ -305,7 +318,8 @@ class PairTable {
       if ((it->times += delta) == 0) pair.holders.erase(it);
       return;
     }
-    if (delta < 0) throw std::logic_error(fmt::format("pair CSE: node {} loses a pair it does not hold", node));
+    if (delta < 0)
+      throw std::logic_error(fmt::format("pair CSE: node {} loses a pair it does not hold", node));
     pair.holders.insert(it, {node, delta});
     if (!pair.risen) {
       pair.risen = true;
@@ -317,7 +331,7 @@ class PairTable {
 
   Graph* g_;
   PairTies ties_;
-  bool watching_;  // by_key_ is kept, no fork yet
+  bool watching_;                            // by_key_ is kept, no fork yet
   detail::FlatMap64<std::uint32_t> index_;   // key -> dense id
   std::vector<std::uint64_t> keys_;          // (by id)
   std::vector<std::uint32_t> record_of_;     // (by id) index in pairs_, kNone if untracked
@@ -360,7 +374,8 @@ std::optional<Graph> PairTable::finish_by_key() {
 // ExistingFirst, watching what ties by key would choose.
 PairTable ranked_pairs(Graph& graph) {
   if (graph.nodes.size() > kMaxPairOperandId) {
-    throw UsageError(fmt::format("pair CSE: {} program nodes, more than the pair keys can hold", graph.nodes.size()));
+    throw UsageError(fmt::format("pair CSE: {} program nodes, more than the pair keys can hold",
+                                 graph.nodes.size()));
   }
   const std::vector<char> live = graph.live();
   std::vector<std::uint32_t> holders;

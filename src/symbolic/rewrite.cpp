@@ -6,8 +6,6 @@
 // and stops as soon as k() returns true. That is what lets a sum pattern try
 // every assignment of its terms and a product pattern every sub-multiset,
 // while a wildcard bound in one term constrains the next.
-#include <symdyn/symbolic/rewrite.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -21,6 +19,7 @@
 
 #include <symdyn/symbolic/cost.hpp>
 #include <symdyn/symbolic/flat_map.hpp>
+#include <symdyn/symbolic/rewrite.hpp>
 #include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic {
@@ -131,7 +130,8 @@ class MatchCache {
  private:
   Table targets_;
   Table patterns_;
-  std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::vector<std::size_t>>> by_base_;
+  std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::vector<std::size_t>>>
+      by_base_;
 };
 
 namespace {
@@ -164,8 +164,8 @@ Expr substitute(Expr e, const Match& m, SubstituteMemo* memo);
 class Cont {
  public:
   template <class F>
-    requires(!std::is_same_v<std::remove_cvref_t<F>, Cont>)
-  Cont(const F& f)  // NOLINT(google-explicit-constructor): lambdas convert implicitly
+  requires(!std::is_same_v<std::remove_cvref_t<F>, Cont>)
+      Cont(const F& f)  // NOLINT(google-explicit-constructor): lambdas convert implicitly
       : callable_(&f), call_([](const void* c) { return (*static_cast<const F*>(c))(); }) {}
   bool operator()() const { return call_(callable_); }
 
@@ -176,8 +176,8 @@ class Cont {
 
 class Matcher {
  public:
-
-  Matcher(Match* match, int budget, MatchCache* cache) : m_(match), budget_(budget), cache_(cache) {}
+  Matcher(Match* match, int budget, MatchCache* cache)
+      : m_(match), budget_(budget), cache_(cache) {}
 
   // Top of a rule: a sum pattern keeps the unmatched terms in Match::remainder.
   bool match_top(Expr p, Expr t, const Cont& k) {
@@ -194,17 +194,22 @@ class Matcher {
     switch (p.kind()) {
       case Kind::Rational:
       case Kind::Real:
-      case Kind::Symbol: return p == t && k();
-      case Kind::Mul: return match_product(p, t, k);
-      case Kind::Add: return match_sum(p, t, false, k);
-      default: break;
+      case Kind::Symbol:
+        return p == t && k();
+      case Kind::Mul:
+        return match_product(p, t, k);
+      case Kind::Add:
+        return match_sum(p, t, false, k);
+      default:
+        break;
     }
     if (p.kind() != t.kind()) return false;
     if (p.kind() == Kind::Pow && p.arg(1) != t.arg(1)) return false;
     return match_args(p.args(), t.args(), 0, k);
   }
 
-  bool match_args(std::span<const Expr> ps, std::span<const Expr> ts, std::size_t i, const Cont& k) {
+  bool match_args(std::span<const Expr> ps, std::span<const Expr> ts, std::size_t i,
+                  const Cont& k) {
     if (i == ps.size()) return k();
     return match(ps[i], ts[i], [&] { return match_args(ps, ts, i + 1, k); });
   }
@@ -242,7 +247,8 @@ class Matcher {
       const Factor& tf = s.target->factors[j];
       if (whole) {
         s.remaining[j] = Number(0);
-        const bool accepted = match(pf.base, pow(tf.base, Expr(before)), [&] { return assign_factor(s, i + 1, k); });
+        const bool accepted =
+            match(pf.base, pow(tf.base, Expr(before)), [&] { return assign_factor(s, i + 1, k); });
         s.remaining[j] = before;
         if (accepted) return true;
         continue;
@@ -288,13 +294,15 @@ class Matcher {
   // scaled by the coefficient): that is done directly, making the same nodes
   // in the same order. Anything else (one factor, a factor folded into a
   // number or a product, a changed base) goes through mul.
-  static Expr leftover_product(const Number& coefficient, std::span<const Expr> rest, std::span<const Expr> bases) {
+  static Expr leftover_product(const Number& coefficient, std::span<const Expr> rest,
+                               std::span<const Expr> bases) {
     const auto factors = rest.subspan(1);
     bool plain = factors.size() >= 2 && !coefficient.is_zero();
     for (std::size_t j = 0; plain && j < factors.size(); ++j) {
       const Expr f = factors[j];
       plain = f == bases[j] || (f.kind() == Kind::Pow && f.arg(0) == bases[j]);
-      plain = plain && !bases[j].is_number() && bases[j].kind() != Kind::Mul && bases[j].kind() != Kind::Pow;
+      plain = plain && !bases[j].is_number() && bases[j].kind() != Kind::Mul &&
+              bases[j].kind() != Kind::Pow;
     }
     if (!plain) return mul(rest);
     const Expr monomial = intern_node(Kind::Mul, factors);
@@ -386,7 +394,8 @@ class Matcher {
   bool try_term(SumState& s, std::size_t i, std::size_t j, const Cont& k) {
     if (s.used[j] || !could_match(s.pattern[i], s.target[j])) return false;
     s.used[j] = true;
-    const bool accepted = match(s.pattern[i], s.target[j], [&] { return assign_term(s, i + 1, k); });
+    const bool accepted =
+        match(s.pattern[i], s.target[j], [&] { return assign_term(s, i + 1, k); });
     s.used[j] = false;
     return accepted;
   }
@@ -394,7 +403,9 @@ class Matcher {
   // The first factor base of a product (or power, or call) pattern term whose
   // wildcards are all bound, with the bindings substituted.
   std::optional<Expr> bound_factor(Expr p) {
-    if (is_wildcard(p) || (p.kind() != Kind::Mul && p.kind() != Kind::Pow && !is_function(p.kind()))) return std::nullopt;
+    if (is_wildcard(p) ||
+        (p.kind() != Kind::Mul && p.kind() != Kind::Pow && !is_function(p.kind())))
+      return std::nullopt;
     for (const Factor& f : cache_->pattern(p).factors) {
       if (is_wildcard(f.base)) continue;
       if (all_bound(f.base)) {
@@ -464,12 +475,14 @@ struct TrigFactors {
 
 TrigFactors trig_factors(Expr product) {
   TrigFactors out;
-  const std::span<const Expr> factors = product.kind() == Kind::Mul ? product.args() : std::span<const Expr>(&product, 1);
+  const std::span<const Expr> factors =
+      product.kind() == Kind::Mul ? product.args() : std::span<const Expr>(&product, 1);
   for (Expr f : factors) {
     int times = 1;
     if (f.kind() == Kind::Pow) {
       const Expr exponent = f.args()[1];
-      if (!exponent.is_number() || !exponent.number().is_integer() || exponent.number().num() < 1) continue;
+      if (!exponent.is_number() || !exponent.number().is_integer() || exponent.number().num() < 1)
+        continue;
       times = static_cast<int>(std::min<std::int64_t>(exponent.number().num(), 3));
       f = f.args()[0];
     }
@@ -497,7 +510,8 @@ class SumCost {
     for (Expr t : removed) change -= drop_ref(t);
     for (Expr t : added) change += add_ref(t, &log_);
     change += static_cast<int>(added.size()) - static_cast<int>(removed.size());
-    if (terms_ - static_cast<int>(removed.size()) + static_cast<int>(added.size()) <= 1) change -= 1;  // no sum left
+    if (terms_ - static_cast<int>(removed.size()) + static_cast<int>(added.size()) <= 1)
+      change -= 1;  // no sum left
     undo();
     return change;
   }
@@ -572,7 +586,9 @@ bool may_match(Expr pattern, const TrigProfile& target) {
   for (Expr term : pattern.args()) {
     const TrigFactors need = trig_factors(term);
     if (need.none()) continue;
-    if (std::none_of(target.terms.begin(), target.terms.end(), [&](TrigFactors t) { return t.covers(need); })) return false;
+    if (std::none_of(target.terms.begin(), target.terms.end(),
+                     [&](TrigFactors t) { return t.covers(need); }))
+      return false;
   }
   return true;
 }
@@ -602,23 +618,29 @@ Expr substitute(Expr e, const Match& m, SubstituteMemo* memo) {
 }
 
 void check_rule(const Rule& r) {
-  if (is_wildcard(r.pattern)) throw UsageError(fmt::format("rule '{}': the pattern is a bare wildcard", r.name));
+  if (is_wildcard(r.pattern))
+    throw UsageError(fmt::format("rule '{}': the pattern is a bare wildcard", r.name));
   std::vector<Expr> bound;
   collect_wildcards(r.pattern, &bound);
   std::vector<Expr> used;
   collect_wildcards(r.replacement, &used);
   for (Expr w : used) {
     if (std::find(bound.begin(), bound.end(), w) == bound.end()) {
-      throw UsageError(fmt::format("rule '{}': the replacement uses '{}', which the pattern does not bind", r.name, w.name()));
+      throw UsageError(
+          fmt::format("rule '{}': the replacement uses '{}', which the pattern does not bind",
+                      r.name, w.name()));
     }
   }
   // At most one cofactor per product and one rest per sum, anywhere in the pattern.
   std::function<void(Expr)> check = [&](Expr e) {
     if (e.kind() == Kind::Mul || e.kind() == Kind::Add) {
       int n = 0;
-      for (Expr a : e.args()) n += is_wildcard(a) && wild_class(a) != WildClass::One && (e.kind() == Kind::Mul || wild_class(a) == WildClass::Rest);
+      for (Expr a : e.args())
+        n += is_wildcard(a) && wild_class(a) != WildClass::One &&
+             (e.kind() == Kind::Mul || wild_class(a) == WildClass::Rest);
       if (n > 1) {
-        throw UsageError(fmt::format("rule '{}': '{}' has {} rest wildcards, at most one is allowed", r.name, e.str(), n));
+        throw UsageError(fmt::format(
+            "rule '{}': '{}' has {} rest wildcards, at most one is allowed", r.name, e.str(), n));
       }
     }
     for (Expr a : e.args()) check(a);
@@ -636,7 +658,8 @@ Expr wildcard(std::string_view name) {
 }
 
 bool is_wildcard(Expr e) {
-  return e.is_symbol() && e.symbol_kind() == SymbolKind::Free && e.name().size() >= 2 && e.name()[0] == '_';
+  return e.is_symbol() && e.symbol_kind() == SymbolKind::Free && e.name().size() >= 2 &&
+         e.name()[0] == '_';
 }
 
 std::optional<Expr> Match::find(Expr wildcard) const {
@@ -651,7 +674,9 @@ Expr Match::operator[](Expr wildcard) const {
   throw UsageError(fmt::format("match: wildcard '{}' is unbound", wildcard.str()));
 }
 
-Expr Match::operator[](std::string_view wildcard_name) const { return (*this)[wildcard(wildcard_name)]; }
+Expr Match::operator[](std::string_view wildcard_name) const {
+  return (*this)[wildcard(wildcard_name)];
+}
 
 Rule rule(std::string name, Expr pattern, Expr replacement, Condition condition) {
   Rule r{std::move(name), pattern, replacement, std::move(condition)};
@@ -662,7 +687,8 @@ Rule rule(std::string name, Expr pattern, Expr replacement, Condition condition)
 bool is_nonnegative(Expr e) {
   switch (e.kind()) {
     case Kind::Rational:
-    case Kind::Real: return !e.number().is_negative();
+    case Kind::Real:
+      return !e.number().is_negative();
     case Kind::Pow: {
       const Number& x = e.arg(1).number();
       // Even powers are squares; a fractional power is real only for a base >= 0.
@@ -670,7 +696,8 @@ bool is_nonnegative(Expr e) {
       return x.num() % 2 == 0 || is_nonnegative(e.arg(0));
     }
     case Kind::Exp:
-    case Kind::Abs: return true;
+    case Kind::Abs:
+      return true;
     case Kind::Add:
     case Kind::Mul: {
       for (Expr a : e.args()) {
@@ -678,7 +705,8 @@ bool is_nonnegative(Expr e) {
       }
       return true;
     }
-    default: return false;
+    default:
+      return false;
   }
 }
 
@@ -717,12 +745,17 @@ Expr instantiate(Expr replacement, const Match& match) {
 }
 
 Rewriter::Rewriter(std::vector<Rule> rules, Strategy strategy, Budget budget)
-    : rules_(std::move(rules)), strategy_(strategy), budget_(budget), cache_(std::make_unique<MatchCache>()) {}
+    : rules_(std::move(rules)),
+      strategy_(strategy),
+      budget_(budget),
+      cache_(std::make_unique<MatchCache>()) {}
 
 Rewriter::~Rewriter() = default;
 Rewriter::Rewriter(Rewriter&&) noexcept = default;
 
-Expr Rewriter::operator()(Expr e) { return rewrite(e); }
+Expr Rewriter::operator()(Expr e) {
+  return rewrite(e);
+}
 
 Expr Rewriter::rewrite(Expr e) {
   if (e.args().empty()) return e;
@@ -771,7 +804,8 @@ std::optional<Expr> Rewriter::step(Expr e, int cost) {
   }
   const TrigProfile profile(e);
   for (const Rule& r : rules_) {
-    if ((sum_rules_done && r.pattern.kind() == Kind::Add) || !may_match(r.pattern, profile)) continue;
+    if ((sum_rules_done && r.pattern.kind() == Kind::Add) || !may_match(r.pattern, profile))
+      continue;
     Match m;
     Matcher matcher(&m, budget_.attempts_per_rule, cache_.get());
     std::optional<Expr> accepted;
@@ -822,14 +856,16 @@ std::optional<Expr> Rewriter::improve_sum(Expr e, int cost) {
       Match core = m;
       core.remainder.clear();
       const Expr replacement = instantiate(r.replacement, core);
-      const std::span<const Expr> added = replacement.is_zero() ? std::span<const Expr>() : terms_of(replacement);
+      const std::span<const Expr> added =
+          replacement.is_zero() ? std::span<const Expr>() : terms_of(replacement);
       const int delta = sum_cost.delta(m.matched, added);
       if (delta < 0) found.push_back({delta, &r, m.matched, replacement});
       return false;
     });
   }
   if (found.empty()) return std::nullopt;
-  std::stable_sort(found.begin(), found.end(), [](const Found& a, const Found& b) { return a.delta < b.delta; });
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Found& a, const Found& b) { return a.delta < b.delta; });
   auto build = [&](std::span<const Found* const> chosen) {
     std::unordered_set<std::uint32_t> removed;
     std::vector<Expr> terms;
@@ -846,7 +882,8 @@ std::optional<Expr> Rewriter::improve_sum(Expr e, int cost) {
   std::vector<const Found*> batch;
   std::unordered_set<std::uint32_t> taken;
   for (const Found& f : found) {
-    const bool overlaps = std::any_of(f.matched.begin(), f.matched.end(), [&](Expr t) { return taken.contains(t.id()); });
+    const bool overlaps = std::any_of(f.matched.begin(), f.matched.end(),
+                                      [&](Expr t) { return taken.contains(t.id()); });
     if (overlaps) continue;
     for (Expr t : f.matched) taken.insert(t.id());
     batch.push_back(&f);

@@ -98,7 +98,7 @@ struct Rule {
 Rule rule(std::string name, Expr pattern, Expr replacement, Condition condition = {});
 
 // Sound conditions on a wildcard's binding.
-Condition nonnegative(std::string_view wildcard_name);          // known >= 0 for all values
+Condition nonnegative(std::string_view wildcard_name);  // known >= 0 for all values
 // Not a sum, and its numeric coefficient is an integer (2q, -3xy, q; not q/2).
 Condition integer_coefficient(std::string_view wildcard_name);
 bool is_nonnegative(Expr e);  // true only if e >= 0 wherever it is defined

@@ -67,9 +67,11 @@ S power(const S& x, const Number& e) {
   using std::sqrt;
   // Complex integer powers always multiply: complex pow goes through log, and for
   // a negative real part its rounding swamps the 1e-30 imaginary part of a complex step.
-  const bool multiply = IsComplex<S>::value || (e.num() >= -kMaxMultipliedPower && e.num() <= kMaxMultipliedPower);
+  const bool multiply =
+      IsComplex<S>::value || (e.num() >= -kMaxMultipliedPower && e.num() <= kMaxMultipliedPower);
   if (e.is_integer() && multiply) return integer_power(x, e.num());
-  if (e.is_exact() && e.den() == 2 && e.num() >= -2 * kMaxMultipliedPower && e.num() <= 2 * kMaxMultipliedPower) {
+  if (e.is_exact() && e.den() == 2 && e.num() >= -2 * kMaxMultipliedPower &&
+      e.num() <= 2 * kMaxMultipliedPower) {
     // x^(k/2) = x^((k-1)/2)·sqrt(x), and 1/x^(|k|/2) for a negative k.
     if (e.is_negative()) return S(1) / power(x, -e);
     return integer_power(x, (e.num() - 1) / 2) * sqrt(x);
@@ -90,17 +92,28 @@ S apply(const S& a, [[maybe_unused]] const S& b) {
   using std::log;
   using std::sin;
   using std::tan;
-  if constexpr (K == Kind::Sin) return sin(a);
-  else if constexpr (K == Kind::Cos) return cos(a);
-  else if constexpr (K == Kind::Tan) return tan(a);
-  else if constexpr (K == Kind::Asin) return asin(a);
-  else if constexpr (K == Kind::Acos) return acos(a);
-  else if constexpr (K == Kind::Atan) return atan(a);
-  else if constexpr (K == Kind::Atan2) return scalar::atan2(a, b);
-  else if constexpr (K == Kind::Exp) return exp(a);
-  else if constexpr (K == Kind::Log) return log(a);
-  else if constexpr (K == Kind::Abs) return scalar::abs(a);
-  else static_assert(K == Kind::Sin, "apply: not a function kind");
+  if constexpr (K == Kind::Sin)
+    return sin(a);
+  else if constexpr (K == Kind::Cos)
+    return cos(a);
+  else if constexpr (K == Kind::Tan)
+    return tan(a);
+  else if constexpr (K == Kind::Asin)
+    return asin(a);
+  else if constexpr (K == Kind::Acos)
+    return acos(a);
+  else if constexpr (K == Kind::Atan)
+    return atan(a);
+  else if constexpr (K == Kind::Atan2)
+    return scalar::atan2(a, b);
+  else if constexpr (K == Kind::Exp)
+    return exp(a);
+  else if constexpr (K == Kind::Log)
+    return log(a);
+  else if constexpr (K == Kind::Abs)
+    return scalar::abs(a);
+  else
+    static_assert(K == Kind::Sin, "apply: not a function kind");
 }
 
 // The value of a function node of the given kind.
@@ -108,10 +121,12 @@ template <class S>
 S call(Kind kind, std::span<const S> a) {
   switch (kind) {
 #define SYMDYN_SCALAR_CALL(k, name, arity, ...) \
-  case Kind::k: return apply<Kind::k>(a[0], a[arity - 1]);
+  case Kind::k:                                 \
+    return apply<Kind::k>(a[0], a[arity - 1]);
     SYMDYN_FOR_EACH_FUNCTION_KIND(SYMDYN_SCALAR_CALL)
 #undef SYMDYN_SCALAR_CALL
-    default: throw UsageError("scalar::call: not a function kind");
+    default:
+      throw UsageError("scalar::call: not a function kind");
   }
 }
 

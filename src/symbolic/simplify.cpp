@@ -1,9 +1,8 @@
 // expand and simplify; see simplify.hpp.
-#include <symdyn/symbolic/simplify.hpp>
-
 #include <algorithm>
 
 #include <symdyn/symbolic/cost.hpp>
+#include <symdyn/symbolic/simplify.hpp>
 #include <symdyn/symbolic/trig_rules.hpp>
 
 namespace symdyn::symbolic {
@@ -59,9 +58,15 @@ Expr Expander::operator()(Expr e) {
   for (Expr a : e.args()) args.push_back((*this)(a));
   Expr out;
   switch (e.kind()) {
-    case Kind::Mul: out = expand_product(args); break;
-    case Kind::Pow: out = expand_power(args[0], args[1].number()); break;
-    default: out = make(e.kind(), args); break;
+    case Kind::Mul:
+      out = expand_product(args);
+      break;
+    case Kind::Pow:
+      out = expand_power(args[0], args[1].number());
+      break;
+    default:
+      out = make(e.kind(), args);
+      break;
   }
   memo_.set(e, out);
   return out;
@@ -86,14 +91,17 @@ Expr Expander::expand_product(std::span<const Expr> factors) {
 
 // (a + b)^n for an integer n >= 2 as a product of n sums, expanded.
 Expr Expander::expand_power(Expr base, const Number& exponent) {
-  if (base.kind() != Kind::Add || !exponent.is_integer() || exponent.num() < 2) return pow(base, Expr(exponent));
+  if (base.kind() != Kind::Add || !exponent.is_integer() || exponent.num() < 2)
+    return pow(base, Expr(exponent));
   const std::int64_t n = exponent.num();
   if (n > 16) return pow(base, Expr(exponent));
   const std::vector<Expr> factors(static_cast<std::size_t>(n), base);
   return expand_product(factors);
 }
 
-Expr expand(Expr e) { return Expander()(e); }
+Expr expand(Expr e) {
+  return Expander()(e);
+}
 
 // ---- simplify ----
 
@@ -153,7 +161,6 @@ Expr Simplifier::once(Expr e) {
   return out;
 }
 
-
 Expr Simplifier::best_form(Expr original, Expr rebuilt) {
   Expr best = original;
   int best_cost = operation_cost(original);
@@ -169,7 +176,9 @@ Expr Simplifier::best_form(Expr original, Expr rebuilt) {
   // A form much bigger than the node is not worth contracting: the search
   // would be long and the result rarely shorter.
   auto contract_if_small = [&](Expr form) {
-    if (terms_of(form).size() > kMaxContractTerms || operation_cost(form) > kMaxGrowth * rebuilt_cost + kGrowthSlack) return;
+    if (terms_of(form).size() > kMaxContractTerms ||
+        operation_cost(form) > kMaxGrowth * rebuilt_cost + kGrowthSlack)
+      return;
     consider(contract_(form));
   };
   consider(rebuilt);
@@ -215,10 +224,12 @@ std::size_t Simplifier::expanded_terms(Expr e) {
     case Kind::Pow:
       if (!e.args()[1].is_number()) break;
       if (const Number& k = e.args()[1].number(); k.is_integer() && k.num() >= 2) {
-        for (std::int64_t i = 0; i < k.num() && n < saturated; ++i) n = std::min(saturated, n * expanded_terms(e.args()[0]));
+        for (std::int64_t i = 0; i < k.num() && n < saturated; ++i)
+          n = std::min(saturated, n * expanded_terms(e.args()[0]));
       }
       break;
-    default: break;  // a function call is one term
+    default:
+      break;  // a function call is one term
   }
   terms_memo_.emplace(e.id(), n);
   return n;
@@ -229,7 +240,8 @@ std::size_t Simplifier::expanded_terms(Expr e) {
 std::uint8_t Simplifier::functions_held(Expr e) {
   std::uint8_t held = 0;
   if (e.kind() == Kind::Sin || e.kind() == Kind::Cos) held = kTrig;
-  if (e.kind() == Kind::Asin || e.kind() == Kind::Acos || e.kind() == Kind::Atan2) held = kInverseTrig;
+  if (e.kind() == Kind::Asin || e.kind() == Kind::Acos || e.kind() == Kind::Atan2)
+    held = kInverseTrig;
   if (e.args().empty()) return held;
   if (auto it = functions_memo_.find(e.id()); it != functions_memo_.end()) return it->second;
   for (Expr a : e.args()) held |= functions_held(a);
@@ -237,8 +249,12 @@ std::uint8_t Simplifier::functions_held(Expr e) {
   return held;
 }
 
-Expr simplify(Expr e) { return Simplifier()(e); }
+Expr simplify(Expr e) {
+  return Simplifier()(e);
+}
 
-std::vector<Expr> simplify(std::span<const Expr> outputs) { return Simplifier()(outputs); }
+std::vector<Expr> simplify(std::span<const Expr> outputs) {
+  return Simplifier()(outputs);
+}
 
 }  // namespace symdyn::symbolic

@@ -22,7 +22,8 @@ namespace symdyn::symbolic::detail {
 
 template <class T, std::size_t N>
 class SmallVector {
-  static_assert(std::is_trivially_copyable_v<T>, "SmallVector holds trivially copyable elements only");
+  static_assert(std::is_trivially_copyable_v<T>,
+                "SmallVector holds trivially copyable elements only");
 
  public:
   SmallVector() = default;
@@ -60,7 +61,9 @@ class SmallVector {
   T& operator[](std::size_t i) { return data_[i]; }
   const T& operator[](std::size_t i) const { return data_[i]; }
   T& back() { return data_[size_ - 1]; }
-  operator std::span<const T>() const { return {data_, size_}; }  // NOLINT(google-explicit-constructor)
+  operator std::span<const T>() const {
+    return {data_, size_};
+  }  // NOLINT(google-explicit-constructor)
 
   void reserve(std::size_t n) {
     if (n > capacity_) grow(n);
@@ -77,7 +80,8 @@ class SmallVector {
     const auto at = static_cast<std::size_t>(position - data_);
     const T copy = value;  // `value` may live in this vector
     if (size_ == capacity_) grow(2 * capacity_);
-    std::memmove(static_cast<void*>(data_ + at + 1), static_cast<const void*>(data_ + at), (size_ - at) * sizeof(T));
+    std::memmove(static_cast<void*>(data_ + at + 1), static_cast<const void*>(data_ + at),
+                 (size_ - at) * sizeof(T));
     data_[at] = copy;
     ++size_;
   }
@@ -97,7 +101,8 @@ class SmallVector {
 
   void assign(const T* values, std::size_t n) {
     reserve(n);
-    if (n > 0) std::memcpy(static_cast<void*>(data_), static_cast<const void*>(values), n * sizeof(T));
+    if (n > 0)
+      std::memcpy(static_cast<void*>(data_), static_cast<const void*>(values), n * sizeof(T));
     size_ = n;
   }
 

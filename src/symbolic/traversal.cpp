@@ -1,7 +1,7 @@
-#include <symdyn/symbolic/traversal.hpp>
-
 #include <algorithm>
 #include <unordered_set>
+
+#include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::symbolic {
 
@@ -27,7 +27,9 @@ std::vector<Expr> postorder(std::span<const Expr> roots) {
   return order;
 }
 
-std::size_t dag_size(std::span<const Expr> roots) { return postorder(roots).size(); }
+std::size_t dag_size(std::span<const Expr> roots) {
+  return postorder(roots).size();
+}
 
 std::vector<Expr> free_symbols(std::span<const Expr> roots) {
   std::vector<Expr> symbols;

@@ -1,6 +1,4 @@
 // The normal form modulo sin² + cos² = 1; see trig_polynomial.hpp.
-#include <symdyn/symbolic/trig_polynomial.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -11,6 +9,7 @@
 
 #include <symdyn/symbolic/cost.hpp>
 #include <symdyn/symbolic/small_vector.hpp>
+#include <symdyn/symbolic/trig_polynomial.hpp>
 
 namespace symdyn::symbolic {
 namespace {
@@ -146,7 +145,9 @@ struct TrigPolynomialForm::Impl {
     // Sorting positions moves less than sorting the terms.
     order.resize(terms.size());
     std::iota(order.begin(), order.end(), std::uint32_t{0});
-    const auto less = [&](std::uint32_t a, std::uint32_t b) { return before(terms[a].monomial, terms[b].monomial); };
+    const auto less = [&](std::uint32_t a, std::uint32_t b) {
+      return before(terms[a].monomial, terms[b].monomial);
+    };
     if (order.size() <= 32) {
       insertion_sort(order, less);  // stable too, and no buffer to allocate
     } else {
@@ -180,7 +181,9 @@ struct TrigPolynomialForm::Impl {
   // product() makes it: the monomials stay sorted and distinct, nothing to
   // collect, each scale the coefficient's own.
   Poly scaled(Poly p, const Number& c, bool c_first) {
-    const auto own_scale = [](const Term& t) { return t.coefficient.scale == std::abs(t.coefficient.value.to_double()); };
+    const auto own_scale = [](const Term& t) {
+      return t.coefficient.scale == std::abs(t.coefficient.value.to_double());
+    };
     if (c.is_exact() && c.is_one() && std::all_of(p->begin(), p->end(), own_scale)) return p;
     Terms out;
     out.reserve(p->size());
@@ -213,7 +216,8 @@ struct TrigPolynomialForm::Impl {
     scratch.reserve(a->size() * b->size());
     for (const Term& ta : *a) {
       for (const Term& tb : *b) {
-        add_reduced(scratch, times(ta.monomial, tb.monomial), ta.coefficient.value * tb.coefficient.value);
+        add_reduced(scratch, times(ta.monomial, tb.monomial),
+                    ta.coefficient.value * tb.coefficient.value);
       }
     }
     Poly p = finish(scratch);
@@ -238,15 +242,18 @@ struct TrigPolynomialForm::Impl {
   Poly compute(Expr e) {
     switch (e.kind()) {
       case Kind::Rational:
-      case Kind::Real: return constant(e.number());
+      case Kind::Real:
+        return constant(e.number());
       case Kind::Symbol: {
         const auto it = definitions.find(e);
         if (it == definitions.end()) return of_atom(e);
         // A value too big to expand stays behind its symbol.
         Poly value = of(it->second);
-        return value->size() <= max_terms / 4 && !memo[it->second.id()].too_big ? value : of_atom(e);
+        return value->size() <= max_terms / 4 && !memo[it->second.id()].too_big ? value
+                                                                                : of_atom(e);
       }
-      case Kind::Add: return sum(e.args());
+      case Kind::Add:
+        return sum(e.args());
       case Kind::Mul: {
         if (!one) one = constant(Number(1));
         Poly p = one;
@@ -263,7 +270,8 @@ struct TrigPolynomialForm::Impl {
         for (std::int64_t k = 1; k < n.num() && p; ++k) p = product(p, base);
         return p;
       }
-      default: return of_atom(e);
+      default:
+        return of_atom(e);
     }
   }
 
@@ -274,7 +282,8 @@ struct TrigPolynomialForm::Impl {
     const bool too_big = !p;
     if (too_big) p = of_atom(e);
     // Grown after compute(), which may make nodes (atom() makes cos x for sin x).
-    if (e.id() >= memo.size()) memo.resize(std::max<std::size_t>(e.id() + 1, Context::current().size()));
+    if (e.id() >= memo.size())
+      memo.resize(std::max<std::size_t>(e.id() + 1, Context::current().size()));
     memo[e.id()] = {p, too_big};
     return p;
   }
@@ -306,7 +315,8 @@ struct TrigPolynomialForm::Impl {
   }
 };
 
-TrigPolynomialForm::TrigPolynomialForm(std::span<const Definition> definitions, std::size_t max_terms)
+TrigPolynomialForm::TrigPolynomialForm(std::span<const Definition> definitions,
+                                       std::size_t max_terms)
     : impl_(std::make_unique<Impl>()) {
   impl_->max_terms = max_terms;
   for (const Definition& d : definitions) impl_->definitions.emplace(d.symbol, d.value);
@@ -314,11 +324,17 @@ TrigPolynomialForm::TrigPolynomialForm(std::span<const Definition> definitions, 
 
 TrigPolynomialForm::~TrigPolynomialForm() = default;
 
-Expr TrigPolynomialForm::operator()(Expr e) { return impl_->to_expr(*impl_->of(e)); }
+Expr TrigPolynomialForm::operator()(Expr e) {
+  return impl_->to_expr(*impl_->of(e));
+}
 
-std::size_t TrigPolynomialForm::terms(Expr e) { return impl_->of(e)->size(); }
+std::size_t TrigPolynomialForm::terms(Expr e) {
+  return impl_->of(e)->size();
+}
 
-int TrigPolynomialForm::cost_lower_bound(Expr e) { return Impl::cost_lower_bound(*impl_->of(e)); }
+int TrigPolynomialForm::cost_lower_bound(Expr e) {
+  return Impl::cost_lower_bound(*impl_->of(e));
+}
 
 namespace {
 
@@ -352,7 +368,8 @@ class CallFinder {
 
 }  // namespace
 
-PythagoreanReduction reduce_pythagorean(std::span<const Expr> outputs, std::span<const Definition> definitions,
+PythagoreanReduction reduce_pythagorean(std::span<const Expr> outputs,
+                                        std::span<const Definition> definitions,
                                         std::span<const Definition> context_definitions) {
   std::vector<Definition> all(context_definitions.begin(), context_definitions.end());
   all.insert(all.end(), definitions.begin(), definitions.end());

@@ -34,7 +34,8 @@ class TrigPolynomialForm {
  public:
   // `definitions`: symbols standing for expressions, each after those it
   // uses (they are seen through, see above).
-  explicit TrigPolynomialForm(std::span<const Definition> definitions = {}, std::size_t max_terms = 32);
+  explicit TrigPolynomialForm(std::span<const Definition> definitions = {},
+                              std::size_t max_terms = 32);
   ~TrigPolynomialForm();
   TrigPolynomialForm(const TrigPolynomialForm&) = delete;
   TrigPolynomialForm& operator=(const TrigPolynomialForm&) = delete;
@@ -67,7 +68,8 @@ struct PythagoreanReduction {
   std::vector<Expr> outputs;
   std::vector<Definition> definitions;
 };
-PythagoreanReduction reduce_pythagorean(std::span<const Expr> outputs, std::span<const Definition> definitions,
+PythagoreanReduction reduce_pythagorean(std::span<const Expr> outputs,
+                                        std::span<const Definition> definitions,
                                         std::span<const Definition> context_definitions = {});
 
 }  // namespace symdyn::symbolic

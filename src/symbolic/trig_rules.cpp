@@ -13,7 +13,9 @@ struct Wild {
   Expr R = wildcard("_R");
 };
 
-Expr sq(Expr e) { return pow(e, 2); }
+Expr sq(Expr e) {
+  return pow(e, 2);
+}
 
 }  // namespace
 

@@ -1,13 +1,13 @@
 // Bad input to codegen::generate (names the emitted code declares) and the
 // link-time guard against two models of one struct name in a program.
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 
+#include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 
-#include <symdyn/codegen/generate.hpp>
 #include "codegen/run_command.hpp"
+#include <symdyn/codegen/generate.hpp>
 
 using namespace symdyn;
 using Catch::Matchers::Contains;
@@ -17,7 +17,10 @@ namespace {
 model::Model pendulum(double length) {
   model::Model m("pendulum");
   const model::Expr q0 = m.coordinate("q0");
-  m.body("rod").mass(1.0).inertia(0.001, 0.08, 0.08).motion(model::Trotz(q0) * model::Tdisp(length / 2, 0, 0));
+  m.body("rod")
+      .mass(1.0)
+      .inertia(0.001, 0.08, 0.08)
+      .motion(model::Trotz(q0) * model::Tdisp(length / 2, 0, 0));
   m.gravity(0, -9.81, 0);
   return m;
 }
@@ -28,7 +31,8 @@ codegen::Options in_namespace(std::string name_space) {
   return o;
 }
 
-std::string generate_error(std::string_view variant, std::string_view basename, const codegen::Options& o = {}) {
+std::string generate_error(std::string_view variant, std::string_view basename,
+                           const codegen::Options& o = {}) {
   try {
     codegen::generate(pendulum(1.0), variant, basename, o);
   } catch (const model::ModelError& e) {
@@ -40,14 +44,19 @@ std::string generate_error(std::string_view variant, std::string_view basename, 
 }  // namespace
 
 TEST_CASE("generate: a basename the struct cannot be named is refused", "[bad_input]") {
-  CHECK(generate_error("v", "pend-a") == "basename 'pend-a' is not a C++ identifier (character '-' at 4)");
+  CHECK(generate_error("v", "pend-a") ==
+        "basename 'pend-a' is not a C++ identifier (character '-' at 4)");
   CHECK(generate_error("v", "class") == "basename 'class' is a C++ keyword");
   CHECK(generate_error("v", "and_eq") == "basename 'and_eq' is a C++ keyword");
-  CHECK(generate_error("v", "2pend") == "basename '2pend' is not a C++ identifier (starts with a digit)");
-  CHECK(generate_error("v", "pend__a") == "basename 'pend__a' is reserved to the C++ implementation (contains '__')");
-  CHECK(generate_error("v", "_Pend") == "basename '_Pend' is reserved to the C++ implementation (starts with '_')");
+  CHECK(generate_error("v", "2pend") ==
+        "basename '2pend' is not a C++ identifier (starts with a digit)");
+  CHECK(generate_error("v", "pend__a") ==
+        "basename 'pend__a' is reserved to the C++ implementation (contains '__')");
+  CHECK(generate_error("v", "_Pend") ==
+        "basename '_Pend' is reserved to the C++ implementation (starts with '_')");
   CHECK(generate_error("v", "") == "basename '' is empty");
-  CHECK(generate_error("v", "pend\xc3\xa9") == "basename 'pend\xc3\xa9' is not a C++ identifier (character '\xc3' at 4)");
+  CHECK(generate_error("v", "pend\xc3\xa9") ==
+        "basename 'pend\xc3\xa9' is not a C++ identifier (character '\xc3' at 4)");
 }
 
 TEST_CASE("generate: a namespace that cannot be declared is refused", "[bad_input]") {
@@ -55,16 +64,20 @@ TEST_CASE("generate: a namespace that cannot be declared is refused", "[bad_inpu
         "namespace is empty (the code would be in an anonymous namespace)");
   CHECK(generate_error("v", "pend", in_namespace("my-ns")) ==
         "namespace 'my-ns': 'my-ns' is not a C++ identifier (character '-' at 2)");
-  CHECK(generate_error("v", "pend", in_namespace("sim::int")) == "namespace 'sim::int': 'int' is a C++ keyword");
+  CHECK(generate_error("v", "pend", in_namespace("sim::int")) ==
+        "namespace 'sim::int': 'int' is a C++ keyword");
   CHECK(generate_error("v", "pend", in_namespace("sim::")) == "namespace 'sim::': '' is empty");
   CHECK(generate_error("v", "pend", in_namespace("__sim")) ==
         "namespace '__sim': '__sim' is reserved to the C++ implementation (contains '__')");
   CHECK_NOTHROW(codegen::generate(pendulum(1.0), "v", "pend", in_namespace("sim::generated")));
 }
 
-TEST_CASE("generate: a variant printed in the code must have an identifier's shape", "[bad_input]") {
-  CHECK(generate_error("two words", "pend") == "variant 'two words' is not a C++ identifier (character ' ' at 3)");
-  CHECK(generate_error("a\"b", "pend") == "variant 'a\"b' is not a C++ identifier (character '\"' at 1)");
+TEST_CASE("generate: a variant printed in the code must have an identifier's shape",
+          "[bad_input]") {
+  CHECK(generate_error("two words", "pend") ==
+        "variant 'two words' is not a C++ identifier (character ' ' at 3)");
+  CHECK(generate_error("a\"b", "pend") ==
+        "variant 'a\"b' is not a C++ identifier (character '\"' at 1)");
   // Only ever inside a string literal: a keyword is harmless (slider_crank's "inline").
   CHECK_NOTHROW(codegen::generate(pendulum(1.0), "inline", "pend"));
 }
@@ -82,8 +95,10 @@ TEST_CASE("generate: the link guard is deterministic and differs between models"
   const auto b = codegen::generate(pendulum(2.0), "v", "pend_a");
   CHECK(a.header == again.header);
   CHECK(a.source == again.source);
-  CHECK_THAT(a.source, Contains("const char symdyn_model_pend_a[] = \"model 'pendulum', variant 'v'\";"));
-  CHECK_THAT(b.source, Contains("const char symdyn_model_pend_a[] = \"model 'pendulum', variant 'v'\";"));
+  CHECK_THAT(a.source,
+             Contains("const char symdyn_model_pend_a[] = \"model 'pendulum', variant 'v'\";"));
+  CHECK_THAT(b.source,
+             Contains("const char symdyn_model_pend_a[] = \"model 'pendulum', variant 'v'\";"));
   const auto guard = [](const std::string& header) {
     const auto at = header.find("extern const char symdyn_model_pend_a_");
     return header.substr(at, header.find('\n', at) - at);
@@ -107,12 +122,14 @@ struct Toolchain {
     write(fmt::format("{}/{}.cpp", sub, code.struct_name), code.source);
     compile(fmt::format("{}/{}.cpp", sub, code.struct_name), sub, fmt::format("{}/model.o", sub));
     REQUIRE(testing::run_command({SYMDYN_TEST_AR, "qc", (dir / sub / "libmodel.a").string(),
-                                  (dir / sub / "model.o").string()}).exit_code == 0);
+                                  (dir / sub / "model.o").string()})
+                .exit_code == 0);
   }
-  void compile(const std::string& source, const std::string& include, const std::string& object) const {
-    const auto r = testing::run_command({SYMDYN_TEST_CXX, "-std=c++20", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
-                                         "-I", (dir / include).string(), "-c", (dir / source).string(), "-o",
-                                         (dir / object).string()});
+  void compile(const std::string& source, const std::string& include,
+               const std::string& object) const {
+    const auto r = testing::run_command(
+        {SYMDYN_TEST_CXX, "-std=c++20", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-I",
+         (dir / include).string(), "-c", (dir / source).string(), "-o", (dir / object).string()});
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
   }
@@ -125,22 +142,26 @@ struct Toolchain {
 
 // A file of the program using the model of the struct in `sub`.
 std::string user(const std::string& function) {
-  return fmt::format("#include \"pend_a.hpp\"\n"
-                     "void {}(double* m, double* I) {{ symdyn_generated::pend_a::inertia(nullptr, m, I); }}\n",
-                     function);
+  return fmt::format(
+      "#include \"pend_a.hpp\"\n"
+      "void {}(double* m, double* I) {{ symdyn_generated::pend_a::inertia(nullptr, m, I); }}\n",
+      function);
 }
 
 }  // namespace
 
-TEST_CASE("two different models of one struct name in one program fail to link, naming it", "[bad_input][link]") {
+TEST_CASE("two different models of one struct name in one program fail to link, naming it",
+          "[bad_input][link]") {
   const Toolchain tc;
   tc.library("a", codegen::generate(pendulum(1.0), "v", "pend_a"));
   tc.library("b", codegen::generate(pendulum(2.0), "v", "pend_a"));
   tc.write("use_a.cpp", user("use_a"));
   tc.write("use_b.cpp", user("use_b"));
-  tc.write("main.cpp", "void use_a(double*, double*);\nvoid use_b(double*, double*);\n"
-                       "int main() { double m[1], I[9]; use_a(m, I); use_b(m, I); }\n");
-  tc.write("main_a.cpp", "void use_a(double*, double*);\nint main() { double m[1], I[9]; use_a(m, I); }\n");
+  tc.write("main.cpp",
+           "void use_a(double*, double*);\nvoid use_b(double*, double*);\n"
+           "int main() { double m[1], I[9]; use_a(m, I); use_b(m, I); }\n");
+  tc.write("main_a.cpp",
+           "void use_a(double*, double*);\nint main() { double m[1], I[9]; use_a(m, I); }\n");
   tc.compile("use_a.cpp", "a", "use_a.o");
   tc.compile("use_b.cpp", "b", "use_b.o");
   tc.compile("main.cpp", ".", "main.o");

@@ -16,7 +16,9 @@ Expr pendulum(Model& m) {
   return q0;
 }
 
-void valid(Model& m, std::string_view) { pendulum(m); }
+void valid(Model& m, std::string_view) {
+  pendulum(m);
+}
 
 void zero_mass(Model& m, std::string_view) {
   const Expr q0 = pendulum(m);
@@ -47,7 +49,10 @@ void constant_asin(Model& m, std::string_view) {
 void dependent_domain(Model& m, std::string_view) {
   const Expr q0 = pendulum(m);
   const Expr l1 = m.parameter("l1", 0.5, true), l2 = m.parameter("l2", 0.2, true);
-  m.body("arm").mass(1.0).inertia(0.1, 0.1, 0.1).motion(Trotz(m.dependent("alpha", asin(l1 / l2 * cos(q0)))));
+  m.body("arm")
+      .mass(1.0)
+      .inertia(0.1, 0.1, 0.1)
+      .motion(Trotz(m.dependent("alpha", asin(l1 / l2 * cos(q0)))));
 }
 
 const Registration registrations[] = {

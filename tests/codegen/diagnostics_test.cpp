@@ -3,19 +3,19 @@
 // their arguments, and the bodies' angle sequences. Values against closed
 // forms; detection against motions written by hand.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <string>
 
-#include <symdyn/codegen/generate.hpp>
-#include <symdyn/model/diagnostics.hpp>
 #include "slider_crank_dependent.hpp"
 #include "slider_crank_inline.hpp"
+#include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/diagnostics.hpp>
 
 using namespace symdyn;
 using Catch::Matchers::Contains;
 
-TEST_CASE("emitted slider-crank: its dependent parameters named, asin's argument l1·sin(q0)/l2", "[codegen][diagnostics]") {
+TEST_CASE("emitted slider-crank: its dependent parameters named, asin's argument l1·sin(q0)/l2",
+          "[codegen][diagnostics]") {
   using G = symdyn_generated::slider_crank_dependent;
   STATIC_REQUIRE(G::ndomain == 1);
   CHECK(std::string(G::dependent_names[0]) == "alpha");
@@ -63,11 +63,13 @@ struct OneBody {
 
 }  // namespace
 
-TEST_CASE("angle sequences: Tait-Bryan and proper Euler found, translations between them ignored", "[codegen][diagnostics]") {
+TEST_CASE("angle sequences: Tait-Bryan and proper Euler found, translations between them ignored",
+          "[codegen][diagnostics]") {
   using namespace model;
   {
     OneBody o;
-    const auto s = o.sequences(Tdisp(o.d, 0, 0) * Trotz(o.a) * Tdisp(0, 0, 1) * Troty(o.b) * Trotx(o.c));
+    const auto s =
+        o.sequences(Tdisp(o.d, 0, 0) * Trotz(o.a) * Tdisp(0, 0, 1) * Troty(o.b) * Trotx(o.c));
     REQUIRE(s.size() == 1);
     CHECK(s[0].name() == "Z-Y-X");
     CHECK(!s[0].proper());
@@ -83,21 +85,28 @@ TEST_CASE("angle sequences: Tait-Bryan and proper Euler found, translations betw
   }
 }
 
-TEST_CASE("angle sequences: none where the rotations cannot lock that way", "[codegen][diagnostics]") {
+TEST_CASE("angle sequences: none where the rotations cannot lock that way",
+          "[codegen][diagnostics]") {
   using namespace model;
   OneBody twice, repeated, constant, expression, two;
-  CHECK(twice.sequences(Trotz(twice.a) * Trotz(twice.b) * Trotx(twice.c)).empty());              // two about one axis
-  CHECK(repeated.sequences(Trotz(repeated.a) * Troty(repeated.b) * Trotx(repeated.a)).empty());  // a coordinate twice
-  CHECK(constant.sequences(Trotz(constant.a) * Troty(Expr(0.3)) * Trotx(constant.c)).empty());   // a constant angle
-  CHECK(expression.sequences(Trotz(expression.a) * Troty(2 * expression.b) * Trotx(expression.c)).empty());
+  CHECK(twice.sequences(Trotz(twice.a) * Trotz(twice.b) * Trotx(twice.c))
+            .empty());  // two about one axis
+  CHECK(repeated.sequences(Trotz(repeated.a) * Troty(repeated.b) * Trotx(repeated.a))
+            .empty());  // a coordinate twice
+  CHECK(constant.sequences(Trotz(constant.a) * Troty(Expr(0.3)) * Trotx(constant.c))
+            .empty());  // a constant angle
+  CHECK(expression.sequences(Trotz(expression.a) * Troty(2 * expression.b) * Trotx(expression.c))
+            .empty());
   CHECK(two.sequences(Trotz(two.a) * Troty(two.b)).empty());
 }
 
-TEST_CASE("domain checks: innermost first, each restricted function, dependent parameters in order", "[codegen][diagnostics]") {
+TEST_CASE("domain checks: innermost first, each restricted function, dependent parameters in order",
+          "[codegen][diagnostics]") {
   model::Model m("checks");
   const Expr q = m.coordinate("q");
   const Expr p = m.dependent("p", sqrt(asin(q / 2)));
-  const Expr r = m.dependent("r", log(p + 1) + pow(q * q + 1, model::Expr(symbolic::Number(1, 3))) + pow(p, 3));
+  const Expr r = m.dependent(
+      "r", log(p + 1) + pow(q * q + 1, model::Expr(symbolic::Number(1, 3))) + pow(p, 3));
   const auto checks = model::domain_checks(m);
   REQUIRE(checks.size() == 4);
   CHECK(checks[0].function == "asin");
@@ -114,8 +123,11 @@ TEST_CASE("domain checks: innermost first, each restricted function, dependent p
 TEST_CASE("the generator emits the angle sequences of a free body", "[codegen][diagnostics]") {
   model::Model m("free");
   const auto q = m.coordinates(6);
-  m.body("frame").mass(1.0).inertia(1.0, 2.0, 2.5).motion(model::Tdisp(q[0], q[1], q[2]) * model::Trotz(q[3]) *
-                                                          model::Troty(q[4]) * model::Trotx(q[5]));
+  m.body("frame")
+      .mass(1.0)
+      .inertia(1.0, 2.0, 2.5)
+      .motion(model::Tdisp(q[0], q[1], q[2]) * model::Trotz(q[3]) * model::Troty(q[4]) *
+              model::Trotx(q[5]));
   const codegen::GeneratedCode code = codegen::generate(m, "v", "free_v");
   CHECK_THAT(code.header, Contains("static constexpr int nangle_sequences = 1;"));
   CHECK_THAT(code.header, Contains("angle_sequence_q[3] = {3, 4, 5};"));

@@ -4,17 +4,17 @@
 // (support/emitted_check.hpp).
 #include <catch2/catch.hpp>
 
-#include <symdyn/codegen/generate.hpp>
 #include "double_pendulum_absolute.hpp"
 #include "double_pendulum_absolute_case1.hpp"
 #include "double_pendulum_relative.hpp"
 #include "double_pendulum_relative_only.hpp"
-#include <symdyn/model/kinematics.hpp>
 #include "slider_crank_dependent.hpp"
 #include "slider_crank_dependent_parts.hpp"
 #include "slider_crank_inline.hpp"
 #include "slider_crank_inline_case1.hpp"
 #include "support/emitted_check.hpp"
+#include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/kinematics.hpp>
 
 using namespace symdyn;
 using namespace symdyn::testing;
@@ -33,12 +33,16 @@ codegen::Options case1() {
 // The text of entry point `name` in an emitted source of struct x.
 std::string function_text(const std::string& source, const std::string& name) {
   const std::size_t begin = source.find("x::" + name + "(");
-  return begin == std::string::npos ? "" : source.substr(begin, source.find("\n}\n", begin) - begin);
+  return begin == std::string::npos ? ""
+                                    : source.substr(begin, source.find("\n}\n", begin) - begin);
 }
 
 }  // namespace
 
-TEST_CASE("emitted double pendulum (absolute) matches the DAG, the interpreter and the assembled residual", "[codegen]") {
+TEST_CASE(
+    "emitted double pendulum (absolute) matches the DAG, the interpreter and the assembled "
+    "residual",
+    "[codegen]") {
   check_emitted<symdyn_generated::double_pendulum_absolute>({"double_pendulum", "absolute", {}});
 }
 TEST_CASE("emitted double pendulum (relative) matches", "[codegen]") {
@@ -51,15 +55,19 @@ TEST_CASE("emitted slider-crank (dependent) matches", "[codegen]") {
   check_emitted<symdyn_generated::slider_crank_dependent>({"slider_crank", "dependent", {}});
 }
 TEST_CASE("emitted case 1 (numeric partial velocities, no simplification) matches", "[codegen]") {
-  check_emitted<symdyn_generated::double_pendulum_absolute_case1>({"double_pendulum", "absolute", case1()});
+  check_emitted<symdyn_generated::double_pendulum_absolute_case1>(
+      {"double_pendulum", "absolute", case1()});
   check_emitted<symdyn_generated::slider_crank_inline_case1>({"slider_crank", "inline", case1()});
 }
 
-TEST_CASE("emitted in parts (16 instructions each, values crossing through a scratch array) matches", "[codegen]") {
+TEST_CASE(
+    "emitted in parts (16 instructions each, values crossing through a scratch array) matches",
+    "[codegen]") {
   codegen::Options parts;
   parts.part_instructions = 16;
   parts.split_above = 0;  // slider_crank is short: split it anyway
-  check_emitted<symdyn_generated::slider_crank_dependent_parts>({"slider_crank", "dependent", parts});
+  check_emitted<symdyn_generated::slider_crank_dependent_parts>(
+      {"slider_crank", "dependent", parts});
   const model::Model m = model::find_definition("slider_crank").make("dependent");
   const std::string source = codegen::generate(m, "dependent", "x", parts).source;
   CHECK_THAT(source, Contains("[[gnu::noinline]] void part1("));
@@ -97,7 +105,8 @@ TEST_CASE("generation is deterministic", "[codegen]") {
   }
 }
 
-TEST_CASE("an entry point simplification does not shorten is emitted as without simplification", "[codegen]") {
+TEST_CASE("an entry point simplification does not shorten is emitted as without simplification",
+          "[codegen]") {
   auto generate = [](const model::Definition& d, const std::string& variant, bool simplify) {
     symbolic::Context context;  // fresh nodes: as the generator, one derivation per process
     symbolic::Context::Scope scope(context);
@@ -136,7 +145,8 @@ TEST_CASE("each entry point computes only what it needs", "[codegen]") {
     }
   }
   // positions() takes no rate: its signature has no qd.
-  CHECK_THAT(code.header, Contains("static void positions(double t, const double* q, const double* param, double* R, double* x);"));
+  CHECK_THAT(code.header, Contains("static void positions(double t, const double* q, const double* "
+                                   "param, double* R, double* x);"));
 }
 
 TEST_CASE("entry points emitted alone compute what the whole model's do", "[codegen]") {
@@ -158,7 +168,8 @@ TEST_CASE("entry points emitted alone compute what the whole model's do", "[code
   CHECK(tau_back[1] == Approx(tau[1]).margin(1e-13));
 }
 
-TEST_CASE("entry points alone: only those asked for and what they call, an unknown one named", "[codegen][bad_input]") {
+TEST_CASE("entry points alone: only those asked for and what they call, an unknown one named",
+          "[codegen][bad_input]") {
   const model::Model m = model::find_definition("slider_crank").make("dependent");
   codegen::Options o = case1();
   o.entry_points = {"partial_velocities"};  // numeric: a loop over velocities()
@@ -167,7 +178,8 @@ TEST_CASE("entry points alone: only those asked for and what they call, an unkno
   CHECK(names == std::vector<std::string>{"velocities", "partial_velocities"});
   o.entry_points = {"positions", "mass_matrix"};
   CHECK_THROWS_WITH(codegen::generate(m, "dependent", "x", o),
-                    Contains("entry point 'mass_matrix' is not emitted with these options") && Contains("positions"));
+                    Contains("entry point 'mass_matrix' is not emitted with these options") &&
+                        Contains("positions"));
   o = codegen::Options{};
   o.entry_points = {"relative_accelerations_partials"};
   const auto code = codegen::generate(m, "dependent", "x", o);
@@ -180,7 +192,10 @@ TEST_CASE("run-time parameters are inputs of the emitted programs", "[codegen]")
   model::Model m("swing");
   const model::Expr q0 = m.coordinate("q0");
   const model::Expr length = m.parameter("length", 1.0, true);
-  m.body("bob").mass(2.0).inertia(0.01, 0.01, 0.01).motion(model::Trotz(q0) * model::Tdisp(length, 0, 0));
+  m.body("bob")
+      .mass(2.0)
+      .inertia(0.01, 0.01, 0.01)
+      .motion(model::Trotz(q0) * model::Tdisp(length, 0, 0));
   const auto code = codegen::generate(m, "default", "swing");
   CHECK_THAT(code.header, Contains("static constexpr const char* param_names[1] = {\"length\"};"));
   for (const auto& f : code.functions) {

@@ -1,9 +1,8 @@
 // The entry-point catalogue (src/codegen/detail/entry_points.cpp): its rows
 // are well formed, and docs/emitted_interface.md declares every entry point
 // with the signature the generator emits.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -27,7 +26,8 @@ std::string read(const std::string& path) {
 // The declaration "static <returns> <name>(...);" in `text`, whitespace runs
 // as one space, without the semicolon; empty if there is none.
 std::string declaration(const std::string& text, const EntryPointSpec& spec) {
-  const std::string head = "static " + std::string(spec.returns) + " " + std::string(spec.name) + "(";
+  const std::string head =
+      "static " + std::string(spec.returns) + " " + std::string(spec.name) + "(";
   const std::size_t begin = text.find(head);
   if (begin == std::string::npos) return "";
   const std::size_t end = text.find(");", begin);
@@ -36,7 +36,8 @@ std::string declaration(const std::string& text, const EntryPointSpec& spec) {
 
 }  // namespace
 
-TEST_CASE("catalogue: docs/emitted_interface.md declares every entry point as emitted", "[codegen][catalogue]") {
+TEST_CASE("catalogue: docs/emitted_interface.md declares every entry point as emitted",
+          "[codegen][catalogue]") {
   const std::string doc = read(SYMDYN_DOCS_DIR "/emitted_interface.md");
   for (const EntryPointSpec& spec : catalogue()) {
     INFO(spec.name);
@@ -61,12 +62,14 @@ TEST_CASE("catalogue: rows are well formed", "[codegen][catalogue]") {
     }
     CHECK((spec.body == nullptr) == spec.note.empty());
     if (!spec.calls.empty()) CHECK(is_entry_point(spec.calls));
-    if (spec.needs.equations_of_motion || spec.needs.recursive_dynamics) CHECK(spec.needs.absolute_motion);
+    if (spec.needs.equations_of_motion || spec.needs.recursive_dynamics)
+      CHECK(spec.needs.absolute_motion);
     if (spec.needs.recursive_dynamics) CHECK(spec.needs.equations_of_motion);
   }
 }
 
-TEST_CASE("catalogue: the forms of one name differ only in their partial velocities", "[codegen][catalogue]") {
+TEST_CASE("catalogue: the forms of one name differ only in their partial velocities",
+          "[codegen][catalogue]") {
   for (const std::string_view name : entry_point_names()) {
     std::vector<const EntryPointSpec*> forms;
     for (const EntryPointSpec& spec : catalogue()) {
@@ -95,7 +98,8 @@ TEST_CASE("catalogue: shapes print with the model's sizes", "[codegen][catalogue
 TEST_CASE("catalogue: what a selection needs derived", "[codegen][catalogue]") {
   CHECK(Selection({}, true).needs_absolute_motion());
   CHECK(Selection({}, true).needs_equations_of_motion());
-  CHECK_FALSE(Selection({"relative_accelerations", "dependent_parameters", "inertia"}, true).needs_absolute_motion());
+  CHECK_FALSE(Selection({"relative_accelerations", "dependent_parameters", "inertia"}, true)
+                  .needs_absolute_motion());
   CHECK(Selection({"relative_accelerations", "positions"}, true).needs_absolute_motion());
   CHECK(Selection({"nope"}, true).needs_absolute_motion());  // the error comes after the derivation
   CHECK_FALSE(Selection({"positions", "partial_velocities"}, true).needs_equations_of_motion());

@@ -10,10 +10,10 @@
 
 #include <array>
 
-#include <symdyn/codegen/generate.hpp>
 #include "support/emitted_check.hpp"
 #include "support/equations_checks.hpp"
 #include "support/random_model.hpp"
+#include <symdyn/codegen/generate.hpp>
 
 using namespace symdyn;
 using namespace symdyn::testing;
@@ -37,12 +37,14 @@ class References {
       h_.push_back(e.h(j));
     }
     // tau = M·qdd + h; the forward dynamics' tau is the state's qdd (program_inputs).
-    const Eigen::VectorXd qdd = Eigen::Map<const Eigen::VectorXd>(s.qdd.data(), Eigen::Index(s.qdd.size()));
+    const Eigen::VectorXd qdd =
+        Eigen::Map<const Eigen::VectorXd>(s.qdd.data(), Eigen::Index(s.qdd.size()));
     const Eigen::VectorXd tau = e.M * qdd + e.h, solved = e.M.ldlt().solve(qdd - e.h);
     tau_.assign(tau.data(), tau.data() + tau.size());
     // Only a well-conditioned M has a solution to compare to 1e-10 (random
     // models may turn two coordinates about one axis: M singular).
-    const Eigen::VectorXd eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(e.M).eigenvalues();
+    const Eigen::VectorXd eigenvalues =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(e.M).eigenvalues();
     if (eigenvalues.size() > 0 && eigenvalues.minCoeff() > 1e-4 * eigenvalues.maxCoeff()) {
       solved_.assign(solved.data(), solved.data() + solved.size());
     }
@@ -74,7 +76,8 @@ class References {
       for (model::Expr e : expressions) out.push_back(eval_(e));
     };
     if (array == "p" || array == "pd" || array == "pdd") {
-      for (const auto& p : k_.dependents) push(std::array{array == "p" ? p.value : array == "pd" ? p.rate : p.acceleration});
+      for (const auto& p : k_.dependents)
+        push(std::array{array == "p" ? p.value : array == "pd" ? p.rate : p.acceleration});
       return out;
     }
     const bool relative = entry.rfind("relative_", 0) == 0;
@@ -86,7 +89,8 @@ class References {
     for (std::size_t i = 0; i < k_.bodies.size(); ++i) {
       const model::Motion& motion = relative ? k_.bodies[i].relative : k_.bodies[i];
       if (partials) {
-        for (const model::Vec3& v : array.rfind("dv", 0) == 0 ? motion.dv_dqd : motion.dw_dqd) push(v);
+        for (const model::Vec3& v : array.rfind("dv", 0) == 0 ? motion.dv_dqd : motion.dw_dqd)
+          push(v);
       } else if (array == "mass") {
         push(std::array{m_.bodies()[i].mass()});
       } else if (array == "inertia") {
@@ -94,8 +98,11 @@ class References {
       } else if (array == "R") {
         push(motion.R);
       } else {
-        push(array == "x" ? motion.x : array == "v" ? motion.v : array == "w" ? motion.w : array == "a" ? motion.a
-                                                                                                      : motion.dw);
+        push(array == "x"   ? motion.x
+             : array == "v" ? motion.v
+             : array == "w" ? motion.w
+             : array == "a" ? motion.a
+                            : motion.dw);
       }
     }
     return out;
@@ -135,10 +142,13 @@ TEST_CASE("programs generated for random models compute the references", "[codeg
     for (const auto& s : random_states(m, *rc::gen::arbitrary<unsigned>())) {
       References references(shared, k, s);
       for (const auto& f : code.functions) {
-        if (f.name == "forward_dynamics") continue;  // forward_dynamics_pivots' program and a check of its pivots
+        if (f.name == "forward_dynamics")
+          continue;  // forward_dynamics_pivots' program and a check of its pivots
         RC_ASSERT(f.program.has_value());
         std::vector<double> got = f.program->evaluate<double>(program_inputs(f, s, {}));
-        if (f.name == "forward_dynamics_pivots") got.resize(references.solvable() ? m.coordinates().size() : 0);  // qdd, without the pivots
+        if (f.name == "forward_dynamics_pivots")
+          got.resize(references.solvable() ? m.coordinates().size()
+                                           : 0);  // qdd, without the pivots
         Gap gap;
         gap.add(largest_gap(got, references.outputs(f)), f.name);
         assert_gap(gap, 1e-10, "entry point");

@@ -16,7 +16,8 @@
 namespace symdyn::testing {
 
 struct CommandResult {
-  int exit_code = -1;  // the shell's: 128 + n when killed by signal n, 124 when the time limit ended it
+  int exit_code =
+      -1;  // the shell's: 128 + n when killed by signal n, 124 when the time limit ended it
   std::string out, err;
 };
 
@@ -56,10 +57,12 @@ inline std::string read_text(const std::filesystem::path& path) {
 inline CommandResult run_command(const std::vector<std::string>& argv, int seconds = 120,
                                  const std::filesystem::path& cwd = {}) {
   const auto dir = scratch_directory("run");
-  std::string command = cwd.empty() ? std::string() : fmt::format("cd {} && ", shell_quoted(cwd.string()));
+  std::string command =
+      cwd.empty() ? std::string() : fmt::format("cd {} && ", shell_quoted(cwd.string()));
   command += fmt::format("ASAN_OPTIONS=\"${{ASAN_OPTIONS}}:exitcode=86\" timeout -k 5 {}", seconds);
   for (const std::string& a : argv) command += fmt::format(" {}", shell_quoted(a));
-  command += fmt::format(" >{} 2>{}", shell_quoted((dir / "out").string()), shell_quoted((dir / "err").string()));
+  command += fmt::format(" >{} 2>{}", shell_quoted((dir / "out").string()),
+                         shell_quoted((dir / "err").string()));
   const int status = std::system(command.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

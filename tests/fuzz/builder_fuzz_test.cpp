@@ -17,10 +17,19 @@ using model::Expr;
 
 namespace {
 
-const std::vector<std::string> kNames = {"q0", "q1", "q2", "t", "b0", "b1", "b2", "p0", "alpha", "l1", "class",
-                                         "2x", "a-b", "", "_X", "x__y", "rod", "int", "q0_d", "qd0"};
-const std::vector<double> kNumbers = {0.0, 1.0, -1.0, 0.5, 2.0, 1e-300, 1e308, std::numeric_limits<double>::quiet_NaN(),
-                                      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+const std::vector<std::string> kNames = {"q0", "q1",    "q2",  "t",     "b0",   "b1",  "b2",
+                                         "p0", "alpha", "l1",  "class", "2x",   "a-b", "",
+                                         "_X", "x__y",  "rod", "int",   "q0_d", "qd0"};
+const std::vector<double> kNumbers = {0.0,
+                                      1.0,
+                                      -1.0,
+                                      0.5,
+                                      2.0,
+                                      1e-300,
+                                      1e308,
+                                      std::numeric_limits<double>::quiet_NaN(),
+                                      std::numeric_limits<double>::infinity(),
+                                      -std::numeric_limits<double>::infinity()};
 
 // Any other exception type, caught and described, fails the property.
 template <class F>
@@ -38,12 +47,15 @@ bool only_model_errors(const char* what, F&& call) {
 
 // Seven choices in eight are right, so that models often get through
 // validate() and on to generate(); the eighth is wrong in some way.
-bool right() { return *rc::gen::inRange(0, 8) > 0; }
+bool right() {
+  return *rc::gen::inRange(0, 8) > 0;
+}
 
 class RandomCalls {
  public:
   void run() {
-    const std::string name = right() ? "fuzz" : *rc::gen::elementOf(std::vector<std::string>{"2bad", "", "a b"});
+    const std::string name =
+        right() ? "fuzz" : *rc::gen::elementOf(std::vector<std::string>{"2bad", "", "a b"});
     if (!only_model_errors("Model()", [&] { model_.emplace(name); })) return;
     // Symbols are the process's, across models: an earlier case's coordinate
     // "qd0" makes q0's rate a model error here too.
@@ -53,7 +65,8 @@ class RandomCalls {
     if (!only_model_errors("validate", [&] { model_->validate(); })) return;
     RC_TAG("valid");
     if (model_->bodies().size() > 3 || model_->coordinates().size() > 3) return;
-    if (only_model_errors("generate", [&] { codegen::generate(*model_, variant(), basename(), options()); })) {
+    if (only_model_errors("generate",
+                          [&] { codegen::generate(*model_, variant(), basename(), options()); })) {
       RC_TAG("generated");
     }
   }
@@ -63,20 +76,33 @@ class RandomCalls {
   void pendulum() {
     const Expr q = model_->coordinate(fmt::format("q{}", fresh_++));
     symbols_.push_back(q);
-    model_->body(fmt::format("body{}", fresh_++)).mass(1.0).inertia(0.1, 0.2, 0.25).motion(model::Trotz(q) * model::Tdisp(1, 0, 0));
+    model_->body(fmt::format("body{}", fresh_++))
+        .mass(1.0)
+        .inertia(0.1, 0.2, 0.25)
+        .motion(model::Trotz(q) * model::Tdisp(1, 0, 0));
   }
 
-  std::string name() { return right() ? fmt::format("n{}", fresh_++) : *rc::gen::elementOf(kNames); }
-  double number() { return right() ? *rc::gen::elementOf(std::vector<double>{0.3, 1.0, 2.0}) : *rc::gen::elementOf(kNumbers); }
+  std::string name() {
+    return right() ? fmt::format("n{}", fresh_++) : *rc::gen::elementOf(kNames);
+  }
+  double number() {
+    return right() ? *rc::gen::elementOf(std::vector<double>{0.3, 1.0, 2.0})
+                   : *rc::gen::elementOf(kNumbers);
+  }
 
   // A declared symbol, a stray one, or a number.
   Expr leaf() {
     switch (*rc::gen::inRange(0, 5)) {
       case 0:
-      case 4: return symbols_.empty() ? Expr(1) : *rc::gen::elementOf(symbols_);
-      case 1: return symbolic::symbol(fmt::format("stray{}", *rc::gen::inRange(0, 3)), symbolic::SymbolKind::Variable);
-      case 2: return model_->time();
-      default: return Expr(*rc::gen::inRange(-3, 4) * 0.5);
+      case 4:
+        return symbols_.empty() ? Expr(1) : *rc::gen::elementOf(symbols_);
+      case 1:
+        return symbolic::symbol(fmt::format("stray{}", *rc::gen::inRange(0, 3)),
+                                symbolic::SymbolKind::Variable);
+      case 2:
+        return model_->time();
+      default:
+        return Expr(*rc::gen::inRange(-3, 4) * 0.5);
     }
   }
 
@@ -88,14 +114,22 @@ class RandomCalls {
       const auto a = expression(depth - 1), b = expression(depth - 1);
       if (!a || !b) return std::nullopt;
       switch (*rc::gen::inRange(0, 8)) {
-        case 0: return *a + *b;
-        case 1: return *a * *b;
-        case 2: return *a / *b;
-        case 3: return sin(*a);
-        case 4: return asin(*a);
-        case 5: return sqrt(*a);
-        case 6: return log(*a);
-        default: return *a;
+        case 0:
+          return *a + *b;
+        case 1:
+          return *a * *b;
+        case 2:
+          return *a / *b;
+        case 3:
+          return sin(*a);
+        case 4:
+          return asin(*a);
+        case 5:
+          return sqrt(*a);
+        case 6:
+          return log(*a);
+        default:
+          return *a;
       }
     } catch (const symbolic::SymbolicError&) {
       return std::nullopt;
@@ -109,13 +143,17 @@ class RandomCalls {
         only_model_errors("coordinate", [&] { symbols_.push_back(m.coordinate(name())); });
         break;
       case 1:
-        only_model_errors("parameter", [&] { symbols_.push_back(m.parameter(name(), number(), *rc::gen::arbitrary<bool>())); });
+        only_model_errors("parameter", [&] {
+          symbols_.push_back(m.parameter(name(), number(), *rc::gen::arbitrary<bool>()));
+        });
         break;
       case 2:
-        if (const auto e = expression()) only_model_errors("dependent", [&] { symbols_.push_back(m.dependent(name(), *e)); });
+        if (const auto e = expression())
+          only_model_errors("dependent", [&] { symbols_.push_back(m.dependent(name(), *e)); });
         break;
       case 3:
-        if (const auto g = expression(0)) only_model_errors("gravity", [&] { m.gravity(number(), *g, -9.81); });
+        if (const auto g = expression(0))
+          only_model_errors("gravity", [&] { m.gravity(number(), *g, -9.81); });
         break;
       case 4:
         only_model_errors("initial", [&] { m.initial(leaf(), number(), number()); });
@@ -133,21 +171,30 @@ class RandomCalls {
     if (!angle || !offset || !mass) return;
     only_model_errors("body", [&] {
       model::Body& b = model_->body(name());
-      if (right()) b.mass(number()); else b.mass(*mass);
+      if (right())
+        b.mass(number());
+      else
+        b.mass(*mass);
       // Equal moments satisfy every inequality: a right body stays right.
       const double moment = number();
       if (right()) {
         b.inertia(moment, moment, moment);
       } else {
-        b.inertia(number(), number(), *rc::gen::arbitrary<bool>() ? model::Scalar(number()) : model::Scalar(*mass));
+        b.inertia(number(), number(),
+                  *rc::gen::arbitrary<bool>() ? model::Scalar(number()) : model::Scalar(*mass));
       }
       if (*rc::gen::inRange(0, 5) > 0) b.motion(model::Trotz(*angle) * model::Tdisp(*offset, 0, 0));
-      if (*rc::gen::inRange(0, 3) == 0) b.relative_to(right() ? model_->bodies().front().name() : name());
+      if (*rc::gen::inRange(0, 3) == 0)
+        b.relative_to(right() ? model_->bodies().front().name() : name());
     });
   }
 
-  std::string variant() { return right() ? "default" : *rc::gen::elementOf(std::vector<std::string>{"inline", "a b", ""}); }
-  std::string basename() { return right() ? "fuzz_a" : *rc::gen::elementOf(std::vector<std::string>{"class", "f-b", "_F"}); }
+  std::string variant() {
+    return right() ? "default" : *rc::gen::elementOf(std::vector<std::string>{"inline", "a b", ""});
+  }
+  std::string basename() {
+    return right() ? "fuzz_a" : *rc::gen::elementOf(std::vector<std::string>{"class", "f-b", "_F"});
+  }
   codegen::Options options() {
     codegen::Options o;
     o.simplify = *rc::gen::arbitrary<bool>();
@@ -155,7 +202,9 @@ class RandomCalls {
     o.equations_of_motion = *rc::gen::arbitrary<bool>();
     o.part_instructions = *rc::gen::elementOf(std::vector<std::size_t>{0, 1, 8, 125});
     o.split_above = *rc::gen::elementOf(std::vector<std::size_t>{0, 500});
-    o.name_space = right() ? "symdyn_generated" : *rc::gen::elementOf(std::vector<std::string>{"a::b", "a::", "int", ""});
+    o.name_space = right()
+                       ? "symdyn_generated"
+                       : *rc::gen::elementOf(std::vector<std::string>{"a::b", "a::", "int", ""});
     return o;
   }
 

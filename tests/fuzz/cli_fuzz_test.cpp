@@ -2,9 +2,8 @@
 // exit code is 0, 1 or 2, never a signal (128 + n), a sanitizer report (86) or
 // the time limit (124). Each run happens in a fresh directory, where whatever
 // --out it was given is written.
-#include <rapidcheck/catch.h>
-
 #include <fmt/format.h>
+#include <rapidcheck/catch.h>
 
 #include <filesystem>
 
@@ -14,8 +13,8 @@ using namespace symdyn::testing;
 
 namespace {
 
-const std::vector<std::string> kGenerators = {SYMDYN_GENERATOR_DOUBLE_PENDULUM, SYMDYN_GENERATOR_CHAIN,
-                                              SYMDYN_GENERATOR_BAD_MODELS};
+const std::vector<std::string> kGenerators = {SYMDYN_GENERATOR_DOUBLE_PENDULUM,
+                                              SYMDYN_GENERATOR_CHAIN, SYMDYN_GENERATOR_BAD_MODELS};
 
 // The seeds of the mutations: command lines that succeed, and one that names an invalid model.
 const std::vector<std::vector<std::string>> kSeeds = {
@@ -23,22 +22,65 @@ const std::vector<std::vector<std::string>> kSeeds = {
     {"--out", "gen", "--variant", "relative"},
     {"--out", "gen", "--model", "chain_2", "--variant", "absolute", "--stats"},
     {"--list"},
-    {"--out", "gen", "--model", "valid", "--basename", "pend_a", "--part-size", "8", "--split-above", "0"},
+    {"--out", "gen", "--model", "valid", "--basename", "pend_a", "--part-size", "8",
+     "--split-above", "0"},
     {"--out", "gen", "--no-simplify", "--partials", "numeric", "--no-eom"},
 };
 
 const std::vector<std::string> kTokens = {
-    "--out", "--variant", "--basename", "--model", "--no-simplify", "--partials", "--no-eom", "--part-size",
-    "--split-above", "--list", "--stats", "--help", "-h", "--", "-", "--out=", "--part-size=-1", "--model=chain_4",
-    "absolute", "relative", "chain_2", "chain_4", "chain_99", "valid", "zero_mass", "still_coordinate",
-    "bad_variant", "-1", "0", "1", "16", "99999999999999999999", "-99999999999999999999", "1e3", "abc", "",
-    "pend-a", "class", "numeric", "symbolic", "x y", "gen", "gen/sub", "/dev/null", "\xff\xfe", "--variant=",
+    "--out",
+    "--variant",
+    "--basename",
+    "--model",
+    "--no-simplify",
+    "--partials",
+    "--no-eom",
+    "--part-size",
+    "--split-above",
+    "--list",
+    "--stats",
+    "--help",
+    "-h",
+    "--",
+    "-",
+    "--out=",
+    "--part-size=-1",
+    "--model=chain_4",
+    "absolute",
+    "relative",
+    "chain_2",
+    "chain_4",
+    "chain_99",
+    "valid",
+    "zero_mass",
+    "still_coordinate",
+    "bad_variant",
+    "-1",
+    "0",
+    "1",
+    "16",
+    "99999999999999999999",
+    "-99999999999999999999",
+    "1e3",
+    "abc",
+    "",
+    "pend-a",
+    "class",
+    "numeric",
+    "symbolic",
+    "x y",
+    "gen",
+    "gen/sub",
+    "/dev/null",
+    "\xff\xfe",
+    "--variant=",
 };
 
 // No '/' nor '.' in a random token: a random --out stays inside the run's directory.
 std::string token() {
   static const std::string kCharacters = "abcdefghijklmnopqrstuvwxyz0123456789-_=";
-  if (*rc::gen::inRange(0, 6) == 0) return *rc::gen::container<std::string>(rc::gen::elementOf(kCharacters));
+  if (*rc::gen::inRange(0, 6) == 0)
+    return *rc::gen::container<std::string>(rc::gen::elementOf(kCharacters));
   return *rc::gen::elementOf(kTokens);
 }
 
@@ -59,9 +101,12 @@ std::vector<std::string> arguments() {
       case 0:
         if (at < static_cast<std::ptrdiff_t>(args.size())) args.erase(args.begin() + at);
         break;
-      case 1: args.insert(args.begin() + at, token()); break;
+      case 1:
+        args.insert(args.begin() + at, token());
+        break;
       default:
-        if (at < static_cast<std::ptrdiff_t>(args.size())) args[static_cast<std::size_t>(at)] = token();
+        if (at < static_cast<std::ptrdiff_t>(args.size()))
+          args[static_cast<std::size_t>(at)] = token();
     }
   }
   return args;

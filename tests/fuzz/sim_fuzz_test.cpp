@@ -3,9 +3,8 @@
 // or is refused with one of the runtime's errors (ScenarioError, OptionError,
 // ModelError, NumericError), never anything else. As a program: exit code 0,
 // 1 or 2, never a signal, a sanitizer report (86) or the time limit (124).
-#include <rapidcheck/catch.h>
-
 #include <fmt/format.h>
+#include <rapidcheck/catch.h>
 
 #include <filesystem>
 #include <fstream>
@@ -48,10 +47,44 @@ const std::vector<std::string> kSeeds = {
 
 // Replacements for a value or a piece of text.
 const std::vector<std::string> kTokens = {
-    "0", "-1", "1e308", "-1e308", "1e-320", "null", "true", "[]", "{}", "[0, 0]", "\"\"", "\"rod3\"", "\"ground\"",
-    "\"q0_ddot\"", "\"(((\"", "\"1/0\"", "\"sqrt(-1)\"", "\"end(end(q0))\"", "\"at(q0, 1e300)\"", "\"q9\"", "\"pi\"",
-    "\"t\"", "\"rk4\"", "\"cvode\"", "\"nope\"", "\"gim_tyre\"", "\"bushing\"", "\"module\"", "\"/dev/null\"",
-    "\"clamp(t, 1)\"", "\"x^y^z\"", "\"--\"", "\"\\u0000\"", "1e-9", "0.5", "\"maximum(\"", "\"model\"", "\"enabled\"",
+    "0",
+    "-1",
+    "1e308",
+    "-1e308",
+    "1e-320",
+    "null",
+    "true",
+    "[]",
+    "{}",
+    "[0, 0]",
+    "\"\"",
+    "\"rod3\"",
+    "\"ground\"",
+    "\"q0_ddot\"",
+    "\"(((\"",
+    "\"1/0\"",
+    "\"sqrt(-1)\"",
+    "\"end(end(q0))\"",
+    "\"at(q0, 1e300)\"",
+    "\"q9\"",
+    "\"pi\"",
+    "\"t\"",
+    "\"rk4\"",
+    "\"cvode\"",
+    "\"nope\"",
+    "\"gim_tyre\"",
+    "\"bushing\"",
+    "\"module\"",
+    "\"/dev/null\"",
+    "\"clamp(t, 1)\"",
+    "\"x^y^z\"",
+    "\"--\"",
+    "\"\\u0000\"",
+    "1e-9",
+    "0.5",
+    "\"maximum(\"",
+    "\"model\"",
+    "\"enabled\"",
 };
 
 // A value of the document replaced by a token, a member dropped or renamed:
@@ -61,14 +94,17 @@ std::string mutated_structure(const std::string& seed) {
   const int mutations = *rc::gen::inRange(1, 4);
   for (int m = 0; m < mutations; ++m) {
     nlohmann::json* node = &doc;
-    while (!node->empty() && (node->is_object() || node->is_array()) && *rc::gen::inRange(0, 4) != 0) {
+    while (!node->empty() && (node->is_object() || node->is_array()) &&
+           *rc::gen::inRange(0, 4) != 0) {
       auto it = node->begin();
-      std::advance(it, *rc::gen::inRange<std::ptrdiff_t>(0, static_cast<std::ptrdiff_t>(node->size())));
+      std::advance(it,
+                   *rc::gen::inRange<std::ptrdiff_t>(0, static_cast<std::ptrdiff_t>(node->size())));
       node = &*it;
     }
     if (node->is_object() && !node->empty() && *rc::gen::arbitrary<bool>()) {
       auto it = node->begin();
-      std::advance(it, *rc::gen::inRange<std::ptrdiff_t>(0, static_cast<std::ptrdiff_t>(node->size())));
+      std::advance(it,
+                   *rc::gen::inRange<std::ptrdiff_t>(0, static_cast<std::ptrdiff_t>(node->size())));
       const std::string key = it.key();
       nlohmann::json value = *it;
       node->erase(key);
@@ -87,10 +123,18 @@ std::string mutated(std::string text) {
     if (text.empty()) break;
     const auto at = *rc::gen::inRange<std::size_t>(0, text.size());
     switch (std::min(*rc::gen::inRange(0, 7), 3)) {  // mostly a value replaced, so that it parses
-      // By concatenation: g++ 12 sees a false overlap in std::string::insert and replace (-Wrestrict).
-      case 0: text = text.substr(0, at) + text.substr(std::min(text.size(), at + *rc::gen::inRange<std::size_t>(1, 8))); break;  // a cut
-      case 1: text = text.substr(0, at) + *rc::gen::elementOf(kTokens) + text.substr(at); break;
-      case 2: text[at] = *rc::gen::elementOf(std::string("{}[]\",:0123456789.eE-+ abqtx_\\")); break;
+      // By concatenation: g++ 12 sees a false overlap in std::string::insert and replace
+      // (-Wrestrict).
+      case 0:
+        text = text.substr(0, at) +
+               text.substr(std::min(text.size(), at + *rc::gen::inRange<std::size_t>(1, 8)));
+        break;  // a cut
+      case 1:
+        text = text.substr(0, at) + *rc::gen::elementOf(kTokens) + text.substr(at);
+        break;
+      case 2:
+        text[at] = *rc::gen::elementOf(std::string("{}[]\",:0123456789.eE-+ abqtx_\\"));
+        break;
       default: {  // a value replaced: from a ':' to the next ',' or '}'
         const auto colon = text.find(':', at);
         if (colon == std::string::npos) break;
@@ -122,17 +166,50 @@ TEST_CASE("mutated scenario texts are run or refused with a runtime error", "[fu
         RC_TAG("too many rows");
       }
     } catch (const runtime::RuntimeError& e) {
-      RC_TAG(std::string(e.what()).find(": /") != std::string::npos ? "refused at a JSON path" : "refused");
+      RC_TAG(std::string(e.what()).find(": /") != std::string::npos ? "refused at a JSON path"
+                                                                    : "refused");
     }
   });
 }
 
-TEST_CASE("random symdyn-sim command lines exit with 0, 1 or 2 and never crash or hang", "[fuzz][sim]") {
-  const std::vector<std::string> tokens = {
-      "scenario.json", "double_pendulum", "slider_crank", "nope", "nope.json", "--list", "--variant", "relative",
-      "dependent", "--integrator", "rk4", "dop853", "cvode", "euler", "--tolerance", "--rtol", "--atol", "1e-6", "0",
-      "-1", "nan", "inf", "--interval", "0.01", "1e-300", "--step", "--assembled", "--out", "out.csv", "--max-rows",
-      "10", "--help", "--", "", "\xff", "--t-end=0.01"};
+TEST_CASE("random symdyn-sim command lines exit with 0, 1 or 2 and never crash or hang",
+          "[fuzz][sim]") {
+  const std::vector<std::string> tokens = {"scenario.json",
+                                           "double_pendulum",
+                                           "slider_crank",
+                                           "nope",
+                                           "nope.json",
+                                           "--list",
+                                           "--variant",
+                                           "relative",
+                                           "dependent",
+                                           "--integrator",
+                                           "rk4",
+                                           "dop853",
+                                           "cvode",
+                                           "euler",
+                                           "--tolerance",
+                                           "--rtol",
+                                           "--atol",
+                                           "1e-6",
+                                           "0",
+                                           "-1",
+                                           "nan",
+                                           "inf",
+                                           "--interval",
+                                           "0.01",
+                                           "1e-300",
+                                           "--step",
+                                           "--assembled",
+                                           "--out",
+                                           "out.csv",
+                                           "--max-rows",
+                                           "10",
+                                           "--help",
+                                           "--",
+                                           "",
+                                           "\xff",
+                                           "--t-end=0.01"};
   rc::prop("symdyn-sim command line", [&] {
     const auto dir = scratch_directory("sim_fuzz");
     std::ofstream(dir / "scenario.json") << mutated(*rc::gen::elementOf(kSeeds));
@@ -140,10 +217,12 @@ TEST_CASE("random symdyn-sim command lines exit with 0, 1 or 2 and never crash o
     const int n = *rc::gen::inRange(0, 2) == 0 ? 0 : *rc::gen::inRange(1, 6);
     if (n == 0) argv.push_back("scenario.json");
     for (int i = 0; i < n; ++i) argv.push_back(*rc::gen::elementOf(tokens));
-    argv.insert(argv.end(), {"--t-end", "0.05"});  // bounded work (a second --t-end is a command-line error)
+    argv.insert(argv.end(),
+                {"--t-end", "0.05"});  // bounded work (a second --t-end is a command-line error)
     const CommandResult r = run_command(argv, 60, dir);
     std::filesystem::remove_all(dir);
-    RC_LOG() << fmt::format("{}", fmt::join(argv, " ")) << "\nexit " << r.exit_code << "\nstderr: " << r.err;
+    RC_LOG() << fmt::format("{}", fmt::join(argv, " ")) << "\nexit " << r.exit_code
+             << "\nstderr: " << r.err;
     RC_TAG(fmt::format("exit {}", r.exit_code));
     RC_ASSERT(r.exit_code >= 0);
     RC_ASSERT(r.exit_code <= 2);

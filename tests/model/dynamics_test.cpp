@@ -24,19 +24,40 @@ void floating_tree(model::Model& m, std::string_view) {
   using namespace symdyn::model;
   const auto q = m.coordinates(9);
   const Expr p = m.dependent("p", 0.2 + 0.1 * sin(q[6] - q[7]));
-  m.body("base").mass(3.0).inertia(tensor(0.4, 0.5, 0.6, 0.05, -0.02, 0.03))
+  m.body("base")
+      .mass(3.0)
+      .inertia(tensor(0.4, 0.5, 0.6, 0.05, -0.02, 0.03))
       .motion(Tdisp(q[0], q[1], q[2]) * Trotz(q[3]) * Troty(q[4]) * Trotx(q[5]));
-  m.body("arm").mass(1.2).inertia(tensor(0.02, 0.09, 0.1, 0.004, 0.001, -0.003)).relative_to("base")
+  m.body("arm")
+      .mass(1.2)
+      .inertia(tensor(0.02, 0.09, 0.1, 0.004, 0.001, -0.003))
+      .relative_to("base")
       .motion(Tdisp(0.3, 0.1, -0.2) * Troty(q[6]) * Tdisp(0.4, 0, 0));
-  m.body("hand").mass(0.4).inertia(0.001, 0.01, 0.01).relative_to("arm")  // a rod: one repeated moment
+  m.body("hand")
+      .mass(0.4)
+      .inertia(0.001, 0.01, 0.01)
+      .relative_to("arm")  // a rod: one repeated moment
       .motion(Trotx(q[7]) * Tdisp(q[8], 0, 0.1));
-  m.body("ball").mass(0.7).inertia(0.003, 0.003, 0.003).relative_to("base")  // coordinates shared with arm
+  m.body("ball")
+      .mass(0.7)
+      .inertia(0.003, 0.003, 0.003)
+      .relative_to("base")  // coordinates shared with arm
       .motion(Trotz(q[6] + q[7]) * Tdisp(p, 0, 0.05));
-  m.body("slider").mass(0.3).inertia(0.002, 0.004, 0.005).relative_to("arm")  // driven by p alone
+  m.body("slider")
+      .mass(0.3)
+      .inertia(0.002, 0.004, 0.005)
+      .relative_to("arm")  // driven by p alone
       .motion(Tdisp(p, 0, 0.05) * Troty(2 * p));
-  m.body("link").mass(0.5).inertia(tensor(0.004, 0.006, 0.007, 0.001, 0.0005, -0.001)).relative_to("arm")
-      .motion(Tdisp(0.1, 0.05, 0) * Troty(p - q[8] + 0.5 * m.time()) * Tdisp(0.2, 0, 0));  // one screw, 3 coordinates
-  m.body("alone").mass(0.9).inertia(0.01, 0.02, 0.03).motion(Trotz(q[7]) * Tdisp(1, 0, 0) * Trotx(q[5]));
+  m.body("link")
+      .mass(0.5)
+      .inertia(tensor(0.004, 0.006, 0.007, 0.001, 0.0005, -0.001))
+      .relative_to("arm")
+      .motion(Tdisp(0.1, 0.05, 0) * Troty(p - q[8] + 0.5 * m.time()) *
+              Tdisp(0.2, 0, 0));  // one screw, 3 coordinates
+  m.body("alone")
+      .mass(0.9)
+      .inertia(0.01, 0.02, 0.03)
+      .motion(Trotz(q[7]) * Tdisp(1, 0, 0) * Trotx(q[5]));
   m.gravity(0, 0, -9.81);
 }
 
@@ -62,12 +83,14 @@ void check_equations(const std::string& name, const std::string& variant, double
 
 }  // namespace
 
-TEST_CASE("equations of motion by composite inertias equal the direct sums over bodies", "[dynamics]") {
+TEST_CASE("equations of motion by composite inertias equal the direct sums over bodies",
+          "[dynamics]") {
   for (const auto& definition : model::registry()) {
     for (const auto& variant : definition.variants) check_equations(definition.name, variant, 1.0);
   }
 }
 
-TEST_CASE("the equations of motion stay accurate with the floating base far from the origin", "[dynamics]") {
+TEST_CASE("the equations of motion stay accurate with the floating base far from the origin",
+          "[dynamics]") {
   check_equations("floating_tree", "default", 1e4);
 }

@@ -4,8 +4,8 @@
 // and finite differences in qd (partial velocities, exact since v is affine in qd).
 #include <catch2/catch.hpp>
 
-#include <symdyn/model/kinematics.hpp>
 #include "support/kinematics_checks.hpp"
+#include <symdyn/model/kinematics.hpp>
 
 using namespace symdyn;
 using namespace symdyn::testing;
@@ -18,14 +18,22 @@ namespace {
 void prescribed(model::Model& m, std::string_view) {
   const auto q = m.coordinates(2);
   const Expr t = m.time();
-  m.body("carrier").mass(2.0).inertia(0.1, 0.1, 0.2).motion(model::Trotz(3 * t + sin(t)) * model::Tdisp(0.5, 0, 0));
-  m.body("slider").mass(1.0).inertia(0.01, 0.02, 0.02)
+  m.body("carrier")
+      .mass(2.0)
+      .inertia(0.1, 0.1, 0.2)
+      .motion(model::Trotz(3 * t + sin(t)) * model::Tdisp(0.5, 0, 0));
+  m.body("slider")
+      .mass(1.0)
+      .inertia(0.01, 0.02, 0.02)
       .motion(model::Tdisp(q[0] * t, 0, 0.1) * model::Troty(q[1] + 2 * t) * model::Tdisp(0.2, 0, 0))
       .relative_to("carrier");
   // A rotation about an oblique constant axis (Rodrigues), with a run-time parameter.
   const Expr arm = m.parameter("arm", 0.3, true);
-  const model::Vec3 axis{symbolic::rational(1, 3), symbolic::rational(2, 3), symbolic::rational(2, 3)};
-  m.body("tilted").mass(0.5).inertia(0.01, 0.01, 0.01)
+  const model::Vec3 axis{symbolic::rational(1, 3), symbolic::rational(2, 3),
+                         symbolic::rational(2, 3)};
+  m.body("tilted")
+      .mass(0.5)
+      .inertia(0.01, 0.01, 0.01)
       .motion(model::Trot(axis, q[0] - q[1]) * model::Tdisp(arm, 0, 0) * model::Trotx(q[1]))
       .relative_to("slider");
 }
@@ -72,7 +80,8 @@ TEST_CASE("positions equal the direct product of the 4x4 matrices", "[kinematics
   for_all_cases(42, 20, false, check_positions_4x4);
 }
 
-TEST_CASE("velocities and accelerations equal the complex step of positions along a path", "[kinematics]") {
+TEST_CASE("velocities and accelerations equal the complex step of positions along a path",
+          "[kinematics]") {
   for_all_cases(7, 10, false, check_complex_step);
 }
 

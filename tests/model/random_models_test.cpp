@@ -26,11 +26,12 @@ TEST_CASE("random models match the independent references", "[kinematics][dynami
       assert_gap(positions_4x4_gap(m, k, states), 1e-12, "positions");
       assert_gap(complex_step_gap(m, k, states), 1e-10, "velocities and accelerations");
       assert_gap(partials_by_qd_gap(m, k, states), 1e-10, "partial velocities");
-      assert_gap(equations_gap(m, k, model::derive_dynamics(m, k), states), 1e-10, "equations of motion");
+      assert_gap(equations_gap(m, k, model::derive_dynamics(m, k), states), 1e-10,
+                 "equations of motion");
     }
     const model::Model shared = m.with_shared_motions_relative();
-    assert_gap(kinematics_agreement_gap(shared, derive_for_test(shared, true, true), m, derive_for_test(m, false, true),
-                                        states),
+    assert_gap(kinematics_agreement_gap(shared, derive_for_test(shared, true, true), m,
+                                        derive_for_test(m, false, true), states),
                1e-10, "shared motions made relative");
   });
 }

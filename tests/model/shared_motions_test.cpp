@@ -2,8 +2,8 @@
 // that the kinematics of the rewritten model equal the model's as written.
 #include <catch2/catch.hpp>
 
-#include <symdyn/model/kinematics.hpp>
 #include "support/kinematics_checks.hpp"
+#include <symdyn/model/kinematics.hpp>
 
 using namespace symdyn;
 using namespace symdyn::testing;
@@ -29,10 +29,17 @@ void shared_prefixes(model::Model& m, std::string_view) {
   m.body("turret").mass(4.0).inertia(0.2, 0.2, 0.1).motion(turret);
   m.body("arm").mass(2.0).inertia(0.01, 0.1, 0.1).motion(arm);
   m.body("forearm").mass(1.0).inertia(0.01, 0.05, 0.05).motion(forearm);
-  m.body("tool").mass(0.5).inertia(0.01, 0.01, 0.01).motion(forearm * Trotz(q[4]) * Tdisp(0.1, 0, 0));
+  m.body("tool")
+      .mass(0.5)
+      .inertia(0.01, 0.01, 0.01)
+      .motion(forearm * Trotz(q[4]) * Tdisp(0.1, 0, 0));
   m.body("lift").mass(1.0).inertia(0.01, 0.01, 0.01).motion(lift);
   m.body("cart").mass(1.0).inertia(0.02, 0.01, 0.01).motion(lift * Trotz(q[4]) * Tdisp(0.2, 0, 0));
-  m.body("on_turret").mass(1.0).inertia(0.01, 0.01, 0.01).motion(arm * Tdisp(0.1, 0, 0)).relative_to("turret");
+  m.body("on_turret")
+      .mass(1.0)
+      .inertia(0.01, 0.01, 0.01)
+      .motion(arm * Tdisp(0.1, 0, 0))
+      .relative_to("turret");
   m.gravity(0, 0, -9.81);
 }
 
@@ -46,11 +53,12 @@ std::vector<std::string> references(const model::Model& m) {
 
 }  // namespace
 
-TEST_CASE("a body whose motion begins with another's rotating motion moves relative to it", "[model]") {
+TEST_CASE("a body whose motion begins with another's rotating motion moves relative to it",
+          "[model]") {
   const model::Model m = model::find_definition("shared_prefixes").make();
   const model::Model shared = m.with_shared_motions_relative();
-  CHECK(references(shared) ==
-        std::vector<std::string>{"ground", "turret", "arm", "forearm", "ground", "ground", "turret"});
+  CHECK(references(shared) == std::vector<std::string>{"ground", "turret", "arm", "forearm",
+                                                       "ground", "ground", "turret"});
   // The rest of the motion is kept: the forearm's last three steps after the arm's four.
   CHECK(shared.bodies()[2].motion().steps().size() == 3);
   CHECK(shared.bodies()[3].motion().steps().size() == 2);
@@ -66,8 +74,8 @@ TEST_CASE("bodies made relative to a shared motion keep their kinematics", "[mod
       INFO(d.name << " " << variant);
       States states;
       for (int i = 0; i < 5; ++i) states.push_back(random_state(rng, m.coordinates().size()));
-      check_kinematics_agree(shared, derive_for_test(shared, true, true), m, derive_for_test(m, false, true), states,
-                             1e-12);
+      check_kinematics_agree(shared, derive_for_test(shared, true, true), m,
+                             derive_for_test(m, false, true), states, 1e-12);
     }
   }
 }

@@ -17,21 +17,25 @@ Model pendulum() {
 
 }  // namespace
 
-TEST_CASE("a valid model passes validation", "[validation]") { CHECK_NOTHROW(pendulum().validate()); }
+TEST_CASE("a valid model passes validation", "[validation]") {
+  CHECK_NOTHROW(pendulum().validate());
+}
 
 TEST_CASE("duplicate names are rejected", "[validation]") {
   Model m = pendulum();
   CHECK_THROWS_WITH(m.body("rod"), Contains("body 'rod' is declared twice"));
   CHECK_THROWS_WITH(m.coordinate("q0"), Contains("coordinate 'q0' is declared twice"));
   m.dependent("p", sin(symbol("q0", symdyn::symbolic::SymbolKind::Variable)));
-  CHECK_THROWS_WITH(m.dependent("p", Expr(1)), Contains("dependent parameter 'p' is declared twice"));
+  CHECK_THROWS_WITH(m.dependent("p", Expr(1)),
+                    Contains("dependent parameter 'p' is declared twice"));
   CHECK_THROWS_WITH(m.parameter("q0", 1.0, true), Contains("'q0'"));
 }
 
 TEST_CASE("an unknown reference body is named", "[validation]") {
   Model m = pendulum();
   m.body("arm").mass(1.0).inertia(0.1, 0.1, 0.1).motion(Tdisp(1, 0, 0)).relative_to("forearm");
-  CHECK_THROWS_WITH(m.validate(), Contains("body 'arm' is relative to 'forearm', which is not a body"));
+  CHECK_THROWS_WITH(m.validate(),
+                    Contains("body 'arm' is relative to 'forearm', which is not a body"));
 }
 
 TEST_CASE("a cycle of relative motions is named", "[validation]") {
@@ -39,7 +43,8 @@ TEST_CASE("a cycle of relative motions is named", "[validation]") {
   m.body("a").mass(1.0).inertia(0.1, 0.1, 0.1).motion(Tdisp(1, 0, 0)).relative_to("b");
   m.body("b").mass(1.0).inertia(0.1, 0.1, 0.1).motion(Tdisp(1, 0, 0)).relative_to("c");
   m.body("c").mass(1.0).inertia(0.1, 0.1, 0.1).motion(Tdisp(1, 0, 0)).relative_to("a");
-  CHECK_THROWS_WITH(m.validate(), Contains("relative motions form a cycle") && Contains("a -> b -> c -> a"));
+  CHECK_THROWS_WITH(m.validate(),
+                    Contains("relative motions form a cycle") && Contains("a -> b -> c -> a"));
 }
 
 TEST_CASE("a body relative to itself is a cycle", "[validation]") {
@@ -83,15 +88,19 @@ TEST_CASE("mass and inertia must be physical", "[validation]") {
   }
   SECTION("not symmetric") {
     Model m = pendulum();
-    m.body("b").mass(1.0).inertia(Mat3{Expr(0.2), Expr(0.01), Expr(0), Expr(0), Expr(0.2), Expr(0), Expr(0),
-                                       Expr(0), Expr(0.2)})
+    m.body("b")
+        .mass(1.0)
+        .inertia(Mat3{Expr(0.2), Expr(0.01), Expr(0), Expr(0), Expr(0.2), Expr(0), Expr(0), Expr(0),
+                      Expr(0.2)})
         .motion(Tdisp(1, 0, 0));
     CHECK_THROWS_WITH(m.validate(), Contains("body 'b': inertia is not symmetric"));
   }
   SECTION("full tensor, positive definite but off-axis, is accepted") {
     Model m = pendulum();
-    m.body("b").mass(1.0).inertia(Mat3{Expr(0.2), Expr(0.05), Expr(0), Expr(0.05), Expr(0.2), Expr(0), Expr(0),
-                                       Expr(0), Expr(0.3)})
+    m.body("b")
+        .mass(1.0)
+        .inertia(Mat3{Expr(0.2), Expr(0.05), Expr(0), Expr(0.05), Expr(0.2), Expr(0), Expr(0),
+                      Expr(0), Expr(0.3)})
         .motion(Tdisp(1, 0, 0));
     CHECK_NOTHROW(m.validate());
   }
@@ -99,9 +108,11 @@ TEST_CASE("mass and inertia must be physical", "[validation]") {
 
 TEST_CASE("names, axes and variants are checked", "[validation]") {
   Model m = pendulum();
-  CHECK_THROWS_WITH(m.body("2nd"), Contains("body name '2nd' is not a C++ identifier (starts with a digit)"));
+  CHECK_THROWS_WITH(m.body("2nd"),
+                    Contains("body name '2nd' is not a C++ identifier (starts with a digit)"));
   CHECK_THROWS_WITH(Trot({Expr(1), Expr(1), Expr(0)}, Expr(0)), Contains("is not a unit vector"));
-  CHECK_THROWS_WITH(m.initial(Expr(3), 1.0), Contains("'3' is not a coordinate of model 'pendulum'"));
+  CHECK_THROWS_WITH(m.initial(Expr(3), 1.0),
+                    Contains("'3' is not a coordinate of model 'pendulum'"));
   Definition d{"toy", {"a", "b"}, [](Model&, std::string_view) {}};
   CHECK_THROWS_WITH(d.make("c"), Contains("model 'toy' has no variant 'c' (variants: a, b)"));
   CHECK_THROWS_WITH(find_definition("nope"), Contains("no model named 'nope'"));

@@ -3,7 +3,6 @@
 // motion assembled numerically (support/emitted_check.hpp); and the variants
 // of a model against each other.
 #include <catch2/catch.hpp>
-
 #include <random>
 
 #include "generated.hpp"
@@ -63,10 +62,18 @@ TEST_CASE("emitted robot3d matches its model", "[models]") {
   check_against_model<gen::robot3d_absolute>();
   check_against_model<gen::robot3d_relative>();
 }
-TEST_CASE("emitted trike matches its model", "[models]") { check_against_model<gen::trike>(); }
-TEST_CASE("emitted amru5 (inline) matches its model", "[models]") { check_against_model<gen::amru5_inline>(); }
-TEST_CASE("emitted amru5 (dependent) matches its model", "[models]") { check_against_model<gen::amru5_dependent>(); }
-TEST_CASE("emitted hexapod_tree matches its model", "[models]") { check_against_model<gen::hexapod_tree>(); }
+TEST_CASE("emitted trike matches its model", "[models]") {
+  check_against_model<gen::trike>();
+}
+TEST_CASE("emitted amru5 (inline) matches its model", "[models]") {
+  check_against_model<gen::amru5_inline>();
+}
+TEST_CASE("emitted amru5 (dependent) matches its model", "[models]") {
+  check_against_model<gen::amru5_dependent>();
+}
+TEST_CASE("emitted hexapod_tree matches its model", "[models]") {
+  check_against_model<gen::hexapod_tree>();
+}
 TEST_CASE("emitted chain_N matches its model", "[models]") {
   check_against_model<gen::chain_2_relative>();
   check_against_model<gen::chain_2_absolute>();

@@ -4,7 +4,6 @@
 // sees the short local expressions, so it must never make the emitted partial
 // velocities or equations of motion costlier than leaving them alone.
 #include <catch2/catch.hpp>
-
 #include <map>
 #include <utility>
 
@@ -18,26 +17,31 @@ using namespace symdyn;
 
 namespace {
 
-std::map<std::string, std::size_t> operation_counts(const model::Model& m, std::string_view variant, bool simplify) {
+std::map<std::string, std::size_t> operation_counts(const model::Model& m, std::string_view variant,
+                                                    bool simplify) {
   codegen::Options options;
   options.simplify = simplify;
   std::map<std::string, std::size_t> counts;
-  for (const auto& f : codegen::generate(m, variant, "x", options).functions) counts[f.name] = f.operations.total();
+  for (const auto& f : codegen::generate(m, variant, "x", options).functions)
+    counts[f.name] = f.operations.total();
   return counts;
 }
 
 }  // namespace
 
-TEST_CASE("simplification never makes partial velocities or equations of motion costlier", "[models]") {
-  const std::pair<const char*, const char*> cases[] = {
-      {"robot3d", "relative"}, {"trike", "default"}, {"hexapod_tree", "default"}, {"chain_8", "relative"}};
+TEST_CASE("simplification never makes partial velocities or equations of motion costlier",
+          "[models]") {
+  const std::pair<const char*, const char*> cases[] = {{"robot3d", "relative"},
+                                                       {"trike", "default"},
+                                                       {"hexapod_tree", "default"},
+                                                       {"chain_8", "relative"}};
   for (const auto& [name, variant] : cases) {
     const model::Model m = model::find_definition(name).make(variant);
     const auto plain = operation_counts(m, variant, false);
     const auto simplified = operation_counts(m, variant, true);
     for (const char* entry : {"partial_velocities", "mass_matrix", "bias_forces"}) {
-      INFO(name << " " << variant << " " << entry << ": " << simplified.at(entry) << " operations simplified, "
-                << plain.at(entry) << " not");
+      INFO(name << " " << variant << " " << entry << ": " << simplified.at(entry)
+                << " operations simplified, " << plain.at(entry) << " not");
       CHECK(simplified.at(entry) <= plain.at(entry));
     }
   }
@@ -58,10 +62,13 @@ TEST_CASE("the relative kinematics of chain_N grow linearly in N", "[models]") {
     FAIL("no accelerations entry point");
     return 0;
   };
-  const int n16 = accelerations("chain_16"), n32 = accelerations("chain_32"), n64 = accelerations("chain_64");
-  INFO("accelerations: chain_16 " << n16 << ", chain_32 " << n32 << ", chain_64 " << n64 << " operations");
-  CHECK(n64 - n32 <= 2.05 * (n32 - n16));  // the same cost per body added (quadratic growth would give 4x)
-  CHECK(n64 < 64 * 130);                   // measured 120 per body: R, x, v, w, a, dw composed in 3D
+  const int n16 = accelerations("chain_16"), n32 = accelerations("chain_32"),
+            n64 = accelerations("chain_64");
+  INFO("accelerations: chain_16 " << n16 << ", chain_32 " << n32 << ", chain_64 " << n64
+                                  << " operations");
+  CHECK(n64 - n32 <=
+        2.05 * (n32 - n16));  // the same cost per body added (quadratic growth would give 4x)
+  CHECK(n64 < 64 * 130);      // measured 120 per body: R, x, v, w, a, dw composed in 3D
 }
 
 // Described from the ground, each link's motion begins with the previous
@@ -69,7 +76,8 @@ TEST_CASE("the relative kinematics of chain_N grow linearly in N", "[models]") {
 // (Model::with_shared_motions_relative), so the code is the relative chain's.
 TEST_CASE("a chain described from the ground emits the chain described link by link", "[models]") {
   auto source = [](const char* variant) {
-    const std::string code = codegen::generate(model::find_definition("chain_8").make(variant), variant, "x").source;
+    const std::string code =
+        codegen::generate(model::find_definition("chain_8").make(variant), variant, "x").source;
     // Past the comment naming the variant, up to the link-time guard that names it too.
     const std::size_t begin = code.find('\n'), end = code.find("\n// Link-time guard");
     REQUIRE(end != std::string::npos);
@@ -93,8 +101,8 @@ TEST_CASE("the equations of motion of chain_N grow as N² (M) and N (h)", "[mode
   const auto [m8, h8] = equations("chain_8");
   const auto [m16, h16] = equations("chain_16");
   const auto [m32, h32] = equations("chain_32");
-  INFO("M: chain_8 " << m8 << ", chain_16 " << m16 << ", chain_32 " << m32 << " operations; h: " << h8 << ", " << h16
-                     << ", " << h32);
+  INFO("M: chain_8 " << m8 << ", chain_16 " << m16 << ", chain_32 " << m32
+                     << " operations; h: " << h8 << ", " << h16 << ", " << h32);
   CHECK(h32 - h16 <= 2.1 * (h16 - h8));  // measured 1 421 and 699
   CHECK(m32 - m16 <= 4.2 * (m16 - m8));  // measured 8 507 and 2 188; 8 times for N³
   for (const auto& [n, ops] : {std::pair(8, m8), std::pair(16, m16), std::pair(32, m32)}) {
@@ -114,7 +122,8 @@ TEST_CASE("the double pendulum's M_00 is 5/3 + cos q1", "[models]") {
   model::Dynamics d = model::derive_dynamics(m, k, options.simplify);
   model::reduce_trigonometry(d, k);
   symbolic::Substitution inline_all({});
-  for (const std::vector<symbolic::Definition>* defs : {&k.intermediates, &std::as_const(d.definitions)}) {
+  for (const std::vector<symbolic::Definition>* defs :
+       {&k.intermediates, &std::as_const(d.definitions)}) {
     for (const symbolic::Definition& def : *defs) inline_all.add(def.symbol, inline_all(def.value));
   }
   const model::Expr m00 = inline_all(d.mass_matrix[0]);

@@ -46,11 +46,13 @@ TEST_CASE("reference models: positions equal the direct product of the 4x4 matri
   for_all_references(42, false, check_positions_4x4);
 }
 
-TEST_CASE("reference models: velocities and accelerations equal the complex step along a path", "[models]") {
+TEST_CASE("reference models: velocities and accelerations equal the complex step along a path",
+          "[models]") {
   for_all_references(7, false, check_complex_step);
 }
 
-TEST_CASE("reference models: velocities and accelerations equal central differences along a path", "[models]") {
+TEST_CASE("reference models: velocities and accelerations equal central differences along a path",
+          "[models]") {
   for_all_references(17, false, check_central_differences);
 }
 
@@ -66,6 +68,7 @@ TEST_CASE("reference models: the variants of chain_32 and chain_64 agree", "[mod
     const model::Model relative = d.make("relative"), absolute = d.make("absolute");
     INFO(name);
     check_kinematics_agree(relative, derive_for_test(relative, false, true), absolute,
-                           derive_for_test(absolute, false, true), states_for(relative, test_plan(name), 5), 1e-10);
+                           derive_for_test(absolute, false, true),
+                           states_for(relative, test_plan(name), 5), 1e-10);
   }
 }

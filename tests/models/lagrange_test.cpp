@@ -6,9 +6,8 @@
 //   is quadratic in qd;
 //   h = d/dt(∂T/∂qd) - ∂T/∂q + ∂V/∂q at qdd = 0, with ∂T/∂qd exact (central in
 //   qd, step 1) and the derivatives in q and t by central differences.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 
 #include "generated.hpp"
 #include "support/model_eval.hpp"
@@ -28,10 +27,12 @@ class Energies {
 
   double kinetic(double t, const Vector& q, const Vector& qd) const {
     Vector R(9 * G::nbody), x(3 * G::nbody), v(x), w(x);
-    G::velocities(t, q.data(), qd.data(), G::param_defaults, R.data(), x.data(), v.data(), w.data());
+    G::velocities(t, q.data(), qd.data(), G::param_defaults, R.data(), x.data(), v.data(),
+                  w.data());
     double T = 0.0;
     for (int i = 0; i < G::nbody; ++i) {
-      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Ri(&R[9 * i]), Ii(&inertia_[9 * i]);
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Ri(&R[9 * i]),
+          Ii(&inertia_[9 * i]);
       const Eigen::Vector3d vi(&v[3 * i]), Omega = Ri.transpose() * Eigen::Vector3d(&w[3 * i]);
       T += 0.5 * mass_[i] * vi.squaredNorm() + 0.5 * Omega.dot(Ii * Omega);
     }
@@ -42,7 +43,8 @@ class Energies {
     Vector R(9 * G::nbody), x(3 * G::nbody);
     G::positions(t, q.data(), G::param_defaults, R.data(), x.data());
     double V = 0.0;
-    for (int i = 0; i < G::nbody; ++i) V -= mass_[i] * Eigen::Vector3d(G::gravity).dot(Eigen::Vector3d(&x[3 * i]));
+    for (int i = 0; i < G::nbody; ++i)
+      V -= mass_[i] * Eigen::Vector3d(G::gravity).dot(Eigen::Vector3d(&x[3 * i]));
     return V;
   }
 
@@ -77,7 +79,9 @@ void check_lagrange() {
     G::mass_matrix(t, s.q.data(), G::param_defaults, M_emitted.data());
     G::bias_forces(t, s.q.data(), s.qd.data(), G::param_defaults, h_emitted.data());
 
-    auto T = [&](double time, const Vector& q, const Vector& qd) { return energies.kinetic(time, q, qd); };
+    auto T = [&](double time, const Vector& q, const Vector& qd) {
+      return energies.kinetic(time, q, qd);
+    };
     const Vector zero(n, 0.0);
     Vector T_unit(n);
     for (std::size_t j = 0; j < n; ++j) T_unit[j] = T(t, s.q, unit(n, j));
@@ -92,16 +96,19 @@ void check_lagrange() {
 
     // ∂T/∂qd_j, exact: T is quadratic in qd.
     auto momentum = [&](double time, const Vector& q, std::size_t j) {
-      return 0.5 * (T(time, q, plus(s.qd, unit(n, j), 1.0)) - T(time, q, plus(s.qd, unit(n, j), -1.0)));
+      return 0.5 *
+             (T(time, q, plus(s.qd, unit(n, j), 1.0)) - T(time, q, plus(s.qd, unit(n, j), -1.0)));
     };
     Eigen::Matrix<double, n, 1> h;
     for (std::size_t j = 0; j < n; ++j) {
       // Along the path at qdd = 0: (t + eps, q + eps·qd), qd fixed.
-      const double dp_dt = (momentum(t + eps, plus(s.q, s.qd, eps), j) - momentum(t - eps, plus(s.q, s.qd, -eps), j)) /
+      const double dp_dt = (momentum(t + eps, plus(s.q, s.qd, eps), j) -
+                            momentum(t - eps, plus(s.q, s.qd, -eps), j)) /
                            (2 * eps);
       const Vector ahead = plus(s.q, unit(n, j), eps), behind = plus(s.q, unit(n, j), -eps);
       const double dT_dq = (T(t, ahead, s.qd) - T(t, behind, s.qd)) / (2 * eps);
-      const double dV_dq = (energies.potential(t, ahead) - energies.potential(t, behind)) / (2 * eps);
+      const double dV_dq =
+          (energies.potential(t, ahead) - energies.potential(t, behind)) / (2 * eps);
       h(j) = dp_dt - dT_dq + dV_dq;
     }
     CHECK((h - h_emitted).cwiseAbs().maxCoeff() < 1e-6 * std::max(1.0, h.cwiseAbs().maxCoeff()));
@@ -122,12 +129,16 @@ TEST_CASE("Lagrange: slider_crank", "[models]") {
   check_lagrange<gen::slider_crank_inline>();
   check_lagrange<gen::slider_crank_dependent>();
 }
-TEST_CASE("Lagrange: trike", "[models]") { check_lagrange<gen::trike>(); }
+TEST_CASE("Lagrange: trike", "[models]") {
+  check_lagrange<gen::trike>();
+}
 TEST_CASE("Lagrange: amru5", "[models]") {
   check_lagrange<gen::amru5_inline>();
   check_lagrange<gen::amru5_dependent>();
 }
-TEST_CASE("Lagrange: hexapod_tree", "[models]") { check_lagrange<gen::hexapod_tree>(); }
+TEST_CASE("Lagrange: hexapod_tree", "[models]") {
+  check_lagrange<gen::hexapod_tree>();
+}
 TEST_CASE("Lagrange: chain_N", "[models]") {
   check_lagrange<gen::chain_2_relative>();
   check_lagrange<gen::chain_2_absolute>();

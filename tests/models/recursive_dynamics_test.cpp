@@ -4,15 +4,14 @@
 // against the Cholesky solution of M·qdd = tau - h, and, generated in process
 // with the recursive forward dynamics asked for, the interpreter over its
 // program wherever it applies. Their operation counts grow linearly on chain_N.
-#include <catch2/catch.hpp>
-
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 #include <random>
 
-#include <symdyn/codegen/generate.hpp>
 #include "generated.hpp"
 #include "support/emitted_check.hpp"
 #include "test_plan.hpp"
+#include <symdyn/codegen/generate.hpp>
 
 using namespace symdyn;
 using namespace symdyn::testing;
@@ -47,12 +46,14 @@ void check_recursive_dynamics() {
     if constexpr (G::has_forward_dynamics) {
       Eigen::VectorXd applied(n), solved(n);
       for (int j = 0; j < n; ++j) applied[j] = u(rng);
-      CHECK(G::forward_dynamics(s.t, s.q.data(), s.qd.data(), applied.data(), p, solved.data()) == -1);
+      CHECK(G::forward_dynamics(s.t, s.q.data(), s.qd.data(), applied.data(), p, solved.data()) ==
+            -1);
       const Eigen::MatrixXd Mc = M;
       const Eigen::VectorXd cholesky = Mc.llt().solve(applied - h);
       INFO("forward dynamics " << solved.transpose() << "\nCholesky " << cholesky.transpose());
       // The residual to rounding; the solutions as far as cond(M) lets them (chain_16: 1e6).
-      CHECK(relative_gap(Mc * solved + h, applied) < 1e-12 * std::max(1.0, (applied - h).norm() / applied.norm()));
+      CHECK(relative_gap(Mc * solved + h, applied) <
+            1e-12 * std::max(1.0, (applied - h).norm() / applied.norm()));
       CHECK(relative_gap(solved, cholesky) < 1e-8);
     }
   }
@@ -83,12 +84,16 @@ void check_forward_dynamics_program(const char* name, const char* variant, bool 
   std::mt19937 rng(13);
   for (int trial = 0; trial < 3; ++trial) {
     const ModelState<double> s = random_state_near(rng, m, test_plan(name).amplitude);
-    const auto run = [&](const codegen::EmittedFunction& f) { return f.program->evaluate<double>(program_inputs(f, s, param)); };
+    const auto run = [&](const codegen::EmittedFunction& f) {
+      return f.program->evaluate<double>(program_inputs(f, s, param));
+    };
     const std::vector<double> Mv = run(program("mass_matrix")), hv = run(program("bias_forces"));
-    const std::vector<double> out = run(program("forward_dynamics_pivots"));  // qdd (n), pivots (n x 2)
+    const std::vector<double> out =
+        run(program("forward_dynamics_pivots"));  // qdd (n), pivots (n x 2)
     const Eigen::MatrixXd M = Eigen::Map<const Eigen::MatrixXd>(Mv.data(), n, n);
     const Eigen::VectorXd h = Eigen::Map<const Eigen::VectorXd>(hv.data(), n);
-    const Eigen::VectorXd tau = Eigen::Map<const Eigen::VectorXd>(s.qdd.data(), n);  // program_inputs: tau = qdd
+    const Eigen::VectorXd tau =
+        Eigen::Map<const Eigen::VectorXd>(s.qdd.data(), n);  // program_inputs: tau = qdd
     const Eigen::VectorXd solved = Eigen::Map<const Eigen::VectorXd>(out.data(), n);
     INFO("forward dynamics " << solved.transpose());
     CHECK(relative_gap(M * solved + h, tau) < 1e-10);
@@ -135,12 +140,14 @@ TEST_CASE("inverse and forward dynamics of the big models", "[models]") {
 
 TEST_CASE("the recursive forward dynamics wherever it applies", "[models]") {
   check_forward_dynamics_program("double_pendulum", "relative", true);
-  check_forward_dynamics_program("double_pendulum", "absolute", false);  // q0 moves both rods from the ground
+  check_forward_dynamics_program("double_pendulum", "absolute",
+                                 false);  // q0 moves both rods from the ground
   check_forward_dynamics_program("robot3d", "relative", true);
   check_forward_dynamics_program("trike", "default", true);
   check_forward_dynamics_program("hexapod_tree", "default", true);
   check_forward_dynamics_program("chain_8", "absolute", true);
-  check_forward_dynamics_program("slider_crank", "dependent", false);  // the loop: q0 moves crank and rod
+  check_forward_dynamics_program("slider_crank", "dependent",
+                                 false);  // the loop: q0 moves crank and rod
   check_forward_dynamics_program("slider_crank", "inline", false);
 }
 
@@ -148,8 +155,10 @@ TEST_CASE("the recursive forward dynamics wherever it applies", "[models]") {
 // articulated inertia and Newton-Euler terms; M's entries would add N² / 2.
 TEST_CASE("the recursive dynamics of chain_N grow linearly in N", "[models]") {
   for (const char* entry : {"forward_dynamics_pivots", "inverse_dynamics"}) {
-    const double n4 = operations("chain_4", entry), n8 = operations("chain_8", entry), n16 = operations("chain_16", entry);
-    INFO(entry << ": chain_4 " << n4 << ", chain_8 " << n8 << ", chain_16 " << n16 << " operations");
+    const double n4 = operations("chain_4", entry), n8 = operations("chain_8", entry),
+                 n16 = operations("chain_16", entry);
+    INFO(entry << ": chain_4 " << n4 << ", chain_8 " << n8 << ", chain_16 " << n16
+               << " operations");
     CHECK(n16 - n8 <= 2.1 * (n8 - n4));  // linear: 2x for twice the links added (quadratic: 4x)
     CHECK(n16 / n8 < 2.6);
   }

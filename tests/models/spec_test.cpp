@@ -2,10 +2,10 @@
 // from the page: sizes, masses and inertias, gravity, initial states, and
 // positions in simple configurations; amru5's legs close (the thigh and the
 // shank meet at the knee) and its dependent parameters follow the page's formulas.
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -91,7 +91,9 @@ int body(std::string_view name) {
   return -1;
 }
 
-bool near(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() < 1e-14; }
+bool near(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return (a - b).norm() < 1e-14;
+}
 
 }  // namespace
 
@@ -152,9 +154,10 @@ const InertiaTable hexapod_main_body = {{"body", {60, 2.0, 7.4, 9.0}}};
 struct HipSpec {
   double x, y, psi;
 };
-const HipSpec hip_spec[6] = {{0.5, 0.3, std::numbers::pi / 2}, {0.5, -0.3, -std::numbers::pi / 2},
-                             {0, 0.3, std::numbers::pi / 2},   {0, -0.3, -std::numbers::pi / 2},
-                             {-0.5, 0.3, std::numbers::pi / 2}, {-0.5, -0.3, -std::numbers::pi / 2}};
+const HipSpec hip_spec[6] = {
+    {0.5, 0.3, std::numbers::pi / 2},  {0.5, -0.3, -std::numbers::pi / 2},
+    {0, 0.3, std::numbers::pi / 2},    {0, -0.3, -std::numbers::pi / 2},
+    {-0.5, 0.3, std::numbers::pi / 2}, {-0.5, -0.3, -std::numbers::pi / 2}};
 
 }  // namespace
 
@@ -181,7 +184,9 @@ TEST_CASE("amru5 matches docs/models.md", "[models]") {
   check.operator()<gen::amru5_dependent>(12);
 }
 
-TEST_CASE("amru5's legs close: thigh and shank meet at the knee, the foot keeps the coxa's attitude", "[models]") {
+TEST_CASE(
+    "amru5's legs close: thigh and shank meet at the knee, the foot keeps the coxa's attitude",
+    "[models]") {
   const double a = 0.3, b = 0.25;
   auto check = [&]<class G>() {
     std::mt19937 rng(4);
@@ -202,7 +207,8 @@ TEST_CASE("amru5's legs close: thigh and shank meet at the knee, the foot keeps 
         const Eigen::Vector3d knee_from_thigh = x_thigh + R_thigh * Eigen::Vector3d(a / 2, 0, 0);
         const Eigen::Vector3d knee_from_shank = x_shank + R_shank * Eigen::Vector3d(b / 2, 0, 0);
         CHECK((knee_from_thigh - knee_from_shank).norm() < 1e-14);
-        CHECK((frame(part("foot")).first - frame(part("coxa")).first).cwiseAbs().maxCoeff() < 1e-14);
+        CHECK((frame(part("foot")).first - frame(part("coxa")).first).cwiseAbs().maxCoeff() <
+              1e-14);
       }
     }
   };
@@ -217,7 +223,8 @@ TEST_CASE("amru5's dependent parameters are docs/models.md's alpha_k and beta_k"
   for (int trial = 0; trial < 10; ++trial) {
     const auto s = random_state_near(rng, G::q_initial, 0.1);
     double p[G::ndep], pd[G::ndep], pdd[G::ndep];
-    G::dependent_parameters(s.t, s.q.data(), s.qd.data(), s.qdd.data(), G::param_defaults, p, pd, pdd);
+    G::dependent_parameters(s.t, s.q.data(), s.qd.data(), s.qdd.data(), G::param_defaults, p, pd,
+                            pdd);
     for (int k = 0; k < 6; ++k) {
       const double v = s.q[7 + 3 * k], h = s.q[8 + 3 * k];
       const double Dx = h - 0.1, Dz = -0.1 - v, r = std::hypot(Dx, Dz);
@@ -260,7 +267,8 @@ TEST_CASE("chain_N matches docs/models.md", "[models]") {
     check_sizes<G>(n, n, 0);
     check_gravity<G>(0, 0, -9.81);
     InertiaTable table;
-    for (int k = 0; k < n; ++k) table["link" + std::to_string(k)] = {1.0, 0.001, 0.020833333333333333, 0.020833333333333333};
+    for (int k = 0; k < n; ++k)
+      table["link" + std::to_string(k)] = {1.0, 0.001, 0.020833333333333333, 0.020833333333333333};
     check_inertia<G>(table);
     check_initial<G>(std::vector<double>(n, 0.1), std::vector<double>(n, 0.0));
     // Straight along x at q = 0, links of length L = 0.5.

@@ -15,14 +15,17 @@ struct TestPlan {
   // |a - b| <= |PQ| <= a + b), every other model anywhere.
   double amplitude;
   int states;                  // random states per check
-  bool simplified_derivation;  // also check the simplified derivation in process (costs its generation time)
+  bool simplified_derivation;  // also check the simplified derivation in process (costs its
+                               // generation time)
 };
 
 inline constexpr TestPlan test_plans[] = {
-    {"double_pendulum", 1.0, 10, true}, {"robot3d", 1.0, 10, true},   {"slider_crank", 1.0, 10, true},
-    {"trike", 1.0, 5, true},            {"amru5", 0.1, 1, false},     {"hexapod_tree", 1.0, 2, true},
-    {"chain_2", 1.0, 5, true},          {"chain_4", 1.0, 5, true},    {"chain_8", 1.0, 3, true},
-    {"chain_16", 1.0, 2, false},        {"chain_32", 1.0, 1, false},  {"chain_64", 1.0, 1, false},
+    {"double_pendulum", 1.0, 10, true}, {"robot3d", 1.0, 10, true},
+    {"slider_crank", 1.0, 10, true},    {"trike", 1.0, 5, true},
+    {"amru5", 0.1, 1, false},           {"hexapod_tree", 1.0, 2, true},
+    {"chain_2", 1.0, 5, true},          {"chain_4", 1.0, 5, true},
+    {"chain_8", 1.0, 3, true},          {"chain_16", 1.0, 2, false},
+    {"chain_32", 1.0, 1, false},        {"chain_64", 1.0, 1, false},
 };
 
 // The plan of a model; an unknown model gets none (states = 0) so that a test

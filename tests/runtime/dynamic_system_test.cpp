@@ -2,7 +2,6 @@
 // against hand-derived partials.
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include <symdyn/runtime/dynamic_system.hpp>

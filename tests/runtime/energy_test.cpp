@@ -1,16 +1,15 @@
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/rigid_body.hpp"
 #include "fixtures/spring_mass.hpp"
+#include "test_util.hpp"
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
-#include "test_util.hpp"
 
 using namespace symdyn::runtime;
 using namespace symdyn::runtime::test;
@@ -25,8 +24,8 @@ TEST_CASE("Kinetic energy of a body whose inertia axes are not aligned", "[runti
     q(4) = uniform(-1.2, 1.2);
     const State s = make_state(0, q, random_vector(6, -3, 3));
     // Hand computation in body axes: w_b = R^T w with w from the Cardan rates.
-    const Mat3 R = fx::rigid_body::rot(2, q(3)) * fx::rigid_body::rot(1, q(4)) *
-                   fx::rigid_body::rot(0, q(5));
+    const Mat3 R =
+        fx::rigid_body::rot(2, q(3)) * fx::rigid_body::rot(1, q(4)) * fx::rigid_body::rot(0, q(5));
     const Vec3 w = fx::rigid_body::axes(q.data()) * s.qd.tail(3);
     const Vec3 wb = R.transpose() * w;
     const Vec3 v = s.qd.head(3);

@@ -1,19 +1,18 @@
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/rigid_body.hpp"
 #include "fixtures/spring_mass.hpp"
+#include "test_util.hpp"
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/contact.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
-#include "test_util.hpp"
 
 using namespace symdyn::runtime;
 using namespace symdyn::runtime::test;
@@ -91,9 +90,7 @@ TEST_CASE("Generalized spring-dampers, nonlinear laws and tracking", "[runtime][
     return -40.0 * q * q * q - 2.0 * qd * std::abs(qd);
   });
   // The trike's steering: Q = -500 (q - delta_ref(t)) - 50 qd.
-  auto delta_ref = [](double t) {
-    return t < 1.0 ? 0.0 : t < 1.2 ? 0.1 * (t - 1.0) / 0.2 : 0.1;
-  };
+  auto delta_ref = [](double t) { return t < 1.0 ? 0.0 : t < 1.2 ? 0.1 * (t - 1.0) / 0.2 : 0.1; };
   sys.add<CoordinateTracking>("steer", 1, 500.0, 50.0, delta_ref);
   Vector q(2), qd(2);
   q << 0.5, -0.3;
@@ -166,7 +163,8 @@ TEST_CASE("Cardan angles round-trip in every axis order", "[runtime][forces]") {
       // E maps angle rates to the angular velocity: skew(w) = dR/dt R^T.
       const Vec3 rates(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
       const double h = 1e-6;
-      const Mat3 dR = (cardan_rotation(o, a + h * rates) - cardan_rotation(o, a - h * rates)) / (2 * h);
+      const Mat3 dR =
+          (cardan_rotation(o, a + h * rates) - cardan_rotation(o, a - h * rates)) / (2 * h);
       const Mat3 W = dR * R.transpose();
       const Vec3 w(W(2, 1), W(0, 2), W(1, 0));
       CHECK((cardan_rate_matrix(o, a) * rates - w).norm() < 1e-8);
@@ -196,7 +194,8 @@ TEST_CASE("Bushing between the ground and a body", "[runtime][forces]") {
     const Vec3 F = p.preload_force - p.stiffness.cwiseProduct(d) - p.damping.cwiseProduct(dd);
     const Vec3 mid = 0.5 * (Vec3(0, 0, 1) + Vec3(0.12, -0.01, 1.03));
     CHECK((sys.loads().F.col(0) - F).norm() < 1e-12);
-    CHECK((sys.loads().M.col(0) - ((mid - Vec3(0.02, -0.01, 1.03)).cross(F) + p.preload_torque)).norm() < 1e-12);
+    CHECK((sys.loads().M.col(0) - ((mid - Vec3(0.02, -0.01, 1.03)).cross(F) + p.preload_torque))
+              .norm() < 1e-12);
   }
   SECTION("rotation about one axis: moment -k theta - c thetad about it") {
     MultibodySystem sys(Model::from<fx::rigid_body>());
@@ -244,7 +243,7 @@ TEST_CASE("Penalty contact of a sphere with a plane", "[runtime][forces]") {
   // Sphere of radius 0.1 at body point (0, 0, -0.2); ground z = 0.
   sys.add<PlaneContact>("foot", 0, Vec3(0, 0, -0.2), 0.1, Plane{}, c);
   Vector q(6), qd(6);
-  q << 0, 0, 0.28, 0, 0, 0;  // sphere centre at z = 0.08: penetration 0.02
+  q << 0, 0, 0.28, 0, 0, 0;         // sphere centre at z = 0.08: penetration 0.02
   qd << 0.3, 0.4, -0.1, 0, 0, 1.0;  // roll rate 1 about x
   generalized(sys, make_state(0, q, qd));
   // Contact point C = (0, 0, -0.02); material velocity v + w x (C - x).
@@ -270,7 +269,8 @@ TEST_CASE("Penalty contact of a sphere with a plane", "[runtime][forces]") {
   CHECK(sys.loads().F.col(0).norm() == 0.0);
 }
 
-TEST_CASE("Simple tyre of docs/models.md on a cambered, steered, spinning wheel", "[runtime][forces]") {
+TEST_CASE("Simple tyre of docs/models.md on a cambered, steered, spinning wheel",
+          "[runtime][forces]") {
   MultibodySystem sys(Model::from<fx::rigid_body>());
   SimpleTyreProperties t;  // the trike's: R 0.3, k 2e5, c 500, mu 0.9, eps 0.05
   auto tyre = sys.add<SimpleTyre>("front", 0, t);

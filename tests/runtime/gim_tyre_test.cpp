@@ -1,12 +1,11 @@
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <vector>
 
 #include "fixtures/rigid_body.hpp"
+#include "test_util.hpp"
 #include <symdyn/runtime/gim_tyre.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
-#include "test_util.hpp"
 
 using namespace symdyn::runtime;
 using namespace symdyn::runtime::test;

@@ -1,7 +1,8 @@
 // Each way a run stops, with the message checked.
 
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -9,14 +10,12 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
-#include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/integrator.hpp>
-#include <symdyn/runtime/multibody_system.hpp>
 #include "long_crank_asin.hpp"
 #include "long_crank_sqrt.hpp"
 #include "runtime/test_systems.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
 
@@ -97,7 +96,8 @@ TEST_CASE("step size underflow at a finite-time blow-up", "[integrator][errors]"
 TEST_CASE("unknown integrator name lists the valid ones", "[integrator][errors]") {
   const std::string message = message_of<OptionError>([] { make_integrator("euler"); });
   CHECK(message ==
-        "unknown integrator 'euler'; valid names: newmark, generalized-alpha, rk4, dopri5, dop853, midpoint, cvode, arkode");
+        "unknown integrator 'euler'; valid names: newmark, generalized-alpha, rk4, dopri5, dop853, "
+        "midpoint, cvode, arkode");
 }
 
 TEST_CASE("bad options are reported with the option named", "[integrator][errors]") {
@@ -110,8 +110,9 @@ TEST_CASE("bad options are reported with the option named", "[integrator][errors
   CHECK(fails_with("rk4", o, 1.0) ==
         "integrator 'rk4': a fixed-step run needs initial_step > 0 (the step)");
   o.relative_tolerance = -1.0;
-  CHECK(fails_with("dopri5", o, 1.0) ==
-        "integrator 'dopri5': tolerances must be finite and positive (relative -1, absolute 1e-08)");
+  CHECK(
+      fails_with("dopri5", o, 1.0) ==
+      "integrator 'dopri5': tolerances must be finite and positive (relative -1, absolute 1e-08)");
   o = {};
   o.output_times = {0.5, 2.0};
   CHECK(fails_with("newmark", o, 1.0) == "integrator 'newmark': output time 2 is outside [0, 1]");
@@ -164,8 +165,10 @@ TEST_CASE("q_scale of the wrong size or not positive names the option", "[integr
 
 }  // namespace
 
-TEST_CASE("a solution that runs out of its model's domain stops every integrator, never creeps to the end",
-          "[integrator][errors]") {
+TEST_CASE(
+    "a solution that runs out of its model's domain stops every integrator, never creeps to the "
+    "end",
+    "[integrator][errors]") {
   for (const auto& name : integrator_names()) {
     CAPTURE(name);
     DomainEdge edge;
@@ -176,7 +179,8 @@ TEST_CASE("a solution that runs out of its model's domain stops every integrator
     o.output_interval = 0.01;
     o.on_output = [&](const State& s, const Vector&, const Vector&) { last_output = s.t; };
     auto integrator = make_integrator(name, o);
-    const std::string m = message_of<NumericError>([&] { integrator->integrate(edge, initial_state(0.0, 1.0), 10.0); });
+    const std::string m = message_of<NumericError>(
+        [&] { integrator->integrate(edge, initial_state(0.0, 1.0), 10.0); });
     CAPTURE(m);
     CHECK(m.find("crank") != std::string::npos);  // the non-finite value is named
     // q = 1 is reached near t = 0.8: the run stops there, with the outputs before it delivered.
@@ -191,17 +195,19 @@ TEST_CASE("a solution that runs out of its model's domain stops every integrator
   }
 }
 
-TEST_CASE("work is bounded: max_steps, and a fixed step below min_step or too many steps refused at once",
-          "[integrator][errors]") {
+TEST_CASE(
+    "work is bounded: max_steps, and a fixed step below min_step or too many steps refused at once",
+    "[integrator][errors]") {
   Oscillator osc;
   IntegratorOptions o;
   o.initial_step = 1e-300;
   CHECK_THROWS_WITH(make_integrator("rk4", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
                     "integrator 'rk4': initial_step 1e-300 is below min_step 1e-12");
   o.initial_step = 1e-9;
-  CHECK_THROWS_WITH(make_integrator("rk4", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
-                    "integrator 'rk4': a fixed step of 1e-09 s from t = 0 to 1 takes 1e+09 steps, over max_steps "
-                    "100000000");
+  CHECK_THROWS_WITH(
+      make_integrator("rk4", o)->integrate(osc, initial_state(1.0, 0.0), 1.0),
+      "integrator 'rk4': a fixed step of 1e-09 s from t = 0 to 1 takes 1e+09 steps, over max_steps "
+      "100000000");
   IntegratorOptions adaptive;
   adaptive.max_steps = 50;
   adaptive.relative_tolerance = adaptive.absolute_tolerance = 1e-10;
@@ -278,15 +284,20 @@ IntegratorOptions tight_options(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("a solution touching its domain's boundary: resolved with the right energy, or stopped naming it",
-          "[integrator][errors]") {
+TEST_CASE(
+    "a solution touching its domain's boundary: resolved with the right energy, or stopped naming "
+    "it",
+    "[integrator][errors]") {
   for (const auto& name : integrator_names()) {
     // rk4 has no error estimate: through the touch it is as wrong as its step
     // makes it (q = -9.5e4 at t = 4 for steps of 1e-3 to 1e-5), finite all along.
     if (name == "rk4") continue;
     CAPTURE(name);
     BoundaryTouch sys;
-    const Outcome o = outcome_of([&] { return make_integrator(name, tight_options(name))->integrate(sys, initial_state(0.0, 1.0), 4.0); });
+    const Outcome o = outcome_of([&] {
+      return make_integrator(name, tight_options(name))
+          ->integrate(sys, initial_state(0.0, 1.0), 4.0);
+    });
     CAPTURE(o.error);
     if (o.end) {
       // Resolved: the parabola q = t - t²/4 at t = 4, with its energy.
@@ -313,7 +324,9 @@ MultibodySystem light_long_crank(Model model) {
   return MultibodySystem(std::move(model));
 }
 
-double kinetic_energy(MultibodySystem& sys, const State& s) { return sys.energies(s).kinetic; }
+double kinetic_energy(MultibodySystem& sys, const State& s) {
+  return sys.energies(s).kinetic;
+}
 
 // Every integrator either carries the crank back from the dead point with its
 // energy, or stops naming the dependent parameter and the function.
@@ -326,12 +339,14 @@ void crank_runs_into_its_domain(const char* dependent, const char* function) {
     const double energy = kinetic_energy(sys, start);
     IntegratorOptions o = tight_options(name);
     if (name == "rk4" || name == "midpoint") o.initial_step = 1e-4;
-    const Outcome out = outcome_of([&] { return make_integrator(name, o)->integrate(sys, start, 0.5); });
+    const Outcome out =
+        outcome_of([&] { return make_integrator(name, o)->integrate(sys, start, 0.5); });
     CAPTURE(out.error);
     if (out.end) {
       CHECK(kinetic_energy(sys, *out.end) == Approx(energy).epsilon(1e-3));
     } else {
-      CHECK(out.error.find(fmt::format("dependent parameter '{}': {}(", dependent, function)) != std::string::npos);
+      CHECK(out.error.find(fmt::format("dependent parameter '{}': {}(", dependent, function)) !=
+            std::string::npos);
       CHECK(out.error.rfind("t = ", 0) == 0);
     }
   }
@@ -339,13 +354,17 @@ void crank_runs_into_its_domain(const char* dependent, const char* function) {
 
 }  // namespace
 
-TEST_CASE("a slider-crank whose crank is longer than its rod: every integrator names alpha and asin, or conserves energy",
-          "[integrator][errors][domain]") {
+TEST_CASE(
+    "a slider-crank whose crank is longer than its rod: every integrator names alpha and asin, or "
+    "conserves energy",
+    "[integrator][errors][domain]") {
   crank_runs_into_its_domain<symdyn_generated::long_crank_asin>("alpha", "asin");
 }
 
-TEST_CASE("the same with the rod's length through a sqrt: every integrator names s and sqrt, or conserves energy",
-          "[integrator][errors][domain]") {
+TEST_CASE(
+    "the same with the rod's length through a sqrt: every integrator names s and sqrt, or "
+    "conserves energy",
+    "[integrator][errors][domain]") {
   crank_runs_into_its_domain<symdyn_generated::long_crank_sqrt>("s", "sqrt");
 }
 
@@ -362,7 +381,8 @@ TEST_CASE("boundary touch sweep", "[.boundary_sweep]") {
         IntegratorOptions o;
         o.relative_tolerance = rtol;
         o.absolute_tolerance = rtol * 1e-2;
-        const Outcome out = outcome_of([&] { return make_integrator(name, o)->integrate(sys, initial_state(0.0, v), 4 / v); });
+        const Outcome out = outcome_of(
+            [&] { return make_integrator(name, o)->integrate(sys, initial_state(0.0, v), 4 / v); });
         if (!out.end) {
           ++stopped;
         } else if (std::abs(BoundaryTouch::energy(*out.end) / energy - 1.0) > 100 * rtol) {

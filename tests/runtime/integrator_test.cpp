@@ -1,17 +1,16 @@
 // Integrators against closed-form solutions.
 
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
+#include "runtime/test_systems.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
-#include "runtime/test_systems.hpp"
 
 namespace {
 
@@ -53,8 +52,8 @@ TEST_CASE("every integrator follows q = cos 2 pi t at tight tolerance", "[integr
     CAPTURE(name);
     // The second-order methods, and arkode (an L-stable method whose damping of the
     // oscillation adds up), reach a lesser accuracy at the same tolerance.
-    const bool looser = name == "newmark" || name == "generalized-alpha" || name == "arkode" ||
-                        name == "midpoint";
+    const bool looser =
+        name == "newmark" || name == "generalized-alpha" || name == "arkode" || name == "midpoint";
     IntegratorOptions o = tight(name, 1e-10, 0.05);
     Statistics stats;
     const auto out = run(name, o, osc, initial_state(1.0, 0.0), 2.0, &stats);
@@ -63,10 +62,10 @@ TEST_CASE("every integrator follows q = cos 2 pi t at tight tolerance", "[integr
     for (std::size_t k = 0; k < out.size(); ++k) {
       const double t = out[k].s.t;
       REQUIRE(t == 0.05 * static_cast<double>(k));  // output instants hit exactly
-      worst = std::max({worst, std::abs(out[k].s.q[0] - std::cos(two_pi * t)),
-                        std::abs(out[k].s.qd[0] + two_pi * std::sin(two_pi * t)) / two_pi,
-                        std::abs(out[k].qdd[0] + two_pi * two_pi * std::cos(two_pi * t)) /
-                            (two_pi * two_pi)});
+      worst = std::max(
+          {worst, std::abs(out[k].s.q[0] - std::cos(two_pi * t)),
+           std::abs(out[k].s.qd[0] + two_pi * std::sin(two_pi * t)) / two_pi,
+           std::abs(out[k].qdd[0] + two_pi * two_pi * std::cos(two_pi * t)) / (two_pi * two_pi)});
     }
     CHECK(worst < (looser ? 2e-6 : 1e-7));
     CHECK(stats.steps > 0);
@@ -110,10 +109,10 @@ TEST_CASE("observed order of accuracy when halving a fixed step", "[integrator][
     double order;
     double h;
   };
-  const Case cases[] = {{"rk4", 4, 1.0 / 40},     {"newmark", 2, 1.0 / 80},
-                        {"generalized-alpha", 2, 1.0 / 80}, {"dopri5", 5, 1.0 / 20},
-                        {"dop853", 8, 1.0 / 8},   {"midpoint", 2, 1.0 / 80},
-                        {"arkode", 4, 1.0 / 40}};
+  const Case cases[] = {
+      {"rk4", 4, 1.0 / 40},    {"newmark", 2, 1.0 / 80}, {"generalized-alpha", 2, 1.0 / 80},
+      {"dopri5", 5, 1.0 / 20}, {"dop853", 8, 1.0 / 8},   {"midpoint", 2, 1.0 / 80},
+      {"arkode", 4, 1.0 / 40}};
   for (const auto& c : cases) {
     const double e1 = fixed_step_error(c.name, c.h);
     const double e2 = fixed_step_error(c.name, c.h / 2);
@@ -129,7 +128,8 @@ TEST_CASE("dopri5's error scales like its tolerance", "[integrator][order]") {
   Oscillator osc;
   auto error = [&](double tol) {
     double worst = 0.0;
-    for (const auto& s : run("dopri5", tight("dopri5", tol, 0.1), osc, initial_state(1.0, 0.0), 2.0)) {
+    for (const auto& s :
+         run("dopri5", tight("dopri5", tol, 0.1), osc, initial_state(1.0, 0.0), 2.0)) {
       worst = std::max(worst, std::abs(s.s.q[0] - std::cos(two_pi * s.s.t)));
     }
     return worst;
@@ -150,10 +150,11 @@ TEST_CASE("damped oscillator driving a low-pass filter (extra first-order state)
   const double q0 = 1.0, v0 = 0.5, y0 = -0.3;
   for (const auto& name : integrator_names()) {
     CAPTURE(name);
-    const bool looser = name == "newmark" || name == "generalized-alpha" || name == "arkode" ||
-                        name == "midpoint";
+    const bool looser =
+        name == "newmark" || name == "generalized-alpha" || name == "arkode" || name == "midpoint";
     Statistics stats;
-    const auto out = run(name, tight(name, 1e-10, 0.1), sys, initial_state(q0, v0, y0), 3.0, &stats);
+    const auto out =
+        run(name, tight(name, 1e-10, 0.1), sys, initial_state(q0, v0, y0), 3.0, &stats);
     REQUIRE(out.size() == 31);
     double worst_q = 0.0, worst_y = 0.0, worst_yd = 0.0;
     for (const auto& o : out) {
@@ -199,7 +200,8 @@ TEST_CASE("stiff spring-damper chain: implicit methods take few steps", "[integr
     CAPTURE(name);
     // newmark and generalized-alpha at 1e-4: their error at t_end falls in proportion to
     // the tolerance (about 3e-4 here); cvode and dopri5 bound each step's error by 1e-6.
-    const bool second_order = std::string(name) == "newmark" || std::string(name) == "generalized-alpha";
+    const bool second_order =
+        std::string(name) == "newmark" || std::string(name) == "generalized-alpha";
     IntegratorOptions o = tight(name, second_order ? 1e-4 : 1e-6, 0.1);
     Statistics stats;
     const auto out = run(name, o, chain, s0, 5.0, &stats);
@@ -227,8 +229,8 @@ TEST_CASE("newmark keeps its Jacobian across steps on a linear system", "[integr
   integ->integrate(chain, s0, 1.0);
   const auto& st = integ->statistics();
   CHECK(st.steps == 1000);
-  CHECK(st.jacobian_evaluations == 1);                 // exact Jacobian never slows Newton
-  CHECK(st.newton_iterations <= 2 * (st.steps + 1));   // linear: one correction, one check
+  CHECK(st.jacobian_evaluations == 1);                // exact Jacobian never slows Newton
+  CHECK(st.newton_iterations <= 2 * (st.steps + 1));  // linear: one correction, one check
   CHECK(st.residual_evaluations == st.newton_iterations);
 }
 
@@ -320,7 +322,6 @@ TEST_CASE("generalized-alpha damps a high frequency that Newmark keeps", "[integ
   CHECK(energy(g.back()) < 1e-10);
 }
 
-
 // The steps of a run, the final state and the outputs seen.
 struct Trace {
   Statistics stats;
@@ -352,7 +353,7 @@ TEST_CASE("the output interval never changes the steps taken", "[integrator][out
       CHECK(t.stats.steps == none.stats.steps);
       CHECK(t.stats.rejected_steps == none.stats.rejected_steps);
       CHECK(t.end.t == none.end.t);
-      CHECK(t.end.q == none.end.q);    // bit for bit
+      CHECK(t.end.q == none.end.q);  // bit for bit
       CHECK(t.end.qd == none.end.qd);
     }
     CHECK(none.stats.steps > 20);
@@ -370,9 +371,10 @@ TEST_CASE("dense output is as accurate as the steps", "[integrator][output]") {
     double worst = 0.0;
     for (const auto& s : run(name, o, osc, initial_state(1.0, 0.0), 1.0)) {
       const double t = s.s.t;
-      worst = std::max({worst, std::abs(s.s.q[0] - std::cos(two_pi * t)),
-                        std::abs(s.s.qd[0] + two_pi * std::sin(two_pi * t)) / two_pi,
-                        std::abs(s.qdd[0] + two_pi * two_pi * std::cos(two_pi * t)) / (two_pi * two_pi)});
+      worst = std::max(
+          {worst, std::abs(s.s.q[0] - std::cos(two_pi * t)),
+           std::abs(s.s.qd[0] + two_pi * std::sin(two_pi * t)) / two_pi,
+           std::abs(s.qdd[0] + two_pi * two_pi * std::cos(two_pi * t)) / (two_pi * two_pi)});
     }
     return worst;
   };
@@ -431,7 +433,8 @@ TEST_CASE("a larger q_scale loosens the position error test", "[integrator][weig
 
 // global_tolerance bounds the error of every output, not of each step: the run is
 // repeated at tighter tolerances, and only the last run's outputs are delivered.
-TEST_CASE("global_tolerance bounds the error at every output of 20 periods", "[integrator][global]") {
+TEST_CASE("global_tolerance bounds the error at every output of 20 periods",
+          "[integrator][global]") {
   Oscillator osc;
   // |q - cos 2 pi t| and |qd + 2 pi sin 2 pi t| over the outputs.
   const auto worst_error = [](const std::vector<Sample>& out) {
@@ -447,13 +450,14 @@ TEST_CASE("global_tolerance bounds the error at every output of 20 periods", "[i
     CAPTURE(name);
     IntegratorOptions o = tight(name, 1e-5, 0.1);
     Statistics local, global;
-    const double local_error = worst_error(run(name, o, osc, initial_state(1.0, 0.0), 20.0, &local));
+    const double local_error =
+        worst_error(run(name, o, osc, initial_state(1.0, 0.0), 20.0, &local));
     o.global_tolerance = 1e-6;
     const auto out = run(name, o, osc, initial_state(1.0, 0.0), 20.0, &global);
     INFO("error " << local_error << " in " << local.steps << " steps; with global_tolerance "
                   << worst_error(out) << " (estimated " << global.global_error_estimate << ") in "
                   << global.runs << " runs, the last at " << global.last_relative_tolerance);
-    CHECK(local_error > 1e-6);  // the step tolerance alone does not hold it
+    CHECK(local_error > 1e-6);   // the step tolerance alone does not hold it
     REQUIRE(out.size() == 201);  // one run's outputs
     CHECK(worst_error(out) < 1e-6);
     CHECK(global.global_error_estimate <= 1e-6);
@@ -472,7 +476,8 @@ TEST_CASE("global_tolerance bounds the error at every output of 20 periods", "[i
   CHECK(worst_error(steps) < 1e-6);
   IntegratorOptions bad = tight("dopri5", 1e-6, 0.1);
   bad.global_tolerance = -1.0;
-  CHECK_THROWS_AS(make_integrator("dopri5", bad)->integrate(osc, initial_state(1.0, 0.0), 1.0), OptionError);
+  CHECK_THROWS_AS(make_integrator("dopri5", bad)->integrate(osc, initial_state(1.0, 0.0), 1.0),
+                  OptionError);
 }
 
 TEST_CASE("a global_tolerance out of reach is refused, naming it", "[integrator][global]") {
@@ -486,8 +491,9 @@ TEST_CASE("a global_tolerance out of reach is refused, naming it", "[integrator]
 
 // At a fixed step the tolerance changes nothing: global_tolerance halves the step
 // instead, and Richardson's estimate from the last runs is the error of the result.
-TEST_CASE("global_tolerance at a fixed step: halved steps, an estimate within a factor 10, met when said",
-          "[integrator][global]") {
+TEST_CASE(
+    "global_tolerance at a fixed step: halved steps, an estimate within a factor 10, met when said",
+    "[integrator][global]") {
   Oscillator osc;
   const auto worst_error = [](const std::vector<Sample>& out) {
     double worst = 0.0;
@@ -503,9 +509,9 @@ TEST_CASE("global_tolerance at a fixed step: halved steps, an estimate within a 
     double step;
     bool fixed_step;
   };
-  for (const Case& c : {Case{"rk4", 0.01, false}, Case{"midpoint", 0.01, false}, Case{"newmark", 0.01, true},
-                        Case{"generalized-alpha", 0.01, true}, Case{"dopri5", 0.05, true},
-                        Case{"dop853", 0.1, true}}) {
+  for (const Case& c : {Case{"rk4", 0.01, false}, Case{"midpoint", 0.01, false},
+                        Case{"newmark", 0.01, true}, Case{"generalized-alpha", 0.01, true},
+                        Case{"dopri5", 0.05, true}, Case{"dop853", 0.1, true}}) {
     CAPTURE(c.name);
     IntegratorOptions o;
     o.initial_step = c.step;
@@ -537,11 +543,13 @@ TEST_CASE("global_tolerance at a fixed step out of reach is refused, naming what
   o.initial_step = 0.01;
   o.global_tolerance = 1e-17;  // below rounding: no step gets there
   CHECK_THROWS_WITH(run("rk4", o, osc, initial_state(1.0, 0.0), 1.0),
-                    Catch::Matchers::StartsWith("integrator 'rk4': global_tolerance 1e-17 not reached by step halving "
-                                                "from initial_step 0.01 (12 halvings): the run at a step of "));
+                    Catch::Matchers::StartsWith(
+                        "integrator 'rk4': global_tolerance 1e-17 not reached by step halving "
+                        "from initial_step 0.01 (12 halvings): the run at a step of "));
   o.max_steps = 1000;
   CHECK_THROWS_WITH(run("rk4", o, osc, initial_state(1.0, 0.0), 1.0),
-                    Catch::Matchers::StartsWith("integrator 'rk4': global_tolerance 1e-17 not reached by step halving "
-                                                "from initial_step 0.01 (a step of 0.000625 s would take more than "
-                                                "max_steps 1000): the run at a step of 0.00125 s is estimated "));
+                    Catch::Matchers::StartsWith(
+                        "integrator 'rk4': global_tolerance 1e-17 not reached by step halving "
+                        "from initial_step 0.01 (a step of 0.000625 s would take more than "
+                        "max_steps 1000): the run at a step of 0.00125 s is estimated "));
 }

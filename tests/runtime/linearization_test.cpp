@@ -1,17 +1,16 @@
-#include <catch2/catch.hpp>
-
 #include <Eigen/LU>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/spring_mass.hpp"
+#include "test_util.hpp"
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
-#include "test_util.hpp"
 
 using namespace symdyn::runtime;
 using namespace symdyn::runtime::test;
@@ -38,14 +37,17 @@ TEST_CASE("Double pendulum: small oscillations about the hanging equilibrium",
   CHECK((lin.K - K).cwiseAbs().maxCoeff() < 1e-6);
   CHECK(lin.C.cwiseAbs().maxCoeff() < 1e-6);
   // omega^2: roots of det(K - w2 M) = 0.
-  const double a = M.determinant(), b = -(K(0, 0) * M(1, 1) + K(1, 1) * M(0, 0) - 2 * K(0, 1) * M(0, 1));
+  const double a = M.determinant(),
+               b = -(K(0, 0) * M(1, 1) + K(1, 1) * M(0, 0) - 2 * K(0, 1) * M(0, 1));
   const double c = K.determinant();
   const double w2lo = (-b - std::sqrt(b * b - 4 * a * c)) / (2 * a);
   const double w2hi = (-b + std::sqrt(b * b - 4 * a * c)) / (2 * a);
   const std::vector<Mode> ms = modes(lin);
   REQUIRE(ms.size() == 2);  // conjugate pairs listed once
-  CHECK(ms[0].natural_frequency_hz == Approx(std::sqrt(w2lo) / (2 * std::numbers::pi)).epsilon(1e-7));
-  CHECK(ms[1].natural_frequency_hz == Approx(std::sqrt(w2hi) / (2 * std::numbers::pi)).epsilon(1e-7));
+  CHECK(ms[0].natural_frequency_hz ==
+        Approx(std::sqrt(w2lo) / (2 * std::numbers::pi)).epsilon(1e-7));
+  CHECK(ms[1].natural_frequency_hz ==
+        Approx(std::sqrt(w2hi) / (2 * std::numbers::pi)).epsilon(1e-7));
   for (const Mode& m : ms) {
     CHECK(std::abs(m.damping_ratio) < 1e-6);
     CHECK(m.pole.imag() > 0);
@@ -55,7 +57,8 @@ TEST_CASE("Double pendulum: small oscillations about the hanging equilibrium",
     const Eigen::VectorXcd r = (K - w2 * M).cast<std::complex<double>>() * m.shape;
     CHECK(r.norm() < 1e-5);
     CHECK(m.shape.cwiseAbs().maxCoeff() == Approx(1.0));
-    const double mm = std::abs((m.shape.transpose() * M.cast<std::complex<double>>() * m.shape)(0, 0));
+    const double mm =
+        std::abs((m.shape.transpose() * M.cast<std::complex<double>>() * m.shape)(0, 0));
     CHECK(m.modal_mass == Approx(mm).epsilon(1e-6));
   }
   // The low mode swings both rods the same way, the high one in opposition.
@@ -79,13 +82,13 @@ TEST_CASE("Damped oscillator: damping ratio and input matrix", "[runtime][linear
   sm.add<CoordinateSpringDamper>("spring", 0, k, c, 2.0);
   double u = 0.0;
   // A force u along the direction of motion (projected through the partials).
-  sm.add<PointLoad>("actuator", BodyPoint{0, Vec3::Zero()},
-                    [&](const State&, const Kinematics&, Vec3& f, Vec3&) {
-                      f = u * Vec3(1.0, 2.0, 2.0) / 3.0;
-                    });
+  sm.add<PointLoad>(
+      "actuator", BodyPoint{0, Vec3::Zero()},
+      [&](const State&, const Kinematics&, Vec3& f, Vec3&) { f = u * Vec3(1.0, 2.0, 2.0) / 3.0; });
   LinearizationOptions o;
   o.inputs.push_back(Input{"u", [&] { return u; }, [&](double v) { u = v; }});
-  const Linearization lin = linearize(sm, make_state(0, Vector::Constant(1, 1.0), Vector::Zero(1)), o);
+  const Linearization lin =
+      linearize(sm, make_state(0, Vector::Constant(1, 1.0), Vector::Zero(1)), o);
   CHECK(lin.B(0, 0) == Approx(1.0).epsilon(1e-8));
   CHECK(lin.Bx(1, 0) == Approx(1.0).epsilon(1e-8));  // m = 1
   CHECK(lin.A(1, 0) == Approx(-k).epsilon(1e-7));
@@ -114,8 +117,9 @@ TEST_CASE("Damped oscillator: damping ratio and input matrix", "[runtime][linear
     CHECK(line == "matrix,row,u");
     std::istringstream mlines(mod.str());
     std::getline(mlines, line);
-    CHECK(line == "mode,pole_re,pole_im,natural_frequency_hz,damped_frequency_hz,damping_ratio,"
-                  "modal_mass,s_re,s_im");
+    CHECK(line ==
+          "mode,pole_re,pole_im,natural_frequency_hz,damped_frequency_hz,damping_ratio,"
+          "modal_mass,s_re,s_im");
     std::getline(mlines, line);
     CHECK(line.rfind("0,-0.75", 0) == 0);
   }

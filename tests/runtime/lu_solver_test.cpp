@@ -1,9 +1,8 @@
 // LuSolver against Eigen's FullPivLU, on both sides of its switch to Eigen's
 // PartialPivLU, with pivoting needed, and what it refuses.
 
-#include <catch2/catch.hpp>
-
 #include <Eigen/LU>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 
@@ -32,7 +31,8 @@ TEST_CASE("LuSolver solves as Eigen's LU does, below and above its switch", "[ru
   }
 }
 
-TEST_CASE("LuSolver refuses a singular matrix or a NaN, and factors again after", "[runtime][solver]") {
+TEST_CASE("LuSolver refuses a singular matrix or a NaN, and factors again after",
+          "[runtime][solver]") {
   for (int n : {3, LuSolver::kLoopUpTo + 1}) {
     CAPTURE(n);
     LuSolver solver(n);

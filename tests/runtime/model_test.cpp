@@ -1,15 +1,14 @@
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <limits>
 
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/pendulum.hpp"
 #include "fixtures/rigid_body.hpp"
+#include "test_util.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/model.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
-#include "test_util.hpp"
 
 using namespace symdyn::runtime;
 using Catch::Matchers::Contains;
@@ -58,9 +57,10 @@ TEST_CASE("Absent entry points and unknown names are ModelErrors naming them",
   const double q = 0.5, qd = 1.0;
   sl.positions(0.0, &q, k);
   CHECK(k.x(0)(0) == 0.5);
-  CHECK_THROWS_MATCHES(sl.velocities(0.0, &q, &qd, k), ModelError,
-                       Catch::Matchers::Message(
-                           "model 'slider' (variant ''): entry point 'velocities' was not emitted"));
+  CHECK_THROWS_MATCHES(
+      sl.velocities(0.0, &q, &qd, k), ModelError,
+      Catch::Matchers::Message(
+          "model 'slider' (variant ''): entry point 'velocities' was not emitted"));
   CHECK_THROWS_WITH(MultibodySystem(sl), Contains("needs the entry point 'velocities'"));
   CHECK_THROWS_WITH(sl.body_index("wheel"), "model 'slider': no body named 'wheel'");
   CHECK_THROWS_WITH(sl.coordinate_index("x"), "model 'slider': no coordinate named 'x'");
@@ -96,7 +96,8 @@ TEST_CASE("Parameters are settable and re-validate the inertia", "[runtime][mode
   CHECK_THROWS_WITH(m.set_parameter("length", 0.0),
                     Contains("body 'rod': inertia is not positive definite"));
   CHECK(m.parameters()[0] == 2.0);  // unchanged by the failed update
-  CHECK_THROWS_WITH(m.set_parameters({1.0, 2.0}), "model 'pendulum': 2 parameter values given, expected 1");
+  CHECK_THROWS_WITH(m.set_parameters({1.0, 2.0}),
+                    "model 'pendulum': 2 parameter values given, expected 1");
   CHECK_THROWS_WITH(m.set_parameter("length", std::numeric_limits<double>::quiet_NaN()),
                     "model 'pendulum': parameter 'length' must be finite, not nan");
   CHECK_THROWS_WITH(m.set_parameter("length", -std::numeric_limits<double>::infinity()),
@@ -123,7 +124,8 @@ TEST_CASE("Kinematics views and point helpers", "[runtime][model]") {
   CHECK(k.w(1)(2) == Approx(qd[0] + qd[1]));
 }
 
-TEST_CASE("Kinematics::all_finite sees a non-finite value in any array it checks", "[runtime][model]") {
+TEST_CASE("Kinematics::all_finite sees a non-finite value in any array it checks",
+          "[runtime][model]") {
   const Model m = Model::from<fx::double_pendulum_absolute>();
   Kinematics k = m.make_kinematics();
   const double q[2] = {0.4, -0.9}, qd[2] = {1.3, 0.7}, qdd[2] = {0.2, -0.1};

@@ -1,7 +1,6 @@
-#include <catch2/catch.hpp>
-
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -10,11 +9,11 @@
 #include "fixtures/pendulum.hpp"
 #include "fixtures/rigid_body.hpp"
 #include "fixtures/spring_mass.hpp"
+#include "test_util.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
-#include "test_util.hpp"
 
 using namespace symdyn::runtime;
 using namespace symdyn::runtime::test;
@@ -163,9 +162,8 @@ TEST_CASE("Extra states: a DC motor driving the pendulum", "[runtime][system]") 
   // L di/dt = V - R i - k_e qd; torque k_t i on theta.
   const double L = 0.01, Rm = 2.0, ke = 0.1, V = 12.0;
   MultibodySystem p(Model::from<fx::pendulum>());
-  p.add<CoordinateForce>("motor", 0, [&](double, double, double, const State& s) {
-    return ke * s.y(0);
-  });
+  p.add<CoordinateForce>("motor", 0,
+                         [&](double, double, double, const State& s) { return ke * s.y(0); });
   p.set_extra_states({"current"}, Vector::Constant(1, 0.5),
                      [&](const State& s, const Kinematics&, Eigen::Ref<Vector> yd) {
                        yd(0) = (V - Rm * s.y(0) - ke * s.qd(0)) / L;
@@ -195,12 +193,16 @@ TEST_CASE("Singular mass matrix is a NumericError naming time and state",
   Vector qdd, yd;
   CHECK_THROWS_MATCHES(
       rb.accelerations(make_state(0.5, q, Vector::Zero(6)), qdd, yd), NumericError,
-      Catch::Matchers::Predicate<std::exception>([](const std::exception& e) {
-        const std::string m = e.what();
-        return m.find("t = 0.5: mass matrix is singular or indefinite: coordinates 'yaw' (0.71) and 'roll' "
-                      "(0.71) move the bodies the same way") == 0 &&
-               m.find("pitch = 1.5707963267948966") != std::string::npos;
-      }, "message names the time, the coordinates locked together and the pitch"));
+      Catch::Matchers::Predicate<std::exception>(
+          [](const std::exception& e) {
+            const std::string m = e.what();
+            return m.find(
+                       "t = 0.5: mass matrix is singular or indefinite: coordinates 'yaw' (0.71) "
+                       "and 'roll' "
+                       "(0.71) move the bodies the same way") == 0 &&
+                   m.find("pitch = 1.5707963267948966") != std::string::npos;
+          },
+          "message names the time, the coordinates locked together and the pitch"));
   // A micro-radian from the lock the inertia left is tiny but real: solved.
   q(4) = std::numbers::pi / 2 - 1e-6;
   REQUIRE_NOTHROW(rb.accelerations(make_state(0.5, q, Vector::Zero(6)), qdd, yd));
@@ -214,9 +216,9 @@ TEST_CASE("Non-finite values are NumericErrors naming time, quantity and culprit
   Vector qdd, yd;
   Vector qnan(2);
   qnan << nan, 0.0;
-  CHECK_THROWS_MATCHES(dp.accelerations(make_state(1.5, qnan, Vector::Zero(2)), qdd, yd),
-                       NumericError,
-                       Catch::Matchers::Message("t = 1.5: coordinate 'q0' is not finite (q = nan, qd = 0)"));
+  CHECK_THROWS_MATCHES(
+      dp.accelerations(make_state(1.5, qnan, Vector::Zero(2)), qdd, yd), NumericError,
+      Catch::Matchers::Message("t = 1.5: coordinate 'q0' is not finite (q = nan, qd = 0)"));
   Vector q(2);
   q << 0.1, 0.2;
   Vector qd(2);
@@ -230,8 +232,9 @@ TEST_CASE("Non-finite values are NumericErrors naming time, quantity and culprit
                     "t = 3: load 'bad': force or moment on body 'rod2' is not finite");
   MultibodySystem p(Model::from<fx::pendulum>());
   p.add<CoordinateForce>("broken", 0, [nan](double, double, double, const State&) { return nan; });
-  CHECK_THROWS_WITH(p.accelerations(p.initial_state(), qdd, yd),
-                    "t = 0: coordinate force 'broken': generalized force on coordinate 'theta' is not finite");
+  CHECK_THROWS_WITH(
+      p.accelerations(p.initial_state(), qdd, yd),
+      "t = 0: coordinate force 'broken': generalized force on coordinate 'theta' is not finite");
 }
 
 namespace nan_model {

@@ -4,20 +4,19 @@
 // order, the error's proportionality to the tolerance, the tightest error, the global
 // tolerance's estimate). Counts of work, never times.
 
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "double_pendulum_absolute.hpp"
+#include "runtime/test_systems.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
-#include "runtime/test_systems.hpp"
 
 namespace {
 
@@ -28,12 +27,14 @@ const char* const kFamily[] = {"newmark", "generalized-alpha"};
 
 // The double pendulum from its model's initial state (released horizontal, at rest).
 struct DoublePendulum {
-  MultibodySystem system{Model::from<symdyn_generated::double_pendulum_absolute>(), EquationsSource::emitted};
+  MultibodySystem system{Model::from<symdyn_generated::double_pendulum_absolute>(),
+                         EquationsSource::emitted};
   State initial = system.initial_state();
 };
 
 // The final state at t = 1 s and the run's counters.
-State run_to_1s(DoublePendulum& p, const std::string& name, IntegratorOptions o, Statistics* stats = nullptr) {
+State run_to_1s(DoublePendulum& p, const std::string& name, IntegratorOptions o,
+                Statistics* stats = nullptr) {
   o.output_times = {1.0};
   auto integ = make_integrator(name, o);
   const State end = integ->integrate(p.system, p.initial, 1.0);
@@ -49,7 +50,8 @@ double error_at_1s(const State& end) {
     o.relative_tolerance = o.absolute_tolerance = 1e-13;
     return run_to_1s(r, "dop853", o);
   }();
-  return std::max((end.q - reference.q).cwiseAbs().maxCoeff(), (end.qd - reference.qd).cwiseAbs().maxCoeff());
+  return std::max((end.q - reference.q).cwiseAbs().maxCoeff(),
+                  (end.qd - reference.qd).cwiseAbs().maxCoeff());
 }
 
 IntegratorOptions tolerance(double tol) {
@@ -69,8 +71,10 @@ std::pair<double, double> oscillator_flow(double w, double zeta, double t, doubl
 
 }  // namespace
 
-TEST_CASE("newmark family at a fixed step, default tolerances: the error falls 4 times when the step halves",
-          "[integrator][newmark][order]") {
+TEST_CASE(
+    "newmark family at a fixed step, default tolerances: the error falls 4 times when the step "
+    "halves",
+    "[integrator][newmark][order]") {
   // No floor from the Newton iteration: it stops relative to the step's own error, not
   // to the tolerance (at h = 1e-4 it used to end 1.4e-5 off, 8 times the method's error).
   DoublePendulum p;
@@ -136,15 +140,17 @@ TEST_CASE("newmark family: one Newton iteration per step, a Jacobian kept for hu
     CAPTURE(name);
     Statistics st;
     run_to_1s(p, name, tolerance(1e-7), &st);
-    INFO(fmt::format("{} steps, {} rejected, {} Newton iterations, {} residuals, {} Jacobians", st.steps,
-                     st.rejected_steps, st.newton_iterations, st.residual_evaluations, st.jacobian_evaluations));
+    INFO(fmt::format("{} steps, {} rejected, {} Newton iterations, {} residuals, {} Jacobians",
+                     st.steps, st.rejected_steps, st.newton_iterations, st.residual_evaluations,
+                     st.jacobian_evaluations));
     CHECK(st.newton_iterations < 1.1 * static_cast<double>(st.steps));
     CHECK(st.jacobian_evaluations * 100 < st.steps);
     CHECK(st.rejected_steps * 100 < st.steps);
   }
 }
 
-TEST_CASE("newmark family: the error estimate follows the true error of each step", "[integrator][newmark]") {
+TEST_CASE("newmark family: the error estimate follows the true error of each step",
+          "[integrator][newmark]") {
   // Each accepted step's true local error, from the closed-form flow of the oscillator and
   // its filter out of the step's initial state, in the norm of the error test: the RMS of
   // e_i/w_i over (q, qd, y), w_i = atol + rtol·s_i, accepted when below sqrt(rtol).
@@ -166,17 +172,22 @@ TEST_CASE("newmark family: the error estimate follows the true error of each ste
         const double h = b.t - a.t;
         const auto [q, qd] = oscillator_flow(w, zeta, h, a.q[0], a.qd[0]);
         const double y = sys.exact_filter(h, a.q[0], a.qd[0], a.y[0]);
-        const double wq = rtol + rtol, wqd = rtol + rtol * std::max(std::abs(a.qd[0]), std::abs(b.qd[0]));
+        const double wq = rtol + rtol,
+                     wqd = rtol + rtol * std::max(std::abs(a.qd[0]), std::abs(b.qd[0]));
         const double wy = rtol + rtol * std::max(std::abs(a.y[0]), std::abs(b.y[0]));
-        const double rms = std::sqrt((std::pow((b.q[0] - q) / wq, 2) + std::pow((b.qd[0] - qd) / wqd, 2) +
-                                      std::pow((b.y[0] - y) / wy, 2)) / 3.0);
+        const double rms =
+            std::sqrt((std::pow((b.q[0] - q) / wq, 2) + std::pow((b.qd[0] - qd) / wqd, 2) +
+                       std::pow((b.y[0] - y) / wy, 2)) /
+                      3.0);
         if (b.t < 3.0) ratios.push_back(rms / std::sqrt(rtol));  // the last step is shortened
       }
       std::sort(ratios.begin(), ratios.end());
       const double low = ratios[ratios.size() / 20], median = ratios[ratios.size() / 2];
       const double high = ratios[ratios.size() - 1 - ratios.size() / 20];
-      INFO(fmt::format("{} steps; true error against the bound: 5 % {:.3f}, median {:.3f}, 95 % {:.3f}, largest {:.3f}",
-                       ratios.size(), low, median, high, ratios.back()));
+      INFO(
+          fmt::format("{} steps; true error against the bound: 5 % {:.3f}, median {:.3f}, 95 % "
+                      "{:.3f}, largest {:.3f}",
+                      ratios.size(), low, median, high, ratios.back()));
       // Accepted steps meet the test (an estimate that is too low would let them through
       // above 1) and are not far below it (one that is too high would make them small).
       CHECK(high < 1.0);
@@ -186,8 +197,10 @@ TEST_CASE("newmark family: the error estimate follows the true error of each ste
   }
 }
 
-TEST_CASE("newmark family with global_tolerance: the estimate agrees with the error, the tightest tolerance refused",
-          "[integrator][newmark][global]") {
+TEST_CASE(
+    "newmark family with global_tolerance: the estimate agrees with the error, the tightest "
+    "tolerance refused",
+    "[integrator][newmark][global]") {
   DoublePendulum p;
   for (const char* name : kFamily) {
     CAPTURE(name);
@@ -195,8 +208,8 @@ TEST_CASE("newmark family with global_tolerance: the estimate agrees with the er
     o.global_tolerance = 1e-7;
     Statistics st;
     const double error = error_at_1s(run_to_1s(p, name, o, &st));
-    INFO(fmt::format("error {:.3e}, estimate {:.3e}, {} runs, the last at {:g}", error, st.global_error_estimate,
-                     st.runs, st.last_relative_tolerance));
+    INFO(fmt::format("error {:.3e}, estimate {:.3e}, {} runs, the last at {:g}", error,
+                     st.global_error_estimate, st.runs, st.last_relative_tolerance));
     CHECK(error < 1e-7);
     CHECK(st.global_error_estimate <= 1e-7);
     // Within a factor 2 of the error (it was 8 times below it on the double pendulum over
@@ -208,7 +221,8 @@ TEST_CASE("newmark family with global_tolerance: the estimate agrees with the er
     o.global_tolerance = 1e-11;
     o.output_times = {1.0};
     auto integ = make_integrator(name, o);
-    CHECK_THROWS_WITH(integ->integrate(p.system, p.initial, 1.0), Catch::Matchers::Contains("global_tolerance 1e-11 not reached"));
+    CHECK_THROWS_WITH(integ->integrate(p.system, p.initial, 1.0),
+                      Catch::Matchers::Contains("global_tolerance 1e-11 not reached"));
     CHECK(integ->statistics().runs == 4);  // 1e-5, 1e-7, 1e-9, 5e-10
     CHECK(integ->statistics().last_relative_tolerance == Approx(5e-10).epsilon(0.01));
   }

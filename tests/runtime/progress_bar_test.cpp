@@ -1,7 +1,6 @@
 // The progress bar draws only on a terminal and only after a second.
 
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 #include <string>
 #include <thread>
@@ -20,8 +19,7 @@ std::string contents(std::FILE* f) {
   return s;
 }
 
-TEST_CASE("progress bar: silent when not a terminal or short, drawn after a second",
-          "[progress]") {
+TEST_CASE("progress bar: silent when not a terminal or short, drawn after a second", "[progress]") {
   std::FILE* pipe_like = std::tmpfile();
   std::FILE* terminal = std::tmpfile();
   REQUIRE(pipe_like != nullptr);

@@ -6,9 +6,9 @@
 #include <tiny_gltf.h>
 
 #include <catch2/catch.hpp>
-#include <cstring>
 #include <cmath>
 #include <complex>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -49,7 +49,8 @@ MassProperties mass_properties(const TriangleMesh& m) {
     const Vec3 s = a + b + c;
     p.volume += det / 6;
     p.centroid += det / 24 * s;
-    covariance += det / 120 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+    covariance +=
+        det / 120 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
   }
   p.centroid /= p.volume;
   covariance -= p.volume * p.centroid * p.centroid.transpose();  // about the centroid
@@ -61,7 +62,8 @@ MassProperties mass_properties(const TriangleMesh& m) {
 bool normals_point_out(const TriangleMesh& m) {
   for (std::size_t t = 0; t < m.triangle_count(); ++t) {
     const auto& a = m.positions[m.indices[3 * t]];
-    const Eigen::Vector3f face = (m.positions[m.indices[3 * t + 1]] - a).cross(m.positions[m.indices[3 * t + 2]] - a);
+    const Eigen::Vector3f face =
+        (m.positions[m.indices[3 * t + 1]] - a).cross(m.positions[m.indices[3 * t + 2]] - a);
     for (int k = 0; k < 3; ++k) {
       if (face.dot(m.normals[m.indices[3 * t + k]]) <= 0) return false;
     }
@@ -99,22 +101,25 @@ std::vector<float> floats(const tinygltf::Model& g, int accessor) {
   const auto& v = g.bufferViews[a.bufferView];
   const int n = tinygltf::GetNumComponentsInType(a.type);
   std::vector<float> out(a.count * n);
-  std::memcpy(out.data(), g.buffers[v.buffer].data.data() + v.byteOffset + a.byteOffset, out.size() * 4);
+  std::memcpy(out.data(), g.buffers[v.buffer].data.data() + v.byteOffset + a.byteOffset,
+              out.size() * 4);
   return out;
 }
 
 }  // namespace
 
-TEST_CASE("Tessellated shapes are closed, face outwards and converge to their volumes", "[runtime][scene]") {
+TEST_CASE("Tessellated shapes are closed, face outwards and converge to their volumes",
+          "[runtime][scene]") {
   const double r = 0.2, L = 0.7, pi = std::numbers::pi;
-  CHECK(mass_properties(tessellate(Shape::box(0.3, 0.5, 0.7))).volume == Approx(0.105).epsilon(1e-6));
+  CHECK(mass_properties(tessellate(Shape::box(0.3, 0.5, 0.7))).volume ==
+        Approx(0.105).epsilon(1e-6));
   struct Case {
     Shape shape;
     double volume;
   };
-  for (const auto& [shape, volume] : {Case{Shape::sphere(r), 4 * pi * r * r * r / 3},
-                                      Case{Shape::cylinder(r, L), pi * r * r * L},
-                                      Case{Shape::capsule(r, L), pi * r * r * L + 4 * pi * r * r * r / 3}}) {
+  for (const auto& [shape, volume] :
+       {Case{Shape::sphere(r), 4 * pi * r * r * r / 3}, Case{Shape::cylinder(r, L), pi * r * r * L},
+        Case{Shape::capsule(r, L), pi * r * r * L + 4 * pi * r * r * r / 3}}) {
     double previous_error = 1.0;
     for (const int segments : {8, 32, 128}) {
       const TriangleMesh m = tessellate(shape, segments);
@@ -202,7 +207,8 @@ TEST_CASE("OBJ and STL files are read as closed meshes", "[runtime][scene]") {
 TEST_CASE("Bad mesh files are refused naming the file and the line", "[runtime][scene]") {
   const auto obj = temp_file("bad.obj");
   write_text(obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
-  CHECK_THROWS_WITH(read_mesh(obj), Contains("bad.obj") && Contains("line 4") && Contains("vertex 4 does not exist"));
+  CHECK_THROWS_WITH(read_mesh(obj), Contains("bad.obj") && Contains("line 4") &&
+                                        Contains("vertex 4 does not exist"));
   write_text(obj, "v 0 0 nan\n");
   CHECK_THROWS_WITH(read_mesh(obj), Contains("line 1"));
   write_text(obj, "v 0 0 0\n");
@@ -213,7 +219,8 @@ TEST_CASE("Bad mesh files are refused naming the file and the line", "[runtime][
   CHECK_THROWS_WITH(read_mesh(temp_file("mesh.ply")), Contains("mesh.ply"));
 }
 
-TEST_CASE("glTF: nodes, times and poses read back by tinygltf match the kinematics", "[runtime][scene]") {
+TEST_CASE("glTF: nodes, times and poses read back by tinygltf match the kinematics",
+          "[runtime][scene]") {
   const Model model = Model::from<symdyn_fixtures::double_pendulum_absolute>();
   Scene scene(model);
   scene.add(1, Shape::cylinder(0.02, 1.0).with({0.8f, 0.2f, 0.1f, 1.0f}));
@@ -238,7 +245,8 @@ TEST_CASE("glTF: nodes, times and poses read back by tinygltf match the kinemati
   CHECK(g.meshes[g.nodes[2].mesh].primitives.size() == 2);  // the two shapes added
   // Gravity along -y: up is already glTF's +Y.
   CHECK(Eigen::Quaterniond(g.nodes[0].rotation[3], g.nodes[0].rotation[0], g.nodes[0].rotation[1],
-                           g.nodes[0].rotation[2]).angularDistance(Eigen::Quaterniond::Identity()) < 1e-12);
+                           g.nodes[0].rotation[2])
+            .angularDistance(Eigen::Quaterniond::Identity()) < 1e-12);
 
   REQUIRE(g.animations.size() == 1);
   for (const auto& channel : g.animations[0].channels) {
@@ -254,7 +262,8 @@ TEST_CASE("glTF: nodes, times and poses read back by tinygltf match the kinemati
         const Vec3 x(output[3 * k], output[3 * k + 1], output[3 * k + 2]);
         CHECK((x - rod2_centre(s.q[0], s.q[1])).norm() < 1e-6);
       } else {
-        const Eigen::Quaterniond q(output[4 * k + 3], output[4 * k], output[4 * k + 1], output[4 * k + 2]);
+        const Eigen::Quaterniond q(output[4 * k + 3], output[4 * k], output[4 * k + 1],
+                                   output[4 * k + 2]);
         const Eigen::Quaterniond expected(Eigen::AngleAxisd(s.q[0] + s.q[1], Vec3::UnitZ()));
         CHECK(q.angularDistance(expected) < 1e-6);
         if (k > 0) {  // the short way between frames
@@ -288,7 +297,8 @@ TEST_CASE("glTF of a z-up model turns z onto glTF's +Y", "[runtime][scene]") {
   tinygltf::TinyGLTF loader;
   std::string error, warning;
   const std::string bytes = out.str();
-  REQUIRE(loader.LoadBinaryFromMemory(&g, &error, &warning, reinterpret_cast<const unsigned char*>(bytes.data()),
+  REQUIRE(loader.LoadBinaryFromMemory(&g, &error, &warning,
+                                      reinterpret_cast<const unsigned char*>(bytes.data()),
                                       static_cast<unsigned>(bytes.size())));
   const auto& r = g.nodes[0].rotation;
   const Eigen::Quaterniond world(r[3], r[0], r[1], r[2]);
@@ -300,7 +310,8 @@ TEST_CASE("Animation refuses frames out of order", "[runtime][scene]") {
   const Model model = Model::from<symdyn_fixtures::double_pendulum_absolute>();
   Animation animation(model);
   animation.record(pendulum_state(1.0));
-  CHECK_THROWS_WITH(animation.record(pendulum_state(0.5)), Contains("t = 0.5") && Contains("increase"));
+  CHECK_THROWS_WITH(animation.record(pendulum_state(0.5)),
+                    Contains("t = 0.5") && Contains("increase"));
   std::ostringstream out;
   CHECK_THROWS_AS(write_glb(out, Scene(model), Animation(model)), OptionError);
 }
@@ -341,7 +352,8 @@ TEST_CASE("EasyAnim: every node of .van follows its body", "[runtime][scene]") {
       // Node i of rod2 (the last 8): its offset from G turns with q0 + q1.
       if (i < 8) continue;
       const Eigen::AngleAxisd turn(s.q[0] + s.q[1] - s0.q[0] - s0.q[1], Vec3::UnitZ());
-      const Vec3 expected = rod2_centre(s.q[0], s.q[1]) + turn * (first[i] - rod2_centre(s0.q[0], s0.q[1]));
+      const Vec3 expected =
+          rod2_centre(s.q[0], s.q[1]) + turn * (first[i] - rod2_centre(s0.q[0], s0.q[1]));
       CHECK((p - expected).norm() < 1e-6);
     }
   }
@@ -349,7 +361,8 @@ TEST_CASE("EasyAnim: every node of .van follows its body", "[runtime][scene]") {
   CHECK_FALSE(van >> extra);
 }
 
-TEST_CASE("EasyAnim modes: the pole, then the scene displaced by each part of the shape", "[runtime][scene]") {
+TEST_CASE("EasyAnim modes: the pole, then the scene displaced by each part of the shape",
+          "[runtime][scene]") {
   MultibodySystem system(Model::from<symdyn_fixtures::double_pendulum_absolute>());
   State hanging = system.initial_state();
   hanging.q << -std::numbers::pi / 2, 0;
@@ -367,7 +380,8 @@ TEST_CASE("EasyAnim modes: the pole, then the scene displaced by each part of th
   CHECK(numbers[2] == Approx(m[0].natural_frequency_hz));
 }
 
-TEST_CASE("A mode's animation swings about the reference by its shape over one period", "[runtime][scene]") {
+TEST_CASE("A mode's animation swings about the reference by its shape over one period",
+          "[runtime][scene]") {
   MultibodySystem system(Model::from<symdyn_fixtures::double_pendulum_absolute>());
   State hanging = system.initial_state();
   hanging.q << -std::numbers::pi / 2, 0;
@@ -378,10 +392,13 @@ TEST_CASE("A mode's animation swings about the reference by its shape over one p
   CHECK(a.time(8) - a.time(0) == Approx(2 * std::numbers::pi / mode.pole.imag()));
   // Frame 2 is a quarter period: q = q_ref + a·Re(psi·i), psi scaled to 0.1 at its largest.
   const Eigen::VectorXcd psi = mode.shape / mode.shape.cwiseAbs().maxCoeff() * 0.1;
-  for (const auto& [frame, phase] : {std::pair{0, std::complex<double>(1, 0)}, std::pair{2, std::complex<double>(0, 1)}}) {
-    const double q0 = hanging.q[0] + (psi[0] * phase).real(), q1 = hanging.q[1] + (psi[1] * phase).real();
+  for (const auto& [frame, phase] :
+       {std::pair{0, std::complex<double>(1, 0)}, std::pair{2, std::complex<double>(0, 1)}}) {
+    const double q0 = hanging.q[0] + (psi[0] * phase).real(),
+                 q1 = hanging.q[1] + (psi[1] * phase).real();
     CHECK((a.translation(frame, 1) - rod2_centre(q0, q1)).norm() < 1e-12);
-    CHECK(a.rotation(frame, 1).angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(q0 + q1, Vec3::UnitZ()))) < 1e-12);
+    CHECK(a.rotation(frame, 1).angularDistance(
+              Eigen::Quaterniond(Eigen::AngleAxisd(q0 + q1, Vec3::UnitZ()))) < 1e-12);
   }
   CHECK((a.translation(8, 1) - a.translation(0, 1)).norm() < 1e-12);  // one whole period
 }

@@ -1,12 +1,11 @@
 // SpdSolver against Eigen's LLT, on both sides of its switch to Eigen's
 // blocked factorization, and what it refuses.
 
-#include <catch2/catch.hpp>
-
 #include <fmt/format.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -48,8 +47,10 @@ TEST_CASE("SpdSolver solves as Eigen's LLT does, below and above its switch", "[
   }
 }
 
-TEST_CASE("SpdSolver solves several right-hand sides at once as column by column", "[runtime][solver]") {
-  for (int n : {1, 2, SpdSolver::kRowsUpTo, SpdSolver::kRowsUpTo + 1, 13, SpdSolver::kLoopUpTo + 1, 64}) {
+TEST_CASE("SpdSolver solves several right-hand sides at once as column by column",
+          "[runtime][solver]") {
+  for (int n :
+       {1, 2, SpdSolver::kRowsUpTo, SpdSolver::kRowsUpTo + 1, 13, SpdSolver::kLoopUpTo + 1, 64}) {
     CAPTURE(n);
     const Matrix M = random_spd(n, 3.0);
     SpdSolver solver(n);
@@ -114,7 +115,8 @@ TEST_CASE("a refused mass matrix is explained in coordinate names", "[runtime][s
   // q0 and q2 move the same body: M = [1 0 1; 0 1 0; 1 0 1].
   M = Matrix::Identity(3, 3);
   M(0, 2) = M(2, 0) = M(2, 2) = 1.0;
-  CHECK(mass_matrix_singularity(M, name) == "coordinates 'q0' (0.71) and 'q2' (-0.71) move the bodies the same way");
+  CHECK(mass_matrix_singularity(M, name) ==
+        "coordinates 'q0' (0.71) and 'q2' (-0.71) move the bodies the same way");
   M(1, 1) = -2.0;
   CHECK(mass_matrix_singularity(M, name) == "it is indefinite along 'q1' (1.00)");
   // A general square matrix: its null direction.

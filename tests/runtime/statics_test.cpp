@@ -1,16 +1,15 @@
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <numbers>
 
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/spring_mass.hpp"
+#include "test_util.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
 #include <symdyn/runtime/statics.hpp>
-#include "test_util.hpp"
 
 using namespace symdyn::runtime;
 using namespace symdyn::runtime::test;

@@ -3,12 +3,11 @@
 // Each writes its explicit and residual forms independently (not one from the
 // other), so that a mistake in either shows up as a disagreement.
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <numbers>
-
-#include <Eigen/Dense>
 
 #include <symdyn/runtime/dynamic_system.hpp>
 
@@ -36,7 +35,8 @@ class Oscillator : public DynamicSystem {
   double exact(double t, double q0, double v0) const {
     const double wd = w_ * std::sqrt(1.0 - zeta_ * zeta_);
     const double sigma = zeta_ * w_;
-    return std::exp(-sigma * t) * (q0 * std::cos(wd * t) + (v0 + sigma * q0) / wd * std::sin(wd * t));
+    return std::exp(-sigma * t) *
+           (q0 * std::cos(wd * t) + (v0 + sigma * q0) / wd * std::sin(wd * t));
   }
 
  protected:

@@ -3,7 +3,6 @@
 // pendulum's Lagrange equations written independently of the fixture.
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <random>
 

@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "double_pendulum_absolute.hpp"
+#include "slider_crank_dependent.hpp"
 #include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
-#include "slider_crank_dependent.hpp"
 
 namespace symdyn_test::accuracy {
 
@@ -40,20 +40,22 @@ inline std::vector<Problem> problems() {
   using symdyn::runtime::EquationsSource;
   std::vector<Problem> out;
   {
-    Problem p{"slider_crank",
-              std::make_unique<MultibodySystem>(Model::from<symdyn_generated::slider_crank_dependent>(),
-                                                EquationsSource::emitted),
-              {}};
+    Problem p{
+        "slider_crank",
+        std::make_unique<MultibodySystem>(Model::from<symdyn_generated::slider_crank_dependent>(),
+                                          EquationsSource::emitted),
+        {}};
     p.initial = p.system->initial_state();
     p.initial.q.setZero();
     p.initial.qd.setConstant(50.0);
     out.push_back(std::move(p));
   }
   {
-    Problem p{"double_pendulum",
-              std::make_unique<MultibodySystem>(Model::from<symdyn_generated::double_pendulum_absolute>(),
-                                                EquationsSource::emitted),
-              {}};
+    Problem p{
+        "double_pendulum",
+        std::make_unique<MultibodySystem>(Model::from<symdyn_generated::double_pendulum_absolute>(),
+                                          EquationsSource::emitted),
+        {}};
     p.initial = p.system->initial_state();
     p.initial.q << -std::numbers::pi / 2 + 0.5, 0.5;
     p.initial.qd.setZero();
@@ -64,8 +66,8 @@ inline std::vector<Problem> problems() {
 
 // The final state of `integrator` at rtol = atol = tol, outputs only at t_end
 // (global: IntegratorOptions::global_tolerance).
-inline State solve(Problem& p, const std::string& integrator, double tol, Statistics* stats = nullptr,
-                   double step = 0.0, double global = 0.0) {
+inline State solve(Problem& p, const std::string& integrator, double tol,
+                   Statistics* stats = nullptr, double step = 0.0, double global = 0.0) {
   IntegratorOptions o;
   o.relative_tolerance = tol;
   o.absolute_tolerance = tol;

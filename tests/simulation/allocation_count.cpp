@@ -10,7 +10,9 @@
 #endif
 #if defined(__SANITIZE_ADDRESS__) || defined(SYMDYN_ADDRESS_SANITIZER)
 
-std::optional<std::size_t> symdyn_test::allocation_count() { return std::nullopt; }
+std::optional<std::size_t> symdyn_test::allocation_count() {
+  return std::nullopt;
+}
 
 #else
 
@@ -24,7 +26,9 @@ namespace {
 std::atomic<std::size_t> count{0};
 }  // namespace
 
-std::optional<std::size_t> symdyn_test::allocation_count() { return count.load(std::memory_order_relaxed); }
+std::optional<std::size_t> symdyn_test::allocation_count() {
+  return count.load(std::memory_order_relaxed);
+}
 
 extern "C" void* malloc(std::size_t size) {
   count.fetch_add(1, std::memory_order_relaxed);

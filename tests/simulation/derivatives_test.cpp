@@ -4,12 +4,12 @@
 // extrapolation, on every generated model that has them, with force elements;
 // and the double pendulum's modes against their closed forms.
 
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -40,13 +40,15 @@ using symdyn::testing::random_state;
 template <class F>
 Vector richardson(F g, double x, double scale) {
   const double h = 1e-4 * std::max(1.0, std::abs(x)) * scale;
-  const auto central = [&](double step) -> Vector { return (g(x + step) - g(x - step)) / (2 * step); };
+  const auto central = [&](double step) -> Vector {
+    return (g(x + step) - g(x - step)) / (2 * step);
+  };
   return (4 * central(h / 2) - central(h)) / 3;
 }
 
 // K = df/dq and C = df/dqd of the residual at (s, qdd), by Richardson's differences.
-void residual_jacobians_by_differences(MultibodySystem& system, const State& s, const Vector& qdd, Matrix& C,
-                                       Matrix& K) {
+void residual_jacobians_by_differences(MultibodySystem& system, const State& s, const Vector& qdd,
+                                       Matrix& C, Matrix& K) {
   const int n = system.num_coordinates();
   C.resize(n, n);
   K.resize(n, n);
@@ -74,22 +76,26 @@ void add_force_elements(MultibodySystem& system) {
     system.add<CoordinateSpringDamper>(fmt::format("c{}", j), j, 3.0 + j, 0.5 + 0.1 * j);
   }
   const int last = system.model().nbody() - 1;
-  system.add<PointLoad>("push", BodyPoint{last, Vec3(0.05, -0.1, 0.2)}, Vec3(3.0, -2.0, 1.0), Vec3(0.5, 0.2, -0.3));
+  system.add<PointLoad>("push", BodyPoint{last, Vec3(0.05, -0.1, 0.2)}, Vec3(3.0, -2.0, 1.0),
+                        Vec3(0.5, 0.2, -0.3));
   if (last > 0) {
-    system.add<PointSpringDamper>("link", BodyPoint{0, Vec3(0.0, 0.1, 0.0)}, BodyPoint{last, Vec3(0.1, 0.0, 0.05)},
-                                  50.0, 0.2, 0.7);
+    system.add<PointSpringDamper>("link", BodyPoint{0, Vec3(0.0, 0.1, 0.0)},
+                                  BodyPoint{last, Vec3(0.1, 0.0, 0.05)}, 50.0, 0.2, 0.7);
   }
-  system.add<UserForce>("drag", [](const State& s, const Kinematics&, Loads& loads) {
-    loads.add_generalized(0, -0.3 * s.qd(0) * std::abs(s.qd(0)));
-  }, KinematicsLevel::none);
-  system.add<PointSpringDamper>("strut", BodyPoint{0, Vec3(0.1, 0.0, 0.0)}, BodyPoint{ground, Vec3(0.0, 1.0, 0.5)},
-                                200.0, 3.0, 0.4);
+  system.add<UserForce>(
+      "drag",
+      [](const State& s, const Kinematics&, Loads& loads) {
+        loads.add_generalized(0, -0.3 * s.qd(0) * std::abs(s.qd(0)));
+      },
+      KinematicsLevel::none);
+  system.add<PointSpringDamper>("strut", BodyPoint{0, Vec3(0.1, 0.0, 0.0)},
+                                BodyPoint{ground, Vec3(0.0, 1.0, 0.5)}, 200.0, 3.0, 0.4);
 }
 
 }  // namespace
 
-TEMPLATE_LIST_TEST_CASE("exact C and K equal Richardson differences of the residual", "[models][derivatives]",
-                        symdyn_test::all_models) {
+TEMPLATE_LIST_TEST_CASE("exact C and K equal Richardson differences of the residual",
+                        "[models][derivatives]", symdyn_test::all_models) {
   const Model model = Model::from<TestType>();
   if (!model.has_inverse_dynamics_derivatives()) return;
   INFO("model " << model.name() << " variant " << model.variant());
@@ -169,10 +175,12 @@ TEST_CASE("set_exact_jacobians(false) differences the residual as a model withou
   CHECK(max_abs(differenced.dqdd_dqd - exact.dqdd_dqd) < 1e-6 * scale);
   CHECK(max_abs(differenced.dqdd_dtau - exact.dqdd_dtau) < 1e-12 * max_abs(exact.dqdd_dtau));
   system.set_exact_jacobians(true);
-  CHECK(system.jacobian_method() == "exact (emitted derivatives), but by central differences for user force 'drag'");
+  CHECK(system.jacobian_method() ==
+        "exact (emitted derivatives), but by central differences for user force 'drag'");
 }
 
-TEST_CASE("the double pendulum's modes are omega² = g·(3 ∓ 6/√7) to rounding", "[models][derivatives]") {
+TEST_CASE("the double pendulum's modes are omega² = g·(3 ∓ 6/√7) to rounding",
+          "[models][derivatives]") {
   // Two uniform rods of mass 1 and length 1 hanging: in the angles from the
   // vertical, M = [4/3 1/2; 1/2 1/3], K = g·[3/2 0; 0 1/2], hence
   // det(K - ω²M) = 0 gives ω⁴ - 6gω² + 27g²/7 = 0.
@@ -184,7 +192,8 @@ TEST_CASE("the double pendulum's modes are omega² = g·(3 ∓ 6/√7) to roundi
   const std::vector<Mode> ms = modes(lin);
   REQUIRE(ms.size() == 2);
   const double g = 9.81;
-  const double expected[2] = {std::sqrt(g * (3 - 6 / std::sqrt(7.0))), std::sqrt(g * (3 + 6 / std::sqrt(7.0)))};
+  const double expected[2] = {std::sqrt(g * (3 - 6 / std::sqrt(7.0))),
+                              std::sqrt(g * (3 + 6 / std::sqrt(7.0)))};
   for (int m = 0; m < 2; ++m) {
     const double omega = 2 * std::numbers::pi * ms[m].natural_frequency_hz;
     CHECK(std::abs(omega - expected[m]) < 1e-13 * expected[m]);
@@ -192,7 +201,8 @@ TEST_CASE("the double pendulum's modes are omega² = g·(3 ∓ 6/√7) to roundi
   }
 }
 
-TEST_CASE("the damped double pendulum's poles are the roots of det(λ²M + λC + K)", "[models][derivatives]") {
+TEST_CASE("the damped double pendulum's poles are the roots of det(λ²M + λC + K)",
+          "[models][derivatives]") {
   // Dampers c0, c1 on the two joints (relative angles q0, q1): C = diag(c0, c1)
   // in these coordinates; with M and K in closed form (relative angles from
   // the horizontal, hanging at q0 = -π/2), det(λ²M + λC + K) is a quartic in λ
@@ -221,7 +231,8 @@ TEST_CASE("the damped double pendulum's poles are the roots of det(λ²M + λC +
     }
     return p;
   };
-  const Eigen::Matrix<double, 5, 1> det = product(poly(0, 0), poly(1, 1)) - product(poly(0, 1), poly(1, 0));
+  const Eigen::Matrix<double, 5, 1> det =
+      product(poly(0, 0), poly(1, 1)) - product(poly(0, 1), poly(1, 0));
   Eigen::PolynomialSolver<double, 4> solver(det);
   std::vector<std::complex<double>> roots(solver.roots().begin(), solver.roots().end());
   const std::vector<Mode> ms = modes(lin);
@@ -241,18 +252,22 @@ TEST_CASE("jacobian_method names the force elements differenced", "[models][deri
   CHECK(system.jacobian_method() == "exact (emitted derivatives)");
   system.add<CoordinateSpringDamper>("hip", 0, 1.0, 0.1);
   CHECK(system.jacobian_method() == "exact (emitted derivatives)");
-  system.add<PointSpringDamper>("strut", BodyPoint{1, Vec3(0.5, 0.0, 0.0)}, BodyPoint{ground, Vec3(0.0, 1.0, 0.0)},
-                                10.0, 1.0, 0.1);
+  system.add<PointSpringDamper>("strut", BodyPoint{1, Vec3(0.5, 0.0, 0.0)},
+                                BodyPoint{ground, Vec3(0.0, 1.0, 0.0)}, 10.0, 1.0, 0.1);
   CHECK(system.jacobian_method() == "exact (emitted derivatives)");
-  system.add<PointLoad>("wind", BodyPoint{1, Vec3::Zero()},
-                        [](const State&, const Kinematics&, Vec3& f, Vec3&) { f = Vec3(1.0, 0.0, 0.0); });
-  CHECK(system.jacobian_method() == "exact (emitted derivatives), but by central differences for load 'wind'");
-  MultibodySystem assembled(Model::from<symdyn_generated::double_pendulum_absolute>(), EquationsSource::assembled);
+  system.add<PointLoad>(
+      "wind", BodyPoint{1, Vec3::Zero()},
+      [](const State&, const Kinematics&, Vec3& f, Vec3&) { f = Vec3(1.0, 0.0, 0.0); });
+  CHECK(system.jacobian_method() ==
+        "exact (emitted derivatives), but by central differences for load 'wind'");
+  MultibodySystem assembled(Model::from<symdyn_generated::double_pendulum_absolute>(),
+                            EquationsSource::assembled);
   CHECK(assembled.jacobian_method() == "central differences of the residual");
 }
 
-TEST_CASE("one rk4 step and its derivatives: the integrator's step, and Richardson differences of it",
-          "[models][derivatives]") {
+TEST_CASE(
+    "one rk4 step and its derivatives: the integrator's step, and Richardson differences of it",
+    "[models][derivatives]") {
   MultibodySystem system(Model::from<symdyn_generated::slider_crank_dependent>());
   system.add<CoordinateSpringDamper>("crank", 0, 5.0, 0.2);
   State s = system.initial_state();
@@ -281,9 +296,21 @@ TEST_CASE("one rk4 step and its derivatives: the integrator's step, and Richards
     x << e.next.q(0), e.next.qd(0);
     return x;
   };
-  const auto of_q = [&](double x) { State p = s; p.q(0) = x; return next(p, u); };
-  const auto of_qd = [&](double x) { State p = s; p.qd(0) = x; return next(p, u); };
-  const auto of_u = [&](double x) { Vector v(1); v << x; return next(s, v); };
+  const auto of_q = [&](double x) {
+    State p = s;
+    p.q(0) = x;
+    return next(p, u);
+  };
+  const auto of_qd = [&](double x) {
+    State p = s;
+    p.qd(0) = x;
+    return next(p, u);
+  };
+  const auto of_u = [&](double x) {
+    Vector v(1);
+    v << x;
+    return next(s, v);
+  };
   Matrix A(2, 2), B(2, 1);
   A.col(0) = richardson(of_q, s.q(0), 1.0);
   A.col(1) = richardson(of_qd, s.qd(0), 1.0);

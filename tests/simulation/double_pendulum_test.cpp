@@ -2,22 +2,21 @@
 // energy conservation, the small-oscillation frequencies and a static
 // equilibrium, each against a closed form or an independent computation.
 
-#include <catch2/catch.hpp>
-
 #include <Eigen/Dense>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
 #include "double_pendulum_absolute.hpp"
 #include "double_pendulum_relative.hpp"
+#include "runtime/test_util.hpp"
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/statics.hpp>
-#include "runtime/test_util.hpp"
 
 namespace {
 
@@ -75,7 +74,8 @@ TEST_CASE("double pendulum three ways: hand-written, generated absolute, generat
   HandWrittenPendulum hand;
   MultibodySystem absolute(Model::from<gen::double_pendulum_absolute>(), EquationsSource::emitted);
   MultibodySystem relative(Model::from<gen::double_pendulum_relative>(), EquationsSource::emitted);
-  MultibodySystem assembled(Model::from<gen::double_pendulum_relative>(), EquationsSource::assembled);
+  MultibodySystem assembled(Model::from<gen::double_pendulum_relative>(),
+                            EquationsSource::assembled);
   const auto q_hand = trajectory(hand, t_end, tol);
   REQUIRE(q_hand.size() == 31);
   CHECK(q_hand.back().cwiseAbs().maxCoeff() > 0.5);  // it has moved
@@ -84,7 +84,8 @@ TEST_CASE("double pendulum three ways: hand-written, generated absolute, generat
   CHECK(max_difference(q_hand, trajectory(assembled, t_end, tol)) < 1e-10);
 }
 
-TEST_CASE("generated double pendulum conserves energy to 1e-9 over 10 s", "[models][double_pendulum]") {
+TEST_CASE("generated double pendulum conserves energy to 1e-9 over 10 s",
+          "[models][double_pendulum]") {
   // Released horizontal at rest, E(0) = 0: the drift is measured against the
   // pendulum's energy scale, the largest kinetic energy reached.
   for (const char* name : {"dopri5", "cvode"}) {
@@ -114,7 +115,8 @@ TEST_CASE("small oscillations of the hanging double pendulum: two closed-form fr
   // [I + b^2 + a b, I + b^2]], K = g [[c + a + b, b], [b, b]] (Hessian of V),
   // and det(K - w^2 M) = 0 is a quadratic in w^2.
   const double a = 1.0, b = 0.5, c = 0.5;
-  const double M00 = 2 * Izz + c * c + (a + b) * (a + b), M01 = Izz + b * b + a * b, M11 = Izz + b * b;
+  const double M00 = 2 * Izz + c * c + (a + b) * (a + b), M01 = Izz + b * b + a * b,
+               M11 = Izz + b * b;
   const double K00 = g * (c + a + b), K01 = g * b, K11 = g * b;
   const double A = M00 * M11 - M01 * M01;
   const double B = -(M00 * K11 + M11 * K00 - 2 * M01 * K01);
@@ -136,7 +138,8 @@ TEST_CASE("small oscillations of the hanging double pendulum: two closed-form fr
   }
 }
 
-TEST_CASE("static equilibrium of the double pendulum held by torsion springs", "[models][double_pendulum]") {
+TEST_CASE("static equilibrium of the double pendulum held by torsion springs",
+          "[models][double_pendulum]") {
   // Springs Q_j = -k_j (q_j - r_j) on both joints. Choosing the free angles
   // r = q* + K^-1 dV/dq(q*) (dV/dq by hand: test_util.hpp) makes q* the
   // equilibrium in closed form; the solver starts from horizontal.

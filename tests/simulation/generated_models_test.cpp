@@ -2,9 +2,8 @@
 // SYMDYN_MODELS): the emitted M and h against the ones the runtime assembles
 // from the emitted kinematics, at random states near the model's initial one.
 
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 #include <string>
@@ -26,8 +25,8 @@ using symdyn::testing::random_state;
 
 }  // namespace
 
-TEMPLATE_LIST_TEST_CASE("emitted M and h equal the assembled ones, and qdd agree", "[models][equations]",
-                        symdyn_test::all_models) {
+TEMPLATE_LIST_TEST_CASE("emitted M and h equal the assembled ones, and qdd agree",
+                        "[models][equations]", symdyn_test::all_models) {
   const Model model = Model::from<TestType>();
   INFO("model " << model.name() << " variant " << model.variant());
   REQUIRE(model.has_equations_of_motion());
@@ -80,8 +79,9 @@ TEMPLATE_LIST_TEST_CASE("the recursive dynamics give the mass matrix's accelerat
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("relative motions composed at run time equal the emitted absolute kinematics",
-                        "[models][relative]", symdyn_test::all_models) {
+TEMPLATE_LIST_TEST_CASE(
+    "relative motions composed at run time equal the emitted absolute kinematics",
+    "[models][relative]", symdyn_test::all_models) {
   const Model model = Model::from<TestType>();
   INFO("model " << model.name() << " variant " << model.variant());
   REQUIRE(model.has_relative_accelerations());
@@ -93,7 +93,8 @@ TEMPLATE_LIST_TEST_CASE("relative motions composed at run time equal the emitted
   RelativeMotion rel = model.make_relative_motion();
   auto gap = [](const double* a, const double* b, int n) {
     double worst = 0.0, scale = 1.0;
-    for (int i = 0; i < n; ++i) worst = std::max(worst, std::abs(a[i] - b[i])), scale = std::max(scale, std::abs(b[i]));
+    for (int i = 0; i < n; ++i)
+      worst = std::max(worst, std::abs(a[i] - b[i])), scale = std::max(scale, std::abs(b[i]));
     return worst / scale;
   };
   for (int k = 0; k < 20; ++k) {
@@ -119,7 +120,8 @@ TEMPLATE_LIST_TEST_CASE("relative motions composed at run time equal the emitted
 
 TEST_CASE("a relative motion with a cycle or an unknown reference names the body", "[relative]") {
   CHECK_THROWS_WITH(RelativeMotion({-1, 2, 1}, 1), "relative motion: body 1 is relative to itself");
-  CHECK_THROWS_WITH(RelativeMotion({-1, 5}, 1), "relative motion: body 1 has reference 5, not a body");
+  CHECK_THROWS_WITH(RelativeMotion({-1, 5}, 1),
+                    "relative motion: body 1 has reference 5, not a body");
   // Two bodies, the second turned by 90° about z and moved 1 m along the first's x
   // while the first spins at 1 rad/s about z: the second's point moves at 1 m/s along y.
   RelativeMotion rel({-1, 0}, 1);

@@ -5,15 +5,14 @@
 // 10 of its error against a tight reference (dop853 at 1e-13, confirmed by dopri5 at
 // 1e-12) at a fixed step, and a run that returns has met it. A few seconds of motion each.
 
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <functional>
 #include <numbers>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "double_pendulum_absolute.hpp"
 #include "robot3d_absolute.hpp"
@@ -41,8 +40,8 @@ struct Setting {
 // The settings every model is run with: the adaptive methods from a local
 // tolerance of 1e-6, the fixed-step ones from a step of `h`.
 std::vector<Setting> settings(double h, bool implicit_fixed) {
-  std::vector<Setting> s = {{"rk4", h},     {"midpoint", h}, {"dopri5"}, {"dop853"},
-                            {"newmark"},    {"generalized-alpha"}, {"cvode"}, {"arkode"}};
+  std::vector<Setting> s = {{"rk4", h},  {"midpoint", h},       {"dopri5"}, {"dop853"},
+                            {"newmark"}, {"generalized-alpha"}, {"cvode"},  {"arkode"}};
   if (implicit_fixed) {
     s.push_back({"newmark", h, true});
     s.push_back({"generalized-alpha", h, true});
@@ -72,13 +71,16 @@ void check_promise(const std::string& model, const Solver& solve, const std::vec
     try {
       r = solve(s, 1e-6, kGlobal);
     } catch (const NumericError& e) {
-      FAIL(fmt::format("{}, {}{}: {}", model, s.integrator, s.fixed_step ? " (fixed_step)" : "", e.what()));
+      FAIL(fmt::format("{}, {}{}: {}", model, s.integrator, s.fixed_step ? " (fixed_step)" : "",
+                       e.what()));
     }
     const double error = max_error(r.end, reference);
     const double estimate = r.stats.global_error_estimate;
-    INFO(fmt::format("{}, {}{}: error {:.3g}, estimate {:.3g} in {} runs (the last at step {:g}, tolerance {:g})",
-                     model, s.integrator, s.fixed_step ? " (fixed_step)" : "", error, estimate, r.stats.runs,
-                     r.stats.last_step, r.stats.last_relative_tolerance));
+    INFO(
+        fmt::format("{}, {}{}: error {:.3g}, estimate {:.3g} in {} runs (the last at step {:g}, "
+                    "tolerance {:g})",
+                    model, s.integrator, s.fixed_step ? " (fixed_step)" : "", error, estimate,
+                    r.stats.runs, r.stats.last_step, r.stats.last_relative_tolerance));
     CHECK(r.stats.global_tolerance_met);
     CHECK(estimate <= kGlobal);
     CHECK(error <= kGlobal);
@@ -111,31 +113,38 @@ Solver system_solver(MultibodySystem& system, const State& initial, double t_end
 
 }  // namespace
 
-TEST_CASE("global tolerance, double pendulum (regular swing, 2 s): every integrator's estimate and result",
-          "[models][global]") {
-  MultibodySystem sys(Model::from<symdyn_generated::double_pendulum_absolute>(), EquationsSource::emitted);
+TEST_CASE(
+    "global tolerance, double pendulum (regular swing, 2 s): every integrator's estimate and "
+    "result",
+    "[models][global]") {
+  MultibodySystem sys(Model::from<symdyn_generated::double_pendulum_absolute>(),
+                      EquationsSource::emitted);
   State x0 = sys.initial_state();
   x0.q << -std::numbers::pi / 2 + 0.5, 0.5;
   x0.qd.setZero();
   check_promise("double pendulum", system_solver(sys, x0, 2.0), settings(0.02, true));
 }
 
-TEST_CASE("global tolerance, slider-crank (5 rad/s, 2 s): every integrator's estimate and result", "[models][global]") {
-  MultibodySystem sys(Model::from<symdyn_generated::slider_crank_dependent>(), EquationsSource::emitted);
+TEST_CASE("global tolerance, slider-crank (5 rad/s, 2 s): every integrator's estimate and result",
+          "[models][global]") {
+  MultibodySystem sys(Model::from<symdyn_generated::slider_crank_dependent>(),
+                      EquationsSource::emitted);
   State x0 = sys.initial_state();
   x0.q.setZero();
   x0.qd.setConstant(5.0);
   check_promise("slider-crank", system_solver(sys, x0, 2.0), settings(0.02, true));
 }
 
-TEST_CASE("global tolerance, robot3d (1 s): every integrator's estimate and result", "[models][global]") {
+TEST_CASE("global tolerance, robot3d (1 s): every integrator's estimate and result",
+          "[models][global]") {
   MultibodySystem sys(Model::from<symdyn_generated::robot3d_absolute>(), EquationsSource::emitted);
   State x0 = sys.initial_state();
   x0.qd.setConstant(1.0);
   check_promise("robot3d", system_solver(sys, x0, 1.0), settings(0.02, false));
 }
 
-TEST_CASE("global tolerance, trike scenario (1 s): every integrator's estimate and result", "[models][global]") {
+TEST_CASE("global tolerance, trike scenario (1 s): every integrator's estimate and result",
+          "[models][global]") {
   const Solver solve = [](const Setting& s, double tolerance, double global) {
     symdyn::sim::RunOptions o;
     o.t_end = 1.0;
@@ -152,13 +161,16 @@ TEST_CASE("global tolerance, trike scenario (1 s): every integrator's estimate a
 }
 
 // A fixed step of unknown order cannot be halved with a known estimate: refused.
-TEST_CASE("global tolerance with arkode at a fixed step is refused before the run", "[models][global]") {
-  MultibodySystem sys(Model::from<symdyn_generated::double_pendulum_absolute>(), EquationsSource::emitted);
+TEST_CASE("global tolerance with arkode at a fixed step is refused before the run",
+          "[models][global]") {
+  MultibodySystem sys(Model::from<symdyn_generated::double_pendulum_absolute>(),
+                      EquationsSource::emitted);
   IntegratorOptions o;
   o.global_tolerance = 1e-6;
   o.fixed_step = true;
   o.initial_step = 0.01;
   CHECK_THROWS_WITH(make_integrator("arkode", o)->integrate(sys, sys.initial_state(), 1.0),
-                    "integrator 'arkode': global_tolerance at a fixed step needs the method's order, which 'arkode' "
+                    "integrator 'arkode': global_tolerance at a fixed step needs the method's "
+                    "order, which 'arkode' "
                     "does not give: drop fixed_step or global_tolerance");
 }

@@ -4,12 +4,11 @@
 // tolerances where it is past its pre-asymptotic range (an error of radians says
 // only that the phase is lost) and above the reference's own uncertainty.
 
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
+#include <catch2/catch.hpp>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "accuracy_problems.hpp"
 
@@ -68,8 +67,9 @@ TEST_CASE("double pendulum, 100 s: each adaptive integrator's error falls with i
   for (const auto& e : expectations) check_convergence(p, ref, e);
 }
 
-TEST_CASE("slider-crank, 100 s (620 turns): each adaptive integrator's error falls with its tolerance",
-          "[models][accuracy]") {
+TEST_CASE(
+    "slider-crank, 100 s (620 turns): each adaptive integrator's error falls with its tolerance",
+    "[models][accuracy]") {
   auto ps = problems();
   Problem& p = ps[0];
   const Reference ref = reference(p);
@@ -85,8 +85,9 @@ TEST_CASE("slider-crank, 100 s (620 turns): each adaptive integrator's error fal
 
 // Tolerance 1e-8 bounds each step's error; with global_tolerance 1e-5 the result
 // itself is within 1e-5 in every coordinate, and the estimate says so.
-TEST_CASE("global_tolerance 1e-5 from tolerance 1e-8: dop853 and dopri5 end within 1e-5 on both problems",
-          "[models][accuracy][global]") {
+TEST_CASE(
+    "global_tolerance 1e-5 from tolerance 1e-8: dop853 and dopri5 end within 1e-5 on both problems",
+    "[models][accuracy][global]") {
   auto ps = problems();
   for (Problem& p : ps) {
     const Reference ref = reference(p);
@@ -94,8 +95,9 @@ TEST_CASE("global_tolerance 1e-5 from tolerance 1e-8: dop853 and dopri5 end with
     for (const std::string name : {"dop853", "dopri5"}) {
       Statistics st;
       const double error = max_error(solve(p, name, 1e-8, &st, 0.0, 1e-5), ref.state);
-      INFO(p.name << ", " << name << ": error " << error << ", estimated " << st.global_error_estimate << " after "
-                  << st.runs << " runs, the last at " << st.last_relative_tolerance);
+      INFO(p.name << ", " << name << ": error " << error << ", estimated "
+                  << st.global_error_estimate << " after " << st.runs << " runs, the last at "
+                  << st.last_relative_tolerance);
       CHECK(error < 1e-5);
       CHECK(st.global_error_estimate <= 1e-5);
     }

@@ -4,11 +4,10 @@
 // separate emitted kinematics and partial velocities).
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <limits>
-#include <string>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "all_models.hpp"
@@ -28,7 +27,8 @@ std::vector<State> states_near_initial(MultibodySystem& system, int count) {
   std::mt19937 rng(1234u + static_cast<unsigned>(system.model().nq()));
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<State> states;
-  for (int attempt = 0; attempt < 100 * count && static_cast<int>(states.size()) < count; ++attempt) {
+  for (int attempt = 0; attempt < 100 * count && static_cast<int>(states.size()) < count;
+       ++attempt) {
     State s = system.initial_state();
     s.t = 0.5 * (1.0 + u(rng));
     for (int j = 0; j < system.model().nq(); ++j) {
@@ -80,18 +80,23 @@ KinematicsLevel expected_level(Elements which) {
   }
 }
 
-double max_abs(const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+double max_abs(const Vector& v) {
+  return v.size() ? v.cwiseAbs().maxCoeff() : 0.0;
+}
 
 }  // namespace
 
-TEMPLATE_LIST_TEST_CASE("at each kinematics level the emitted source's qdd and residual equal the assembled ones",
-                        "[models][lean]", symdyn_test::all_models) {
-  for (Elements which : {Elements::none, Elements::coordinate, Elements::positions, Elements::velocities}) {
+TEMPLATE_LIST_TEST_CASE(
+    "at each kinematics level the emitted source's qdd and residual equal the assembled ones",
+    "[models][lean]", symdyn_test::all_models) {
+  for (Elements which :
+       {Elements::none, Elements::coordinate, Elements::positions, Elements::velocities}) {
     MultibodySystem emitted(Model::from<TestType>());
     MultibodySystem assembled(Model::from<TestType>(), EquationsSource::assembled);
     INFO("model " << emitted.model().name() << " " << emitted.model().variant() << ", elements "
                   << static_cast<int>(which));
-    REQUIRE(emitted.source() == EquationsSource::emitted);  // the default when the model has its equations
+    REQUIRE(emitted.source() ==
+            EquationsSource::emitted);  // the default when the model has its equations
     attach(emitted, which);
     attach(assembled, which);
     CHECK(emitted.kinematics_level() == expected_level(which));
@@ -111,7 +116,8 @@ TEMPLATE_LIST_TEST_CASE("at each kinematics level the emitted source's qdd and r
 TEMPLATE_LIST_TEST_CASE("accelerations and residuals allocate nothing after the first call",
                         "[models][lean]", symdyn_test::all_models) {
   if (!symdyn_test::allocation_count()) return;  // not countable under AddressSanitizer
-  for (Elements which : {Elements::none, Elements::coordinate, Elements::positions, Elements::velocities}) {
+  for (Elements which :
+       {Elements::none, Elements::coordinate, Elements::positions, Elements::velocities}) {
     MultibodySystem system(Model::from<TestType>());
     attach(system, which);
     INFO("model " << system.model().name() << " " << system.model().variant() << ", elements "
@@ -132,21 +138,23 @@ TEMPLATE_LIST_TEST_CASE("accelerations and residuals allocate nothing after the 
 // The emitted path checks the state's values with the result's, after the
 // evaluation: a NaN or an infinity anywhere in the state, even in a coordinate M and
 // h do not depend on, is still reported as the state's, naming the coordinate.
-TEMPLATE_LIST_TEST_CASE("accelerations name a non-finite state value before anything else", "[models][lean]",
-                        symdyn_test::all_models) {
+TEMPLATE_LIST_TEST_CASE("accelerations name a non-finite state value before anything else",
+                        "[models][lean]", symdyn_test::all_models) {
   MultibodySystem system(Model::from<TestType>());
   const State good = states_near_initial(system, 1)[0];
   Vector qdd, yd;
   State bad = good;
   bad.t = std::numeric_limits<double>::quiet_NaN();
-  CHECK_THROWS_WITH(system.accelerations(bad, qdd, yd), Catch::Matchers::Contains("time is not finite"));
+  CHECK_THROWS_WITH(system.accelerations(bad, qdd, yd),
+                    Catch::Matchers::Contains("time is not finite"));
   for (int j = 0; j < system.model().nq(); ++j) {
     const std::string name = "coordinate '" + system.model().q_names()[j] + "' is not finite";
     for (bool rate : {false, true}) {
       bad = good;
-      (rate ? bad.qd : bad.q)(j) = rate ? std::numeric_limits<double>::infinity()
-                                        : std::numeric_limits<double>::quiet_NaN();
-      INFO(system.model().name() << " " << system.model().variant() << ": " << name << (rate ? ", qd" : ", q"));
+      (rate ? bad.qd : bad.q)(j) =
+          rate ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
+      INFO(system.model().name() << " " << system.model().variant() << ": " << name
+                                 << (rate ? ", qd" : ", q"));
       CHECK_THROWS_AS(system.accelerations(bad, qdd, yd), NumericError);
       CHECK_THROWS_WITH(system.accelerations(bad, qdd, yd), Catch::Matchers::Contains(name));
     }
@@ -155,19 +163,25 @@ TEMPLATE_LIST_TEST_CASE("accelerations name a non-finite state value before anyt
   CHECK(qdd.allFinite());
 }
 
-TEST_CASE("a force element that reads no kinematics but pushes a body is refused, named", "[models][lean]") {
+TEST_CASE("a force element that reads no kinematics but pushes a body is refused, named",
+          "[models][lean]") {
   MultibodySystem system(Model::from<symdyn_generated::double_pendulum_absolute>());
   system.add<UserForce>(
-      "push", [](const State&, const Kinematics&, Loads& loads) { loads.add_force(1, Vec3(1.0, 0.0, 0.0)); },
+      "push",
+      [](const State&, const Kinematics&, Loads& loads) {
+        loads.add_force(1, Vec3(1.0, 0.0, 0.0));
+      },
       KinematicsLevel::none);
   CHECK(system.kinematics_level() == KinematicsLevel::none);
   Vector qdd, yd;
-  CHECK_THROWS_WITH(system.accelerations(system.initial_state(), qdd, yd),
-                    Catch::Matchers::Contains("user force 'push' applies a force on a body but declares that it "
-                                              "reads no kinematics"));
+  CHECK_THROWS_WITH(
+      system.accelerations(system.initial_state(), qdd, yd),
+      Catch::Matchers::Contains("user force 'push' applies a force on a body but declares that it "
+                                "reads no kinematics"));
 }
 
-TEST_CASE("integration steps allocate nothing: a run's allocations do not grow with its length", "[models][lean]") {
+TEST_CASE("integration steps allocate nothing: a run's allocations do not grow with its length",
+          "[models][lean]") {
   if (!symdyn_test::allocation_count()) return;  // not countable under AddressSanitizer
   // Outputs at every step, and interpolated between steps (dense output).
   for (const double interval : {0.0, 0.01}) {
@@ -190,8 +204,8 @@ TEST_CASE("integration steps allocate nothing: a run's allocations do not grow w
         allocations[k] = *symdyn_test::allocation_count() - before;
         steps[k] = integrator->statistics().steps;
       }
-      INFO(name << ", output interval " << interval << ": " << allocations[0] << " allocations in " << steps[0]
-                << " steps, " << allocations[1] << " in " << steps[1]);
+      INFO(name << ", output interval " << interval << ": " << allocations[0] << " allocations in "
+                << steps[0] << " steps, " << allocations[1] << " in " << steps[1]);
       CHECK(steps[1] > steps[0]);
       CHECK(allocations[1] == allocations[0]);
     }

@@ -3,12 +3,11 @@
 // largest energy error in the last 100 s is about that of the first 100 s, while
 // rk4 at the same step (not symplectic) drifts in proportion to time.
 
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "double_pendulum_absolute.hpp"
 #include <symdyn/runtime/integrator.hpp>
@@ -25,7 +24,8 @@ struct EnergyErrors {
 };
 
 EnergyErrors energy_errors(const char* name, double h, double t_end) {
-  MultibodySystem dp(Model::from<symdyn_generated::double_pendulum_absolute>(), EquationsSource::emitted);
+  MultibodySystem dp(Model::from<symdyn_generated::double_pendulum_absolute>(),
+                     EquationsSource::emitted);
   IntegratorOptions o;
   o.fixed_step = true;
   o.initial_step = h;
@@ -50,11 +50,12 @@ TEST_CASE("midpoint: the double pendulum's energy error stays bounded over 1 000
           "[models][midpoint]") {
   const EnergyErrors mid = energy_errors("midpoint", 0.01, 1000.0);
   const EnergyErrors rk4 = energy_errors("rk4", 0.01, 1000.0);
-  INFO(fmt::format("midpoint: first 100 s {:.3e} J, last 100 s {:.3e} J; rk4: {:.3e} J, "
-                   "{:.3e} J; energy scale {:.3g} J",
-                   mid.first, mid.last, rk4.first, rk4.last, mid.scale));
-  CHECK(mid.scale > 10.0);                 // it swung
-  CHECK(mid.first < 1e-2 * mid.scale);     // O(h²)
-  CHECK(mid.last < 1.5 * mid.first);       // no drift
-  CHECK(rk4.last > 5.0 * rk4.first);      // the test can tell a drift
+  INFO(
+      fmt::format("midpoint: first 100 s {:.3e} J, last 100 s {:.3e} J; rk4: {:.3e} J, "
+                  "{:.3e} J; energy scale {:.3g} J",
+                  mid.first, mid.last, rk4.first, rk4.last, mid.scale));
+  CHECK(mid.scale > 10.0);              // it swung
+  CHECK(mid.first < 1e-2 * mid.scale);  // O(h²)
+  CHECK(mid.last < 1.5 * mid.first);    // no drift
+  CHECK(rk4.last > 5.0 * rk4.first);    // the test can tell a drift
 }

@@ -2,7 +2,6 @@
 // Random states of a generated model for the simulation tests, and a matrix norm.
 
 #include <catch2/catch.hpp>
-
 #include <random>
 
 #include <symdyn/runtime/errors.hpp>
@@ -30,10 +29,13 @@ inline runtime::State random_state(runtime::MultibodySystem& system, std::mt1993
     } catch (const runtime::NumericError&) {
     }
   }
-  FAIL("model " << system.model().name() << ": no state with finite kinematics near the initial one");
+  FAIL("model " << system.model().name()
+                << ": no state with finite kinematics near the initial one");
   return {};
 }
 
-inline double max_abs(const runtime::Matrix& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
+inline double max_abs(const runtime::Matrix& a) {
+  return a.size() ? a.cwiseAbs().maxCoeff() : 0.0;
+}
 
 }  // namespace symdyn::testing

@@ -4,9 +4,9 @@
 // write each instant once; qdd in the CSV against finite differences of qd;
 // memory does not grow with the run's length; model modules load, and the
 // wrong ones are refused.
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -27,7 +27,9 @@ namespace {
 using namespace symdyn;
 using Catch::Matchers::Contains;
 
-sim::Scenario parse(const std::string& text) { return sim::parse_scenario(text, "test.json"); }
+sim::Scenario parse(const std::string& text) {
+  return sim::parse_scenario(text, "test.json");
+}
 
 // What loading and building the scenario throws, "" if nothing.
 std::string error_of(const std::string& text) {
@@ -39,7 +41,8 @@ std::string error_of(const std::string& text) {
   return "";
 }
 
-std::vector<runtime::State> states_of(const sim::Scenario& s, sim::RunOptions o, sim::RunResult* result = nullptr) {
+std::vector<runtime::State> states_of(const sim::Scenario& s, sim::RunOptions o,
+                                      sim::RunResult* result = nullptr) {
   std::vector<runtime::State> states;
   o.on_sample = [&](const runtime::State& st, const runtime::Vector&) { states.push_back(st); };
   sim::RunResult r = sim::run_scenario(s, o);
@@ -56,7 +59,8 @@ class NullBuffer : public std::streambuf {
 
 }  // namespace
 
-TEST_CASE("scenario files: each bad input names its culprit by JSON path", "[scenario][bad_input]") {
+TEST_CASE("scenario files: each bad input names its culprit by JSON path",
+          "[scenario][bad_input]") {
   struct Case {
     std::string text, culprit;
   };
@@ -65,10 +69,12 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path", "[sce
       {"{" + dp + ",}", "test.json: not JSON: parse error at line 1, column 29"},
       {"[1]", "test.json: /: expected an object, found an array"},
       {"{}", "test.json: /: missing key 'model'"},
-      {"{" + dp + R"j(, "t_ned": 1})j", "test.json: /t_ned: unknown key 't_ned' (expected: $schema, description, model,"},
+      {"{" + dp + R"j(, "t_ned": 1})j",
+       "test.json: /t_ned: unknown key 't_ned' (expected: $schema, description, model,"},
       {"{" + dp + R"j(, "t_end": -1})j", "test.json: /t_end: expected a number > 0, found -1"},
       {"{" + dp + R"j(, "t_end": "10"})j", "test.json: /t_end: expected a number, found a string"},
-      {R"j({"model": "pendulum"})j", "test.json: /model: no built-in model 'pendulum' (built in: double_pendulum,"},
+      {R"j({"model": "pendulum"})j",
+       "test.json: /model: no built-in model 'pendulum' (built in: double_pendulum,"},
       {R"j({"model": {"name": "double_pendulum", "varient": "absolute"}})j",
        "test.json: /model/varient: unknown key 'varient' (expected: name, variant, module)"},
       {"{" + dp + R"j(, "integrator": {"name": "dopri5", "rtol": 0}})j",
@@ -78,24 +84,38 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path", "[sce
       {"{" + dp + R"j(, "initial": {"q": {"q7": 1}}})j",
        "test.json: /initial/q/q7: unknown coordinate 'q7' (coordinates: q0, q1)"},
       {"{" + dp + R"j(, "forces": [{"type": "spring", "name": "s"}]})j",
-       "test.json: /forces/0/type (force element 's'): unknown force element type 'spring' (types: coordinate_spring_damper, "
-       "coordinate_force, coordinate_tracking, point_spring_damper, point_load, bushing, plane_contact, simple_tyre, "
+       "test.json: /forces/0/type (force element 's'): unknown force element type 'spring' (types: "
+       "coordinate_spring_damper, "
+       "coordinate_force, coordinate_tracking, point_spring_damper, point_load, bushing, "
+       "plane_contact, simple_tyre, "
        "gim_tyre)"},
-      {"{" + dp + R"j(, "forces": [{"type": "coordinate_spring_damper", "name": "s", "coordinate": "q0", "stifness": 1}]})j",
-       "test.json: /forces/0/stifness (force element 's'): unknown key 'stifness' for a coordinate_spring_damper (expected: type, name, "
+      {"{" + dp +
+           R"j(, "forces": [{"type": "coordinate_spring_damper", "name": "s", "coordinate": "q0", "stifness": 1}]})j",
+       "test.json: /forces/0/stifness (force element 's'): unknown key 'stifness' for a "
+       "coordinate_spring_damper (expected: type, name, "
        "enabled, coordinate, stiffness, damping, free_value)"},
-      {"{" + dp + R"j(, "forces": [{"type": "plane_contact", "name": "c", "body": "rod3", "stiffness": 1}]})j",
-       "test.json: /forces/0/body (force element 'c'): unknown body 'rod3' (bodies: rod1, rod2, or ground)"},
-      {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "rod1", "coordinates": "q0", "value": 1}]})j",
-       "test.json: /forces/0/name (force element 'rod1'): 'rod1' is a body's name: name the element otherwise"},
-      {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "2 * (q0"}]})j",
-       "test.json: /forces/0/value (force element 'm'): in '2 * (q0' at column 8: expected ')' at the end"},
-      {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "q0_ddot"}]})j",
-       "test.json: /forces/0/value (force element 'm'): in 'q0_ddot' at column 1: 'q0_ddot': accelerations are not known here"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "plane_contact", "name": "c", "body": "rod3", "stiffness": 1}]})j",
+       "test.json: /forces/0/body (force element 'c'): unknown body 'rod3' (bodies: rod1, rod2, or "
+       "ground)"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "coordinate_force", "name": "rod1", "coordinates": "q0", "value": 1}]})j",
+       "test.json: /forces/0/name (force element 'rod1'): 'rod1' is a body's name: name the "
+       "element otherwise"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "2 * (q0"}]})j",
+       "test.json: /forces/0/value (force element 'm'): in '2 * (q0' at column 8: expected ')' at "
+       "the end"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "q0_ddot"}]})j",
+       "test.json: /forces/0/value (force element 'm'): in 'q0_ddot' at column 1: 'q0_ddot': "
+       "accelerations are not known here"},
       {"{" + dp + R"j(, "outputs": [{"name": "tip", "value": "rod2.xx"}]})j",
-       "test.json: /outputs/0/value: in 'rod2.xx' at column 1: unknown quantity 'xx' of body 'rod2' (valid: x, y, z,"},
+       "test.json: /outputs/0/value: in 'rod2.xx' at column 1: unknown quantity 'xx' of body "
+       "'rod2' (valid: x, y, z,"},
       {"{" + dp + R"j(, "outputs": ["qddd"]})j",
-       "test.json: /outputs/0: unknown output 'qddd' (expected q, qd, qdd, energies, or an object)"},
+       "test.json: /outputs/0: unknown output 'qddd' (expected q, qd, qdd, energies, or an "
+       "object)"},
       {"{" + dp + R"j(, "events": [{"time": 3, "disable": "motor"}], "t_end": 2})j",
        "test.json: /events/0/time: expected a time inside (0, t_end = 2), found 3"},
       {"{" + dp + R"j(, "t_end": 2, "events": [{"time": 1, "disable": "motor"}]})j",
@@ -103,9 +123,11 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path", "[sce
       {"{" + dp + R"j(, "t_end": 2, "events": [{"time": 1, "set": {"tau": 0}}]})j",
        "test.json: /events/0/set/tau: unknown variable 'tau' (variables: none)"},
       {"{" + dp + R"j(, "checks": [{"name": "c", "value": "q0", "band": [0, 1]}]})j",
-       "test.json: /checks/0/value (check 'c'): in 'q0' at column 1: 'q0' varies during the run: a check reads it through"},
+       "test.json: /checks/0/value (check 'c'): in 'q0' at column 1: 'q0' varies during the run: a "
+       "check reads it through"},
       {"{" + dp + R"j(, "checks": [{"name": "c", "value": "mean(q0)", "band": [0, 1]}]})j",
-       "test.json: /checks/0/value (check 'c'): in 'mean(q0)' at column 1: unknown function 'mean' (statistics: start, end,"},
+       "test.json: /checks/0/value (check 'c'): in 'mean(q0)' at column 1: unknown function 'mean' "
+       "(statistics: start, end,"},
       {"{" + dp + R"j(, "checks": [{"name": "c", "value": "end(q0)", "band": [0]}]})j",
        "test.json: /checks/0/band (check 'c'): expected [low, high], found 1 entries"},
       {R"j({"model": {"name": "double_pendulum", "module": "nowhere/double_pendulum.so"}})j",
@@ -117,34 +139,43 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path", "[sce
   }
 }
 
-TEST_CASE("scenario files: what a JSON reader hides is refused, naming the key, the element and the file",
-          "[scenario][bad_input]") {
+TEST_CASE(
+    "scenario files: what a JSON reader hides is refused, naming the key, the element and the file",
+    "[scenario][bad_input]") {
   struct Case {
     std::string text, culprit;
   };
   const std::string dp = R"j("model": "double_pendulum")j";
-  const std::string contact = R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5)j";
+  const std::string contact =
+      R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5)j";
   const Case cases[] = {
       // A key given twice: nlohmann's DOM keeps the last one silently.
-      {"{" + dp + R"j(, "t_end": 1, "t_end": 5})j", "test.json: /t_end: key 't_end' is given twice in this object"},
-      {"{" + dp + R"j(, "forces": [{"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5,
+      {"{" + dp + R"j(, "t_end": 1, "t_end": 5})j",
+       "test.json: /t_end: key 't_end' is given twice in this object"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5,
           "damping": 10, "stiffness": 2e5}]})j",
-       "test.json: /forces/0/stiffness (force element 'foot'): key 'stiffness' is given twice in this object"},
+       "test.json: /forces/0/stiffness (force element 'foot'): key 'stiffness' is given twice in "
+       "this object"},
       {"{" + dp + R"j(, "initial": {"q": {"q0": 0.1, "q0": 0.2}}})j",
        "test.json: /initial/q/q0: key 'q0' is given twice"},
       // Numbers a double cannot hold, and NaN or Infinity as Python's json writes them.
       {"{" + dp + ", \"forces\": [" + contact + R"j(, "damping": 1e400}]})j",
-       "test.json: /forces/0/damping (force element 'foot'): 1e400 is beyond the range of a double"},
+       "test.json: /forces/0/damping (force element 'foot'): 1e400 is beyond the range of a "
+       "double"},
       {"{" + dp + ", \"forces\": [" + contact + R"j(, "friction": NaN}]})j",
-       "test.json: /forces/0/friction (force element 'foot'): NaN is not a number in JSON, and numbers here must be "
+       "test.json: /forces/0/friction (force element 'foot'): NaN is not a number in JSON, and "
+       "numbers here must be "
        "finite"},
       {"{" + dp + R"j(, "initial": {"qd": {"q1": -Infinity}}})j",
        "test.json: /initial/qd/q1: -Infinity is not a number in JSON"},
-      {"{" + dp + R"j(, "t_end": 1e-400})j", "test.json: /t_end: 1e-400 is too small for a double (it would read as 0)"},
+      {"{" + dp + R"j(, "t_end": 1e-400})j",
+       "test.json: /t_end: 1e-400 is too small for a double (it would read as 0)"},
       {"{" + dp + R"j(, "checks": [{"name": "e", "value": "end(q0)", "band": [0, -1e999]}]})j",
        "test.json: /checks/0/band/1 (check 'e'): -1e999 is beyond the range of a double"},
       // Other parse errors say where in the document they are.
-      {"{" + dp + R"j(, "forces": [{"type": "plane_contact" "name": "foot"}]})j", "expected '}' (in /forces/0)"},
+      {"{" + dp + R"j(, "forces": [{"type": "plane_contact" "name": "foot"}]})j",
+       "expected '}' (in /forces/0)"},
   };
   for (const Case& c : cases) {
     CAPTURE(c.text);
@@ -152,15 +183,18 @@ TEST_CASE("scenario files: what a JSON reader hides is refused, naming the key, 
   }
 }
 
-TEST_CASE("scenario files: a law's constants of the wrong sign are refused, naming the element and the key",
-          "[scenario][bad_input]") {
+TEST_CASE(
+    "scenario files: a law's constants of the wrong sign are refused, naming the element and the "
+    "key",
+    "[scenario][bad_input]") {
   struct Case {
     std::string element, culprit;
   };
   const Case cases[] = {
       // A contact without stiffness lets the body sink through the plane with zero force.
       {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": -1e5})j",
-       "test.json: /forces/0/stiffness (force element 'foot'): expected a finite number > 0, found -100000"},
+       "test.json: /forces/0/stiffness (force element 'foot'): expected a finite number > 0, found "
+       "-100000"},
       {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 0})j",
        "/forces/0/stiffness (force element 'foot'): expected a finite number > 0, found 0"},
       {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "damping": -3})j",
@@ -168,7 +202,8 @@ TEST_CASE("scenario files: a law's constants of the wrong sign are refused, nami
       {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "friction": -0.5})j",
        "/forces/0/friction (force element 'foot'): expected a finite number >= 0, found -0.5"},
       {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "stiffness_exponent": 0})j",
-       "/forces/0/stiffness_exponent (force element 'foot'): expected a finite number > 0, found 0"},
+       "/forces/0/stiffness_exponent (force element 'foot'): expected a finite number > 0, found "
+       "0"},
       {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "radius": -0.1})j",
        "/forces/0/radius (force element 'foot'): expected a finite number >= 0, found -0.1"},
       {R"j({"type": "coordinate_spring_damper", "name": "k", "coordinate": "q0", "stiffness": 10, "damping": -1})j",
@@ -182,7 +217,8 @@ TEST_CASE("scenario files: a law's constants of the wrong sign are refused, nami
        "/forces/0/free_length (force element 's'): expected a finite number >= 0, found -0.5"},
       {R"j({"type": "bushing", "name": "mount", "a": {"body": "ground"}, "b": {"body": "rod1"},
            "rotational_stiffness": [10, -10, 10]})j",
-       "/forces/0/rotational_stiffness (force element 'mount'): expected 3 finite numbers >= 0, found (10, -10, 10)"},
+       "/forces/0/rotational_stiffness (force element 'mount'): expected 3 finite numbers >= 0, "
+       "found (10, -10, 10)"},
       // Axes that are not a rotation make the bushing's angles meaningless.
       {R"j({"type": "bushing", "name": "mount", "a": {"body": "ground", "axes": [[1, 0, 0], [0, 2, 0], [0, 0, 1]]},
            "b": {"body": "rod1"}})j",
@@ -203,58 +239,80 @@ TEST_CASE("scenario files: a law's constants of the wrong sign are refused, nami
   };
   for (const Case& c : cases) {
     CAPTURE(c.element);
-    CHECK_THAT(error_of(R"j({"model": "double_pendulum", "forces": [)j" + c.element + "]}"), Contains(c.culprit));
+    CHECK_THAT(error_of(R"j({"model": "double_pendulum", "forces": [)j" + c.element + "]}"),
+               Contains(c.culprit));
   }
 }
 
-TEST_CASE("scenario files: a check band that no value could pass is refused before the run", "[scenario][bad_input]") {
-  const std::string dp = R"j({"model": "double_pendulum", "checks": [{"name": "energy", "value": "drift(total_energy)", )j";
+TEST_CASE("scenario files: a check band that no value could pass is refused before the run",
+          "[scenario][bad_input]") {
+  const std::string dp =
+      R"j({"model": "double_pendulum", "checks": [{"name": "energy", "value": "drift(total_energy)", )j";
   CHECK_THAT(error_of(dp + R"j("band": [1e-3, 0]}]})j"),
-             Contains("test.json: /checks/0/band (check 'energy'): the band [0.001, 0] is reversed: its low end is above "
+             Contains("test.json: /checks/0/band (check 'energy'): the band [0.001, 0] is "
+                      "reversed: its low end is above "
                       "its high end, so no value passes; write [0, 0.001]"));
-  CHECK_THAT(error_of(dp + R"j("band": ["10 * rtol", "rtol"]}]})j"), Contains("/checks/0/band (check 'energy'): the band [1e-07, 1e-08] is reversed"));
+  CHECK_THAT(error_of(dp + R"j("band": ["10 * rtol", "rtol"]}]})j"),
+             Contains("/checks/0/band (check 'energy'): the band [1e-07, 1e-08] is reversed"));
   CHECK_THAT(error_of(dp + R"j("band": [0, "1e308 * 10"]}]})j"),
              Contains("/checks/0/band (check 'energy'): the band [0, inf] is not finite"));
   // A band that reads a statistic is only known at the end: not refused here.
   CHECK(error_of(dp + R"j("band": [0, "0.01 * start(total_energy)"]}]})j").empty());
 }
 
-TEST_CASE("scenario files: what would silently do nothing, do twice or read NaN is refused", "[scenario][bad_input]") {
+TEST_CASE("scenario files: what would silently do nothing, do twice or read NaN is refused",
+          "[scenario][bad_input]") {
   struct Case {
     std::string text, culprit;
   };
   const std::string dp = R"j("model": "double_pendulum")j";
   const Case cases[] = {
       // Elements that push nothing.
-      {"{" + dp + R"j(, "forces": [{"type": "point_load", "name": "push", "at": {"body": "ground"}, "force": [1, 0, 0]}]})j",
+      {"{" + dp +
+           R"j(, "forces": [{"type": "point_load", "name": "push", "at": {"body": "ground"}, "force": [1, 0, 0]}]})j",
        "/forces/0/at/body (force element 'push'): a load on the ground moves nothing: name a body"},
-      {"{" + dp + R"j(, "forces": [{"type": "plane_contact", "name": "floor", "body": "ground", "stiffness": 1e5}]})j",
-       "/forces/0/body (force element 'floor'): a contact on the ground moves nothing: name a body"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "plane_contact", "name": "floor", "body": "ground", "stiffness": 1e5}]})j",
+       "/forces/0/body (force element 'floor'): a contact on the ground moves nothing: name a "
+       "body"},
       {"{" + dp + R"j(, "forces": [{"type": "simple_tyre", "name": "wheel", "body": "ground"}]})j",
        "/forces/0/body (force element 'wheel'): a tyre on the ground moves nothing"},
-      {"{" + dp + R"j(, "forces": [{"type": "point_spring_damper", "name": "s", "a": {"body": "rod1"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "point_spring_damper", "name": "s", "a": {"body": "rod1"},
           "b": {"body": "rod1", "point": [0.5, 0, 0]}, "stiffness": 10, "free_length": 0}]})j",
-       "/forces/0/b/body (force element 's'): a spring with both ends on body 'rod1' moves nothing (its forces cancel)"},
-      {"{" + dp + R"j(, "forces": [{"type": "bushing", "name": "mount", "a": {"body": "ground"}, "b": {"body": "ground"}}]})j",
-       "/forces/0/b/body (force element 'mount'): a bushing between two points of the ground moves nothing"},
+       "/forces/0/b/body (force element 's'): a spring with both ends on body 'rod1' moves nothing "
+       "(its forces cancel)"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "bushing", "name": "mount", "a": {"body": "ground"}, "b": {"body": "ground"}}]})j",
+       "/forces/0/b/body (force element 'mount'): a bushing between two points of the ground moves "
+       "nothing"},
       // A coordinate listed twice would get the force twice.
-      {"{" + dp + R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": ["q0", "q1", "q0"], "value": 1}]})j",
-       "/forces/0/coordinates/2 (force element 'm'): coordinate 'q0' is listed twice: its force would be applied twice"},
+      {"{" + dp +
+           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": ["q0", "q1", "q0"], "value": 1}]})j",
+       "/forces/0/coordinates/2 (force element 'm'): coordinate 'q0' is listed twice: its force "
+       "would be applied twice"},
       // Two CSV columns of one name.
       {"{" + dp + R"j(, "outputs": ["q", {"name": "q0", "value": "2 * q0"}]})j",
-       "test.json: /outputs/1/value: the CSV already has a column 'q0': name this output otherwise"},
-      {"{" + dp + R"j(, "outputs": [{"name": "t", "value": "q0"}]})j", "/outputs/0/value: the CSV already has a column 't'"},
+       "test.json: /outputs/1/value: the CSV already has a column 'q0': name this output "
+       "otherwise"},
+      {"{" + dp + R"j(, "outputs": [{"name": "t", "value": "q0"}]})j",
+       "/outputs/0/value: the CSV already has a column 't'"},
       {"{" + dp + R"j(, "outputs": [{"name": "a", "value": "q0"}, {"name": "a", "value": "q1"}]})j",
        "/outputs/1/value: the CSV already has a column 'a'"},
-      {"{" + dp + R"j(, "outputs": [{"body": "rod2", "quantity": "position"}, {"body": "rod2", "quantity": "position"}]})j",
+      {"{" + dp +
+           R"j(, "outputs": [{"body": "rod2", "quantity": "position"}, {"body": "rod2", "quantity": "position"}]})j",
        "/outputs/1/quantity: the CSV already has a column 'rod2.x'"},
       // Names that would shadow one another in expressions.
-      {"{" + dp + R"j(, "variables": {"rod1": 2}})j", "test.json: /variables/rod1: 'rod1' is a body's name: name the variable otherwise"},
-      {"{" + dp + R"j(, "variables": {"k": 2}, "forces": [{"type": "coordinate_force", "name": "k", "coordinates": "q0", "value": 1}]})j",
+      {"{" + dp + R"j(, "variables": {"rod1": 2}})j",
+       "test.json: /variables/rod1: 'rod1' is a body's name: name the variable otherwise"},
+      {"{" + dp +
+           R"j(, "variables": {"k": 2}, "forces": [{"type": "coordinate_force", "name": "k", "coordinates": "q0", "value": 1}]})j",
        "/forces/0/name (force element 'k'): 'k' is a variable's name: name the element otherwise"},
       // at() outside the run is never set: its check would read NaN.
-      {"{" + dp + R"j(, "t_end": 2, "checks": [{"name": "late", "value": "at(q0, 5)", "band": [-1, 1]}]})j",
-       "/checks/0/value (check 'late'): in 'at(q0, 5)' at column 1: at(): the time 5 is outside the run [0, t_end = 2]"},
+      {"{" + dp +
+           R"j(, "t_end": 2, "checks": [{"name": "late", "value": "at(q0, 5)", "band": [-1, 1]}]})j",
+       "/checks/0/value (check 'late'): in 'at(q0, 5)' at column 1: at(): the time 5 is outside "
+       "the run [0, t_end = 2]"},
       {"{" + dp + R"j(, "checks": [{"name": "early", "value": "at(q0, -1)", "band": [-1, 1]}]})j",
        "at(): the time -1 is outside the run"},
   };
@@ -277,7 +335,8 @@ TEST_CASE("events: a torque switched off stops the integration exactly there", "
       "forces": [{{"type": "coordinate_force", "name": "motor", "coordinates": "q0", "value": "tau"}}],
       "events": [{{"time": 1, {}}}],
       "outputs": ["q", "qd", "qdd", "energies", {{"name": "torque", "value": "motor.Q"}}]
-    }})j", tau, how);
+    }})j",
+                                         tau, how);
     sim::RunResult r;
     const auto states = states_of(parse(text), {}, &r);
     CHECK(r.segments == 2);
@@ -292,8 +351,10 @@ TEST_CASE("events: a torque switched off stops the integration exactly there", "
     std::istringstream lines(csv.str());
     std::string line;
     std::getline(lines, line);
-    CHECK(line == "t,q0,q1,q0_dot,q1_dot,q0_ddot,q1_ddot,kinetic_energy,gravitational_energy,elastic_energy,"
-                  "total_energy,torque");
+    CHECK(
+        line ==
+        "t,q0,q1,q0_dot,q1_dot,q0_ddot,q1_ddot,kinetic_energy,gravitational_energy,elastic_energy,"
+        "total_energy,torque");
     std::vector<std::vector<double>> rows;
     while (std::getline(lines, line)) {
       std::vector<double> v;
@@ -304,13 +365,16 @@ TEST_CASE("events: a torque switched off stops the integration exactly there", "
     REQUIRE(rows.size() == 201);
     const double E0 = rows[0][10], dq = rows[100][1] - rows[0][1];
     CHECK(rows[100][10] == Approx(E0 + tau * dq).margin(1e-7));
-    for (std::size_t k = 100; k < rows.size(); ++k) CHECK(rows[k][10] == Approx(rows[100][10]).margin(1e-7));
+    for (std::size_t k = 100; k < rows.size(); ++k)
+      CHECK(rows[k][10] == Approx(rows[100][10]).margin(1e-7));
     CHECK(rows[100][11] == tau);  // the row at the event: before the change
     CHECK(rows[101][11] == 0.0);
     // qdd against the five-point difference of qd (error of order h^4 qd^(5), h = 0.01 s).
     for (std::size_t k = 120; k < 190; k += 17) {
       for (std::size_t j = 3; j < 5; ++j) {
-        const double fd = (rows[k - 2][j] - 8.0 * rows[k - 1][j] + 8.0 * rows[k + 1][j] - rows[k + 2][j]) / (12.0 * 0.01);
+        const double fd =
+            (rows[k - 2][j] - 8.0 * rows[k - 1][j] + 8.0 * rows[k + 1][j] - rows[k + 2][j]) /
+            (12.0 * 0.01);
         CHECK(rows[k][j + 2] == Approx(fd).epsilon(1e-3).margin(1e-3));
       }
     }
@@ -355,10 +419,12 @@ TEST_CASE("a run's memory does not grow with its length", "[scenario]") {
   CHECK(long_run <= short_run + 4);
 }
 
-TEST_CASE("model modules: a module runs as the built-in model, the wrong ones are refused", "[scenario][module]") {
-  const std::string text = fmt::format(R"j({{"model": {{"name": "double_pendulum", "module": "{}"}}, "t_end": 1,
+TEST_CASE("model modules: a module runs as the built-in model, the wrong ones are refused",
+          "[scenario][module]") {
+  const std::string text =
+      fmt::format(R"j({{"model": {{"name": "double_pendulum", "module": "{}"}}, "t_end": 1,
                                           "integrator": {{"name": "dopri5", "tolerance": 1e-10}}}})j",
-                                       MODULE_DOUBLE_PENDULUM);
+                  MODULE_DOUBLE_PENDULUM);
   sim::RunResult from_module, built_in;
   states_of(parse(text), {}, &from_module);
   sim::RunOptions one_second;
@@ -369,18 +435,22 @@ TEST_CASE("model modules: a module runs as the built-in model, the wrong ones ar
   CHECK(from_module.final.qd == built_in.final.qd);
 
   const auto module_error = [](const std::string& path) {
-    return error_of(fmt::format(R"j({{"model": {{"name": "double_pendulum", "module": "{}"}}}})j", path));
+    return error_of(
+        fmt::format(R"j({{"model": {{"name": "double_pendulum", "module": "{}"}}}})j", path));
   };
   CHECK_THAT(module_error(MODULE_CHAIN_2),
-             Contains(fmt::format("model module '{}' holds model 'chain_2', the scenario names 'double_pendulum'",
-                                  MODULE_CHAIN_2)));
+             Contains(fmt::format(
+                 "model module '{}' holds model 'chain_2', the scenario names 'double_pendulum'",
+                 MODULE_CHAIN_2)));
   CHECK_THAT(module_error(MODULE_OTHER_ABI),
-             Contains(fmt::format("model module '{}' was built for module interface {}, this symdyn-sim reads {}",
-                                  MODULE_OTHER_ABI, runtime::model_module_abi + 1, runtime::model_module_abi)));
+             Contains(fmt::format(
+                 "model module '{}' was built for module interface {}, this symdyn-sim reads {}",
+                 MODULE_OTHER_ABI, runtime::model_module_abi + 1, runtime::model_module_abi)));
   const auto dir = testing::scratch_directory("module");
   std::ofstream(dir / "text.so") << "not a library\n";
-  CHECK_THAT(module_error((dir / "text.so").string()),
-             Contains(fmt::format("model module '{}' cannot be loaded", (dir / "text.so").string())));
+  CHECK_THAT(
+      module_error((dir / "text.so").string()),
+      Contains(fmt::format("model module '{}' cannot be loaded", (dir / "text.so").string())));
   std::filesystem::remove_all(dir);
 }
 
@@ -401,8 +471,8 @@ TEST_CASE("symdyn-sim runs a scenario file, a module relative to it", "[scenario
   std::filesystem::remove_all(dir);
 }
 
-
-TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks", "[scenario][module]") {
+TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks",
+          "[scenario][module]") {
   const std::string doc = testing::read_text(SYMDYN_DOCS "/scenarios.md");
   const auto begin = doc.find("```json\n{"), end = doc.find("\n```", begin + 8);
   REQUIRE(begin != std::string::npos);
@@ -413,9 +483,10 @@ TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks", 
   const sim::RunResult r = sim::run_scenario(parse(text));
   CHECK(r.segments == 3);
   CHECK(r.rows == 501);
-  CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "q0_ddot", "q1_ddot",
-                                              "kinetic_energy", "gravitational_energy", "elastic_energy",
-                                              "total_energy", "rod2.x", "rod2.y", "rod2.z", "spring.length", "tip_x"});
+  CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "q0_ddot",
+                                              "q1_ddot", "kinetic_energy", "gravitational_energy",
+                                              "elastic_energy", "total_energy", "rod2.x", "rod2.y",
+                                              "rod2.z", "spring.length", "tip_x"});
   REQUIRE(r.checks.size() == 2);
   for (const auto& c : r.checks) {
     INFO(c.name << " = " << c.value);
@@ -423,13 +494,17 @@ TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks", 
   }
 }
 
-TEST_CASE("integrate_with_breakpoints: each instant once, the callback at each breakpoint, bad lists refused",
-          "[scenario]") {
+TEST_CASE(
+    "integrate_with_breakpoints: each instant once, the callback at each breakpoint, bad lists "
+    "refused",
+    "[scenario]") {
   runtime::MultibodySystem system(sim::make_model(sim::find_builtin("slider_crank")));
   runtime::IntegratorOptions o;
   o.output_interval = 0.1;
   std::vector<double> times;
-  o.on_output = [&](const runtime::State& s, const runtime::Vector&, const runtime::Vector&) { times.push_back(s.t); };
+  o.on_output = [&](const runtime::State& s, const runtime::Vector&, const runtime::Vector&) {
+    times.push_back(s.t);
+  };
   auto integrator = runtime::make_integrator("dopri5", o);
   std::vector<double> seen;
   // The crank stopped dead at 0.25 s: the state the next segment starts from is changed too.
@@ -439,7 +514,8 @@ TEST_CASE("integrate_with_breakpoints: each instant once, the callback at each b
   };
   runtime::State start = system.initial_state();
   start.qd(0) = 5.0;
-  const auto run = runtime::integrate_with_breakpoints(*integrator, system, start, {0.25, 0.5}, 1.0, stop);
+  const auto run =
+      runtime::integrate_with_breakpoints(*integrator, system, start, {0.25, 0.5}, 1.0, stop);
   CHECK(run.segments == 3);
   CHECK(seen == std::vector<double>{0.25, 0.5});
   // 0 .. 0.2, 0.25 (the first segment's end), 0.35, 0.45, 0.5, 0.6 .. 1.0: every instant once.
@@ -453,14 +529,17 @@ TEST_CASE("integrate_with_breakpoints: each instant once, the callback at each b
   times.clear();
   integrator->integrate(system, start, 0.2);
   CHECK(times.size() == 3);
-  CHECK_THROWS_WITH(runtime::integrate_with_breakpoints(*integrator, system, start, {0.5, 0.25}, 1.0, stop),
-                    "breakpoint 1 at t = 0.25: breakpoints must increase strictly inside (0, 1)");
-  CHECK_THROWS_WITH(runtime::integrate_with_breakpoints(*integrator, system, start, {1.0}, 1.0, stop),
-                    "breakpoint 0 at t = 1: breakpoints must increase strictly inside (0, 1)");
+  CHECK_THROWS_WITH(
+      runtime::integrate_with_breakpoints(*integrator, system, start, {0.5, 0.25}, 1.0, stop),
+      "breakpoint 1 at t = 0.25: breakpoints must increase strictly inside (0, 1)");
+  CHECK_THROWS_WITH(
+      runtime::integrate_with_breakpoints(*integrator, system, start, {1.0}, 1.0, stop),
+      "breakpoint 0 at t = 1: breakpoints must increase strictly inside (0, 1)");
 }
 
-TEST_CASE("scenario files: the integrator's global_tolerance is read, and a bad one named by JSON path",
-          "[scenario]") {
+TEST_CASE(
+    "scenario files: the integrator's global_tolerance is read, and a bad one named by JSON path",
+    "[scenario]") {
   const sim::Scenario s = parse(
       R"j({"model": "double_pendulum", "t_end": 0.5, "integrator": {"name": "rk4", "step": 0.01, "global_tolerance": 1e-6}})j");
   REQUIRE(s.global_tolerance);
@@ -470,6 +549,7 @@ TEST_CASE("scenario files: the integrator's global_tolerance is read, and a bad 
   CHECK(r.statistics.global_tolerance_met);
   CHECK(r.statistics.global_error_estimate <= 1e-6);
   CHECK_THROWS_WITH(
-      parse(R"j({"model": "double_pendulum", "integrator": {"name": "rk4", "step": 0.01, "global_tolerance": 0}})j"),
+      parse(
+          R"j({"model": "double_pendulum", "integrator": {"name": "rk4", "step": 0.01, "global_tolerance": 0}})j"),
       "test.json: /integrator/global_tolerance: expected a number > 0, found 0");
 }

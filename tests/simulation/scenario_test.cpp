@@ -2,15 +2,14 @@
 // runs with its defaults and its checks fall in their bands; the double
 // pendulum's and the slider-crank's runs are also checked against closed forms.
 
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 #include <string>
-
-#include <fmt/format.h>
 
 #include "run.hpp"
 #include <symdyn/runtime/errors.hpp>
@@ -39,7 +38,8 @@ std::vector<double> speeds_at(const std::vector<runtime::State>& samples, double
     const auto& a = samples[k - 1];
     const auto& b = samples[k];
     const auto& c = samples[k + 1];
-    const double ub = std::floor((b.q(0) - target) / two_pi), uc = std::floor((c.q(0) - target) / two_pi);
+    const double ub = std::floor((b.q(0) - target) / two_pi),
+                 uc = std::floor((c.q(0) - target) / two_pi);
     if (ub == uc) continue;
     const double x = target + uc * two_pi;
     const double xa = a.q(0), xb = b.q(0), xc = c.q(0);
@@ -63,18 +63,21 @@ TEST_CASE("every built-in scenario runs with its defaults and its checks are in 
     CHECK(r.statistics.steps > 0);
     REQUIRE_FALSE(r.checks.empty());
     for (const auto& c : r.checks) {
-      INFO(c.name << " = " << c.value << " " << c.unit << ", expected " << c.low << " .. " << c.high);
+      INFO(c.name << " = " << c.value << " " << c.unit << ", expected " << c.low << " .. "
+                  << c.high);
       CHECK(c.ok());
     }
   }
 }
 
-TEST_CASE("a scenario's coordinate springs and actuators keep their exact derivatives", "[models][scenario]") {
+TEST_CASE("a scenario's coordinate springs and actuators keep their exact derivatives",
+          "[models][scenario]") {
   // The trike's tyres and its drive (an expression) have none: they alone are differenced.
   sim::Simulation sim(sim::find_builtin("trike"));
   runtime::MultibodySystem& system = sim.system();
   CHECK(system.jacobian_method() ==
-        "exact (emitted derivatives), but by central differences for coordinate force 'drive', tyre 'rear_left', "
+        "exact (emitted derivatives), but by central differences for coordinate force 'drive', "
+        "tyre 'rear_left', "
         "tyre 'rear_right', tyre 'front'");
   runtime::State s = system.initial_state();
   s.t = 1.1;  // steering
@@ -99,8 +102,8 @@ TEST_CASE("double pendulum scenario: CSV columns, rows, and the tip from the coo
   o.t_end = 2.0;
   const sim::RunResult r = sim::run_scenario(sim::find_builtin("double_pendulum"), o);
   CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "kinetic_energy",
-                                              "gravitational_energy", "elastic_energy", "total_energy",
-                                              "tip_x", "tip_y"});
+                                              "gravitational_energy", "elastic_energy",
+                                              "total_energy", "tip_x", "tip_y"});
   REQUIRE(r.rows == 201);
   std::istringstream in(csv.str());
   std::string line, last;
@@ -142,7 +145,8 @@ TEST_CASE("slider-crank scenario: crank speed where energy conservation gives it
     runs.push_back(states_of(s, o));
     const auto& r = runs.back();
     CAPTURE(variant);
-    const auto w0 = speeds_at(r, 0.0), w90 = speeds_at(r, std::numbers::pi / 2), w270 = speeds_at(r, 1.5 * std::numbers::pi);
+    const auto w0 = speeds_at(r, 0.0), w90 = speeds_at(r, std::numbers::pi / 2),
+               w270 = speeds_at(r, 1.5 * std::numbers::pi);
     REQUIRE(w0.size() >= 5);
     REQUIRE(w90.size() >= 5);
     REQUIRE(w270.size() >= 5);
@@ -153,12 +157,13 @@ TEST_CASE("slider-crank scenario: crank speed where energy conservation gives it
   // Inline and dependent variants: the same motion.
   REQUIRE(runs.size() == 2);
   REQUIRE(runs[0].size() == runs[1].size());
-  for (std::size_t k = 0; k < runs[0].size(); ++k) CHECK(std::abs(runs[0][k].q(0) - runs[1][k].q(0)) < 1e-7);
+  for (std::size_t k = 0; k < runs[0].size(); ++k)
+    CHECK(std::abs(runs[0][k].q(0) - runs[1][k].q(0)) < 1e-7);
 }
 
 TEST_CASE("scenario errors name the culprit", "[models][scenario]") {
-  CHECK_THROWS_WITH(sim::find_builtin("pendulum"), Contains("no scenario for model 'pendulum'") &&
-                                                       Contains("double_pendulum"));
+  CHECK_THROWS_WITH(sim::find_builtin("pendulum"),
+                    Contains("no scenario for model 'pendulum'") && Contains("double_pendulum"));
   sim::RunOptions inline_variant;
   inline_variant.variant = "inline";
   CHECK_THROWS_WITH(sim::Simulation(sim::find_builtin("double_pendulum"), inline_variant),
@@ -170,8 +175,10 @@ TEST_CASE("scenario errors name the culprit", "[models][scenario]") {
 
 // The output interval never changes a result: rk4 and midpoint take the step given
 // (none from the interval), the others interpolate between their own steps.
-TEST_CASE("slider-crank scenario: two output intervals give bit-identical final states with every integrator",
-          "[models][scenario]") {
+TEST_CASE(
+    "slider-crank scenario: two output intervals give bit-identical final states with every "
+    "integrator",
+    "[models][scenario]") {
   for (const auto& name : runtime::integrator_names()) {
     CAPTURE(name);
     const auto final_state = [&](double interval) {
@@ -190,18 +197,22 @@ TEST_CASE("slider-crank scenario: two output intervals give bit-identical final 
   }
 }
 
-TEST_CASE("rk4 and midpoint in a scenario need a step, and the message says where to give it", "[models][scenario]") {
+TEST_CASE("rk4 and midpoint in a scenario need a step, and the message says where to give it",
+          "[models][scenario]") {
   for (const char* name : {"rk4", "midpoint"}) {
     sim::RunOptions o;
     o.integrator = name;
-    CHECK_THROWS_WITH(sim::Simulation(sim::find_builtin("double_pendulum"), o),
-                      fmt::format("integrator '{}' takes a fixed step: give one (--step, or the scenario's integrator "
-                                  "\"step\")",
-                                  name));
+    CHECK_THROWS_WITH(
+        sim::Simulation(sim::find_builtin("double_pendulum"), o),
+        fmt::format(
+            "integrator '{}' takes a fixed step: give one (--step, or the scenario's integrator "
+            "\"step\")",
+            name));
   }
 }
 
-TEST_CASE("the run summary says whether the global error was estimated and met", "[models][scenario]") {
+TEST_CASE("the run summary says whether the global error was estimated and met",
+          "[models][scenario]") {
   sim::RunOptions o;
   o.t_end = 1.0;
   o.integrator = "rk4";

@@ -10,15 +10,14 @@
 //   trike  the stiff tyres: rk4 at h = 1/30 s fails naming the time and the wheel,
 //          cvode at 1e-6 follows dop853 at 1e-11.
 
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "../../bench/work_precision/problems.hpp"
 #include "robot3d_absolute.hpp"
@@ -57,7 +56,8 @@ std::vector<State> trajectory(ScenarioSystem& s, const char* integrator, double 
 
 TEST_CASE("chaotic double pendulum: two tight integrators agree, then part", "[stress]") {
   ScenarioSystem s = symdyn::bench::double_pendulum_problem();
-  const std::vector<State> a = trajectory(s, "dop853", 1e-13, 40.0), b = trajectory(s, "dopri5", 1e-13, 40.0);
+  const std::vector<State> a = trajectory(s, "dop853", 1e-13, 40.0),
+                           b = trajectory(s, "dopri5", 1e-13, 40.0);
   REQUIRE(a.size() == b.size());
   double parted = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) {
@@ -69,7 +69,8 @@ TEST_CASE("chaotic double pendulum: two tight integrators agree, then part", "[s
   CHECK(parted > 1e-2);
 }
 
-TEST_CASE("robot3d spun at 1e4 rad/s keeps its energy and its angular momentum about z", "[stress]") {
+TEST_CASE("robot3d spun at 1e4 rad/s keeps its energy and its angular momentum about z",
+          "[stress]") {
   MultibodySystem sys(Model::from<symdyn_generated::robot3d_absolute>(), EquationsSource::emitted);
   State x0 = sys.initial_state();
   x0.q << 0.0, 0.3, 0.6, 0.0, 0.2;
@@ -94,13 +95,19 @@ TEST_CASE("robot3d spun at 1e4 rad/s keeps its energy and its angular momentum a
 // force (whose emitted arithmetic is that of the normal form of
 // symbolic/trig_polynomial.hpp), is an accident of rounding; the error names
 // the time and the one it met.
-TEST_CASE("trike's stiff tyres: rk4 at a large step fails naming time and what overflowed, cvode follows dop853", "[stress]") {
+TEST_CASE(
+    "trike's stiff tyres: rk4 at a large step fails naming time and what overflowed, cvode follows "
+    "dop853",
+    "[stress]") {
   const auto run_trike = [](const char* integrator, double tolerance, double step, double t_end) {
     symdyn::sim::RunOptions o;
     o.t_end = t_end;
     o.integrator = integrator;
     o.output_interval = t_end;
-    if (step > 0.0) o.step = step; else o.tolerance = tolerance;
+    if (step > 0.0)
+      o.step = step;
+    else
+      o.tolerance = tolerance;
     symdyn::sim::Simulation sim(symdyn::sim::find_builtin("trike"), o);
     return sim.run().final;
   };
@@ -114,7 +121,9 @@ TEST_CASE("trike's stiff tyres: rk4 at a large step fails naming time and what o
     // The step that fails has grown q and qd past 1e100: whether a tyre's force
     // or the bias forces overflow first there depends on the rounding of the
     // states before it (the recursive forward dynamics or M's Cholesky).
-    CHECK((what.find("wheel") != std::string::npos || what.find("bias force on coordinate") != std::string::npos));
+    CHECK((what.find("wheel") != std::string::npos ||
+           what.find("bias force on coordinate") != std::string::npos));
   }
-  CHECK(max_difference(run_trike("cvode", 1e-6, 0.0, 2.0), run_trike("dop853", 1e-11, 0.0, 2.0)) < 1e-3);
+  CHECK(max_difference(run_trike("cvode", 1e-6, 0.0, 2.0), run_trike("dop853", 1e-11, 0.0, 2.0)) <
+        1e-3);
 }

@@ -1,11 +1,11 @@
 // symdyn-sim as a user meets it: nothing lost (arguments checked before a file
 // is touched, rows kept when a run fails), bounded work and output, exit codes
 // (0 success, 1 failed run, 2 bad command line) and the culprit on stderr.
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -47,11 +47,15 @@ TEST_CASE("symdyn-sim: a typo leaves the earlier results alone", "[bad_input][si
   };
   const Case cases[] = {
       {{"--integrator", "dopri6"}, "unknown integrator 'dopri6'; valid names: newmark"},
-      {{"--variant", "nope"}, "model 'double_pendulum' has no variant 'nope' (built variants: absolute, relative)"},
+      {{"--variant", "nope"},
+       "model 'double_pendulum' has no variant 'nope' (built variants: absolute, relative)"},
       {{"--interval", "1e-300", "--t-end", "1e9"}, "the run would write inf rows"},
-      {{"--t-end", "1e6"}, "the run would write 1e+08 rows (t-end / interval), over --max-rows 1e+07"},
-      {{"--integrator", "rk4", "--step", "1e-300"}, "integrator 'rk4': initial_step 1e-300 is below min_step 1e-12"},
-      {{"--integrator", "rk4", "--step", "1e-9"}, "a fixed step of 1e-09 s from t = 0 to 10 takes 1e+10 steps, over max_steps 100000000"},
+      {{"--t-end", "1e6"},
+       "the run would write 1e+08 rows (t-end / interval), over --max-rows 1e+07"},
+      {{"--integrator", "rk4", "--step", "1e-300"},
+       "integrator 'rk4': initial_step 1e-300 is below min_step 1e-12"},
+      {{"--integrator", "rk4", "--step", "1e-9"},
+       "a fixed step of 1e-09 s from t = 0 to 10 takes 1e+10 steps, over max_steps 100000000"},
       {{"--plot", "q.pdf"}, "--plot q.pdf: the file must end in .png or .svg"},
   };
   for (const Case& c : cases) {
@@ -68,11 +72,13 @@ TEST_CASE("symdyn-sim: a typo leaves the earlier results alone", "[bad_input][si
   }
 }
 
-TEST_CASE("symdyn-sim: --max-rows allows a long output, and a run replaces the results when it ends",
-          "[bad_input][sim]") {
+TEST_CASE(
+    "symdyn-sim: --max-rows allows a long output, and a run replaces the results when it ends",
+    "[bad_input][sim]") {
   const auto dir = with_earlier_results();
-  const CommandResult r = run_command({kSim, "double_pendulum", "--t-end", "0.1", "--interval", "1e-5", "--max-rows",
-                                       "2e4", "--out", (dir / "results.csv").string()});
+  const CommandResult r =
+      run_command({kSim, "double_pendulum", "--t-end", "0.1", "--interval", "1e-5", "--max-rows",
+                   "2e4", "--out", (dir / "results.csv").string()});
   CHECK(r.exit_code == 0);
   CHECK_THAT(r.out, Contains("(10001 rows of 11 columns"));
   CHECK(read(dir / "results.csv").rfind("t,q0,q1,", 0) == 0);
@@ -80,22 +86,26 @@ TEST_CASE("symdyn-sim: --max-rows allows a long output, and a run replaces the r
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("symdyn-sim: a run that fails keeps its rows and says how far it got", "[bad_input][sim]") {
+TEST_CASE("symdyn-sim: a run that fails keeps its rows and says how far it got",
+          "[bad_input][sim]") {
   // RK4 with a step of 0.9 s on the double pendulum (periods about 1.2 s) diverges.
   const auto dir = with_earlier_results();
   const auto csv = dir / "results.csv";
-  const CommandResult r = run_command(
-      {kSim, "double_pendulum", "--integrator", "rk4", "--step", "0.9", "--t-end", "200", "--out", csv.string()});
+  const CommandResult r = run_command({kSim, "double_pendulum", "--integrator", "rk4", "--step",
+                                       "0.9", "--t-end", "200", "--out", csv.string()});
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Contains("error: t = 2.7: bias force on coordinate 'q0' is not finite"));
-  CHECK_THAT(r.err, Contains(fmt::format("the run stopped; CSV: {} keeps its 181 rows up to t = 1.8", csv.string())));
+  CHECK_THAT(r.err,
+             Contains(fmt::format("the run stopped; CSV: {} keeps its 181 rows up to t = 1.8",
+                                  csv.string())));
   const std::string rows = read(csv);
   CHECK(std::count(rows.begin(), rows.end(), '\n') == 182);  // the header and 181 rows
   CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("symdyn-sim: a bad scenario file is refused with its culprit, the earlier results kept", "[bad_input][sim]") {
+TEST_CASE("symdyn-sim: a bad scenario file is refused with its culprit, the earlier results kept",
+          "[bad_input][sim]") {
   struct Case {
     std::string scenario, culprit;
     int exit_code;
@@ -103,7 +113,9 @@ TEST_CASE("symdyn-sim: a bad scenario file is refused with its culprit, the earl
   const Case cases[] = {
       {"", "error: cannot read scenario file 'missing.json'", 2},
       {R"j({"model": "double_pendulum", "forces": [{"type": "plane_contact", "name": "c", "body": "rod3", "stiffness": 1}]})j",
-       "error: scenario.json: /forces/0/body (force element 'c'): unknown body 'rod3' (bodies: rod1, rod2, or ground)", 2},
+       "error: scenario.json: /forces/0/body (force element 'c'): unknown body 'rod3' (bodies: "
+       "rod1, rod2, or ground)",
+       2},
       {R"j({"model": "double_pendulum", "t_end": 1e9})j",
        "error: the run would write 1e+11 rows (t-end / interval), over --max-rows 1e+07", 2},
       {R"j({"model": {"name": "double_pendulum", "module": "pendulum.so"}})j",
@@ -129,16 +141,19 @@ TEST_CASE("symdyn-sim: a bad scenario file is refused with its culprit, the earl
 TEST_CASE("symdyn-sim: --glb, --html and --plot write the run's pictures", "[sim]") {
   const auto dir = scratch_directory("sim_pictures");
   const auto at = [&](const char* name) { return (dir / name).string(); };
-  std::vector<std::string> args{kSim, "double_pendulum", "--t-end", "1", "--out", at("run.csv"),
-                                "--glb", at("run.glb"), "--plot", at("run.svg")};
-  const bool viewer = run_command({kSim, "double_pendulum", "--t-end", "0.1", "--out", at("probe.csv"), "--html",
-                                   at("probe.html")}).exit_code == 0;
+  std::vector<std::string> args{kSim,     "double_pendulum", "--t-end", "1",
+                                "--out",  at("run.csv"),     "--glb",   at("run.glb"),
+                                "--plot", at("run.svg")};
+  const bool viewer = run_command({kSim, "double_pendulum", "--t-end", "0.1", "--out",
+                                   at("probe.csv"), "--html", at("probe.html")})
+                          .exit_code == 0;
   if (viewer) args.insert(args.end(), {"--html", at("run.html")});
   const CommandResult r = run_command(args);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(read(dir / "run.glb").substr(0, 4) == "glTF");  // the binary glTF header
-  CHECK_THAT(read(dir / "run.svg"), Contains("<svg") && Contains("q0") && Contains("q1") && Contains("total_energy"));
+  CHECK_THAT(read(dir / "run.svg"),
+             Contains("<svg") && Contains("q0") && Contains("q1") && Contains("total_energy"));
   if (viewer) {
     const std::string html = read(dir / "run.html");
     CHECK_THAT(html, Contains("<script id=\"symdyn-data\""));
@@ -168,8 +183,9 @@ std::vector<double> frequencies(const std::string& csv) {
 TEST_CASE("symdyn-sim: --modes about the equilibrium, as clips and EasyAnim files", "[sim]") {
   const auto dir = scratch_directory("sim_modes");
   const auto at = [&](const char* name) { return (dir / name).string(); };
-  const CommandResult r = run_command({kSim, "double_pendulum", "--t-end", "0.2", "--out", at("run.csv"), "--modes",
-                                       at("modes.csv"), "--glb", at("run.glb"), "--easyanim", at("run")});
+  const CommandResult r =
+      run_command({kSim, "double_pendulum", "--t-end", "0.2", "--out", at("run.csv"), "--modes",
+                   at("modes.csv"), "--glb", at("run.glb"), "--easyanim", at("run")});
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   // Two uniform rods (m = 1, L = 1) hanging from a hinge: M = [4/3 1/2; 1/2 1/3],
@@ -177,11 +193,14 @@ TEST_CASE("symdyn-sim: --modes about the equilibrium, as clips and EasyAnim file
   const double g = 9.81;
   const std::vector<double> f = frequencies(read(dir / "modes.csv"));
   REQUIRE(f.size() == 2);
-  CHECK(f[0] == Approx(std::sqrt(g * (3 - 6 / std::sqrt(7.0))) / (2 * std::numbers::pi)).epsilon(1e-9));
-  CHECK(f[1] == Approx(std::sqrt(g * (3 + 6 / std::sqrt(7.0))) / (2 * std::numbers::pi)).epsilon(1e-9));
+  CHECK(f[0] ==
+        Approx(std::sqrt(g * (3 - 6 / std::sqrt(7.0))) / (2 * std::numbers::pi)).epsilon(1e-9));
+  CHECK(f[1] ==
+        Approx(std::sqrt(g * (3 + 6 / std::sqrt(7.0))) / (2 * std::numbers::pi)).epsilon(1e-9));
   CHECK_THAT(r.out, Contains("modes about the static equilibrium") && Contains("mode 1: 0.4265"));
   // The glTF holds the motion and one clip per mode; EasyAnim's files are there.
-  CHECK_THAT(read(dir / "run.glb"), Contains("\"motion\"") && Contains("mode 1: ") && Contains("mode 2: "));
+  CHECK_THAT(read(dir / "run.glb"),
+             Contains("\"motion\"") && Contains("mode 1: ") && Contains("mode 2: "));
   for (const char* file : {"run.vol", "run.van", "run_modes.vol", "run_modes.vmo"}) {
     CAPTURE(file);
     CHECK(std::filesystem::file_size(dir / file) > 0);
@@ -193,21 +212,23 @@ TEST_CASE("symdyn-sim: --modes-about and --mode-amplitude need --modes", "[bad_i
   for (const char* option : {"--modes-about", "--mode-amplitude"}) {
     CAPTURE(option);
     const std::string value = option == std::string("--modes-about") ? "initial" : "0.1";
-    const CommandResult r =
-        run_command({kSim, "double_pendulum", "--out", (dir / "results.csv").string(), option, value});
+    const CommandResult r = run_command(
+        {kSim, "double_pendulum", "--out", (dir / "results.csv").string(), option, value});
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.err, Contains(fmt::format("{} requires --modes", option)));
     CHECK(read(dir / "results.csv") == "earlier results\n");
   }
 }
 
-TEST_CASE("symdyn-sim: results go to regular files only, refused before the run", "[bad_input][sim]") {
+TEST_CASE("symdyn-sim: results go to regular files only, refused before the run",
+          "[bad_input][sim]") {
   const auto dir = with_earlier_results();
   const auto at = [&](const char* name) { return (dir / name).string(); };
   std::filesystem::create_directory(dir / "folder");
   REQUIRE(::mkfifo(at("pipe").c_str(), 0644) == 0);
   std::ofstream(dir / "locked.csv") << "kept\n";
-  std::filesystem::permissions(dir / "locked.csv", std::filesystem::perms::owner_read | std::filesystem::perms::group_read);
+  std::filesystem::permissions(
+      dir / "locked.csv", std::filesystem::perms::owner_read | std::filesystem::perms::group_read);
   std::filesystem::create_directory(dir / "anim.vol");
   std::filesystem::create_symlink(dir / "nowhere" / "x.csv", dir / "dangling.csv");
   struct Case {
@@ -216,27 +237,34 @@ TEST_CASE("symdyn-sim: results go to regular files only, refused before the run"
   };
   const Case cases[] = {
       // Written to FILE.partial and renamed over FILE, /dev/full became a regular file.
-      {{"--out", "/dev/full"}, "--out '/dev/full' is a character device: results are written to regular files only"},
+      {{"--out", "/dev/full"},
+       "--out '/dev/full' is a character device: results are written to regular files only"},
       {{"--html", "/dev/full"}, "--html '/dev/full' is a character device"},
       {{"--glb", "/dev/null"}, "--glb '/dev/null' is a character device"},
-      {{"--out", at("pipe")}, fmt::format("--out '{}' is a FIFO: results are written to regular files only", at("pipe"))},
-      {{"--out", at("folder")}, fmt::format("--out '{}' is a directory: name a file in it", at("folder"))},
+      {{"--out", at("pipe")},
+       fmt::format("--out '{}' is a FIFO: results are written to regular files only", at("pipe"))},
+      {{"--out", at("folder")},
+       fmt::format("--out '{}' is a directory: name a file in it", at("folder"))},
       {{"--out", at("folder") + "/"}, "names a folder: name a file in it"},
       {{"--out", ""}, "--out: expected a file name, found ''"},
       {{"--easyanim", ""}, "--easyanim: expected a file name, found ''"},
       {{"--modes", at("locked.csv")},
-       fmt::format("--modes '{}' is read-only: it is not replaced (make it writable, or name another file)",
-                   at("locked.csv"))},
+       fmt::format(
+           "--modes '{}' is read-only: it is not replaced (make it writable, or name another file)",
+           at("locked.csv"))},
       {{"--out", at("locked.csv")}, "is read-only"},
-      {{"--html", "/proc/run.html"}, "--html '/proc/run.html' cannot be written: the folder '/proc' is not writable"},
+      {{"--html", "/proc/run.html"},
+       "--html '/proc/run.html' cannot be written: the folder '/proc' is not writable"},
       {{"--plot", at("results.csv") + "/run.svg"},
-       fmt::format("--plot '{}/run.svg' cannot be made: '{}' is a regular file, not a folder", at("results.csv"),
-                   at("results.csv"))},
+       fmt::format("--plot '{}/run.svg' cannot be made: '{}' is a regular file, not a folder",
+                   at("results.csv"), at("results.csv"))},
       {{"--easyanim", at("anim")}, fmt::format("--easyanim '{}.vol' is a directory", at("anim"))},
       {{"--out", at("dangling.csv")}, "is a symbolic link to nothing"},
       {{"--modes", at("results.csv")},
-       fmt::format("--out '{0}' and --modes '{0}' are the same file: one would overwrite the other", at("results.csv"))},
-      {{"--html", at("run.view"), "--glb", at("run.view")}, "--html '" + at("run.view") + "' and --glb '"},
+       fmt::format("--out '{0}' and --modes '{0}' are the same file: one would overwrite the other",
+                   at("results.csv"))},
+      {{"--html", at("run.view"), "--glb", at("run.view")},
+       "--html '" + at("run.view") + "' and --glb '"},
       {{"--easyanim", at("results"), "--modes", at("results.van")}, "are the same file"},
   };
   for (const Case& c : cases) {
@@ -267,13 +295,16 @@ TEST_CASE("symdyn-sim: a scenario file is never an output", "[bad_input][sim]") 
     CAPTURE(option);
     const CommandResult r = run_command({kSim, "swing.json", option, "swing.json"}, 120, dir);
     CHECK(r.exit_code == 2);
-    CHECK_THAT(r.err, Contains(fmt::format("{} 'swing.json' is the scenario file: it would be overwritten", option)));
+    CHECK_THAT(r.err,
+               Contains(fmt::format("{} 'swing.json' is the scenario file: it would be overwritten",
+                                    option)));
     CHECK(read(dir / "swing.json") == scenario);
   }
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("symdyn-sim: numbers on the command line are finite and positive, said in a few digits", "[bad_input][sim]") {
+TEST_CASE("symdyn-sim: numbers on the command line are finite and positive, said in a few digits",
+          "[bad_input][sim]") {
   const auto dir = with_earlier_results();
   struct Case {
     std::vector<std::string> args;
@@ -289,7 +320,8 @@ TEST_CASE("symdyn-sim: numbers on the command line are finite and positive, said
       {{"--interval", "1e999"}, "--interval: expected a finite number > 0, found '1e999'"},
       {{"--step", "-0.001"}, "--step: expected a finite number > 0, found '-0.001'"},
       {{"--max-rows", "nan"}, "--max-rows: expected a finite number > 0, found 'nan'"},
-      {{"--modes", (dir / "m.csv").string(), "--mode-amplitude", "0"}, "--mode-amplitude: expected a finite number > 0"},
+      {{"--modes", (dir / "m.csv").string(), "--mode-amplitude", "0"},
+       "--mode-amplitude: expected a finite number > 0"},
       {{"--t-end", "ten"}, "--t-end: expected a finite number > 0, found 'ten'"},
   };
   for (const Case& c : cases) {
@@ -309,13 +341,15 @@ TEST_CASE("symdyn-sim: outputs through a link, in new folders, with a quote in t
   const auto dir = scratch_directory("sim_paths");
   std::ofstream(dir / "target.csv") << "earlier\n";
   std::filesystem::create_symlink(dir / "target.csv", dir / "link.csv");
-  const CommandResult linked = run_command({kSim, "double_pendulum", "--t-end", "0.1", "--out", (dir / "link.csv").string()});
+  const CommandResult linked = run_command(
+      {kSim, "double_pendulum", "--t-end", "0.1", "--out", (dir / "link.csv").string()});
   CHECK(linked.exit_code == 0);
   CHECK(std::filesystem::is_symlink(dir / "link.csv"));  // the link kept, the file it names written
   CHECK(read(dir / "target.csv").rfind("t,q0,q1,", 0) == 0);
   // Missing folders are made when the run starts; gnuplot reads a name with a quote.
   const auto nested = dir / "a" / "b";
-  std::vector<std::string> args{kSim, "double_pendulum", "--t-end", "0.1", "--out", (nested / "it's.csv").string()};
+  std::vector<std::string> args{kSim,  "double_pendulum", "--t-end",
+                                "0.1", "--out",           (nested / "it's.csv").string()};
   const bool gnuplot = std::system("command -v gnuplot >/dev/null 2>&1") == 0;
   if (gnuplot) args.insert(args.end(), {"--plot", (nested / "it's.svg").string()});
   const CommandResult made = run_command(args);
@@ -326,15 +360,18 @@ TEST_CASE("symdyn-sim: outputs through a link, in new folders, with a quote in t
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("symdyn-sim: a directory or an empty file as the scenario is named as such", "[bad_input][sim]") {
+TEST_CASE("symdyn-sim: a directory or an empty file as the scenario is named as such",
+          "[bad_input][sim]") {
   const auto dir = scratch_directory("sim_scenario");
   std::filesystem::create_directory(dir / "runs.json");
   std::ofstream(dir / "empty.json") << "\n";
   const CommandResult folder = run_command({kSim, "runs.json"}, 120, dir);
   CHECK(folder.exit_code == 2);
-  CHECK_THAT(folder.err, Contains("error: scenario file 'runs.json' is a directory: name a JSON file"));
+  CHECK_THAT(folder.err,
+             Contains("error: scenario file 'runs.json' is a directory: name a JSON file"));
   const CommandResult empty = run_command({kSim, "empty.json"}, 120, dir);
   CHECK(empty.exit_code == 2);
-  CHECK_THAT(empty.err, Contains("error: empty.json: the file is empty: a scenario is a JSON object"));
+  CHECK_THAT(empty.err,
+             Contains("error: empty.json: the file is empty: a scenario is a JSON object"));
   std::filesystem::remove_all(dir);
 }

@@ -5,18 +5,17 @@
 // printed, and a numerical assembly of the equations of motion. Catch2 checks;
 // include from test sources only.
 
-#include <catch2/catch.hpp>
-
 #include <Eigen/Dense>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "support/model_eval.hpp"
 #include <symdyn/codegen/generate.hpp>
 #include <symdyn/model/kinematics.hpp>
-#include "support/model_eval.hpp"
 
 namespace symdyn::testing {
 
@@ -40,8 +39,8 @@ struct Emitted {
 
   explicit Emitted(const ModelState<double>& s) {
     const double* param = G::param_defaults;
-    G::accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), param, R.data(), x.data(), v.data(), w.data(),
-                     a.data(), dw.data());
+    G::accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), param, R.data(), x.data(),
+                     v.data(), w.data(), a.data(), dw.data());
     G::partial_velocities(s.t, s.q.data(), param, dv.data(), dwp.data());
     if constexpr (G::has_equations_of_motion) {
       G::mass_matrix(s.t, s.q.data(), param, M.data());
@@ -60,7 +59,8 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
   };
   std::vector<double> R(G::nbody * 9), x(G::nbody * 3), v(x), w(x), a(x), dw(x);
   std::vector<double> dv(G::nbody * G::nq * 3), dwp(dv), M(G::nq * G::nq), h(G::nq);
-  std::vector<double> mass(G::nbody), inertia(G::nbody * 9), dep(G::ndep > 0 ? G::ndep : 1), dep_d(dep), dep_dd(dep);
+  std::vector<double> mass(G::nbody), inertia(G::nbody * 9), dep(G::ndep > 0 ? G::ndep : 1),
+      dep_d(dep), dep_dd(dep);
   if (name == "inertia") G::inertia(p, mass.data(), inertia.data()), take({&mass, &inertia});
   if (name == "positions") G::positions(s.t, s.q.data(), p, R.data(), x.data()), take({&R, &x});
   if (name == "velocities") {
@@ -68,16 +68,17 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
     take({&R, &x, &v, &w});
   }
   if (name == "accelerations") {
-    G::accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(), w.data(), a.data(),
-                     dw.data());
+    G::accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(),
+                     w.data(), a.data(), dw.data());
     take({&R, &x, &v, &w, &a, &dw});
   }
   if (name == "relative_accelerations") {
-    G::relative_accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(), w.data(),
-                              a.data(), dw.data());
+    G::relative_accelerations(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(),
+                              v.data(), w.data(), a.data(), dw.data());
     take({&R, &x, &v, &w, &a, &dw});
   }
-  if (name == "partial_velocities") G::partial_velocities(s.t, s.q.data(), p, dv.data(), dwp.data()), take({&dv, &dwp});
+  if (name == "partial_velocities")
+    G::partial_velocities(s.t, s.q.data(), p, dv.data(), dwp.data()), take({&dv, &dwp});
   if constexpr (requires { G::relative_partial_velocities; }) {
     if (name == "relative_partial_velocities") {
       G::relative_partial_velocities(s.t, s.q.data(), p, dv.data(), dwp.data());
@@ -86,39 +87,47 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
   }
   if constexpr (requires { G::accelerations_partials; }) {
     if (name == "accelerations_partials") {
-      G::accelerations_partials(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(), w.data(),
-                                a.data(), dw.data(), dv.data(), dwp.data());
+      G::accelerations_partials(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(),
+                                v.data(), w.data(), a.data(), dw.data(), dv.data(), dwp.data());
       take({&R, &x, &v, &w, &a, &dw, &dv, &dwp});
     }
     if (name == "relative_accelerations_partials") {
-      G::relative_accelerations_partials(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(), x.data(), v.data(),
-                                         w.data(), a.data(), dw.data(), dv.data(), dwp.data());
+      G::relative_accelerations_partials(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, R.data(),
+                                         x.data(), v.data(), w.data(), a.data(), dw.data(),
+                                         dv.data(), dwp.data());
       take({&R, &x, &v, &w, &a, &dw, &dv, &dwp});
     }
   }
   if (name == "dependent_parameters") {
-    G::dependent_parameters(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dep.data(), dep_d.data(), dep_dd.data());
+    G::dependent_parameters(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dep.data(), dep_d.data(),
+                            dep_dd.data());
     for (auto* d : {&dep, &dep_d, &dep_dd}) d->resize(G::ndep);
     take({&dep, &dep_d, &dep_dd});
   }
   if constexpr (G::has_equations_of_motion) {
     if (name == "mass_matrix") G::mass_matrix(s.t, s.q.data(), p, M.data()), take({&M});
-    if (name == "bias_forces") G::bias_forces(s.t, s.q.data(), s.qd.data(), p, h.data()), take({&h});
-    if (name == "dynamics") G::dynamics(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data()), take({&M, &h});
+    if (name == "bias_forces")
+      G::bias_forces(s.t, s.q.data(), s.qd.data(), p, h.data()), take({&h});
+    if (name == "dynamics")
+      G::dynamics(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data()), take({&M, &h});
     if constexpr (requires { G::inverse_dynamics; }) {
-      if (name == "inverse_dynamics") G::inverse_dynamics(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, h.data()), take({&h});
+      if (name == "inverse_dynamics")
+        G::inverse_dynamics(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, h.data()), take({&h});
     }
     if constexpr (requires { G::inverse_dynamics_derivatives; }) {
       if (name == "inverse_dynamics_derivatives") {
         std::vector<double> dq(G::nq * G::nq), dqd(dq);
-        G::inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dq.data(), dqd.data());
+        G::inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dq.data(),
+                                        dqd.data());
         take({&dq, &dqd});
       }
     }
     if constexpr (requires { G::kinematics_derivatives; }) {
       if (name == "kinematics_derivatives") {
-        std::vector<double> dv_dq(G::nbody * G::nq * 3), dw_dq(dv_dq), ddv(G::nbody * G::nq * G::nq * 3), ddw(ddv);
-        G::kinematics_derivatives(s.t, s.q.data(), s.qd.data(), p, dv_dq.data(), dw_dq.data(), ddv.data(), ddw.data());
+        std::vector<double> dv_dq(G::nbody * G::nq * 3), dw_dq(dv_dq),
+            ddv(G::nbody * G::nq * G::nq * 3), ddw(ddv);
+        G::kinematics_derivatives(s.t, s.q.data(), s.qd.data(), p, dv_dq.data(), dw_dq.data(),
+                                  ddv.data(), ddw.data());
         take({&dv_dq, &dw_dq, &ddv, &ddw});
       }
     }
@@ -126,19 +135,20 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
     if constexpr (requires { G::forward_dynamics_pivots; }) {
       if (name == "forward_dynamics_pivots") {
         std::vector<double> pivots(2 * G::nq);
-        G::forward_dynamics_pivots(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, h.data(), pivots.data());
+        G::forward_dynamics_pivots(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, h.data(),
+                                   pivots.data());
         take({&h, &pivots});
       }
     }
     if constexpr (requires { G::dynamics_velocities; }) {
       if (name == "dynamics_positions") {
-        G::dynamics_positions(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data(), R.data(), x.data(), dv.data(),
-                              dwp.data());
+        G::dynamics_positions(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data(), R.data(),
+                              x.data(), dv.data(), dwp.data());
         take({&M, &h, &R, &x, &dv, &dwp});
       }
       if (name == "dynamics_velocities") {
-        G::dynamics_velocities(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data(), R.data(), x.data(), v.data(),
-                               w.data(), dv.data(), dwp.data());
+        G::dynamics_velocities(s.t, s.q.data(), s.qd.data(), p, M.data(), h.data(), R.data(),
+                               x.data(), v.data(), w.data(), dv.data(), dwp.data());
         take({&M, &h, &R, &x, &v, &w, &dv, &dwp});
       }
     }
@@ -147,7 +157,8 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
 }
 
 // The inputs of an emitted function's program at a state, in its order.
-inline std::vector<double> program_inputs(const codegen::EmittedFunction& f, const ModelState<double>& s,
+inline std::vector<double> program_inputs(const codegen::EmittedFunction& f,
+                                          const ModelState<double>& s,
                                           std::span<const double> param) {
   std::vector<double> in;
   for (const std::string& array : f.inputs) {
@@ -176,7 +187,8 @@ struct EmittedSetup {
 // are relative to G::reference_body.
 template <class G>
 void check_emitted(const EmittedSetup& setup) {
-  const model::Model m = model::find_definition(setup.name).make(setup.variant).with_shared_motions_relative();
+  const model::Model m =
+      model::find_definition(setup.name).make(setup.variant).with_shared_motions_relative();
   const std::vector<int> references = m.reference_indices();
   CHECK(std::equal(references.begin(), references.end(), G::reference_body));
   model::DeriveOptions derive;
@@ -216,7 +228,8 @@ void check_emitted(const EmittedSetup& setup) {
       const model::Motion& r = body.relative;
       for (auto c : r.R) relative.push_back(eval(c));
     }
-    for (auto field : {&model::Motion::x, &model::Motion::v, &model::Motion::w, &model::Motion::a, &model::Motion::dw}) {
+    for (auto field : {&model::Motion::x, &model::Motion::v, &model::Motion::w, &model::Motion::a,
+                       &model::Motion::dw}) {
       for (const auto& body : k.bodies) {
         for (auto c : body.relative.*field) relative.push_back(eval(c));
       }
@@ -232,7 +245,8 @@ void check_emitted(const EmittedSetup& setup) {
       return out;
     };
     if constexpr (requires { G::accelerations_partials; }) {
-      CHECK(gap(call_entry<G>("accelerations_partials", s), separate({"accelerations", "partial_velocities"})) < 1e-14);
+      CHECK(gap(call_entry<G>("accelerations_partials", s),
+                separate({"accelerations", "partial_velocities"})) < 1e-14);
       CHECK(gap(call_entry<G>("relative_accelerations_partials", s),
                 separate({"relative_accelerations", "relative_partial_velocities"})) < 1e-14);
     }
@@ -257,7 +271,8 @@ void check_emitted(const EmittedSetup& setup) {
     for (const auto& f : functions) {
       if (!f.program) continue;
       INFO("entry point " << f.name);
-      const std::vector<double> in = program_inputs(f, s, {G::param_defaults, G::param_defaults + G::nparam});
+      const std::vector<double> in =
+          program_inputs(f, s, {G::param_defaults, G::param_defaults + G::nparam});
       const double worst = gap(call_entry<G>(f.name, s), f.program->evaluate<double>(in));
       INFO("gap " << worst);
       // The derivatives' long sums of products, printed as shared parts, differ from the
@@ -271,7 +286,8 @@ void check_emitted(const EmittedSetup& setup) {
       G::inertia(G::param_defaults, mass.data(), inertia.data());
       Eigen::VectorXd f = Eigen::VectorXd::Zero(G::nq);
       for (int i = 0; i < G::nbody; ++i) {
-        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Ri(&e.R[9 * i]), Ii(&inertia[9 * i]);
+        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Ri(&e.R[9 * i]),
+            Ii(&inertia[9 * i]);
         const Eigen::Matrix3d J = Ri * Ii * Ri.transpose();
         const Eigen::Vector3d ai(&e.a[3 * i]), wi(&e.w[3 * i]), dwi(&e.dw[3 * i]), g(G::gravity);
         const Eigen::Vector3d force = mass[i] * (ai - g);

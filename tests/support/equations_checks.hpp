@@ -9,35 +9,40 @@
 //
 // (⁰: at qdd = 0, Ω = Rᵀ·w, Ω̇ = Rᵀ·dw).
 
-#include <symdyn/model/dynamics.hpp>
 #include "support/kinematics_checks.hpp"
+#include <symdyn/model/dynamics.hpp>
 
 namespace symdyn::testing {
 
 struct Equations {
   Eigen::MatrixXd M;
   Eigen::VectorXd h;
-  Eigen::VectorXd tau, forward;  // derived only: inverse dynamics at qdd; forward dynamics at tau = qdd, if derived
+  Eigen::VectorXd tau,
+      forward;  // derived only: inverse dynamics at qdd; forward dynamics at tau = qdd, if derived
 };
 
-inline Equations derived_equations(const model::Model& m, const model::Kinematics& k, const model::Dynamics& d,
-                                   const ModelState<double>& s) {
+inline Equations derived_equations(const model::Model& m, const model::Kinematics& k,
+                                   const model::Dynamics& d, const ModelState<double>& s) {
   symbolic::Bindings<double> b = bind_state(m, k, s);
   const std::vector<symbolic::Expr> tau = model::generalized_force_symbols(m);
-  for (std::size_t j = 0; j < tau.size(); ++j) b.emplace(tau[j], s.qdd[j]);  // the forward dynamics' input
+  for (std::size_t j = 0; j < tau.size(); ++j)
+    b.emplace(tau[j], s.qdd[j]);  // the forward dynamics' input
   for (const auto& def : d.definitions) b.emplace(def.symbol, symbolic::evaluate(def.value, b));
   const auto n = static_cast<Eigen::Index>(m.coordinates().size());
-  Equations e{Eigen::MatrixXd(n, n), Eigen::VectorXd(n), Eigen::VectorXd(n), Eigen::VectorXd(d.forward.empty() ? 0 : n)};
+  Equations e{Eigen::MatrixXd(n, n), Eigen::VectorXd(n), Eigen::VectorXd(n),
+              Eigen::VectorXd(d.forward.empty() ? 0 : n)};
   for (Eigen::Index j = 0; j < n; ++j) {
     e.h(j) = symbolic::evaluate(d.bias[j], b);
     e.tau(j) = symbolic::evaluate(d.inverse[j], b);
     if (!d.forward.empty()) e.forward(j) = symbolic::evaluate(d.forward[j], b);
-    for (Eigen::Index l = 0; l < n; ++l) e.M(j, l) = symbolic::evaluate(d.mass_matrix[j * n + l], b);
+    for (Eigen::Index l = 0; l < n; ++l)
+      e.M(j, l) = symbolic::evaluate(d.mass_matrix[j * n + l], b);
   }
   return e;
 }
 
-inline Equations equations_by_direct_sums(const model::Model& m, const model::Kinematics& k, ModelState<double> s) {
+inline Equations equations_by_direct_sums(const model::Model& m, const model::Kinematics& k,
+                                          ModelState<double> s) {
   const auto n = static_cast<Eigen::Index>(m.coordinates().size());
   std::fill(s.qdd.begin(), s.qdd.end(), 0.0);
   const symbolic::Bindings<double> b = bind_state(m, k, s);
@@ -67,22 +72,25 @@ inline Equations equations_by_direct_sums(const model::Model& m, const model::Ki
 }
 
 // M, h and M's symmetry (exact: the lower triangle mirrors the upper) against the direct sums.
-inline Gap equations_gap(const model::Model& m, const model::Kinematics& k, const model::Dynamics& d,
-                         const States& states) {
+inline Gap equations_gap(const model::Model& m, const model::Kinematics& k,
+                         const model::Dynamics& d, const States& states) {
   Gap gap;
   for (const auto& s : states) {
     const Equations got = derived_equations(m, k, d, s), want = equations_by_direct_sums(m, k, s);
     gap.add(relative_gap(got.M, want.M), "M");
     gap.add(relative_gap(got.h, want.h), "h");
-    gap.add((got.M - got.M.transpose()).cwiseAbs().maxCoeff() == 0.0 ? 0.0 : INFINITY, "M's symmetry");
+    gap.add((got.M - got.M.transpose()).cwiseAbs().maxCoeff() == 0.0 ? 0.0 : INFINITY,
+            "M's symmetry");
     // The recursive inverse dynamics equals M·qdd + h; the forward dynamics (at
     // tau = qdd) solves M·x = tau - h, as far as M's condition allows.
     const Eigen::Map<const Eigen::VectorXd> qdd(s.qdd.data(), got.h.size());
     gap.add(relative_gap(got.tau, Eigen::VectorXd(want.M * qdd + want.h)), "inverse dynamics");
     if (got.forward.size() > 0) {
-      const Eigen::VectorXd eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(want.M).eigenvalues();
+      const Eigen::VectorXd eigenvalues =
+          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(want.M).eigenvalues();
       if (eigenvalues.minCoeff() > 1e-4 * eigenvalues.maxCoeff()) {
-        gap.add(relative_gap(Eigen::VectorXd(want.M * got.forward + want.h), Eigen::VectorXd(qdd)), "forward dynamics");
+        gap.add(relative_gap(Eigen::VectorXd(want.M * got.forward + want.h), Eigen::VectorXd(qdd)),
+                "forward dynamics");
       }
     }
   }

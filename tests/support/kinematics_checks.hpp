@@ -9,7 +9,6 @@
 //   dv/dqd, dw/dqd against velocity differences in qd (exact: v is affine in qd).
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <complex>
 #include <string>
@@ -17,9 +16,9 @@
 #include <utility>
 #include <vector>
 
+#include "support/model_eval.hpp"
 #include <symdyn/model/kinematics.hpp>
 #include <symdyn/symbolic/simplify.hpp>
-#include "support/model_eval.hpp"
 
 namespace symdyn::testing {
 
@@ -62,21 +61,25 @@ inline std::string body_place(const model::Model& m, std::size_t i, std::string_
   return m.bodies()[i].name() + " " + std::string(what);
 }
 
-inline Gap positions_4x4_gap(const model::Model& m, const model::Kinematics& k, const States& states) {
+inline Gap positions_4x4_gap(const model::Model& m, const model::Kinematics& k,
+                             const States& states) {
   Gap gap;
   for (const auto& s : states) {
     const auto b = bind_state(m, k, s);
     symbolic::Evaluator<double> eval(b);
     const auto T = direct_transforms(m, b);
     for (std::size_t i = 0; i < k.bodies.size(); ++i) {
-      gap.add(relative_gap(eval33(k.bodies[i].R, eval), T[i].block<3, 3>(0, 0)), body_place(m, i, "R"));
-      gap.add(relative_gap(eval3(k.bodies[i].x, eval), T[i].block<3, 1>(0, 3)), body_place(m, i, "x"));
+      gap.add(relative_gap(eval33(k.bodies[i].R, eval), T[i].block<3, 3>(0, 0)),
+              body_place(m, i, "R"));
+      gap.add(relative_gap(eval3(k.bodies[i].x, eval), T[i].block<3, 1>(0, 3)),
+              body_place(m, i, "x"));
     }
   }
   return gap;
 }
 
-inline Gap complex_step_gap(const model::Model& m, const model::Kinematics& k, const States& states) {
+inline Gap complex_step_gap(const model::Model& m, const model::Kinematics& k,
+                            const States& states) {
   using Complex = std::complex<double>;
   const double h = 1e-30;
   Gap gap;
@@ -88,8 +91,10 @@ inline Gap complex_step_gap(const model::Model& m, const model::Kinematics& k, c
     for (std::size_t i = 0; i < k.bodies.size(); ++i) {
       const auto& body = k.bodies[i];
       const Vector3<double> w = eval3(body.w, eval);
-      gap.add(relative_gap(eval3(body.v, eval), Vector3<double>(eval3(body.x, evalc).imag() / h)), body_place(m, i, "v"));
-      gap.add(relative_gap(eval3(body.a, eval), Vector3<double>(eval3(body.v, evalc).imag() / h)), body_place(m, i, "a"));
+      gap.add(relative_gap(eval3(body.v, eval), Vector3<double>(eval3(body.x, evalc).imag() / h)),
+              body_place(m, i, "v"));
+      gap.add(relative_gap(eval3(body.a, eval), Vector3<double>(eval3(body.v, evalc).imag() / h)),
+              body_place(m, i, "a"));
       gap.add(relative_gap(eval3(body.dw, eval), Vector3<double>(eval3(body.w, evalc).imag() / h)),
               body_place(m, i, "dw"));
       const Matrix3<double> R = eval33(body.R, eval);
@@ -100,7 +105,8 @@ inline Gap complex_step_gap(const model::Model& m, const model::Kinematics& k, c
   return gap;
 }
 
-inline Gap central_differences_gap(const model::Model& m, const model::Kinematics& k, const States& states) {
+inline Gap central_differences_gap(const model::Model& m, const model::Kinematics& k,
+                                   const States& states) {
   const double h = 1e-5;
   Gap gap;
   for (const auto& s : states) {
@@ -122,7 +128,8 @@ inline Gap central_differences_gap(const model::Model& m, const model::Kinematic
 }
 
 // k must have symbolic partial velocities.
-inline Gap partials_by_qd_gap(const model::Model& m, const model::Kinematics& k, const States& states) {
+inline Gap partials_by_qd_gap(const model::Model& m, const model::Kinematics& k,
+                              const States& states) {
   const std::size_t nq = m.coordinates().size();
   Gap gap;
   for (const auto& s : states) {
@@ -136,9 +143,11 @@ inline Gap partials_by_qd_gap(const model::Model& m, const model::Kinematics& k,
       for (std::size_t i = 0; i < k.bodies.size(); ++i) {
         const auto& body = k.bodies[i];
         const std::string qd = " qd" + std::to_string(j);
-        gap.add(relative_gap(eval3(body.dv_dqd[j], eval), Vector3<double>(eval3(body.v, eval_j) - eval3(body.v, eval))),
+        gap.add(relative_gap(eval3(body.dv_dqd[j], eval),
+                             Vector3<double>(eval3(body.v, eval_j) - eval3(body.v, eval))),
                 body_place(m, i, "dv/d" + qd));
-        gap.add(relative_gap(eval3(body.dw_dqd[j], eval), Vector3<double>(eval3(body.w, eval_j) - eval3(body.w, eval))),
+        gap.add(relative_gap(eval3(body.dw_dqd[j], eval),
+                             Vector3<double>(eval3(body.w, eval_j) - eval3(body.w, eval))),
                 body_place(m, i, "dw/d" + qd));
       }
     }
@@ -149,8 +158,9 @@ inline Gap partials_by_qd_gap(const model::Model& m, const model::Kinematics& k,
 // Two derivations of the same mechanism (variants, with or without
 // simplification) give the same R, x, v, w, a, dw and, when both have them,
 // partial velocities, body by body.
-inline Gap kinematics_agreement_gap(const model::Model& ma, const model::Kinematics& ka, const model::Model& mb,
-                                    const model::Kinematics& kb, const States& states) {
+inline Gap kinematics_agreement_gap(const model::Model& ma, const model::Kinematics& ka,
+                                    const model::Model& mb, const model::Kinematics& kb,
+                                    const States& states) {
   Gap gap;
   if (ka.bodies.size() != kb.bodies.size()) {
     gap.add(INFINITY, "the numbers of bodies");
@@ -164,14 +174,18 @@ inline Gap kinematics_agreement_gap(const model::Model& ma, const model::Kinemat
       const auto& x = ka.bodies[i];
       const auto& y = kb.bodies[i];
       gap.add(relative_gap(eval33(x.R, ea), eval33(y.R, eb)), body_place(ma, i, "R"));
-      for (auto [field, name] : {std::pair{&model::BodyKinematics::x, "x"}, {&model::BodyKinematics::v, "v"},
-                                 {&model::BodyKinematics::w, "w"}, {&model::BodyKinematics::a, "a"},
+      for (auto [field, name] : {std::pair{&model::BodyKinematics::x, "x"},
+                                 {&model::BodyKinematics::v, "v"},
+                                 {&model::BodyKinematics::w, "w"},
+                                 {&model::BodyKinematics::a, "a"},
                                  {&model::BodyKinematics::dw, "dw"}}) {
         gap.add(relative_gap(eval3(x.*field, ea), eval3(y.*field, eb)), body_place(ma, i, name));
       }
       for (std::size_t j = 0; j < std::min(x.dv_dqd.size(), y.dv_dqd.size()); ++j) {
-        gap.add(relative_gap(eval3(x.dv_dqd[j], ea), eval3(y.dv_dqd[j], eb)), body_place(ma, i, "dv/dqd"));
-        gap.add(relative_gap(eval3(x.dw_dqd[j], ea), eval3(y.dw_dqd[j], eb)), body_place(ma, i, "dw/dqd"));
+        gap.add(relative_gap(eval3(x.dv_dqd[j], ea), eval3(y.dv_dqd[j], eb)),
+                body_place(ma, i, "dv/dqd"));
+        gap.add(relative_gap(eval3(x.dw_dqd[j], ea), eval3(y.dw_dqd[j], eb)),
+                body_place(ma, i, "dw/dqd"));
       }
     }
   }
@@ -184,24 +198,29 @@ inline void check_gap(const Gap& gap, double tolerance) {
   CHECK(gap.value < tolerance);
 }
 
-inline void check_positions_4x4(const model::Model& m, const model::Kinematics& k, const States& states) {
+inline void check_positions_4x4(const model::Model& m, const model::Kinematics& k,
+                                const States& states) {
   check_gap(positions_4x4_gap(m, k, states), 1e-13);
 }
 
-inline void check_complex_step(const model::Model& m, const model::Kinematics& k, const States& states) {
+inline void check_complex_step(const model::Model& m, const model::Kinematics& k,
+                               const States& states) {
   check_gap(complex_step_gap(m, k, states), 1e-12);
 }
 
-inline void check_central_differences(const model::Model& m, const model::Kinematics& k, const States& states) {
+inline void check_central_differences(const model::Model& m, const model::Kinematics& k,
+                                      const States& states) {
   check_gap(central_differences_gap(m, k, states), 1e-8);
 }
 
-inline void check_partials_by_qd(const model::Model& m, const model::Kinematics& k, const States& states) {
+inline void check_partials_by_qd(const model::Model& m, const model::Kinematics& k,
+                                 const States& states) {
   check_gap(partials_by_qd_gap(m, k, states), 1e-12);
 }
 
-inline void check_kinematics_agree(const model::Model& ma, const model::Kinematics& ka, const model::Model& mb,
-                                   const model::Kinematics& kb, const States& states, double tolerance) {
+inline void check_kinematics_agree(const model::Model& ma, const model::Kinematics& ka,
+                                   const model::Model& mb, const model::Kinematics& kb,
+                                   const States& states, double tolerance) {
   check_gap(kinematics_agreement_gap(ma, ka, mb, kb, states), tolerance);
 }
 

@@ -24,7 +24,8 @@ struct ModelState {
 // (values, rates, accelerations, Jacobians) and intermediates computed in
 // dependency order.
 template <class S>
-symbolic::Bindings<S> bind_state(const model::Model& m, const model::Kinematics& k, const ModelState<S>& s) {
+symbolic::Bindings<S> bind_state(const model::Model& m, const model::Kinematics& k,
+                                 const ModelState<S>& s) {
   symbolic::Bindings<S> b;
   b.emplace(m.time(), s.t);
   for (std::size_t i = 0; i < m.coordinates().size(); ++i) {
@@ -40,7 +41,8 @@ symbolic::Bindings<S> bind_state(const model::Model& m, const model::Kinematics&
   for (const auto& d : k.dependents) b.emplace(d.symbols.acceleration, eval(d.acceleration));
   for (const auto& d : k.dependents) {
     for (std::size_t j = 0; j < d.jacobian.size(); ++j) {
-      if (d.jacobian_symbols[j] != d.jacobian[j]) b.emplace(d.jacobian_symbols[j], eval(d.jacobian[j]));
+      if (d.jacobian_symbols[j] != d.jacobian[j])
+        b.emplace(d.jacobian_symbols[j], eval(d.jacobian[j]));
     }
   }
   for (const auto& i : k.intermediates) b.emplace(i.symbol, eval(i.value));
@@ -98,7 +100,8 @@ std::vector<Matrix4<S>> direct_transforms(const model::Model& m, const symbolic:
         K << S(0), -k(2), k(1), k(2), S(0), -k(0), -k(1), k(0), S(0);
         using std::cos;
         using std::sin;
-        E.template block<3, 3>(0, 0) = Matrix3<S>::Identity() + sin(angle) * K + (S(1) - cos(angle)) * (K * K);
+        E.template block<3, 3>(0, 0) =
+            Matrix3<S>::Identity() + sin(angle) * K + (S(1) - cos(angle)) * (K * K);
       } else {
         E.template block<3, 1>(0, 3) = eval3(step.displacement, b);
       }
@@ -127,13 +130,15 @@ inline ModelState<double> random_state(std::mt19937& rng, std::size_t nq) {
 // random_state, which this is for a model starting at q = 0 and amplitude 1).
 // Models whose dependent parameters exist only near their initial
 // configuration (a closed loop that must close) need a small amplitude.
-inline ModelState<double> random_state_near(std::mt19937& rng, std::span<const double> q_initial, double amplitude) {
+inline ModelState<double> random_state_near(std::mt19937& rng, std::span<const double> q_initial,
+                                            double amplitude) {
   ModelState<double> s = random_state(rng, q_initial.size());
   for (std::size_t i = 0; i < s.q.size(); ++i) s.q[i] = q_initial[i] + amplitude * s.q[i];
   return s;
 }
 
-inline ModelState<double> random_state_near(std::mt19937& rng, const model::Model& m, double amplitude) {
+inline ModelState<double> random_state_near(std::mt19937& rng, const model::Model& m,
+                                            double amplitude) {
   std::vector<double> q_initial;
   for (const auto& c : m.coordinates()) q_initial.push_back(c.initial);
   return random_state_near(rng, q_initial, amplitude);

@@ -25,22 +25,37 @@ class RandomExpr {
     const Expr a = (*this)(depth - 1);
     switch (pick(17)) {
       case 0:
-      case 1: return a + (*this)(depth - 1);
-      case 2: return a - (*this)(depth - 1);
+      case 1:
+        return a + (*this)(depth - 1);
+      case 2:
+        return a - (*this)(depth - 1);
       case 3:
-      case 4: return a * (*this)(depth - 1);
-      case 5: return a / (pow(leaf(), 2) + 1);
-      case 6: return pow(a, static_cast<int>(pick(4)) + 2);
-      case 7: return sqrt(pow(a, 2) + rational(1, 2));
-      case 8: return sin(a);
-      case 9: return cos(a);
-      case 10: return tan(sin(a) / 2);
-      case 11: return asin(sin(a) / 2);
-      case 12: return acos(cos(a) / 2);
-      case 13: return atan(a);
-      case 14: return atan2(a, pow(leaf(), 2) + 1);
-      case 15: return exp(sin(a)) + log(pow(a, 2) + rational(1, 2));
-      default: return abs(a) + rational(1, 3) * a;
+      case 4:
+        return a * (*this)(depth - 1);
+      case 5:
+        return a / (pow(leaf(), 2) + 1);
+      case 6:
+        return pow(a, static_cast<int>(pick(4)) + 2);
+      case 7:
+        return sqrt(pow(a, 2) + rational(1, 2));
+      case 8:
+        return sin(a);
+      case 9:
+        return cos(a);
+      case 10:
+        return tan(sin(a) / 2);
+      case 11:
+        return asin(sin(a) / 2);
+      case 12:
+        return acos(cos(a) / 2);
+      case 13:
+        return atan(a);
+      case 14:
+        return atan2(a, pow(leaf(), 2) + 1);
+      case 15:
+        return exp(sin(a)) + log(pow(a, 2) + rational(1, 2));
+      default:
+        return abs(a) + rational(1, 3) * a;
     }
   }
 
@@ -64,7 +79,9 @@ class RandomExpr {
     return p;
   }
 
-  std::size_t pick(std::size_t n) { return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng_); }
+  std::size_t pick(std::size_t n) {
+    return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng_);
+  }
   std::mt19937& rng() { return rng_; }
 
  private:

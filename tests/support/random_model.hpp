@@ -18,15 +18,17 @@
 #include <string>
 #include <vector>
 
-#include <symdyn/model/model.hpp>
 #include "support/kinematics_checks.hpp"
+#include <symdyn/model/model.hpp>
 #include <symdyn/symbolic/print.hpp>
 #include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::testing {
 
 // A number on a grid of `step` between lo·step and hi·step (shrinks toward 0).
-inline double draw(int lo, int hi, double step) { return *rc::gen::inRange(lo, hi + 1) * step; }
+inline double draw(int lo, int hi, double step) {
+  return *rc::gen::inRange(lo, hi + 1) * step;
+}
 
 // Draws the scalars of one random model, and writes down what it drew.
 class RandomModel {
@@ -66,11 +68,16 @@ class RandomModel {
   // A constant, or affine, trigonometric or bilinear in the symbols.
   model::Expr scalar(int first_kind) {
     switch (*rc::gen::inRange(first_kind, 5)) {
-      case 0: return coefficient();
-      case 1: return coefficient() + coefficient() * symbol();
-      case 2: return coefficient() * symbol() + coefficient() * symbol();
-      case 3: return coefficient() + coefficient() * sin(symbol() + coefficient());
-      default: return coefficient() * symbol() * symbol();
+      case 0:
+        return coefficient();
+      case 1:
+        return coefficient() + coefficient() * symbol();
+      case 2:
+        return coefficient() * symbol() + coefficient() * symbol();
+      case 3:
+        return coefficient() + coefficient() * sin(symbol() + coefficient());
+      default:
+        return coefficient() * symbol() * symbol();
     }
   }
 
@@ -119,7 +126,8 @@ class RandomModel {
   };
 
   BodyDraw draw_body(int i) {
-    BodyDraw body{fmt::format("b{}", i), draw(1, 50, 0.1), inertia(), step(), *rc::gen::inRange(-1, i)};
+    BodyDraw body{fmt::format("b{}", i), draw(1, 50, 0.1), inertia(), step(),
+                  *rc::gen::inRange(-1, i)};
     const int steps = *rc::gen::inRange(1, 5);
     for (int s = 1; s < steps; ++s) body.motion = body.motion * step();
     describe(body);
@@ -139,7 +147,8 @@ class RandomModel {
 
   // Model::validate refuses a coordinate that moves no body: one drawn in no
   // motion (directly or through a dependent parameter) turns the first body.
-  void move_every_coordinate(std::vector<BodyDraw>& bodies, int nq, const std::vector<model::Expr>& values) {
+  void move_every_coordinate(std::vector<BodyDraw>& bodies, int nq,
+                             const std::vector<model::Expr>& values) {
     std::vector<model::Expr> used;
     for (const BodyDraw& b : bodies) {
       for (const auto& s : b.motion.steps()) {
@@ -148,7 +157,8 @@ class RandomModel {
       }
     }
     const auto uses = [&](model::Expr s) {
-      return std::any_of(used.begin(), used.end(), [&](model::Expr e) { return symbolic::depends_on(e, s); });
+      return std::any_of(used.begin(), used.end(),
+                         [&](model::Expr e) { return symbolic::depends_on(e, s); });
     };
     for (std::size_t k = values.size(); k-- > 0;) {  // later dependent parameters use earlier ones
       const model::Expr p = symbols_[static_cast<std::size_t>(nq) + 1 + k];
@@ -168,12 +178,14 @@ class RandomModel {
     text_ << ":";
     for (const auto& s : body.motion.steps()) {
       if (s.is_rotation) {
-        text_ << " rot" << "xyz"[s.axis[1].is_zero() ? (s.axis[2].is_zero() ? 0 : 2) : 1] << "("
+        text_ << " rot"
+              << "xyz"[s.axis[1].is_zero() ? (s.axis[2].is_zero() ? 0 : 2) : 1] << "("
               << symbolic::to_infix(s.angle) << ")";
         continue;
       }
       text_ << " disp(";
-      for (int k = 0; k < 3; ++k) text_ << (k > 0 ? ", " : "") << symbolic::to_infix(s.displacement[k]);
+      for (int k = 0; k < 3; ++k)
+        text_ << (k > 0 ? ", " : "") << symbolic::to_infix(s.displacement[k]);
       text_ << ")";
     }
     text_ << "\n";
@@ -193,7 +205,8 @@ inline States random_states(const model::Model& m, unsigned seed) {
 
 // Fails the property unless the gap is below tolerance, saying where it is.
 inline void assert_gap(const Gap& gap, double tolerance, const char* what) {
-  if (!(gap.value < tolerance)) RC_LOG() << what << ": gap " << gap.value << " at " << gap.where << "\n";
+  if (!(gap.value < tolerance))
+    RC_LOG() << what << ": gap " << gap.value << " at " << gap.where << "\n";
   RC_ASSERT(gap.value < tolerance);
 }
 

@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 
+#include "support/random_expr.hpp"
 #include <symdyn/symbolic/eval.hpp>
 #include <symdyn/symbolic/expr.hpp>
 #include <symdyn/symbolic/print.hpp>
-#include "support/random_expr.hpp"
 
 using namespace symdyn::symbolic;
 
@@ -27,7 +27,8 @@ TEST_CASE("construction canonicalizes sums and products", "[construct]") {
   CHECK(to_cpp(pow(x, 2) / 2 + sqrt(y)) == "0.5*x*x + std::sqrt(y)");
 }
 
-TEST_CASE("random expressions evaluate finite and building twice gives the same node", "[construct]") {
+TEST_CASE("random expressions evaluate finite and building twice gives the same node",
+          "[construct]") {
   for (unsigned seed = 0; seed < 2000; ++seed) {
     Context ctx;
     Context::Scope scope(ctx);

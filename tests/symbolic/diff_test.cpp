@@ -3,7 +3,6 @@
 // central differences on the evaluated DAG, closed forms written by hand, and
 // a numerical 4x4 product for the chain model.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <complex>
 #include <random>
@@ -38,7 +37,8 @@ Bindings<S> bind_values(std::span<const Expr> symbols, std::span<const S> values
 
 // d e/d symbols[k] at `point` by the complex step: Im f(x + ih)/h, exact to
 // rounding since there is no subtraction.
-double complex_step(Expr e, std::span<const Expr> symbols, std::span<const double> point, std::size_t k) {
+double complex_step(Expr e, std::span<const Expr> symbols, std::span<const double> point,
+                    std::size_t k) {
   constexpr double h = 1e-30;
   std::vector<Complex> z(point.begin(), point.end());
   z[k] += Complex(0.0, h);
@@ -46,16 +46,21 @@ double complex_step(Expr e, std::span<const Expr> symbols, std::span<const doubl
 }
 
 // d e/d symbols[k] at `point` by central differences with a relative step.
-double central_difference(Expr e, std::span<const Expr> symbols, std::span<const double> point, std::size_t k) {
+double central_difference(Expr e, std::span<const Expr> symbols, std::span<const double> point,
+                          std::size_t k) {
   const double h = 1e-5 * std::max(1.0, std::abs(point[k]));
   std::vector<double> plus(point.begin(), point.end());
   std::vector<double> minus(point.begin(), point.end());
   plus[k] += h;
   minus[k] -= h;
-  return (evaluate(e, bind_values<double>(symbols, plus)) - evaluate(e, bind_values<double>(symbols, minus))) / (2 * h);
+  return (evaluate(e, bind_values<double>(symbols, plus)) -
+          evaluate(e, bind_values<double>(symbols, minus))) /
+         (2 * h);
 }
 
-double value_at(Expr e, Bindings<double> at) { return evaluate(e, at); }
+double value_at(Expr e, Bindings<double> at) {
+  return evaluate(e, at);
+}
 
 }  // namespace
 
@@ -74,8 +79,8 @@ TEST_CASE("diff matches the complex step and central differences", "[diff][prope
     const auto p = gen.point();
     const double value = evaluate(d, bind_values<double>(xs, p));
     const double cs = complex_step(e, xs, p, k);
-    INFO("seed " << seed << "\ne = " << e << "\nd/d" << xs[k] << " = " << d << "\nvalue " << value << ", complex step "
-                 << cs);
+    INFO("seed " << seed << "\ne = " << e << "\nd/d" << xs[k] << " = " << d << "\nvalue " << value
+                 << ", complex step " << cs);
     REQUIRE(std::isfinite(cs));
     CHECK(close(value, cs, 1e-9));
     // Central differences: truncation and cancellation errors, a loose tolerance.
@@ -163,11 +168,13 @@ std::pair<double, double> path_derivative(const Path& path, Expr e) {
   constexpr double h_cs = 1e-30;
   constexpr double h_fd = 1e-5;
   const double cs = evaluate(e, path.at<Complex>(Complex(0, h_cs))).imag() / h_cs;
-  const double fd = (evaluate(e, path.at<double>(h_fd)) - evaluate(e, path.at<double>(-h_fd))) / (2 * h_fd);
+  const double fd =
+      (evaluate(e, path.at<double>(h_fd)) - evaluate(e, path.at<double>(-h_fd))) / (2 * h_fd);
   return {cs, fd};
 }
 
-TEST_CASE("the total time derivative matches differences along a path, twice", "[time_derivative][property]") {
+TEST_CASE("the total time derivative matches differences along a path, twice",
+          "[time_derivative][property]") {
   int badly_scaled = 0;
   for (unsigned seed = 0; seed < kCases; ++seed) {
     Context ctx;
@@ -191,7 +198,8 @@ TEST_CASE("the total time derivative matches differences along a path, twice", "
     const auto [cs1, fd1] = path_derivative(path, e);
     const auto [cs2, fd2] = path_derivative(path, e1);
     INFO("seed " << seed << "\ne = " << e << "\nde/dt = " << e1 << "\nd2e/dt2 = " << e2);
-    INFO("first: " << v1 << " cs " << cs1 << " fd " << fd1 << "; second: " << v2 << " cs " << cs2 << " fd " << fd2);
+    INFO("first: " << v1 << " cs " << cs1 << " fd " << fd1 << "; second: " << v2 << " cs " << cs2
+                   << " fd " << fd2);
     CHECK(close(v1, cs1, 1e-9));
     CHECK(close(v2, cs2, 1e-9));
     CHECK(close(v1, fd1, 1e-4));
@@ -295,7 +303,8 @@ TEST_CASE("time derivatives of symbols by their kind", "[time_derivative]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr q = symbol("q0", SymbolKind::Variable), qd = symbol("qd0", SymbolKind::Rate);
-  const Expr t = symbol("t", SymbolKind::Time), m = symbol("m", SymbolKind::Parameter), c = symbol("c");
+  const Expr t = symbol("t", SymbolKind::Time), m = symbol("m", SymbolKind::Parameter),
+             c = symbol("c");
   TimeDerivative dt(RateMap{{q, qd}});
   CHECK(dt(t) == Expr(1));
   CHECK(dt(m * c) == Expr(0));
@@ -357,14 +366,19 @@ TEST_CASE("a varying symbol without a rate is an error", "[time_derivative][erro
   Context ctx;
   Context::Scope scope(ctx);
   const Expr q = symbol("q0", SymbolKind::Variable), qd = symbol("qd0", SymbolKind::Rate);
-  CHECK_THROWS_WITH(time_derivative(sin(q), {}), "time derivative: symbol 'q0' (variable) has no rate given");
-  CHECK_THROWS_WITH(time_derivative(q * qd, {{q, qd}}), "time derivative: symbol 'qd0' (rate) has no rate given");
+  CHECK_THROWS_WITH(time_derivative(sin(q), {}),
+                    "time derivative: symbol 'q0' (variable) has no rate given");
+  CHECK_THROWS_WITH(time_derivative(q * qd, {{q, qd}}),
+                    "time derivative: symbol 'qd0' (rate) has no rate given");
   const Expr p = symbol("p0", SymbolKind::Dependent);
-  CHECK_THROWS_WITH(time_derivative(p, {}), "time derivative: symbol 'p0' (dependent) has no rate given");
-  CHECK_THROWS_WITH(TimeDerivative(RateMap{{2 * q, qd}}), "time derivative: rate map: key '2*q0' is not a symbol");
+  CHECK_THROWS_WITH(time_derivative(p, {}),
+                    "time derivative: symbol 'p0' (dependent) has no rate given");
+  CHECK_THROWS_WITH(TimeDerivative(RateMap{{2 * q, qd}}),
+                    "time derivative: rate map: key '2*q0' is not a symbol");
 }
 
-TEST_CASE("substitution keys must be symbols; partial() of a leaf is an error", "[substitute][error]") {
+TEST_CASE("substitution keys must be symbols; partial() of a leaf is an error",
+          "[substitute][error]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x"), y = symbol("y");
@@ -375,10 +389,12 @@ TEST_CASE("substitution keys must be symbols; partial() of a leaf is an error", 
   CHECK_THROWS_AS(substitute(log(x), {{x, Expr(0)}}), DomainError);
 }
 
-TEST_CASE("a substitution grows along a chain of definitions, never behind what it met", "[substitute]") {
+TEST_CASE("a substitution grows along a chain of definitions, never behind what it met",
+          "[substitute]") {
   Context ctx;
   Context::Scope scope(ctx);
-  const Expr x = symbol("x"), a = symbol("a", SymbolKind::Intermediate), b = symbol("b", SymbolKind::Intermediate);
+  const Expr x = symbol("x"), a = symbol("a", SymbolKind::Intermediate),
+             b = symbol("b", SymbolKind::Intermediate);
   Substitution s(std::unordered_map<Expr, Expr>{{x, Expr(0)}});
   const Expr a0 = symbol("a0", SymbolKind::Intermediate);
   CHECK(s(sin(x) + 3) == Expr(3));
@@ -392,7 +408,8 @@ TEST_CASE("a substitution grows along a chain of definitions, never behind what 
 // ---------------------------------------------------------------------------
 // Sizes on the chain model: positions, velocities, accelerations stay small
 
-TEST_CASE("chain_16 absolute: kinematics by the time derivative stay a small DAG", "[time_derivative][chain]") {
+TEST_CASE("chain_16 absolute: kinematics by the time derivative stay a small DAG",
+          "[time_derivative][chain]") {
   using namespace symdyn::testing;
   constexpr int n = 16;
   Context ctx;
@@ -463,6 +480,7 @@ TEST_CASE("chain_16 absolute: kinematics by the time derivative stay a small DAG
     INFO("entry " << i % 12 << " of body " << i / 12);
     CHECK(close(eval0(positions[i]), expected[i], 1e-12));
     CHECK(close(eval0(velocities[i]), (plus[i] - minus[i]) / 2e-5, 1e-6));
-    CHECK(close(eval0(accelerations[i]), (eval_plus(velocities[i]) - eval_minus(velocities[i])) / 2e-5, 1e-6));
+    CHECK(close(eval0(accelerations[i]),
+                (eval_plus(velocities[i]) - eval_minus(velocities[i])) / 2e-5, 1e-6));
   }
 }

@@ -1,10 +1,10 @@
 // Jacobians through chains of definitions (chain_jacobian) and the directional
 // derivative, checked against the complex step on the program of the
 // definitions: independent of the engine's calculus, which only evaluates.
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
 
@@ -36,7 +36,8 @@ struct RandomChain {
 
 RandomChain random_chain(unsigned seed) {
   RandomChain c;
-  c.variables = {symbol("x", SymbolKind::Variable), symbol("y", SymbolKind::Variable), symbol("z", SymbolKind::Rate)};
+  c.variables = {symbol("x", SymbolKind::Variable), symbol("y", SymbolKind::Variable),
+                 symbol("z", SymbolKind::Rate)};
   std::vector<Expr> reachable = c.variables;
   RandomExpr first(seed, reachable);
   const std::size_t n = 1 + first.pick(6);
@@ -62,7 +63,8 @@ std::vector<Complex> outputs_at(const RandomChain& c, const std::vector<Complex>
 
 }  // namespace
 
-TEST_CASE("chain_jacobian matches the complex step through random chains of definitions", "[jacobian][property]") {
+TEST_CASE("chain_jacobian matches the complex step through random chains of definitions",
+          "[jacobian][property]") {
   int compared = 0;
   for (unsigned seed = 0; seed < kCases; ++seed) {
     Context ctx;
@@ -78,7 +80,8 @@ TEST_CASE("chain_jacobian matches the complex step through random chains of defi
     // A definition exactly 0 there (atan2(0, u) is not folded) may put abs at its kink.
     std::vector<Expr> defined;
     for (const Definition& d : c.definitions) defined.push_back(d.symbol);
-    const std::vector<double> at_p = compile_program(c.variables, defined, c.definitions).evaluate<double>(p);
+    const std::vector<double> at_p =
+        compile_program(c.variables, defined, c.definitions).evaluate<double>(p);
     if (std::find(at_p.begin(), at_p.end(), 0.0) != at_p.end()) continue;
     const std::vector<double> values = jacobian.evaluate<double>(p);
     for (std::size_t j = 0; j < c.variables.size(); ++j) {
@@ -89,9 +92,10 @@ TEST_CASE("chain_jacobian matches the complex step through random chains of defi
       for (std::size_t i = 0; i < c.outputs.size(); ++i) {
         const double expected = f[i].imag() / h;
         const double got = values[i * c.variables.size() + j];
-        if (!std::isfinite(expected) || std::abs(expected) > 1e8) continue;  // a steep point: no comparison
-        INFO("seed " << seed << ", output " << i << " = " << c.outputs[i] << ", variable " << c.variables[j]
-                     << ": " << got << " against " << expected);
+        if (!std::isfinite(expected) || std::abs(expected) > 1e8)
+          continue;  // a steep point: no comparison
+        INFO("seed " << seed << ", output " << i << " = " << c.outputs[i] << ", variable "
+                     << c.variables[j] << ": " << got << " against " << expected);
         CHECK(close(got, expected, 1e-9));
         ++compared;
       }
@@ -113,17 +117,21 @@ TEST_CASE("chain_jacobian names each reached derivative once and skips the rest"
   const ChainJacobian J = chain_jacobian(out, vars, defs);
   // d(a)/d(x), d(b)/d(x), d(a)/d(y), d(b)/d(y): unused is not reached.
   REQUIRE(J.definitions.size() == 4);
-  for (const Definition& d : J.definitions) CHECK(d.symbol.name().find("unused") == std::string::npos);
+  for (const Definition& d : J.definitions)
+    CHECK(d.symbol.name().find("unused") == std::string::npos);
   CHECK(J.definitions[0].symbol.name() == "d(a)/d(x)");
   // Closed form at (x, y) = (0.3, -1.2).
   const double xv = 0.3, yv = -1.2;
   const double av = std::sin(xv) * yv, bv = av * av + xv;
   const double da_dx = std::cos(xv) * yv, da_dy = std::sin(xv);
   const double db_dx = 2 * av * da_dx + 1, db_dy = 2 * av * da_dy;
-  const auto d_out = [&](double da, double db, double dy) { return db * std::cos(av) - bv * std::sin(av) * da + dy; };
+  const auto d_out = [&](double da, double db, double dy) {
+    return db * std::cos(av) - bv * std::sin(av) * da + dy;
+  };
   std::vector<Definition> all = defs;
   all.insert(all.end(), J.definitions.begin(), J.definitions.end());
-  const std::vector<double> values = compile_program(vars, J.entries, all).evaluate<double>(std::vector<double>{xv, yv});
+  const std::vector<double> values =
+      compile_program(vars, J.entries, all).evaluate<double>(std::vector<double>{xv, yv});
   CHECK(values[0] == Approx(d_out(da_dx, db_dx, 0.0)).epsilon(1e-14));
   CHECK(values[1] == Approx(d_out(da_dy, db_dy, 1.0)).epsilon(1e-14));
 }
@@ -142,21 +150,24 @@ TEST_CASE("chain_jacobian: a derivative that is a number or a symbol is not name
   CHECK(J.entries[0] == 2 * c);
 }
 
-TEST_CASE("chain_jacobian refuses a variable that is not a symbol or is defined", "[jacobian][error]") {
+TEST_CASE("chain_jacobian refuses a variable that is not a symbol or is defined",
+          "[jacobian][error]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x", SymbolKind::Variable), a = symbol("a", SymbolKind::Intermediate);
   const std::vector<Definition> defs{{a, sin(x)}};
   const std::vector<Expr> out{a};
   const std::vector<Expr> not_symbol{x + 1}, defined{a};
-  CHECK_THROWS_WITH(chain_jacobian(out, not_symbol, defs), Catch::Contains("'1 + x' is not a symbol"));
+  CHECK_THROWS_WITH(chain_jacobian(out, not_symbol, defs),
+                    Catch::Contains("'1 + x' is not a symbol"));
   CHECK_THROWS_WITH(chain_jacobian(out, defined, defs), Catch::Contains("'a' is defined"));
 }
 
 TEST_CASE("DirectionalDerivative is the sum of partials times tangents", "[jacobian]") {
   Context ctx;
   Context::Scope scope(ctx);
-  const Expr x = symbol("x", SymbolKind::Variable), y = symbol("y", SymbolKind::Rate), t = symbol("t", SymbolKind::Time);
+  const Expr x = symbol("x", SymbolKind::Variable), y = symbol("y", SymbolKind::Rate),
+             t = symbol("t", SymbolKind::Time);
   const Expr e = sin(x) * y + t;
   DirectionalDerivative d(std::unordered_map<Expr, Expr>{{x, Expr(2)}, {y, Expr(3)}});
   // 2·cos(x)·y + 3·sin(x); the time symbol, absent, is a constant here.

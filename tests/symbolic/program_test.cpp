@@ -1,6 +1,7 @@
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
 #include <functional>
@@ -9,8 +10,6 @@
 #include <regex>
 #include <set>
 #include <sstream>
-
-#include <fmt/format.h>
 
 #include "support/random_expr.hpp"
 #include <symdyn/symbolic/eval.hpp>
@@ -29,12 +28,15 @@ bool close(T a, T b, T tol) {
   return abs(a - b) <= tol * std::max({T(1), abs(a), abs(b)});
 }
 
-std::vector<double> run(const Program& p, std::vector<double> in) { return p.evaluate<double>(in); }
+std::vector<double> run(const Program& p, std::vector<double> in) {
+  return p.evaluate<double>(in);
+}
 
 // The program's values at `point` against the DAG's, and its derivative in
 // input `step` by complex step against the DAG's.
-void check_values(const Program& program, const std::vector<Expr>& xs, const std::vector<Expr>& outputs,
-                  const std::vector<double>& point, std::size_t step) {
+void check_values(const Program& program, const std::vector<Expr>& xs,
+                  const std::vector<Expr>& outputs, const std::vector<double>& point,
+                  std::size_t step) {
   Bindings<double> at;
   Bindings<Complex> at_z;
   std::vector<Complex> zpoint(point.begin(), point.end());
@@ -54,7 +56,8 @@ void check_values(const Program& program, const std::vector<Expr>& xs, const std
 
 int count_opcode(const Program& p, Opcode op) {
   const auto code = p.instructions();
-  return static_cast<int>(std::count_if(code.begin(), code.end(), [op](const Instruction& i) { return i.op == op; }));
+  return static_cast<int>(
+      std::count_if(code.begin(), code.end(), [op](const Instruction& i) { return i.op == op; }));
 }
 
 OperationCount count_of(std::vector<Expr> inputs, std::vector<Expr> outputs) {
@@ -115,7 +118,8 @@ TEST_CASE("program equals direct DAG evaluation on random expressions", "[progra
     const std::vector<Complex> got_z = program.evaluate<Complex>(zpoint);
     for (int k = 0; k < kOutputs; ++k) {
       const Complex want = evaluate(outputs[k], at_z);
-      INFO("d/d" << xs[v] << " of output " << k << ": " << want.imag() / h << ", program gives " << got_z[k].imag() / h);
+      INFO("d/d" << xs[v] << " of output " << k << ": " << want.imag() / h << ", program gives "
+                 << got_z[k].imag() / h);
       CHECK(close(got_z[k].real(), want.real(), 1e-11));
       CHECK(close(got_z[k].imag() / h, want.imag() / h, 1e-9));
     }
@@ -138,7 +142,8 @@ TEST_CASE("program equals direct DAG evaluation on random expressions", "[progra
 
 // Wide sums of signed, scaled products and quotients over few symbols: many
 // shared operand pairs, so pair CSE and reciprocal sharing do most of the work.
-TEST_CASE("program equals DAG evaluation on wide sums and products with shared pairs", "[program]") {
+TEST_CASE("program equals DAG evaluation on wide sums and products with shared pairs",
+          "[program]") {
   for (unsigned seed = 0; seed < 300; ++seed) {
     Context ctx;
     Context::Scope scope(ctx);
@@ -156,9 +161,15 @@ TEST_CASE("program equals DAG evaluation on wide sums and products with shared p
         const Expr b = xs[gen.pick(xs.size())];
         const Expr d = xs[gen.pick(xs.size())];
         switch (gen.pick(3)) {
-          case 0: terms.push_back(c * a * b * d); break;
-          case 1: terms.push_back(c * a / (b * b + 1)); break;
-          default: terms.push_back(c * a); break;
+          case 0:
+            terms.push_back(c * a * b * d);
+            break;
+          case 1:
+            terms.push_back(c * a / (b * b + 1));
+            break;
+          default:
+            terms.push_back(c * a);
+            break;
         }
       }
       outputs.push_back(add(terms));
@@ -180,7 +191,8 @@ TEST_CASE("a sum too wide for pair CSE is still computed right", "[program]") {
   for (int i = 0; i < 20; ++i) xs.push_back(symbol(fmt::format("s{}", i)));
   std::vector<Expr> terms;
   for (int i = 0; i < 20; ++i) {
-    for (int j = i + 1; j < 20; ++j) terms.push_back((i + j) % 3 == 0 ? -xs[i] * xs[j] : xs[i] * xs[j]);
+    for (int j = i + 1; j < 20; ++j)
+      terms.push_back((i + j) % 3 == 0 ? -xs[i] * xs[j] : xs[i] * xs[j]);
   }
   const Expr wide = add(terms);  // 190 terms
   REQUIRE(wide.args().size() > 128);
@@ -230,7 +242,8 @@ TEST_CASE("sin and cos of one argument are one sincos", "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x"), y = symbol("y");
-  const Program p = compile_program(std::vector{x, y}, std::vector{sin(x + y) * y, cos(x + y) - y, sin(y)});
+  const Program p =
+      compile_program(std::vector{x, y}, std::vector{sin(x + y) * y, cos(x + y) - y, sin(y)});
   const OperationCount c = p.operation_count();
   CHECK(c.sincos == 1);
   CHECK(c.call(Kind::Sin) == 1);  // sin(y): no cos(y), no fusion
@@ -251,7 +264,8 @@ TEST_CASE("dead code is never scheduled and unused inputs are never read", "[pro
   const Program p = compile_program(std::vector{x, y, z}, std::vector{x * y});
   CHECK(p.operation_count() == ops(0, 1, 0, 0));
   CHECK(p.instructions().size() == 3);  // two inputs, one mul
-  for (const Instruction& ins : p.instructions()) CHECK(!(ins.op == Opcode::Input && ins.input == 2));
+  for (const Instruction& ins : p.instructions())
+    CHECK(!(ins.op == Opcode::Input && ins.input == 2));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   CHECK(run(p, {2.0, 3.0, nan})[0] == 6.0);
 }
@@ -278,15 +292,17 @@ TEST_CASE("pair CSE computes operand pairs shared by sums and products once", "[
   CHECK(out[1] == 0.25 - 1.5 + 7.0);
 }
 
-TEST_CASE("pair CSE extracts first a pair computed for itself, where that makes no output group longer",
-          "[program]") {
+TEST_CASE(
+    "pair CSE extracts first a pair computed for itself, where that makes no output group longer",
+    "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr a = symbol("a"), b = symbol("b"), c = symbol("c"), d = symbol("d"), e = symbol("e");
   const std::vector<Expr> in{a, b, c, d, e};
   // A rotation's products: a·d beside a·b·d makes the latter (a·d)·b, one
   // multiplication each, where a·b shared by a·b·c and a·b·d costs 3 for two.
-  const std::vector<Expr> outputs{a * b * c, a * b * d, e * b * c, e * b * d, a * d, e * c, e * d, a * c};
+  const std::vector<Expr> outputs{a * b * c, a * b * d, e * b * c, e * b * d,
+                                  a * d,     e * c,     e * d,     a * c};
   const std::vector<Expr> triples(outputs.begin(), outputs.begin() + 4);
   CHECK(count_of(in, outputs) == ops(0, 8, 0, 0));
   CHECK(count_of(in, triples) == ops(0, 6, 0, 0));  // a·b and e·b shared
@@ -297,15 +313,16 @@ TEST_CASE("pair CSE extracts first a pair computed for itself, where that makes 
   const std::vector<std::vector<std::size_t>> pairs_apart{{4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}};
   const Program kept = compile_program(in, outputs, {}, triples_apart);
   CHECK(kept.operation_count() == ops(0, 10, 0, 0));
-  CHECK(kept.subprogram(triples_apart[0], std::vector<std::size_t>{0, 1, 2, 3, 4}).operation_count() ==
-        ops(0, 6, 0, 0));
+  CHECK(kept.subprogram(triples_apart[0], std::vector<std::size_t>{0, 1, 2, 3, 4})
+            .operation_count() == ops(0, 6, 0, 0));
   CHECK(compile_program(in, outputs, {}, pairs_apart).operation_count() == ops(0, 8, 0, 0));
   const std::vector<double> point{0.3, -1.1, 0.7, 2.2, -0.4};
   Bindings<double> at;
   for (std::size_t i = 0; i < in.size(); ++i) at[in[i]] = point[i];
   for (const Program& p : {compile_program(in, outputs), kept}) {
     const auto out = run(p, point);
-    for (std::size_t k = 0; k < outputs.size(); ++k) CHECK(close(out[k], evaluate(outputs[k], at), 1e-15));
+    for (std::size_t k = 0; k < outputs.size(); ++k)
+      CHECK(close(out[k], evaluate(outputs[k], at), 1e-15));
   }
   CHECK_THROWS_WITH(compile_program(in, outputs, {}, std::vector<std::vector<std::size_t>>{{8}}),
                     "compile_program: a group names output 8 of 8");
@@ -322,7 +339,7 @@ TEST_CASE("negations and divisions fold into subtractions and divisions", "[prog
   CHECK(count_of(in, {-(x * y)}) == ops(0, 1, 0, 1));
   CHECK(count_of(in, {x - 2 * y}) == ops(1, 1, 0, 0));
   CHECK(count_of(in, {z - x * y}) == ops(1, 1, 0, 0));
-  CHECK(count_of(in, {-x - y}) == ops(1, 0, 0, 1));       // -(x + y)
+  CHECK(count_of(in, {-x - y}) == ops(1, 0, 0, 1));        // -(x + y)
   CHECK(count_of(in, {z * (-x - y)}) == ops(1, 1, 0, 1));  // -(z·(x + y))
   CHECK(count_of(in, {z + (-x) * y}) == ops(1, 1, 0, 0));  // z - x·y
   CHECK(count_of(in, {x / (y * z)}) == ops(0, 1, 1, 0));   // one division by y·z
@@ -332,15 +349,18 @@ TEST_CASE("negations and divisions fold into subtractions and divisions", "[prog
   // Two divisions by y: 1/y once and two multiplications.
   CHECK(count_of(in, {x / y, z / y}) == ops(0, 2, 1, 0));
   CHECK(count_of(in, {x / y, pow(y, -1)}) == ops(0, 1, 1, 0));
-  const auto out = run(compile_program(in, std::vector{-x / y, z - x / y, x / y, z / y}), {3.0, 4.0, 5.0});
+  const auto out =
+      run(compile_program(in, std::vector{-x / y, z - x / y, x / y, z / y}), {3.0, 4.0, 5.0});
   CHECK(out[0] == -0.75);
   CHECK(out[1] == 5.0 - 0.75);
   CHECK(out[2] == 0.75);
   CHECK(out[3] == 1.25);
 }
 
-TEST_CASE("a negation left at an output is absorbed by the code of its operand when nothing else reads it",
-          "[program]") {
+TEST_CASE(
+    "a negation left at an output is absorbed by the code of its operand when nothing else reads "
+    "it",
+    "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x"), y = symbol("y"), z = symbol("z"), w = symbol("w");
@@ -371,11 +391,13 @@ TEST_CASE("a negation left at an output is absorbed by the code of its operand w
     INFO(to_string(p));
     CHECK(p.operation_count() == c.count);
     const auto out = run(p, point);
-    for (std::size_t k = 0; k < c.outputs.size(); ++k) CHECK(close(out[k], evaluate(c.outputs[k], at), 1e-15));
+    for (std::size_t k = 0; k < c.outputs.size(); ++k)
+      CHECK(close(out[k], evaluate(c.outputs[k], at), 1e-15));
   }
 }
 
-TEST_CASE("absorbed negations keep every value: random sums, their negations and negated operands", "[program]") {
+TEST_CASE("absorbed negations keep every value: random sums, their negations and negated operands",
+          "[program]") {
   for (unsigned seed = 0; seed < 300; ++seed) {
     Context ctx;
     Context::Scope scope(ctx);
@@ -387,10 +409,14 @@ TEST_CASE("absorbed negations keep every value: random sums, their negations and
       const Expr a = xs[gen.pick(xs.size())];
       const Expr b = xs[gen.pick(xs.size())];
       switch (gen.pick(4)) {
-        case 0: return a * b;
-        case 1: return a / (b * b + 1);
-        case 2: return a - b;
-        default: return coefficients[gen.pick(coefficients.size())] * a;
+        case 0:
+          return a * b;
+        case 1:
+          return a / (b * b + 1);
+        case 2:
+          return a - b;
+        default:
+          return coefficients[gen.pick(coefficients.size())] * a;
       }
     };
     std::vector<Expr> outputs;
@@ -398,10 +424,18 @@ TEST_CASE("absorbed negations keep every value: random sums, their negations and
       Expr sum = operand() + operand();
       if (gen.pick(2) == 0) sum = sum * operand() + operand();
       switch (gen.pick(4)) {
-        case 0: outputs.push_back(-xs[gen.pick(xs.size())]); break;
-        case 1: outputs.push_back(sin(-sum)); break;
-        case 2: outputs.push_back(sum); break;
-        default: outputs.push_back(-sum); break;
+        case 0:
+          outputs.push_back(-xs[gen.pick(xs.size())]);
+          break;
+        case 1:
+          outputs.push_back(sin(-sum));
+          break;
+        case 2:
+          outputs.push_back(sum);
+          break;
+        default:
+          outputs.push_back(-sum);
+          break;
       }
     }
     const Program program = compile_program(xs, outputs);
@@ -414,7 +448,8 @@ TEST_CASE("absorbed negations keep every value: random sums, their negations and
   }
 }
 
-TEST_CASE("a negation is absorbed down a long chain of additions, up to a bound on its length", "[program]") {
+TEST_CASE("a negation is absorbed down a long chain of additions, up to a bound on its length",
+          "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   std::vector<Expr> xs;
@@ -460,11 +495,17 @@ TEST_CASE("powers lower to multiplications, sqrt and pow", "[program]") {
   CHECK(count_of(in, {pow(x, rational(3, 2))}) == with_sqrt(ops(0, 1, 0, 0), 1));
   CHECK(count_of(in, {pow(x, rational(1, 3))}) == with_sqrt(ops(0, 0, 0, 0), 0, 1));
   CHECK(count_of(in, {pow(x, 40)}) == with_sqrt(ops(0, 0, 0, 0), 0, 1));
-  const std::vector<Expr> outputs{pow(x, 7), pow(x, -3), pow(x, rational(5, 2)), pow(x, rational(-3, 2)),
-                                  pow(x, rational(1, 3)), pow(x, 40), pow(x - y, 2)};
+  const std::vector<Expr> outputs{pow(x, 7),
+                                  pow(x, -3),
+                                  pow(x, rational(5, 2)),
+                                  pow(x, rational(-3, 2)),
+                                  pow(x, rational(1, 3)),
+                                  pow(x, 40),
+                                  pow(x - y, 2)};
   const auto out = run(compile_program(in, outputs), {1.3, 0.4});
-  const std::vector<double> want{std::pow(1.3, 7),   std::pow(1.3, -3),  std::pow(1.3, 2.5), std::pow(1.3, -1.5),
-                                 std::cbrt(1.3),     std::pow(1.3, 40), 0.9 * 0.9};
+  const std::vector<double> want{
+      std::pow(1.3, 7), std::pow(1.3, -3), std::pow(1.3, 2.5), std::pow(1.3, -1.5),
+      std::cbrt(1.3),   std::pow(1.3, 40), 0.9 * 0.9};
   for (std::size_t i = 0; i < want.size(); ++i) CHECK(out[i] == Approx(want[i]).epsilon(1e-14));
 }
 
@@ -472,15 +513,17 @@ TEST_CASE("every function kind runs in the interpreter", "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x"), y = symbol("y");
-  const std::vector<Expr> outputs{tan(x), asin(x), acos(x), atan(x), atan2(y, x), exp(x), log(y), abs(x - y)};
+  const std::vector<Expr> outputs{tan(x),      asin(x), acos(x), atan(x),
+                                  atan2(y, x), exp(x),  log(y),  abs(x - y)};
   const Program p = compile_program(std::vector{x, y}, outputs);
   const double a = 0.3, b = 1.7;
-  const std::vector<double> want{std::tan(a),  std::asin(a), std::acos(a), std::atan(a),
-                                 std::atan2(b, a), std::exp(a), std::log(b),  1.4};
+  const std::vector<double> want{std::tan(a),      std::asin(a), std::acos(a), std::atan(a),
+                                 std::atan2(b, a), std::exp(a),  std::log(b),  1.4};
   const auto out = run(p, {a, b});
   for (std::size_t i = 0; i < want.size(); ++i) CHECK(out[i] == Approx(want[i]).epsilon(1e-15));
   const OperationCount c = p.operation_count();
-  for (Kind k : {Kind::Tan, Kind::Asin, Kind::Acos, Kind::Atan, Kind::Atan2, Kind::Exp, Kind::Log, Kind::Abs}) {
+  for (Kind k : {Kind::Tan, Kind::Asin, Kind::Acos, Kind::Atan, Kind::Atan2, Kind::Exp, Kind::Log,
+                 Kind::Abs}) {
     CHECK(c.call(k) == 1);
   }
   CHECK(c.total() == 9);  // eight calls and x - y
@@ -491,8 +534,8 @@ TEST_CASE("emit_cpp prints one statement per instruction", "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr q0 = symbol("q0"), q1 = symbol("q1"), l = symbol("l");
-  const std::vector<Expr> outputs{l * sin(q0) - 2 * q1, -l * cos(q0) + rational(1, 10), Expr(-3), q1,
-                                  pow(q1, 2) / l};
+  const std::vector<Expr> outputs{l * sin(q0) - 2 * q1, -l * cos(q0) + rational(1, 10), Expr(-3),
+                                  q1, pow(q1, 2) / l};
   const Program p = compile_program(std::vector{q0, q1, l}, outputs);
   CppNaming naming;
   naming.inputs = {"q[0]", "q[1]", "p[0]"};
@@ -520,7 +563,8 @@ TEST_CASE("emit_cpp prints one statement per instruction", "[program]") {
   CHECK(emit_cpp(p, naming).substr(0, 38) == "const long double w0 = std::sin(q[0]);");
   // Signs fold into a subtraction and a negation; a negative constant that
   // stays an operand is parenthesized.
-  const Program n = compile_program(std::vector{q0}, std::vector{-sin(q0 + rational(-5, 2)), atan2(q0, Expr(-1))});
+  const Program n = compile_program(std::vector{q0},
+                                    std::vector{-sin(q0 + rational(-5, 2)), atan2(q0, Expr(-1))});
   CppNaming one;
   one.inputs = {"q"};
   one.outputs = {"y", "z"};
@@ -537,8 +581,9 @@ TEST_CASE("bad uses of compile_program, run and emit_cpp name the culprit", "[pr
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x"), y = symbol("y"), z = symbol("z");
-  CHECK_THROWS_WITH(compile_program(std::vector{x, y}, std::vector{x * y, z + x}),
-                    "compile_program: output 1 uses symbol 'z', which is neither an input nor defined");
+  CHECK_THROWS_WITH(
+      compile_program(std::vector{x, y}, std::vector{x * y, z + x}),
+      "compile_program: output 1 uses symbol 'z', which is neither an input nor defined");
   CHECK_THROWS_WITH(compile_program(std::vector{x, y, x}, std::vector{x * y}),
                     "compile_program: symbol 'x' is given twice as an input (positions 0 and 2)");
   CHECK_THROWS_WITH(compile_program(std::vector{x, x + y}, std::vector{x}),
@@ -594,7 +639,8 @@ TEST_CASE("a definition is computed once, as its value, wherever outputs use it"
   CHECK(to_string(compile_program(std::vector{x, y}, outputs, reversed)) == to_string(p));
 }
 
-TEST_CASE("chained definitions stay linear where substitution would flatten their sums", "[program]") {
+TEST_CASE("chained definitions stay linear where substitution would flatten their sums",
+          "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   // s_k = s_(k-1) + x_k·x_(k+1): substituted, s_k is a sum of k products and
@@ -627,14 +673,17 @@ TEST_CASE("bad definitions name the culprit", "[program]") {
   Context::Scope scope(ctx);
   const Expr x = symbol("x"), d = symbol("d"), e = symbol("e");
   const std::vector<Expr> in{x};
-  CHECK_THROWS_WITH(compile_program(in, std::vector{d}, std::vector<Definition>{{d, e + x}, {e, sin(d)}}),
-                    Catch::Matches("compile_program: the definition of '[de]' depends on itself"));
-  CHECK_THROWS_WITH(compile_program(in, std::vector{d}, std::vector<Definition>{{d, x}, {d, x * x}}),
-                    "compile_program: symbol 'd' is defined twice");
+  CHECK_THROWS_WITH(
+      compile_program(in, std::vector{d}, std::vector<Definition>{{d, e + x}, {e, sin(d)}}),
+      Catch::Matches("compile_program: the definition of '[de]' depends on itself"));
+  CHECK_THROWS_WITH(
+      compile_program(in, std::vector{d}, std::vector<Definition>{{d, x}, {d, x * x}}),
+      "compile_program: symbol 'd' is defined twice");
   CHECK_THROWS_WITH(compile_program(in, std::vector{x}, std::vector<Definition>{{x, Expr(2)}}),
                     "compile_program: symbol 'x' is both an input and defined");
-  CHECK_THROWS_WITH(compile_program(in, std::vector{x}, std::vector<Definition>{{Expr(3), Expr(2)}}),
-                    "compile_program: a definition names '3', which is not a symbol");
+  CHECK_THROWS_WITH(
+      compile_program(in, std::vector{x}, std::vector<Definition>{{Expr(3), Expr(2)}}),
+      "compile_program: a definition names '3', which is not a symbol");
   // A cycle nobody needs is never visited: only what the outputs need is compiled.
   CHECK_NOTHROW(compile_program(in, std::vector{x}, std::vector<Definition>{{d, e}, {e, d}}));
 }
@@ -649,7 +698,8 @@ struct CppParts {
 CppParts emit_cpp_parts(const Program& p, const CppNaming& naming, std::size_t max) {
   std::vector<std::size_t> all(p.output_count());
   for (std::size_t o = 0; o < all.size(); ++o) all[o] = o;
-  const CppShared shared = emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{all}, max);
+  const CppShared shared =
+      emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{all}, max);
   CppParts parts;
   for (const CppPart& part : shared.parts) parts.bodies.push_back(part.body);
   parts.scratch_size = shared.functions.front().scratch_size;
@@ -668,8 +718,8 @@ struct Joined {
 Joined join_parts(const CppParts& parts) {
   Joined j;
   std::map<std::string, std::pair<std::string, std::size_t>> stored;  // s[k] -> temporary, part
-  const std::regex store(R"(^  (s\[\d+\]) = (t\d+);$)"), read(R"(s\[\d+\])"), define(R"(^  const double )"),
-      output(R"(^  (\w+\[\d+\]|\w+) = (.*);$)");
+  const std::regex store(R"(^  (s\[\d+\]) = (t\d+);$)"), read(R"(s\[\d+\])"),
+      define(R"(^  const double )"), output(R"(^  (\w+\[\d+\]|\w+) = (.*);$)");
   for (std::size_t p = 0; p < parts.bodies.size(); ++p) {
     std::istringstream lines(parts.bodies[p]);
     for (std::string line; std::getline(lines, line);) {
@@ -705,8 +755,10 @@ Joined join_whole(const std::string& body) {
 
 }  // namespace
 
-TEST_CASE("emit_cpp_shared, one function: the parts are the whole program, values crossing parts through the scratch array",
-          "[program]") {
+TEST_CASE(
+    "emit_cpp_shared, one function: the parts are the whole program, values crossing parts through "
+    "the scratch array",
+    "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
@@ -719,14 +771,16 @@ TEST_CASE("emit_cpp_shared, one function: the parts are the whole program, value
     const Program p = compile_program(xs, outputs);
     CppNaming naming;
     naming.inputs = {"x[0]", "x[1]", "x[2]"};
-    for (std::size_t i = 0; i < outputs.size(); ++i) naming.outputs.push_back(fmt::format("y[{}]", i));
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      naming.outputs.push_back(fmt::format("y[{}]", i));
     const std::string whole = emit_cpp(p, naming);
     const Joined expected = join_whole(whole);
     for (std::size_t max : {1, 2, 3, 7, 40}) {
       INFO("seed " << seed << ", parts of " << max << "\n" << whole);
       const CppParts parts = emit_cpp_parts(p, naming, max);
       std::size_t computing = 0;
-      for (const Instruction& i : p.instructions()) computing += i.op != Opcode::Const && i.op != Opcode::Input;
+      for (const Instruction& i : p.instructions())
+        computing += i.op != Opcode::Const && i.op != Opcode::Input;
       // Fewest parts of at most max statements (instructions and outputs).
       CHECK(parts.bodies.size() >= (computing + max - 1) / max);
       CHECK(parts.bodies.size() <= (computing + outputs.size() + max - 1) / max);
@@ -738,7 +792,8 @@ TEST_CASE("emit_cpp_shared, one function: the parts are the whole program, value
     CHECK(emit_cpp_parts(p, naming, 0).bodies == std::vector{whole});
     // A limit at least the program's statements: one part, as emit_cpp prints it.
     std::size_t statements = outputs.size();
-    for (const Instruction& i : p.instructions()) statements += i.op != Opcode::Const && i.op != Opcode::Input;
+    for (const Instruction& i : p.instructions())
+      statements += i.op != Opcode::Const && i.op != Opcode::Input;
     CHECK(emit_cpp_parts(p, naming, statements).bodies == std::vector{whole});
   }
 }
@@ -747,7 +802,9 @@ namespace {
 
 std::size_t count_definitions(const std::string& statements) {
   std::size_t n = 0;
-  for (std::size_t at = statements.find("const double "); at != std::string::npos; at = statements.find("const double ", at + 1)) ++n;
+  for (std::size_t at = statements.find("const double "); at != std::string::npos;
+       at = statements.find("const double ", at + 1))
+    ++n;
   return n;
 }
 
@@ -755,7 +812,8 @@ std::size_t count_definitions(const std::string& statements) {
 std::size_t computed_values(const Program& p) {
   std::size_t n = 0;
   for (const Instruction& i : p.instructions()) {
-    if (i.op != Opcode::Const && i.op != Opcode::Input) n += static_cast<std::size_t>(info(i.op).results);
+    if (i.op != Opcode::Const && i.op != Opcode::Input)
+      n += static_cast<std::size_t>(info(i.op).results);
   }
   return n;
 }
@@ -794,8 +852,9 @@ std::map<std::string, std::string> expanded_outputs(const Joined& joined) {
 
 }  // namespace
 
-TEST_CASE("emit_cpp_shared: each function's parts compute its outputs, and no other, sharing statements",
-          "[program]") {
+TEST_CASE(
+    "emit_cpp_shared: each function's parts compute its outputs, and no other, sharing statements",
+    "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
@@ -808,28 +867,35 @@ TEST_CASE("emit_cpp_shared: each function's parts compute its outputs, and no ot
     symdyn::testing::RandomExpr gen(seed, xs);
     // Outputs built on each other (the functions share work), a constant and an input.
     std::vector<Expr> outputs;
-    for (int i = 0; i < 8; ++i) outputs.push_back(i < 2 ? gen(4) : gen(3) * outputs[static_cast<std::size_t>(i) / 2] + gen(2));
+    for (int i = 0; i < 8; ++i)
+      outputs.push_back(i < 2 ? gen(4)
+                              : gen(3) * outputs[static_cast<std::size_t>(i) / 2] + gen(2));
     outputs.push_back(Expr(2));
     outputs.push_back(xs[1]);
     const Program p = compile_program(xs, outputs);
     CppNaming naming;
     naming.inputs = {"x[0]", "x[1]", "x[2]"};
     naming.input_arrays = {{"x", 3}};
-    for (std::size_t i = 0; i < outputs.size(); ++i) naming.outputs.push_back(fmt::format("y[{}]", i));
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      naming.outputs.push_back(fmt::format("y[{}]", i));
     naming.output_arrays = {{"y", outputs.size()}};
     // Functions of overlapping outputs; together they want every output.
-    std::vector<std::vector<std::size_t>> functions{{0, 1}, {0, 1, 2, 3}, {4, 6, 8}, {5, 7, 9}, {3, 8}};
+    std::vector<std::vector<std::size_t>> functions{
+        {0, 1}, {0, 1, 2, 3}, {4, 6, 8}, {5, 7, 9}, {3, 8}};
     for (std::size_t max : {2, 5, 11, 0}) {
       INFO("seed " << seed << ", parts of " << max);
       const CppShared shared = emit_cpp_shared(p, naming, functions, max);
       REQUIRE(shared.functions.size() == functions.size());
-      std::size_t definitions = 0;  // in all parts: each computed value is defined once, in one part
+      std::size_t definitions =
+          0;  // in all parts: each computed value is defined once, in one part
       for (const CppPart& part : shared.parts) {
         definitions += count_definitions(part.body);
         const bool reads_x = part.body.find("x[") != std::string::npos;
-        CHECK(part.input_arrays == (reads_x ? std::vector<std::size_t>{0} : std::vector<std::size_t>{}));
+        CHECK(part.input_arrays ==
+              (reads_x ? std::vector<std::size_t>{0} : std::vector<std::size_t>{}));
         const bool writes_y = part.body.find("y[") != std::string::npos;
-        CHECK(part.output_arrays == (writes_y ? std::vector<std::size_t>{0} : std::vector<std::size_t>{}));
+        CHECK(part.output_arrays ==
+              (writes_y ? std::vector<std::size_t>{0} : std::vector<std::size_t>{}));
         CHECK(part.scratch == (part.body.find("s[") != std::string::npos));
       }
       CHECK(definitions == computed_values(p));
@@ -837,8 +903,8 @@ TEST_CASE("emit_cpp_shared: each function's parts compute its outputs, and no ot
         INFO("function " << f);
         CppParts mine;
         for (std::size_t part : shared.functions[f].parts) {
-          CHECK(std::find(shared.parts[part].functions.begin(), shared.parts[part].functions.end(), f) !=
-                shared.parts[part].functions.end());
+          CHECK(std::find(shared.parts[part].functions.begin(), shared.parts[part].functions.end(),
+                          f) != shared.parts[part].functions.end());
           mine.bodies.push_back(shared.parts[part].body);
         }
         CHECK(std::is_sorted(shared.functions[f].parts.begin(), shared.functions[f].parts.end()));
@@ -862,16 +928,20 @@ TEST_CASE("emit_cpp_shared: each function's parts compute its outputs, and no ot
                     "emit_cpp_shared: no function wants output 1");
   CHECK_THROWS_WITH(emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{{0, 1, 2}}, 4),
                     "emit_cpp_shared: function 0 lists output 2; the program has 2");
-  CHECK_THROWS_WITH(emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>(65, {0, 1}), 4),
-                    "emit_cpp_shared: 65 functions, at most 64");
+  CHECK_THROWS_WITH(
+      emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>(65, {0, 1}), 4),
+      "emit_cpp_shared: 65 functions, at most 64");
 }
 
-TEST_CASE("Program::subprogram: some outputs over some inputs, the instructions they need", "[program]") {
+TEST_CASE("Program::subprogram: some outputs over some inputs, the instructions they need",
+          "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x"), y = symbol("y"), z = symbol("z");
-  const Program p = compile_program(std::vector{x, y, z}, std::vector{sin(x) * y, cos(x) + z, y * z});
-  const Program sub = p.subprogram(std::vector<std::size_t>{1}, std::vector<std::size_t>{2, 0});  // over (z, x)
+  const Program p =
+      compile_program(std::vector{x, y, z}, std::vector{sin(x) * y, cos(x) + z, y * z});
+  const Program sub =
+      p.subprogram(std::vector<std::size_t>{1}, std::vector<std::size_t>{2, 0});  // over (z, x)
   CHECK(sub.input_count() == 2);
   CHECK(sub.output_count() == 1);
   CHECK(sub.operation_count().total() == 2);  // sincos (kept whole) and one add
@@ -879,11 +949,14 @@ TEST_CASE("Program::subprogram: some outputs over some inputs, the instructions 
   CHECK(out[0] == Approx(std::cos(0.3) + 0.5));
   CHECK_THROWS_WITH(p.subprogram(std::vector<std::size_t>{2}, std::vector<std::size_t>{1}),
                     "subprogram: the outputs need input 2, which is not given");
-  CHECK_THROWS_WITH(p.subprogram(std::vector<std::size_t>{3}, std::vector<std::size_t>{}), "subprogram: no output 3");
+  CHECK_THROWS_WITH(p.subprogram(std::vector<std::size_t>{3}, std::vector<std::size_t>{}),
+                    "subprogram: no output 3");
 }
 
-TEST_CASE("emit_cpp_shared, one function: in several parts, a computed output is assigned right after its definition",
-          "[program]") {
+TEST_CASE(
+    "emit_cpp_shared, one function: in several parts, a computed output is assigned right after "
+    "its definition",
+    "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
@@ -899,7 +972,8 @@ TEST_CASE("emit_cpp_shared, one function: in several parts, a computed output is
     const Program p = compile_program(xs, outputs);
     CppNaming naming;
     naming.inputs = {"x[0]", "x[1]", "x[2]"};
-    for (std::size_t i = 0; i < outputs.size(); ++i) naming.outputs.push_back(fmt::format("y[{}]", i));
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      naming.outputs.push_back(fmt::format("y[{}]", i));
     for (std::size_t max : {2, 5, 11}) {
       const CppParts parts = emit_cpp_parts(p, naming, max);
       if (parts.bodies.size() < 2) continue;
@@ -908,7 +982,8 @@ TEST_CASE("emit_cpp_shared, one function: in several parts, a computed output is
       for (const std::string& body : parts.bodies) {
         INFO(body);
         std::istringstream lines(body);
-        std::string last;  // the temporary defined by the last definition line, if no other statement followed
+        std::string last;    // the temporary defined by the last definition line, if no other
+                             // statement followed
         bool loads = false;  // the part's outputs that are loads, at its end
         for (std::string line; std::getline(lines, line);) {
           std::smatch m;
@@ -922,7 +997,8 @@ TEST_CASE("emit_cpp_shared, one function: in several parts, a computed output is
             if (std::regex_match(m[1].str(), temporary)) {
               CHECK(m[1] == last);
             } else {
-              loads = true;  // a constant or an input (or a scratch entry: never, values are assigned in their part)
+              loads = true;  // a constant or an input (or a scratch entry: never, values are
+                             // assigned in their part)
               CHECK_FALSE(std::regex_search(m[1].str(), std::regex(R"(s\[)")));
             }
           } else {
@@ -935,15 +1011,20 @@ TEST_CASE("emit_cpp_shared, one function: in several parts, a computed output is
   }
 }
 
-TEST_CASE("emit_cpp zeroes a long output array of many zeros by one loop, then assigns its other elements", "[program]") {
+TEST_CASE(
+    "emit_cpp zeroes a long output array of many zeros by one loop, then assigns its other "
+    "elements",
+    "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr x = symbol("x");
   static_assert(kZeroedArrayShare == 2);
   const std::size_t n = kMinZeroedArray;
-  // a: half zeros (zeroed); b: zeros, but short (each assigned); c: fewer than half zeros (each assigned).
+  // a: half zeros (zeroed); b: zeros, but short (each assigned); c: fewer than half zeros (each
+  // assigned).
   std::vector<Expr> outputs;
-  for (std::size_t i = 0; i < n; ++i) outputs.push_back(i % 2 == 0 ? Expr(0) : sin(x) * Expr(static_cast<int>(i)));
+  for (std::size_t i = 0; i < n; ++i)
+    outputs.push_back(i % 2 == 0 ? Expr(0) : sin(x) * Expr(static_cast<int>(i)));
   for (std::size_t i = 0; i + 1 < n; ++i) outputs.push_back(Expr(0));
   for (std::size_t i = 0; i < n; ++i) outputs.push_back(i < n / 2 - 1 ? Expr(0) : x);
   const Program p = compile_program(std::vector{x}, outputs);
@@ -957,19 +1038,27 @@ TEST_CASE("emit_cpp zeroes a long output array of many zeros by one loop, then a
   // a zeroed first, once; its odd elements assigned after, its zeros never.
   CHECK(code.rfind(fmt::format("  for (int i = 0; i < {}; ++i) a[i] = 0.0;\n", n), 0) == 0);
   CHECK(code.find("for (", 3) == std::string::npos);  // one loop only
-  CHECK_THAT(code, Catch::Contains("  a[1] = ") && !Catch::Contains("  a[0] = ") && !Catch::Contains("  a[2] = "));
-  CHECK_THAT(code, Catch::Contains("  b[0] = 0.0;\n") && Catch::Contains(fmt::format("  b[{}] = 0.0;\n", n - 2)));
-  CHECK_THAT(code, Catch::Contains("  c[0] = 0.0;\n") && Catch::Contains(fmt::format("  c[{}] = x;\n", n - 1)));
+  CHECK_THAT(code, Catch::Contains("  a[1] = ") && !Catch::Contains("  a[0] = ") &&
+                       !Catch::Contains("  a[2] = "));
+  CHECK_THAT(code, Catch::Contains("  b[0] = 0.0;\n") &&
+                       Catch::Contains(fmt::format("  b[{}] = 0.0;\n", n - 2)));
+  CHECK_THAT(code, Catch::Contains("  c[0] = 0.0;\n") &&
+                       Catch::Contains(fmt::format("  c[{}] = x;\n", n - 1)));
   naming.output_arrays.pop_back();
-  CHECK_THROWS_WITH(emit_cpp(p, naming), fmt::format("emit_cpp: naming's output arrays have {} elements; the "
-                                                     "program has {} outputs", 2 * n - 1, outputs.size()));
+  CHECK_THROWS_WITH(emit_cpp(p, naming),
+                    fmt::format("emit_cpp: naming's output arrays have {} elements; the "
+                                "program has {} outputs",
+                                2 * n - 1, outputs.size()));
 }
 
-TEST_CASE("emit_cpp_shared: an array of many zeros is zeroed before any of its elements is assigned", "[program]") {
+TEST_CASE(
+    "emit_cpp_shared: an array of many zeros is zeroed before any of its elements is assigned",
+    "[program]") {
   Context ctx;
   Context::Scope scope(ctx);
   const std::vector<Expr> xs{symbol("x0"), symbol("x1"), symbol("x2")};
-  const std::regex zero_loop(R"(^  for \(int i = 0; i < (\d+); \+\+i\) y\[i\] = 0\.0;$)"), output(R"(^  y\[(\d+)\] = (.*);$)");
+  const std::regex zero_loop(R"(^  for \(int i = 0; i < (\d+); \+\+i\) y\[i\] = 0\.0;$)"),
+      output(R"(^  y\[(\d+)\] = (.*);$)");
   for (unsigned seed = 0; seed < 100; ++seed) {
     symdyn::testing::RandomExpr gen(seed, xs);
     // y: a few values among zeros (most of it), z: values only.
@@ -984,14 +1073,17 @@ TEST_CASE("emit_cpp_shared: an array of many zeros is zeroed before any of its e
     CppNaming naming;
     naming.inputs = {"x[0]", "x[1]", "x[2]"};
     for (std::size_t i = 0; i < ny; ++i) naming.outputs.push_back(fmt::format("y[{}]", i));
-    for (std::size_t i = ny; i < outputs.size(); ++i) naming.outputs.push_back(fmt::format("z[{}]", i - ny));
+    for (std::size_t i = ny; i < outputs.size(); ++i)
+      naming.outputs.push_back(fmt::format("z[{}]", i - ny));
     naming.output_arrays = {{"y", ny}, {"z", outputs.size() - ny}};
     std::vector<std::size_t> all(outputs.size());
     for (std::size_t o = 0; o < all.size(); ++o) all[o] = o;
     for (std::size_t max : {3, 10, 40}) {
       INFO("seed " << seed << ", parts of " << max);
-      const CppShared shared = emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{all}, max);
-      // Played in order: y zeroed once, first; then each nonzero element assigned once, the zeros never.
+      const CppShared shared =
+          emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{all}, max);
+      // Played in order: y zeroed once, first; then each nonzero element assigned once, the zeros
+      // never.
       bool zeroed = false;
       std::set<std::size_t> assigned;
       for (const CppPart& part : shared.parts) {

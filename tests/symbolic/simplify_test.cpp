@@ -1,12 +1,11 @@
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <unordered_set>
-
-#include <fmt/format.h>
 
 #include "support/random_expr.hpp"
 #include <symdyn/symbolic/cost.hpp>
@@ -48,11 +47,14 @@ bool same_values(Expr a, Expr b, std::mt19937& rng, int points = 4) {
 // A sum of products of sines and cosines of a few angles (and sums of them),
 // with small rational coefficients and symbolic factors: the kinematics shape.
 Expr random_trig(std::mt19937& rng, std::span<const Expr> angles, std::span<const Expr> factors) {
-  auto pick = [&](std::size_t n) { return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng); };
+  auto pick = [&](std::size_t n) {
+    return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
+  };
   const std::size_t n_terms = 1 + pick(5);
   Expr sum = 0;
   for (std::size_t t = 0; t < n_terms; ++t) {
-    Expr term = rational(static_cast<std::int64_t>(pick(7)) - 3, 1 + static_cast<std::int64_t>(pick(2)));
+    Expr term =
+        rational(static_cast<std::int64_t>(pick(7)) - 3, 1 + static_cast<std::int64_t>(pick(2)));
     if (term.is_zero()) term = 1;
     const std::size_t n_factors = 1 + pick(3);
     for (std::size_t f = 0; f < n_factors; ++f) {
@@ -75,8 +77,12 @@ Expr derivative(Expr e, Expr x, std::map<std::uint32_t, Expr>& memo) {
   Expr d = 0;
   switch (e.kind()) {
     case Kind::Rational:
-    case Kind::Real: d = 0; break;
-    case Kind::Symbol: d = e == x ? 1 : 0; break;
+    case Kind::Real:
+      d = 0;
+      break;
+    case Kind::Symbol:
+      d = e == x ? 1 : 0;
+      break;
     case Kind::Add:
       for (Expr a : e.args()) d = d + derivative(a, x, memo);
       break;
@@ -89,10 +95,18 @@ Expr derivative(Expr e, Expr x, std::map<std::uint32_t, Expr>& memo) {
         d = d + term;
       }
       break;
-    case Kind::Pow: d = e.arg(1) * pow(e.arg(0), Expr(e.arg(1).number() - Number(1))) * derivative(e.arg(0), x, memo); break;
-    case Kind::Sin: d = cos(e.arg(0)) * derivative(e.arg(0), x, memo); break;
-    case Kind::Cos: d = -sin(e.arg(0)) * derivative(e.arg(0), x, memo); break;
-    default: FAIL("derivative: unsupported kind " << info(e.kind()).name);
+    case Kind::Pow:
+      d = e.arg(1) * pow(e.arg(0), Expr(e.arg(1).number() - Number(1))) *
+          derivative(e.arg(0), x, memo);
+      break;
+    case Kind::Sin:
+      d = cos(e.arg(0)) * derivative(e.arg(0), x, memo);
+      break;
+    case Kind::Cos:
+      d = -sin(e.arg(0)) * derivative(e.arg(0), x, memo);
+      break;
+    default:
+      FAIL("derivative: unsupported kind " << info(e.kind()).name);
   }
   memo.emplace(e.id(), d);
   return d;
@@ -112,12 +126,19 @@ Mat3 product(const Mat3& a, const Mat3& b) {
   return c;
 }
 
-Mat3 rot_x(Expr q) { return {{{1, 0, 0}, {0, cos(q), -sin(q)}, {0, sin(q), cos(q)}}}; }
-Mat3 rot_y(Expr q) { return {{{cos(q), 0, sin(q)}, {0, 1, 0}, {-sin(q), 0, cos(q)}}}; }
-Mat3 rot_z(Expr q) { return {{{cos(q), -sin(q), 0}, {sin(q), cos(q), 0}, {0, 0, 1}}}; }
+Mat3 rot_x(Expr q) {
+  return {{{1, 0, 0}, {0, cos(q), -sin(q)}, {0, sin(q), cos(q)}}};
+}
+Mat3 rot_y(Expr q) {
+  return {{{cos(q), 0, sin(q)}, {0, 1, 0}, {-sin(q), 0, cos(q)}}};
+}
+Mat3 rot_z(Expr q) {
+  return {{{cos(q), -sin(q), 0}, {sin(q), cos(q), 0}, {0, 0, 1}}};
+}
 
 // w such that skew(w) = dR/dt R^T, dR/dt = sum_i dR/dq_i qd_i.
-std::array<Expr, 3> angular_velocity(const Mat3& r, std::span<const Expr> q, std::span<const Expr> qd) {
+std::array<Expr, 3> angular_velocity(const Mat3& r, std::span<const Expr> q,
+                                     std::span<const Expr> qd) {
   Mat3 rdot;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
@@ -152,15 +173,15 @@ TEST_CASE("operation_cost counts each operation of the DAG once", "[simplify][co
   CHECK(operation_cost(x * y * z) == 2);
   CHECK(operation_cost(3 * x) == 1);
   CHECK(operation_cost(2 * x * y) == 2);
-  CHECK(operation_cost(-x) == 0);        // folds into a subtraction
-  CHECK(operation_cost(x - y) == 1);     // a subtraction
+  CHECK(operation_cost(-x) == 0);     // folds into a subtraction
+  CHECK(operation_cost(x - y) == 1);  // a subtraction
   CHECK(operation_cost(x - 2 * y) == 2);
   CHECK(operation_cost(pow(x, 2)) == 1);
   CHECK(operation_cost(pow(x, 3)) == 2);
   CHECK(operation_cost(pow(x, 4)) == 2);
   CHECK(operation_cost(pow(x, 5)) == 3);
   CHECK(operation_cost(1 / x) == 1);
-  CHECK(operation_cost(x / y) == 1);     // the division replaces the multiply
+  CHECK(operation_cost(x / y) == 1);  // the division replaces the multiply
   CHECK(operation_cost(x / pow(y, 2)) == 2);
   CHECK(operation_cost(sqrt(x)) == info(Kind::Pow).cost);
   CHECK(operation_cost(sin(x)) == info(Kind::Sin).cost);
@@ -179,17 +200,21 @@ TEST_CASE("a sum pattern matches a subset of the terms, in any order", "[simplif
   Context::Scope scope(ctx);
   const Expr a = wildcard("_a"), x = wildcard("_x");
   const Expr q = symbol("q"), y = symbol("y"), z = symbol("z");
-  const auto ms = find_matches(a * pow(sin(x), 2) + a * pow(cos(x), 2), 3 * y * pow(sin(q), 2) + z + 3 * y * pow(cos(q), 2));
+  const auto ms = find_matches(a * pow(sin(x), 2) + a * pow(cos(x), 2),
+                               3 * y * pow(sin(q), 2) + z + 3 * y * pow(cos(q), 2));
   REQUIRE(ms.size() == 1);
   CHECK(ms[0][a] == 3 * y);
   CHECK(ms[0][x] == q);
   REQUIRE(ms[0].remainder.size() == 1);
   CHECK(ms[0].remainder[0] == z);
   // Different cofactors: no match.
-  CHECK(find_matches(a * pow(sin(x), 2) + a * pow(cos(x), 2), 3 * pow(sin(q), 2) + 2 * pow(cos(q), 2)).empty());
+  CHECK(
+      find_matches(a * pow(sin(x), 2) + a * pow(cos(x), 2), 3 * pow(sin(q), 2) + 2 * pow(cos(q), 2))
+          .empty());
 }
 
-TEST_CASE("a product pattern matches a sub-multiset of the factors, the cofactor takes the rest", "[simplify][rewrite]") {
+TEST_CASE("a product pattern matches a sub-multiset of the factors, the cofactor takes the rest",
+          "[simplify][rewrite]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr a = wildcard("_a"), x = wildcard("_x"), y = wildcard("_y");
@@ -267,7 +292,8 @@ TEST_CASE("the Improve strategy only accepts cheaper rewrites", "[simplify][rewr
   CHECK(expand_trig(sin(q + q1)) == sin(q + q1));
   Rewriter normalize(expanding_trig_rules(), Strategy::Normalize);
   CHECK(normalize(sin(q + q1)) == sin(q) * cos(q1) + cos(q) * sin(q1));
-  CHECK(normalize(cos(4 * q)) == pow(pow(cos(q), 2) - pow(sin(q), 2), 2) - 4 * pow(sin(q), 2) * pow(cos(q), 2));
+  CHECK(normalize(cos(4 * q)) ==
+        pow(pow(cos(q), 2) - pow(sin(q), 2), 2) - 4 * pow(sin(q), 2) * pow(cos(q), 2));
 }
 
 // ---------------------------------------------------------------- rule fuzz
@@ -310,7 +336,8 @@ TEST_CASE("every rule row is an identity: both sides agree at random points", "[
   CHECK(rows >= 20);
 }
 
-TEST_CASE("every rule row matches its own pattern instantiated with fresh symbols", "[simplify][rules]") {
+TEST_CASE("every rule row matches its own pattern instantiated with fresh symbols",
+          "[simplify][rules]") {
   Context ctx;
   Context::Scope scope(ctx);
   std::mt19937 rng(11);
@@ -357,7 +384,8 @@ TEST_CASE("cos q0 cos q1 - sin q0 sin q1 = cos(q0 + q1)", "[simplify][identity]"
   CHECK(simplify(sin(q0) * cos(q1) + cos(q0) * sin(q1)) == sin(q0 + q1));
 }
 
-TEST_CASE("double pendulum: x of rod 2's centre contracts to cos(q0 + q1)", "[simplify][identity]") {
+TEST_CASE("double pendulum: x of rod 2's centre contracts to cos(q0 + q1)",
+          "[simplify][identity]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr q0 = symbol("q0", SymbolKind::Variable), q1 = symbol("q1", SymbolKind::Variable);
@@ -395,7 +423,8 @@ TEST_CASE("nested sin^2 + cos^2 = 1, factored and expanded", "[simplify][identit
   const Expr a = symbol("a"), b = symbol("b");
   const Expr nested = pow(sin(a), 2) * (pow(sin(b), 2) + pow(cos(b), 2)) + pow(cos(a), 2);
   CHECK(simplify(nested) == Expr(1));
-  const Expr expanded = pow(sin(a), 2) * pow(sin(b), 2) + pow(sin(a), 2) * pow(cos(b), 2) + pow(cos(a), 2);
+  const Expr expanded =
+      pow(sin(a), 2) * pow(sin(b), 2) + pow(sin(a), 2) * pow(cos(b), 2) + pow(cos(a), 2);
   CHECK(expanded == expand(nested));
   CHECK(simplify(expanded) == Expr(1));
 }
@@ -416,7 +445,8 @@ TEST_CASE("double angles both ways", "[simplify][identity]") {
 // A node that still holds asin, acos or atan2 once its operands are simplified
 // is contracted but not expanded (simplify.hpp); its operands are simplified
 // as usual, so the algebraic rules still reach through.
-TEST_CASE("sums holding inverse trigonometric functions still take the algebraic rules", "[simplify][identity]") {
+TEST_CASE("sums holding inverse trigonometric functions still take the algebraic rules",
+          "[simplify][identity]") {
   Context ctx;
   Context::Scope scope(ctx);
   const Expr q = symbol("q"), x = symbol("x");
@@ -449,7 +479,8 @@ TEST_CASE("angular velocity of Trotz(q0) Trotz(q1) is qd0 + qd1", "[simplify][id
   CHECK(simplify(w[2]) == qd[0] + qd[1]);
 }
 
-TEST_CASE("angular velocity of Trotz(q0) Troty(q1) Trotx(q2) reaches the closed form", "[simplify][identity]") {
+TEST_CASE("angular velocity of Trotz(q0) Troty(q1) Trotx(q2) reaches the closed form",
+          "[simplify][identity]") {
   Context ctx;
   Context::Scope scope(ctx);
   const std::vector<Expr> q{symbol("q0", SymbolKind::Variable), symbol("q1", SymbolKind::Variable),
@@ -466,7 +497,8 @@ TEST_CASE("angular velocity of Trotz(q0) Troty(q1) Trotx(q2) reaches the closed 
   Simplifier simplifier;
   for (int i = 0; i < 3; ++i) {
     const Expr s = simplifier(w[i]);
-    INFO("w[" << i << "] = " << s << "   (cost " << operation_cost(w[i]) << " -> " << operation_cost(s) << ")");
+    INFO("w[" << i << "] = " << s << "   (cost " << operation_cost(w[i]) << " -> "
+              << operation_cost(s) << ")");
     CHECK(same_values(s, closed[i], rng));
     CHECK(s == closed[i]);
   }
@@ -477,7 +509,8 @@ TEST_CASE("angular velocity of Trotz(q0) Troty(q1) Trotx(q2) reaches the closed 
 
 // ---------------------------------------------------------------- properties
 
-TEST_CASE("simplify keeps values, never raises the cost, and is idempotent", "[simplify][property]") {
+TEST_CASE("simplify keeps values, never raises the cost, and is idempotent",
+          "[simplify][property]") {
   // Products of two trigonometric sums take ~60 ms each (two simplify calls):
   // every 10th trigonometric case is one. Debug (sanitizer) builds, 20 to 50
   // times slower, run a twentieth: they look for memory errors, not coverage.
@@ -514,7 +547,8 @@ TEST_CASE("simplify keeps values, never raises the cost, and is idempotent", "[s
     const std::vector<Expr> factors{symbol("l"), symbol("m"), symbol("qd0")};
     std::mt19937 local(seed);
     Expr e = random_trig(local, angles, factors);
-    if (seed % 10 == 0) e = e * random_trig(local, angles, factors);  // a product of sums: expand pays
+    if (seed % 10 == 0)
+      e = e * random_trig(local, angles, factors);  // a product of sums: expand pays
     check_one(e);
   }
   CHECK(total == static_cast<int>(general_cases + trig_cases));

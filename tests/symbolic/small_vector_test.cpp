@@ -1,13 +1,12 @@
 // SmallVector: the same elements as a std::vector given the same pushes,
 // inserts and erases, inline and past its inline capacity, and after copies
 // and moves.
-#include <symdyn/symbolic/small_vector.hpp>
-
 #include <catch2/catch.hpp>
-
 #include <random>
 #include <utility>
 #include <vector>
+
+#include <symdyn/symbolic/small_vector.hpp>
 
 namespace {
 

@@ -8,7 +8,11 @@ using namespace symdyn::model;
 
 void build(Model& m, std::string_view) {
   add_urdf(m, read_urdf_file(TWO_LINK_ARM_URDF));
-  m.body("payload").mass(2.0).inertia(0.01, 0.01, 0.01).relative_to("forearm").motion(Tdisp(0.3, 0, 0));
+  m.body("payload")
+      .mass(2.0)
+      .inertia(0.01, 0.01, 0.01)
+      .relative_to("forearm")
+      .motion(Tdisp(0.3, 0, 0));
 }
 
 const Registration registration({"arm_with_payload", {"default"}, build});

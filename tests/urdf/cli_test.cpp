@@ -1,7 +1,6 @@
 // symdyn-urdf's command line: it generates a URDF robot's code, and its exit
 // codes and messages are those of every generator (1: the robot, 2: the command line).
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 #include <fstream>
 
@@ -22,8 +21,8 @@ TEST_CASE("symdyn-urdf writes <robot>_default.hpp and .cpp, or the --basename", 
   const CommandResult named = run_command({kGenerator, "--urdf", kArm, "--out", out.string()});
   CHECK(named.exit_code == 0);
   CHECK(std::filesystem::exists(out / "two_link_arm_default.hpp"));
-  const CommandResult chosen =
-      run_command({kGenerator, "--urdf", kArm, "--out", out.string(), "--basename", "arm", "--floating-base", "--stats"});
+  const CommandResult chosen = run_command({kGenerator, "--urdf", kArm, "--out", out.string(),
+                                            "--basename", "arm", "--floating-base", "--stats"});
   CHECK(chosen.exit_code == 0);
   CHECK_THAT(chosen.out, Contains("mass_matrix"));
   // the floating base's coordinates are in the code
@@ -31,9 +30,11 @@ TEST_CASE("symdyn-urdf writes <robot>_default.hpp and .cpp, or the --basename", 
   std::filesystem::remove_all(out);
 }
 
-TEST_CASE("symdyn-urdf: a missing file exits with 1 naming it, a missing --urdf with 2", "[urdf][cli][errors]") {
+TEST_CASE("symdyn-urdf: a missing file exits with 1 naming it, a missing --urdf with 2",
+          "[urdf][cli][errors]") {
   const auto out = scratch_directory("urdf_cli");
-  const CommandResult missing = run_command({kGenerator, "--urdf", "/nonexistent/arm.urdf", "--out", out.string()});
+  const CommandResult missing =
+      run_command({kGenerator, "--urdf", "/nonexistent/arm.urdf", "--out", out.string()});
   CHECK(missing.exit_code == 1);
   CHECK_THAT(missing.err, Contains("'/nonexistent/arm.urdf'"));
   CHECK(run_command({kGenerator, "--out", out.string()}).exit_code == 2);
@@ -41,19 +42,25 @@ TEST_CASE("symdyn-urdf: a missing file exits with 1 naming it, a missing --urdf 
   std::filesystem::remove_all(out);
 }
 
-TEST_CASE("symdyn-urdf: a gravity that is not finite is refused naming --gravity, a NaN in the file naming the link",
-          "[urdf][cli][errors]") {
+TEST_CASE(
+    "symdyn-urdf: a gravity that is not finite is refused naming --gravity, a NaN in the file "
+    "naming the link",
+    "[urdf][cli][errors]") {
   const auto out = scratch_directory("urdf_cli");
-  const CommandResult gravity = run_command({kGenerator, "--urdf", kArm, "--out", out.string(), "--gravity", "0", "nan", "-9.81"});
+  const CommandResult gravity = run_command(
+      {kGenerator, "--urdf", kArm, "--out", out.string(), "--gravity", "0", "nan", "-9.81"});
   CHECK(gravity.exit_code == 2);
   CHECK_THAT(gravity.err, Contains("--gravity: expected a finite number, found 'nan'"));
   const auto file = out / "bad.urdf";
-  std::ofstream(file) << R"(<robot name="r"><link name="a"/><link name="b"><inertial><mass value="nan"/>
+  std::ofstream(file)
+      << R"(<robot name="r"><link name="a"/><link name="b"><inertial><mass value="nan"/>
     <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
     <joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint></robot>)";
-  const CommandResult nan = run_command({kGenerator, "--urdf", file.string(), "--out", (out / "gen").string()});
+  const CommandResult nan =
+      run_command({kGenerator, "--urdf", file.string(), "--out", (out / "gen").string()});
   CHECK(nan.exit_code == 1);
-  CHECK_THAT(nan.err, Contains(file.string()) && Contains("link 'b'") && Contains("mass value=\"nan\""));
+  CHECK_THAT(nan.err,
+             Contains(file.string()) && Contains("link 'b'") && Contains("mass value=\"nan\""));
   CHECK_FALSE(std::filesystem::exists(out / "gen"));
   std::filesystem::remove_all(out);
 }

@@ -3,16 +3,15 @@
 // through the equations of motion (M, h) at random states; and the imported
 // positions against a direct product of the URDF's 4x4 transforms, written
 // here from the file's numbers (Eigen, angle-axis rotations).
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <functional>
 #include <random>
 
-#include <symdyn/model/urdf.hpp>
 #include "support/equations_checks.hpp"
 #include "urdf/robots_by_hand.hpp"
+#include <symdyn/model/urdf.hpp>
 
 using namespace symdyn;
 using namespace symdyn::testing;
@@ -24,7 +23,9 @@ namespace {
 
 constexpr double kTolerance = 1e-12;
 
-std::string robot_path(const std::string& file) { return std::string(SYMDYN_URDF_DIR) + "/" + file; }
+std::string robot_path(const std::string& file) {
+  return std::string(SYMDYN_URDF_DIR) + "/" + file;
+}
 
 // ---- The URDF transforms as numbers: 4x4 products, independent of the builder. ----
 
@@ -33,7 +34,8 @@ using Pose = Eigen::Matrix4d;
 Pose pose(double x, double y, double z, double roll = 0, double pitch = 0, double yaw = 0) {
   const Eigen::Matrix3d R = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
                              Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-                             Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX())).toRotationMatrix();
+                             Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
   Pose T = Pose::Identity();
   T.block<3, 3>(0, 0) = R;
   T.block<3, 1>(0, 3) = Eigen::Vector3d(x, y, z);
@@ -62,7 +64,8 @@ std::vector<Pose> two_link_arm_poses(const std::vector<double>& q) {
 }
 
 std::vector<Pose> mobile_base_poses(const std::vector<double>& q) {
-  const Pose chassis = prismatic({1, 0, 0}, q[0]) * prismatic({0, 1, 0}, q[1]) * pose(0, 0, 0.1) * revolute({0, 0, 1}, q[2]);
+  const Pose chassis = prismatic({1, 0, 0}, q[0]) * prismatic({0, 1, 0}, q[1]) * pose(0, 0, 0.1) *
+                       revolute({0, 0, 1}, q[2]);
   return {chassis * pose(-0.05, 0, 0.05, 0, 0, 0.3), chassis * pose(-0.25, 0, -0.05),
           chassis * pose(0.1, 0.2, 0, -kHalfPi) * revolute({0, 0, 1}, q[3]),
           chassis * pose(0.1, -0.2, 0) * revolute({0, 1, 0}, q[4])};
@@ -110,13 +113,16 @@ States random_states(std::size_t nq, unsigned seed) {
 void check_against_hand_written(const model::Model& imported, const model::Model& by_hand) {
   REQUIRE(coordinate_names(imported) == coordinate_names(by_hand));
   REQUIRE(body_names(imported) == body_names(by_hand));
-  const model::Kinematics ki = derive_for_test(imported, false, true), kh = derive_for_test(by_hand, false, true);
-  const model::Dynamics di = model::derive_dynamics(imported, ki), dh = model::derive_dynamics(by_hand, kh);
+  const model::Kinematics ki = derive_for_test(imported, false, true),
+                          kh = derive_for_test(by_hand, false, true);
+  const model::Dynamics di = model::derive_dynamics(imported, ki),
+                        dh = model::derive_dynamics(by_hand, kh);
   const States states = random_states(imported.coordinates().size(), 7);
   check_kinematics_agree(imported, ki, by_hand, kh, states, kTolerance);
   Gap gap;
   for (const auto& s : states) {
-    const Equations a = derived_equations(imported, ki, di, s), b = derived_equations(by_hand, kh, dh, s);
+    const Equations a = derived_equations(imported, ki, di, s),
+                    b = derived_equations(by_hand, kh, dh, s);
     gap.add(relative_gap(a.M, b.M), "M");
     gap.add(relative_gap(a.h, b.h), "h");
   }
@@ -134,8 +140,10 @@ void check_against_direct_poses(const model::Model& imported, const DirectPoses&
     const std::vector<Pose> T = direct(s.q);
     REQUIRE(T.size() == k.bodies.size());
     for (std::size_t i = 0; i < T.size(); ++i) {
-      gap.add(relative_gap(eval33(k.bodies[i].R, eval), T[i].block<3, 3>(0, 0)), body_place(imported, i, "R"));
-      gap.add(relative_gap(eval3(k.bodies[i].x, eval), T[i].block<3, 1>(0, 3)), body_place(imported, i, "x"));
+      gap.add(relative_gap(eval33(k.bodies[i].R, eval), T[i].block<3, 3>(0, 0)),
+              body_place(imported, i, "R"));
+      gap.add(relative_gap(eval3(k.bodies[i].x, eval), T[i].block<3, 1>(0, 3)),
+              body_place(imported, i, "x"));
     }
   }
   check_gap(gap, kTolerance);
@@ -161,7 +169,9 @@ TEST_CASE("URDF two-link arm on a floating base (UrdfOptions::floating_base)", "
   CHECK(robot.joints[0].coordinates.size() == 6);
 }
 
-TEST_CASE("URDF mobile base: prismatic and yaw joints through massless links, wheels, a fixed caster", "[urdf]") {
+TEST_CASE(
+    "URDF mobile base: prismatic and yaw joints through massless links, wheels, a fixed caster",
+    "[urdf]") {
   const model::UrdfRobot robot = model::import_urdf_file(robot_path("mobile_base.urdf"));
   check_against_hand_written(robot.model, mobile_base_by_hand());
   check_against_direct_poses(robot.model, mobile_base_poses);
@@ -178,8 +188,8 @@ TEST_CASE("URDF joint limits are kept as data, the initial configuration within 
   std::vector<std::string> names;
   for (const auto& j : robot.joints) names.push_back(j.name);
   // every joint, fixed ones included, depth-first with children in the order of their joints' names
-  CHECK(names == std::vector<std::string>{"mount", "joint1", "joint2", "joint3", "joint4", "joint5", "camera_mount",
-                                          "joint6", "gripper_mount", "tool_mount"});
+  CHECK(names == std::vector<std::string>{"mount", "joint1", "joint2", "joint3", "joint4", "joint5",
+                                          "camera_mount", "joint6", "gripper_mount", "tool_mount"});
   const model::UrdfJoint& j3 = robot.joints[3];
   CHECK(j3.type == "revolute");
   CHECK(j3.coordinates == std::vector<std::string>{"joint3"});
@@ -236,7 +246,9 @@ TEST_CASE("URDF: the pendulum of docs/urdf.md is the builder model the page says
 </robot>)";
   model::Model by_hand("pendulum");
   const Expr q = by_hand.coordinate("hinge");
-  by_hand.body("rod").mass(1).inertia(0.0833, 0.0833, 0.001)
+  by_hand.body("rod")
+      .mass(1)
+      .inertia(0.0833, 0.0833, 0.001)
       .motion(model::Tdisp(0, 0, 1) * model::Troty(q) * model::Tdisp(0, 0, -0.5));
   by_hand.gravity(0, 0, -9.81);
   check_against_hand_written(model::import_urdf(xml).model, by_hand);
@@ -248,14 +260,17 @@ TEST_CASE("URDF: a floating joint gives six coordinates named after it", "[urdf]
     <link name="body"><inertial><origin xyz="0.1 0 0" rpy="0 0 0.2"/><mass value="2"/>
       <inertia ixx="0.01" iyy="0.02" izz="0.025" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)";
   const model::UrdfRobot robot = model::import_urdf(xml);
-  CHECK(coordinate_names(robot.model) ==
-        std::vector<std::string>{"free_x", "free_y", "free_z", "free_yaw", "free_pitch", "free_roll"});
+  CHECK(coordinate_names(robot.model) == std::vector<std::string>{"free_x", "free_y", "free_z",
+                                                                  "free_yaw", "free_pitch",
+                                                                  "free_roll"});
   model::Model by_hand("drone");
   std::vector<Expr> f;
   for (const auto& n : coordinate_names(robot.model)) f.push_back(by_hand.coordinate(n));
-  by_hand.body("body").mass(2).inertia(0.01, 0.02, 0.025)
-      .motion(model::Tdisp(0, 0, 1) * model::Tdisp(f[0], f[1], f[2]) * model::Trotz(f[3]) * model::Troty(f[4]) *
-              model::Trotx(f[5]) * origin(0.1, 0, 0, 0, 0, 0.2));
+  by_hand.body("body")
+      .mass(2)
+      .inertia(0.01, 0.02, 0.025)
+      .motion(model::Tdisp(0, 0, 1) * model::Tdisp(f[0], f[1], f[2]) * model::Trotz(f[3]) *
+              model::Troty(f[4]) * model::Trotx(f[5]) * origin(0.1, 0, 0, 0, 0, 0.2));
   by_hand.gravity(0, 0, -9.81);
   check_against_hand_written(robot.model, by_hand);
 }
@@ -270,8 +285,11 @@ TEST_CASE("URDF: rpy angles are read as written, a pitch near ±90° included", 
       <inertia ixx="0.0833" iyy="0.0833" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)";
   model::Model by_hand("tilted");
   const Expr q = by_hand.coordinate("hinge");
-  by_hand.body("rod").mass(1).inertia(0.0833, 0.0833, 0.001)
-      .motion(origin(0, 0, 1, 0.3, 1.569, -0.2) * model::Troty(q) * origin(0, 0, -0.5, 0.1, -1.5705, 0.4));
+  by_hand.body("rod")
+      .mass(1)
+      .inertia(0.0833, 0.0833, 0.001)
+      .motion(origin(0, 0, 1, 0.3, 1.569, -0.2) * model::Troty(q) *
+              origin(0, 0, -0.5, 0.1, -1.5705, 0.4));
   by_hand.gravity(0, 0, -9.81);
   check_against_hand_written(model::import_urdf(xml).model, by_hand);
 }

@@ -7,9 +7,9 @@
 
 #include <string>
 
+#include "urdf/robots_by_hand.hpp"
 #include <symdyn/codegen/generate.hpp>
 #include <symdyn/model/urdf.hpp>
-#include "urdf/robots_by_hand.hpp"
 
 namespace {
 
@@ -19,7 +19,8 @@ void print_row(const std::string& what, const model::Model& m) {
   const codegen::GeneratedCode code = codegen::generate(m, "default", "counted");
   std::string counts;
   for (const auto& f : code.functions) {
-    if (f.name == "positions" || f.name == "velocities" || f.name == "mass_matrix" || f.name == "bias_forces") {
+    if (f.name == "positions" || f.name == "velocities" || f.name == "mass_matrix" ||
+        f.name == "bias_forces") {
       counts += fmt::format(" | {}", f.operations.total());
     }
   }
@@ -35,7 +36,9 @@ int main(int argc, char** argv) {
   }
   const std::string dir = argv[1];
   using namespace symdyn::testing::urdf;
-  fmt::print("| robot | source bytes | positions | velocities | mass_matrix | bias_forces |\n|---|---|---|---|---|---|\n");
+  fmt::print(
+      "| robot | source bytes | positions | velocities | mass_matrix | bias_forces "
+      "|\n|---|---|---|---|---|---|\n");
   print_row("two_link_arm, imported", model::import_urdf_file(dir + "/two_link_arm.urdf").model);
   print_row("two_link_arm, by hand", two_link_arm_by_hand());
   print_row("mobile_base, imported", model::import_urdf_file(dir + "/mobile_base.urdf").model);

@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   }
   MultibodySystem system(Model::from<symdyn_generated::double_pendulum_absolute>());
   Scene scene(system.model());
-  scene.add(1, Shape::capsule(0.04, 1.0).at(Eigen::Isometry3d(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitY())))
+  scene.add(1, Shape::capsule(0.04, 1.0)
+                   .at(Eigen::Isometry3d(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitY())))
                    .with({0.85f, 0.3f, 0.1f, 1.0f}));
 
   Animation motion(system.model());
@@ -44,8 +45,8 @@ int main(int argc, char** argv) {
   shapes.reserve(m.size());
   for (const Mode& mode : m) {
     shapes.push_back(mode_animation(system.model(), hanging, lin, mode, 0.4));
-    clips.push_back({fmt::format("mode {}: {:.3f} Hz, damping {:.3f}", clips.size(), mode.natural_frequency_hz,
-                                 mode.damping_ratio),
+    clips.push_back({fmt::format("mode {}: {:.3f} Hz, damping {:.3f}", clips.size(),
+                                 mode.natural_frequency_hz, mode.damping_ratio),
                      &shapes.back()});
   }
   write_html(argv[1], "double pendulum", scene, clips, series);

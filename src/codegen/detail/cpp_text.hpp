@@ -32,7 +32,8 @@ struct TextContext {
 
 // The header and source, and each entry point's program (cpp_text.cpp).
 // `derivatives`: why the derivatives are of the form they are (Deriver::derivatives_reason).
-GeneratedCode emit_code(const TextContext& c, Derivation&& d, const std::optional<DynamicsChoice>& choice,
+GeneratedCode emit_code(const TextContext& c, Derivation&& d,
+                        const std::optional<DynamicsChoice>& choice,
                         const std::string& derivatives);
 
 // cpp_text_functions.cpp: the declaration ("void positions(double t, ...)",
@@ -45,7 +46,8 @@ void emit_functions(const TextContext& c, Derivation& d, GeneratedCode& code);
 
 // cpp_text_header.cpp: the header up to its link guard, which closes its namespace.
 std::string header_text(const TextContext& c, const std::vector<EntryPoint>& entries,
-                        const std::vector<EmittedFunction>& functions, const std::optional<DynamicsChoice>& choice,
+                        const std::vector<EmittedFunction>& functions,
+                        const std::optional<DynamicsChoice>& choice,
                         const std::string& derivatives);
 
 // cpp_text_diagnostics.cpp: the struct's cold diagnostics, and the source's domain_arguments().

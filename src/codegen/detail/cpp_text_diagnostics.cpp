@@ -2,10 +2,10 @@
 // domain_arguments only after it met a non-finite value, to name the
 // dependent parameter and the function; it reads the angle sequences only
 // once M is singular.
-#include <symdyn/codegen/detail/cpp_text.hpp>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include <symdyn/codegen/detail/cpp_text.hpp>
 
 namespace symdyn::codegen::detail {
 namespace {
@@ -29,27 +29,37 @@ std::string diagnostics_declarations(const TextContext& c) {
     for (int q : a.coordinates) coordinates.push_back(std::to_string(q));
     axes.push_back(std::string(a.axes.begin(), a.axes.end()));
   }
-  const std::size_t ndep = c.model.dependents().size(), ndomain = c.checks.size(), nseq = c.sequences.size();
+  const std::size_t ndep = c.model.dependents().size(), ndomain = c.checks.size(),
+                    nseq = c.sequences.size();
   return fmt::format(
       "\n  // Cold diagnostics, for error messages only (docs/emitted_interface.md).\n"
       "  static constexpr const char* dependent_names[{ndep1}] = {dependent_names};  // (ndep)\n"
       "  // Operations of the dependent parameters with a restricted domain, innermost first.\n"
       "  static constexpr int ndomain = {ndomain};\n"
-      "  static constexpr const char* domain_dependents[{ndomain1}] = {owners};  // (ndomain) whose operation\n"
+      "  static constexpr const char* domain_dependents[{ndomain1}] = {owners};  // (ndomain) "
+      "whose operation\n"
       "  static constexpr const char* domain_functions[{ndomain1}] = {functions};  // (ndomain)\n"
-      "  // Their arguments at (t, q): arguments (ndomain x 2), the base and exponent of pow, else (x, 0).\n"
-      "  static void domain_arguments(double t, const double* q, const double* param, double* arguments);\n"
-      "  // Bodies rotated by three elementary rotations by coordinates, singular where the first and\n"
+      "  // Their arguments at (t, q): arguments (ndomain x 2), the base and exponent of pow, else "
+      "(x, 0).\n"
+      "  static void domain_arguments(double t, const double* q, const double* param, double* "
+      "arguments);\n"
+      "  // Bodies rotated by three elementary rotations by coordinates, singular where the first "
+      "and\n"
       "  // third axes align.\n"
       "  static constexpr int nangle_sequences = {nseq};\n"
       "  static constexpr int angle_sequence_body[{nseq1}] = {bodies};  // (nangle_sequences)\n"
-      "  static constexpr int angle_sequence_q[{nseq3}] = {coordinates};  // (nangle_sequences x 3)\n"
-      "  static constexpr const char* angle_sequence_axes[{nseq1}] = {axes};  // (nangle_sequences) \"zyx\"\n",
-      fmt::arg("ndep1", at_least_one(ndep)), fmt::arg("dependent_names", string_array_literal(dependent_names)),
+      "  static constexpr int angle_sequence_q[{nseq3}] = {coordinates};  // (nangle_sequences x "
+      "3)\n"
+      "  static constexpr const char* angle_sequence_axes[{nseq1}] = {axes};  // "
+      "(nangle_sequences) \"zyx\"\n",
+      fmt::arg("ndep1", at_least_one(ndep)),
+      fmt::arg("dependent_names", string_array_literal(dependent_names)),
       fmt::arg("ndomain", ndomain), fmt::arg("ndomain1", at_least_one(ndomain)),
-      fmt::arg("owners", string_array_literal(owners)), fmt::arg("functions", string_array_literal(functions)),
-      fmt::arg("nseq", nseq), fmt::arg("nseq1", at_least_one(nseq)), fmt::arg("bodies", int_array_literal(bodies)),
-      fmt::arg("nseq3", at_least_one(3 * nseq)), fmt::arg("coordinates", int_array_literal(coordinates)),
+      fmt::arg("owners", string_array_literal(owners)),
+      fmt::arg("functions", string_array_literal(functions)), fmt::arg("nseq", nseq),
+      fmt::arg("nseq1", at_least_one(nseq)), fmt::arg("bodies", int_array_literal(bodies)),
+      fmt::arg("nseq3", at_least_one(3 * nseq)),
+      fmt::arg("coordinates", int_array_literal(coordinates)),
       fmt::arg("axes", string_array_literal(axes)));
 }
 
@@ -66,14 +76,16 @@ std::string domain_arguments_text(const TextContext& c) {
     outputs.push_back(check.argument);
     outputs.push_back(check.exponent);
   }
-  for (std::size_t i = 0; i < outputs.size(); ++i) naming.outputs.push_back(element("arguments", i));
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    naming.outputs.push_back(element("arguments", i));
   std::vector<symbolic::Definition> definitions;
   for (const auto& d : c.model.dependents()) definitions.push_back({d.symbol, d.expression});
   const symbolic::Program program = symbolic::compile_program(inputs, outputs, definitions);
-  return fmt::format("\n// Cold: only to name a domain error.\n[[gnu::cold]] void {}::domain_arguments("
-                     "[[maybe_unused]] double t, [[maybe_unused]] const double* q, "
-                     "[[maybe_unused]] const double* param, [[maybe_unused]] double* arguments) {{\n{}}}\n",
-                     c.basename, symbolic::emit_cpp(program, naming));
+  return fmt::format(
+      "\n// Cold: only to name a domain error.\n[[gnu::cold]] void {}::domain_arguments("
+      "[[maybe_unused]] double t, [[maybe_unused]] const double* q, "
+      "[[maybe_unused]] const double* param, [[maybe_unused]] double* arguments) {{\n{}}}\n",
+      c.basename, symbolic::emit_cpp(program, naming));
 }
 
 }  // namespace symdyn::codegen::detail

@@ -1,13 +1,13 @@
 // The entry points' definitions: each a whole program (a short model), or
 // calls of internal functions (parts) shared between the entry points that
 // need the same statements (a long one, symbolic::emit_cpp_shared).
-#include <symdyn/codegen/detail/cpp_text.hpp>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include <algorithm>
 #include <stdexcept>
+
+#include <symdyn/codegen/detail/cpp_text.hpp>
 
 namespace symdyn::codegen::detail {
 namespace {
@@ -52,7 +52,8 @@ void emit_whole(const TextContext& c, Derivation& d, GeneratedCode& code) {
     const EntryPoint& entry = d.entries[i];
     EmittedFunction& f = emitted(entry, code.functions);
     if (!entry.hand_written()) f.program = std::move(d.whole[i]);
-    code.source += function_text(c, entry, f.program ? symbolic::emit_cpp(*f.program, naming(c, entry)) : entry.body);
+    code.source += function_text(
+        c, entry, f.program ? symbolic::emit_cpp(*f.program, naming(c, entry)) : entry.body);
     if (f.program) f.operations = f.program->operation_count();
   }
 }
@@ -62,7 +63,8 @@ void emit_whole(const TextContext& c, Derivation& d, GeneratedCode& code) {
 // overlap inputs, nor each other) tells it that a store changes no input,
 // output or scratch entry it has read, so nothing is read again and its
 // alias queries end at once.
-std::string part_functions(const Derivation& d, const symbolic::CppShared& shared, const symbolic::CppNaming& naming) {
+std::string part_functions(const Derivation& d, const symbolic::CppShared& shared,
+                           const symbolic::CppNaming& naming) {
   std::vector<std::string_view> names;  // of the entry points with a program, by function
   for (const EntryPoint& e : d.entries) {
     if (!e.hand_written()) names.push_back(e.name());
@@ -81,8 +83,9 @@ std::string part_functions(const Derivation& d, const symbolic::CppShared& share
     }
     if (part.scratch) params.push_back(fmt::format("double* __restrict {}", naming.scratch));
     for (std::size_t f : part.functions) users.push_back(names[f]);
-    out += fmt::format("\n// Part {} of {}, run by {}.\n[[gnu::noinline]] void part{}({}) {{\n", p + 1,
-                       shared.parts.size(), fmt::join(users, ", "), p, fmt::join(params, ", "));
+    out +=
+        fmt::format("\n// Part {} of {}, run by {}.\n[[gnu::noinline]] void part{}({}) {{\n", p + 1,
+                    shared.parts.size(), fmt::join(users, ", "), p, fmt::join(params, ", "));
     out += part.body;
     out += "}\n";
   }
@@ -91,11 +94,13 @@ std::string part_functions(const Derivation& d, const symbolic::CppShared& share
 }
 
 // An entry point's body: its scratch array, then a call of each of its parts.
-std::string part_calls(const Derivation& d, std::size_t entry, const std::vector<symbolic::CppPart>& parts,
+std::string part_calls(const Derivation& d, std::size_t entry,
+                       const std::vector<symbolic::CppPart>& parts,
                        const symbolic::CppFunctionParts& mine, const symbolic::CppNaming& naming) {
   const EntryPoint& e = d.entries[entry];
   std::string out;
-  if (mine.scratch_size > 0) out += fmt::format("  double {}[{}];\n", naming.scratch, mine.scratch_size);
+  if (mine.scratch_size > 0)
+    out += fmt::format("  double {}[{}];\n", naming.scratch, mine.scratch_size);
   for (std::size_t p : mine.parts) {
     const symbolic::CppPart& part = parts[p];
     std::vector<std::string> args;
@@ -103,7 +108,8 @@ std::string part_calls(const Derivation& d, std::size_t entry, const std::vector
       const std::string& in = naming.input_arrays[a].first;
       const auto takes = [&](Input i) { return input_name(i) == in; };
       if (std::none_of(e.spec->inputs.begin(), e.spec->inputs.end(), takes)) {
-        throw std::logic_error(fmt::format("generate: {} needs input {}, which it does not take", e.name(), in));
+        throw std::logic_error(
+            fmt::format("generate: {} needs input {}, which it does not take", e.name(), in));
       }
       args.push_back(in);
     }
@@ -145,7 +151,8 @@ void emit_shared(const TextContext& c, const Derivation& d, GeneratedCode& code)
     }
     f.program = d.program.subprogram(functions[fn], c.inputs.indices(entry.spec->inputs));
     f.operations = f.program->operation_count();
-    code.source += function_text(c, entry, part_calls(d, e, shared.parts, shared.functions[fn], naming));
+    code.source +=
+        function_text(c, entry, part_calls(d, e, shared.parts, shared.functions[fn], naming));
     ++fn;
   }
 }
@@ -156,11 +163,13 @@ std::string signature(const EntryPointSpec& spec, std::string_view struct_name, 
   std::vector<std::string> params;
   const std::string unused = definition ? "[[maybe_unused]] " : "";
   for (Input in : spec.inputs) {
-    params.push_back(in == Input::t ? unused + "double t" : fmt::format("{}const double* {}", unused, input_name(in)));
+    params.push_back(in == Input::t ? unused + "double t"
+                                    : fmt::format("{}const double* {}", unused, input_name(in)));
   }
-  for (const OutputSpec& o : spec.outputs) params.push_back(fmt::format("{}double* {}", unused, o.name));
-  return fmt::format("{} {}{}{}({})", spec.returns, definition ? struct_name : "", definition ? "::" : "", spec.name,
-                     fmt::join(params, ", "));
+  for (const OutputSpec& o : spec.outputs)
+    params.push_back(fmt::format("{}double* {}", unused, o.name));
+  return fmt::format("{} {}{}{}({})", spec.returns, definition ? struct_name : "",
+                     definition ? "::" : "", spec.name, fmt::join(params, ", "));
 }
 
 void emit_functions(const TextContext& c, Derivation& d, GeneratedCode& code) {

@@ -2,11 +2,11 @@
 // header refers to this model's own symbol, so the linker pulls this model's
 // object even from a static library, and a second, different model of the
 // same struct name then collides with it on symdyn_model_<struct>.
-#include <symdyn/codegen/detail/cpp_text.hpp>
-
 #include <fmt/format.h>
 
 #include <array>
+
+#include <symdyn/codegen/detail/cpp_text.hpp>
 
 namespace symdyn::codegen::detail {
 
@@ -16,7 +16,9 @@ namespace symdyn::codegen::detail {
 std::uint64_t text_hash(std::string_view text) {
   constexpr std::uint64_t kBasis = 14695981039346656037ull, kPrime = 1099511628211ull;
   constexpr std::size_t kLanes = 4, kBlock = 8 * kLanes;
-  const auto byte = [&](std::size_t i) { return std::uint64_t{static_cast<unsigned char>(text[i])}; };
+  const auto byte = [&](std::size_t i) {
+    return std::uint64_t{static_cast<unsigned char>(text[i])};
+  };
   std::array<std::uint64_t, kLanes> lanes;
   lanes.fill(kBasis);
   std::size_t i = 0;
@@ -41,14 +43,16 @@ std::string link_guard_reference(const TextContext& c, const std::string& unique
       "// (multiple definition of {ns}::symdyn_model_{name}).\n"
       "extern const char {unique}[];\n"
       "[[gnu::used]] static const char* const symdyn_model_{name}_link = {unique};\n\n",
-      fmt::arg("name", c.basename), fmt::arg("ns", c.options.name_space), fmt::arg("unique", unique));
+      fmt::arg("name", c.basename), fmt::arg("ns", c.options.name_space),
+      fmt::arg("unique", unique));
 }
 
 std::string link_guard_definitions(const TextContext& c, const std::string& unique) {
   const std::string what = fmt::format("\"model '{}', variant '{}'\"", c.model.name(), c.variant);
-  return fmt::format("\n// Link-time guard: see the header.\nextern const char symdyn_model_{0}[];\n"
-                     "const char symdyn_model_{0}[] = {1};\nconst char {2}[] = {1};\n",
-                     c.basename, what, unique);
+  return fmt::format(
+      "\n// Link-time guard: see the header.\nextern const char symdyn_model_{0}[];\n"
+      "const char symdyn_model_{0}[] = {1};\nconst char {2}[] = {1};\n",
+      c.basename, what, unique);
 }
 
 }  // namespace symdyn::codegen::detail

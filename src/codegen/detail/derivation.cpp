@@ -1,12 +1,11 @@
-#include <symdyn/codegen/detail/derivation.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
 
-#include <fmt/format.h>
-
+#include <symdyn/codegen/detail/derivation.hpp>
 #include <symdyn/codegen/detail/dynamics_choice.hpp>
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/trig_reduction.hpp>
@@ -23,10 +22,12 @@ using model::Expr;
 void define_dependents(const model::Kinematics& k, std::vector<symbolic::Definition>& definitions) {
   for (const auto& d : k.dependents) definitions.push_back({d.symbols.symbol, d.value});
   for (const auto& d : k.dependents) definitions.push_back({d.symbols.rate, d.rate});
-  for (const auto& d : k.dependents) definitions.push_back({d.symbols.acceleration, d.acceleration});
+  for (const auto& d : k.dependents)
+    definitions.push_back({d.symbols.acceleration, d.acceleration});
   for (const auto& d : k.dependents) {
     for (std::size_t j = 0; j < d.jacobian.size(); ++j) {
-      if (d.jacobian_symbols[j] != d.jacobian[j]) definitions.push_back({d.jacobian_symbols[j], d.jacobian[j]});
+      if (d.jacobian_symbols[j] != d.jacobian[j])
+        definitions.push_back({d.jacobian_symbols[j], d.jacobian[j]});
     }
   }
   definitions.insert(definitions.end(), k.intermediates.begin(), k.intermediates.end());
@@ -34,11 +35,13 @@ void define_dependents(const model::Kinematics& k, std::vector<symbolic::Definit
 
 // An array of these values under another name (dynamics_velocities' dw is
 // partial_velocities' dw, named partial_velocities_dw), not one of `taken`.
-std::vector<OutputArray>::iterator same_values(std::vector<OutputArray>& arrays, const std::vector<std::size_t>& taken,
+std::vector<OutputArray>::iterator same_values(std::vector<OutputArray>& arrays,
+                                               const std::vector<std::size_t>& taken,
                                                const std::vector<Expr>& values) {
   for (auto a = arrays.begin(); a != arrays.end(); ++a) {
     const auto index = static_cast<std::size_t>(a - arrays.begin());
-    if (a->values == values && std::find(taken.begin(), taken.end(), index) == taken.end()) return a;
+    if (a->values == values && std::find(taken.begin(), taken.end(), index) == taken.end())
+      return a;
   }
   return arrays.end();
 }
@@ -48,8 +51,9 @@ void check_sizes(const EntryPoint& e, const Sizes& sizes) {
   for (std::size_t i = 0; i < e.outputs.size(); ++i) {
     const std::size_t expected = shape_size(e.spec->outputs[i].shape, sizes);
     if (e.outputs[i].values.size() != expected) {
-      throw std::logic_error(fmt::format("generate: {}'s {} has {} values, its shape {} {}", e.name(),
-                                         e.outputs[i].name, e.outputs[i].values.size(), e.outputs[i].shape, expected));
+      throw std::logic_error(fmt::format("generate: {}'s {} has {} values, its shape {} {}",
+                                         e.name(), e.outputs[i].name, e.outputs[i].values.size(),
+                                         e.outputs[i].shape, expected));
     }
   }
 }
@@ -66,7 +70,8 @@ void gather_arrays(Derivation& d, const Sizes& sizes) {
     for (const OutputArray& o : e.outputs) {
       const std::string renamed = fmt::format("{}_{}", e.name(), o.name);
       auto named = [&](const std::string& name) {
-        return std::find_if(d.arrays.begin(), d.arrays.end(), [&](const OutputArray& a) { return a.name == name; });
+        return std::find_if(d.arrays.begin(), d.arrays.end(),
+                            [&](const OutputArray& a) { return a.name == name; });
       };
       auto same = named(o.name);
       if (same != d.arrays.end() && same->values != o.values) same = named(renamed);
@@ -122,7 +127,8 @@ std::vector<std::vector<std::size_t>> entry_outputs(const Derivation& d) {
     if (d.entries[e].hand_written()) continue;
     std::vector<std::size_t>& outputs = groups.emplace_back();
     for (std::size_t a : d.arrays_of[e]) {
-      for (std::size_t i = 0; i < d.arrays[a].values.size(); ++i) outputs.push_back(first_output[a] + i);
+      for (std::size_t i = 0; i < d.arrays[a].values.size(); ++i)
+        outputs.push_back(first_output[a] + i);
     }
   }
   return groups;
@@ -134,7 +140,9 @@ Deriver::Deriver(const model::Model& model, const Options& options, const Select
       options_(options),
       selection_(selection),
       inputs_(inputs),
-      sizes_{.nq = model.coordinates().size(), .nbody = model.bodies().size(), .ndep = model.dependents().size()} {}
+      sizes_{.nq = model.coordinates().size(),
+             .nbody = model.bodies().size(),
+             .ndep = model.dependents().size()} {}
 
 Derivation Deriver::run() {
   // Node ids break ties in scheduling and pair CSE, and the simplifier makes
@@ -187,23 +195,29 @@ Derivation Deriver::derive(bool simplify) {
     };
   }
   const model::DeriveOptions derive = derive_options(simplify_function);
-  const model::Kinematics k =
-      !simplify && plain_kinematics_ ? *plain_kinematics_ : model::derive_kinematics(model_, derive);
+  const model::Kinematics k = !simplify && plain_kinematics_
+                                  ? *plain_kinematics_
+                                  : model::derive_kinematics(model_, derive);
   define_dependents(k, d.definitions);
   std::optional<model::Dynamics> dynamics;
   if (options_.equations_of_motion && selection_.needs_equations_of_motion()) {
     dynamics = model::derive_dynamics(model_, k, derive.simplify);
     if (derive.simplify) model::reduce_trigonometry(*dynamics, k);
-    d.definitions.insert(d.definitions.end(), dynamics->definitions.begin(), dynamics->definitions.end());
+    d.definitions.insert(d.definitions.end(), dynamics->definitions.begin(),
+                         dynamics->definitions.end());
   }
   std::optional<DynamicsDerivatives> derivatives;
   if (const Derivatives level = selection_.needs_derivatives(options_.derivatives);
       dynamics && level != Derivatives::none) {
-    derivatives = derive_derivatives(*dynamics, level == Derivatives::all ? &k : nullptr, d.definitions);
-    d.definitions.insert(d.definitions.end(), derivatives->definitions.begin(), derivatives->definitions.end());
-    if (derivatives_reason_.empty()) derivatives_reason_ = derivatives->reason;  // the first derivation's, as choice_
+    derivatives =
+        derive_derivatives(*dynamics, level == Derivatives::all ? &k : nullptr, d.definitions);
+    d.definitions.insert(d.definitions.end(), derivatives->definitions.begin(),
+                         derivatives->definitions.end());
+    if (derivatives_reason_.empty())
+      derivatives_reason_ = derivatives->reason;  // the first derivation's, as choice_
   }
-  d.entries = build_entry_points({model_, k, dynamics ? &*dynamics : nullptr, derivatives ? &*derivatives : nullptr});
+  d.entries = build_entry_points(
+      {model_, k, dynamics ? &*dynamics : nullptr, derivatives ? &*derivatives : nullptr});
   const DynamicsWays ways{.method = options_.dynamics,
                           .nq = sizes_.nq,
                           .why_not = dynamics ? dynamics->why_not : std::string(),
@@ -221,7 +235,8 @@ Derivation Deriver::derive(bool simplify) {
 void Deriver::compile_programs(Derivation& d) const {
   gather_arrays(d, sizes_);
   std::vector<Expr> outputs;
-  for (const OutputArray& a : d.arrays) outputs.insert(outputs.end(), a.values.begin(), a.values.end());
+  for (const OutputArray& a : d.arrays)
+    outputs.insert(outputs.end(), a.values.begin(), a.values.end());
   d.program = symbolic::compile_program(inputs_.all(), outputs, d.definitions, entry_outputs(d));
   if (options_.part_instructions == 0 || statements(d.program) <= options_.split_above) {
     for (std::size_t e = 0; e < d.entries.size(); ++e) d.whole.push_back(whole_program(d, e));
@@ -233,7 +248,8 @@ void Deriver::compile_programs(Derivation& d) const {
 std::vector<EntryPoint> Deriver::build_entry_points(const Quantities& quantities) const {
   std::vector<EntryPoint> entries;
   for (const EntryPointSpec& spec : catalogue()) {
-    if (derivable(spec.needs, quantities)) entries.push_back(build_entry_point(spec, quantities, sizes_));
+    if (derivable(spec.needs, quantities))
+      entries.push_back(build_entry_point(spec, quantities, sizes_));
   }
   return entries;
 }
@@ -242,30 +258,37 @@ bool Deriver::derivable(const Needs& needs, const Quantities& quantities) const 
   const model::Dynamics* dynamics = quantities.dynamics;
   const bool partials = needs.partials == Partials::either ||
                         (needs.partials == Partials::symbolic) == options_.symbolic_partials;
-  const bool recursive = dynamics && !dynamics->forward.empty() && options_.dynamics != DynamicsMethod::mass_matrix;
-  return partials && (!needs.equations_of_motion || dynamics) && (!needs.recursive_dynamics || recursive) &&
+  const bool recursive =
+      dynamics && !dynamics->forward.empty() && options_.dynamics != DynamicsMethod::mass_matrix;
+  return partials && (!needs.equations_of_motion || dynamics) &&
+         (!needs.recursive_dynamics || recursive) &&
          (needs.derivatives == Derivatives::none ||
-          (quantities.derivatives && (needs.derivatives == Derivatives::dynamics || quantities.derivatives->kinematics)));
+          (quantities.derivatives &&
+           (needs.derivatives == Derivatives::dynamics || quantities.derivatives->kinematics)));
 }
 
 // dtau/dq and dtau/dqd, each form of tau weighed by its own program's operations.
-DynamicsDerivatives Deriver::derive_derivatives(const model::Dynamics& dynamics, const model::Kinematics* kinematics,
-                                                const std::vector<symbolic::Definition>& definitions) const {
+DynamicsDerivatives Deriver::derive_derivatives(
+    const model::Dynamics& dynamics, const model::Kinematics* kinematics,
+    const std::vector<symbolic::Definition>& definitions) const {
   const std::vector<Input> inputs{Input::t, Input::q, Input::qd, Input::qdd, Input::param};
   const OperationCounter operations = [&](const std::vector<Expr>& outputs,
                                           const std::vector<symbolic::Definition>& defined) {
-    return symbolic::compile_program(inputs_.of(inputs), outputs, defined).operation_count().total();
+    return symbolic::compile_program(inputs_.of(inputs), outputs, defined)
+        .operation_count()
+        .total();
   };
-  return derive_dynamics_derivatives(dynamics, kinematics, inputs_[Input::q], inputs_[Input::qd], inputs_[Input::qdd],
-                                     definitions, operations);
+  return derive_dynamics_derivatives(dynamics, kinematics, inputs_[Input::q], inputs_[Input::qd],
+                                     inputs_[Input::qdd], definitions, operations);
 }
 
 // The entry point's own program, or nothing for a hand-written body.
-std::optional<symbolic::Program> Deriver::compile(const EntryPoint& e,
-                                                  const std::vector<symbolic::Definition>& definitions) const {
+std::optional<symbolic::Program> Deriver::compile(
+    const EntryPoint& e, const std::vector<symbolic::Definition>& definitions) const {
   if (e.hand_written()) return std::nullopt;
   std::vector<Expr> outputs;
-  for (const OutputArray& o : e.outputs) outputs.insert(outputs.end(), o.values.begin(), o.values.end());
+  for (const OutputArray& o : e.outputs)
+    outputs.insert(outputs.end(), o.values.begin(), o.values.end());
   return symbolic::compile_program(inputs_.of(e.spec->inputs), outputs, definitions);
 }
 
@@ -274,7 +297,8 @@ std::optional<symbolic::Program> Deriver::compile(const EntryPoint& e,
 std::optional<symbolic::Program> Deriver::whole_program(const Derivation& d, std::size_t e) const {
   std::vector<std::size_t> every_array(d.arrays.size());
   std::iota(every_array.begin(), every_array.end(), std::size_t{0});
-  if (d.entries[e].hand_written() || d.arrays_of[e] != every_array) return compile(d.entries[e], d.definitions);
+  if (d.entries[e].hand_written() || d.arrays_of[e] != every_array)
+    return compile(d.entries[e], d.definitions);
   std::vector<std::size_t> outputs(d.program.output_count());
   std::iota(outputs.begin(), outputs.end(), std::size_t{0});
   return d.program.subprogram(outputs, inputs_.indices(d.entries[e].spec->inputs));

@@ -25,7 +25,7 @@ namespace symdyn::codegen::detail {
 // longer one as parts shared between the entry points (emit_cpp_shared).
 struct Derivation {
   std::vector<EntryPoint> entries;
-  std::vector<OutputArray> arrays;                  // distinct output arrays, with names unique among them
+  std::vector<OutputArray> arrays;  // distinct output arrays, with names unique among them
   std::vector<std::vector<std::size_t>> arrays_of;  // (entries) its arrays, indices into `arrays`
   std::vector<symbolic::Definition> definitions;    // dependent symbols and intermediates
   symbolic::Program program;
@@ -39,7 +39,8 @@ std::vector<std::vector<std::size_t>> entry_outputs(const Derivation& d);
 
 class Deriver {
  public:
-  Deriver(const model::Model& model, const Options& options, const Selection& selection, const InputSymbols& inputs);
+  Deriver(const model::Model& model, const Options& options, const Selection& selection,
+          const InputSymbols& inputs);
 
   // The derivation whose code is emitted: with simplification, the shorter
   // of the simplified and plain ones (see the definition).
@@ -57,10 +58,11 @@ class Deriver {
   std::vector<EntryPoint> build_entry_points(const Quantities& quantities) const;
   bool derivable(const Needs& needs, const Quantities& quantities) const;
   // `kinematics`: also the kinematics' derivatives (Derivatives::all), else null.
-  DynamicsDerivatives derive_derivatives(const model::Dynamics& dynamics, const model::Kinematics* kinematics,
-                                         const std::vector<symbolic::Definition>& definitions) const;
-  std::optional<symbolic::Program> compile(const EntryPoint& e,
-                                           const std::vector<symbolic::Definition>& definitions) const;
+  DynamicsDerivatives derive_derivatives(
+      const model::Dynamics& dynamics, const model::Kinematics* kinematics,
+      const std::vector<symbolic::Definition>& definitions) const;
+  std::optional<symbolic::Program> compile(
+      const EntryPoint& e, const std::vector<symbolic::Definition>& definitions) const;
   std::optional<symbolic::Program> whole_program(const Derivation& d, std::size_t e) const;
 
   const model::Model& model_;

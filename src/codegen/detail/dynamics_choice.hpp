@@ -25,14 +25,16 @@ inline constexpr std::string_view kRecursiveWay = "forward_dynamics_pivots";
 // The choice between the two ways, with its reason. `recursive_operations`:
 // none where the recursive way was not derived (`why_not` says why, empty
 // where the mass matrix was asked for).
-DynamicsChoice weigh_dynamics(DynamicsMethod method, std::size_t nq, std::size_t mass_matrix_operations,
-                              std::optional<std::size_t> recursive_operations, const std::string& why_not);
+DynamicsChoice weigh_dynamics(DynamicsMethod method, std::size_t nq,
+                              std::size_t mass_matrix_operations,
+                              std::optional<std::size_t> recursive_operations,
+                              const std::string& why_not);
 
 // What choose_dynamics needs of the derivation.
 struct DynamicsWays {
   DynamicsMethod method = DynamicsMethod::automatic;
   std::size_t nq = 0;
-  std::string why_not;  // model::Dynamics::why_not
+  std::string why_not;                                       // model::Dynamics::why_not
   std::function<std::size_t(const EntryPoint&)> operations;  // of the entry point's own program
 };
 

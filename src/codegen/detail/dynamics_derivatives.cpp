@@ -1,11 +1,10 @@
-#include <symdyn/codegen/detail/dynamics_derivatives.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <optional>
 #include <unordered_set>
 
+#include <symdyn/codegen/detail/dynamics_derivatives.hpp>
 #include <symdyn/symbolic/jacobian.hpp>
 
 namespace symdyn::codegen::detail {
@@ -35,8 +34,10 @@ std::vector<Expr> mass_matrix_form(const model::Dynamics& dynamics, const std::v
 DynamicsDerivatives split(const symbolic::ChainJacobian& J, std::size_t nq) {
   DynamicsDerivatives d;
   for (std::size_t i = 0; i < nq; ++i) {
-    d.dtau_dq.insert(d.dtau_dq.end(), J.entries.begin() + i * 2 * nq, J.entries.begin() + i * 2 * nq + nq);
-    d.dtau_dqd.insert(d.dtau_dqd.end(), J.entries.begin() + i * 2 * nq + nq, J.entries.begin() + (i + 1) * 2 * nq);
+    d.dtau_dq.insert(d.dtau_dq.end(), J.entries.begin() + i * 2 * nq,
+                     J.entries.begin() + i * 2 * nq + nq);
+    d.dtau_dqd.insert(d.dtau_dqd.end(), J.entries.begin() + i * 2 * nq + nq,
+                      J.entries.begin() + (i + 1) * 2 * nq);
   }
   d.definitions = J.definitions;
   return d;
@@ -46,7 +47,8 @@ DynamicsDerivatives split(const symbolic::ChainJacobian& J, std::size_t nq) {
 // sweep per coordinate; a derivative of a defined symbol that tau's already
 // has (the same symbol, of the same value) is not defined again.
 void add_kinematics_derivatives(const model::Kinematics& k, const std::vector<Expr>& q,
-                                const std::vector<symbolic::Definition>& definitions, DynamicsDerivatives& d) {
+                                const std::vector<symbolic::Definition>& definitions,
+                                DynamicsDerivatives& d) {
   if (k.bodies.empty() || k.bodies.front().dv_dqd.empty()) return;  // numeric partial velocities
   d.kinematics = true;
   const std::size_t nq = q.size();
@@ -65,7 +67,8 @@ void add_kinematics_derivatives(const model::Kinematics& k, const std::vector<Ex
   const auto take = [&](std::size_t first, std::size_t vectors, std::vector<Expr>& out) {
     for (std::size_t vec = 0; vec < vectors; ++vec) {
       for (std::size_t j = 0; j < nq; ++j) {
-        for (std::size_t c = 0; c < 3; ++c) out.push_back(J.entries[(first + 3 * vec + c) * nq + j]);
+        for (std::size_t c = 0; c < 3; ++c)
+          out.push_back(J.entries[(first + 3 * vec + c) * nq + j]);
       }
     }
   };
@@ -82,14 +85,15 @@ void add_kinematics_derivatives(const model::Kinematics& k, const std::vector<Ex
 
 }  // namespace
 
-DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const model::Kinematics* kinematics,
-                                                const std::vector<Expr>& q,
-                                                const std::vector<Expr>& qd, const std::vector<Expr>& qdd,
-                                                const std::vector<symbolic::Definition>& definitions,
-                                                const OperationCounter& operations) {
-  std::vector<Form> forms{{"recursive Newton-Euler", dynamics.inverse}, {"M qdd + h", mass_matrix_form(dynamics, qdd)}};
+DynamicsDerivatives derive_dynamics_derivatives(
+    const model::Dynamics& dynamics, const model::Kinematics* kinematics,
+    const std::vector<Expr>& q, const std::vector<Expr>& qd, const std::vector<Expr>& qdd,
+    const std::vector<symbolic::Definition>& definitions, const OperationCounter& operations) {
+  std::vector<Form> forms{{"recursive Newton-Euler", dynamics.inverse},
+                          {"M qdd + h", mass_matrix_form(dynamics, qdd)}};
   for (Form& f : forms) f.operations = operations(f.tau, definitions);
-  std::stable_sort(forms.begin(), forms.end(), [](const Form& a, const Form& b) { return a.operations < b.operations; });
+  std::stable_sort(forms.begin(), forms.end(),
+                   [](const Form& a, const Form& b) { return a.operations < b.operations; });
   const bool both = forms[1].operations <= kDerivativeFormRatio * forms[0].operations;
   std::vector<Expr> variables = q;
   variables.insert(variables.end(), qd.begin(), qd.end());
@@ -97,7 +101,8 @@ DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics,
   std::size_t best_operations = 0;
   std::vector<std::string> weighed;
   for (std::size_t f = 0; f < (both ? 2 : 1); ++f) {
-    DynamicsDerivatives d = split(symbolic::chain_jacobian(forms[f].tau, variables, definitions), q.size());
+    DynamicsDerivatives d =
+        split(symbolic::chain_jacobian(forms[f].tau, variables, definitions), q.size());
     std::vector<Expr> outputs = d.dtau_dq;
     outputs.insert(outputs.end(), d.dtau_dqd.begin(), d.dtau_dqd.end());
     std::vector<symbolic::Definition> all = definitions;
@@ -110,11 +115,14 @@ DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics,
       best_operations = count;
     }
   }
-  best->reason = both ? fmt::format("of the {} form (fewer operations): {}, {}", best->reason, weighed[0], weighed[1])
-                      : fmt::format("of the {} form, {} operations ({} not differentiated: {} operations of tau "
-                                    "against {}, more than {} times)",
-                                    best->reason, best_operations, forms[1].name, forms[1].operations,
-                                    forms[0].operations, kDerivativeFormRatio);
+  best->reason =
+      both ? fmt::format("of the {} form (fewer operations): {}, {}", best->reason, weighed[0],
+                         weighed[1])
+           : fmt::format(
+                 "of the {} form, {} operations ({} not differentiated: {} operations of tau "
+                 "against {}, more than {} times)",
+                 best->reason, best_operations, forms[1].name, forms[1].operations,
+                 forms[0].operations, kDerivativeFormRatio);
   if (kinematics) add_kinematics_derivatives(*kinematics, q, definitions, *best);
   return std::move(*best);
 }

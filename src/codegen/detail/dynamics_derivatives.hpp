@@ -21,15 +21,16 @@
 namespace symdyn::codegen::detail {
 
 struct DynamicsDerivatives {
-  std::vector<model::Expr> dtau_dq, dtau_dqd;     // (nq x nq) row-major: [i·nq + j] = dtau_i/dx_j
+  std::vector<model::Expr> dtau_dq, dtau_dqd;  // (nq x nq) row-major: [i·nq + j] = dtau_i/dx_j
   // The derivatives of the kinematics force elements read, with respect to q
   // (with symbolic partial velocities; else empty): of each body's velocity
   // and angular velocity, [i][k][c] = ∂v_ic/∂q_k (nbody x nq x 3), and of its
   // partial velocities, [i][j][k][c] = ∂(dv_ij)_c/∂q_k (nbody x nq x nq x 3).
   std::vector<model::Expr> dv_dq, dw_dq, ddv_dq, ddw_dq;
   bool kinematics = false;  // they were derived
-  std::vector<symbolic::Definition> definitions;  // the derivatives of the defined symbols they read
-  std::string reason;                              // which form, and why: for --stats and the header
+  std::vector<symbolic::Definition>
+      definitions;     // the derivatives of the defined symbols they read
+  std::string reason;  // which form, and why: for --stats and the header
 };
 
 // Both forms are differentiated only when the longer one has at most this many
@@ -39,16 +40,15 @@ inline constexpr std::size_t kDerivativeFormRatio = 2;
 
 // The operations of a program computing `outputs` from (t, q, qd, qdd,
 // param) through the definitions.
-using OperationCounter =
-    std::function<std::size_t(const std::vector<model::Expr>& outputs, const std::vector<symbolic::Definition>&)>;
+using OperationCounter = std::function<std::size_t(const std::vector<model::Expr>& outputs,
+                                                   const std::vector<symbolic::Definition>&)>;
 
 // `q`, `qd`, `qdd`: the coordinates' symbols; `definitions`: those tau and the
 // kinematics read, each after those it uses. `kinematics`: also theirs, or null.
-DynamicsDerivatives derive_dynamics_derivatives(const model::Dynamics& dynamics, const model::Kinematics* kinematics,
-                                                const std::vector<model::Expr>& q,
-                                                const std::vector<model::Expr>& qd,
-                                                const std::vector<model::Expr>& qdd,
-                                                const std::vector<symbolic::Definition>& definitions,
-                                                const OperationCounter& operations);
+DynamicsDerivatives derive_dynamics_derivatives(
+    const model::Dynamics& dynamics, const model::Kinematics* kinematics,
+    const std::vector<model::Expr>& q, const std::vector<model::Expr>& qd,
+    const std::vector<model::Expr>& qdd, const std::vector<symbolic::Definition>& definitions,
+    const OperationCounter& operations);
 
 }  // namespace symdyn::codegen::detail

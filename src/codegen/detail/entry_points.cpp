@@ -1,5 +1,3 @@
-#include <symdyn/codegen/detail/entry_points.hpp>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -7,6 +5,7 @@
 #include <charconv>
 #include <stdexcept>
 
+#include <symdyn/codegen/detail/entry_points.hpp>
 #include <symdyn/symbolic/print.hpp>
 
 namespace symdyn::codegen::detail {
@@ -54,17 +53,20 @@ std::string forward_dynamics_body(const Sizes& sizes);
 std::vector<EntryPointSpec> make_catalogue() {
   using enum Input;
   // Each body's absolute motion, in the global frame.
-  const OutputSpec R{"R", "nbody x 3 x 3", absolute(&Motion::R)}, x{"x", "nbody x 3", absolute(&Motion::x)},
-      v{"v", "nbody x 3", absolute(&Motion::v)}, w{"w", "nbody x 3", absolute(&Motion::w)},
-      a{"a", "nbody x 3", absolute(&Motion::a)}, dw{"dw", "nbody x 3", absolute(&Motion::dw)};
+  const OutputSpec R{"R", "nbody x 3 x 3", absolute(&Motion::R)},
+      x{"x", "nbody x 3", absolute(&Motion::x)}, v{"v", "nbody x 3", absolute(&Motion::v)},
+      w{"w", "nbody x 3", absolute(&Motion::w)}, a{"a", "nbody x 3", absolute(&Motion::a)},
+      dw{"dw", "nbody x 3", absolute(&Motion::dw)};
   // Each body's motion relative to its reference, in the reference's axes.
-  const OutputSpec rel_R{"R", "nbody x 3 x 3", relative(&Motion::R)}, rel_x{"x", "nbody x 3", relative(&Motion::x)},
-      rel_v{"v", "nbody x 3", relative(&Motion::v)}, rel_w{"w", "nbody x 3", relative(&Motion::w)},
-      rel_a{"a", "nbody x 3", relative(&Motion::a)}, rel_dw{"dw", "nbody x 3", relative(&Motion::dw)};
+  const OutputSpec rel_R{"R", "nbody x 3 x 3", relative(&Motion::R)},
+      rel_x{"x", "nbody x 3", relative(&Motion::x)}, rel_v{"v", "nbody x 3", relative(&Motion::v)},
+      rel_w{"w", "nbody x 3", relative(&Motion::w)}, rel_a{"a", "nbody x 3", relative(&Motion::a)},
+      rel_dw{"dw", "nbody x 3", relative(&Motion::dw)};
   // Partial velocities dv_i/dqd_j and dw_i/dqd_j, symbolic; named dv_dqd and
   // dw_dqd beside the accelerations (whose dw is the angular acceleration).
   const Source pv = absolute_partials(&Motion::dv_dqd), pw = absolute_partials(&Motion::dw_dqd);
-  const Source rel_pv = relative_partials(&Motion::dv_dqd), rel_pw = relative_partials(&Motion::dw_dqd);
+  const Source rel_pv = relative_partials(&Motion::dv_dqd),
+               rel_pw = relative_partials(&Motion::dw_dqd);
   const OutputSpec partial_dv{"dv", "nbody x nq x 3", pv}, partial_dw{"dw", "nbody x nq x 3", pw};
   const OutputSpec M{"M", "nq x nq", dynamics(&model::Dynamics::mass_matrix)},
       h{"h", "nq", dynamics(&model::Dynamics::bias)};
@@ -72,8 +74,10 @@ std::vector<EntryPointSpec> make_catalogue() {
   const Needs symbolic{.absolute_motion = true, .partials = Partials::symbolic};
   const Needs relative_symbolic{.partials = Partials::symbolic};
   const Needs equations{.absolute_motion = true, .equations_of_motion = true};
-  const Needs equations_symbolic{.absolute_motion = true, .partials = Partials::symbolic, .equations_of_motion = true};
-  const Needs recursive{.absolute_motion = true, .equations_of_motion = true, .recursive_dynamics = true};
+  const Needs equations_symbolic{
+      .absolute_motion = true, .partials = Partials::symbolic, .equations_of_motion = true};
+  const Needs recursive{
+      .absolute_motion = true, .equations_of_motion = true, .recursive_dynamics = true};
   return {
       {.name = "inertia",
        .doc = "Mass of every body and its inertia tensor at G in body axes.",
@@ -95,8 +99,10 @@ std::vector<EntryPointSpec> make_catalogue() {
        .outputs = {R, x, v, w, a, dw},
        .needs = absolute_motion},
       {.name = "relative_accelerations",
-       .doc = "Each body's motion relative to its reference (reference_body; the ground for -1), in the\n"
-              "reference's axes, as CAGeM emitted it: compose as EasyDyn did (runtime/relative_motion.hpp).",
+       .doc = "Each body's motion relative to its reference (reference_body; the ground for -1), "
+              "in the\n"
+              "reference's axes, as CAGeM emitted it: compose as EasyDyn did "
+              "(runtime/relative_motion.hpp).",
        .inputs = {t, q, qd, qdd, param},
        .outputs = {rel_R, rel_x, rel_v, rel_w, rel_a, rel_dw}},
       {.name = "partial_velocities",
@@ -105,7 +111,8 @@ std::vector<EntryPointSpec> make_catalogue() {
        .outputs = {partial_dv, partial_dw},
        .needs = symbolic},
       {.name = "partial_velocities",
-       .doc = "Partial velocities dv/dqd and dw/dqd, numeric as in EasyDyn: velocities are affine in qd, so\n"
+       .doc = "Partial velocities dv/dqd and dw/dqd, numeric as in EasyDyn: velocities are affine "
+              "in qd, so\n"
               "dv/dqd_j = v(qd = e_j) - v(qd = 0) exactly.",
        .inputs = {t, q, param},
        .outputs = {{"dv", "nbody x nq x 3", {}}, {"dw", "nbody x nq x 3", {}}},
@@ -114,7 +121,8 @@ std::vector<EntryPointSpec> make_catalogue() {
        .note = "(loops over velocities)",
        .calls = "velocities"},
       {.name = "relative_partial_velocities",
-       .doc = "Partial velocities of each body's motion relative to its reference, in the reference's axes.",
+       .doc = "Partial velocities of each body's motion relative to its reference, in the "
+              "reference's axes.",
        .inputs = {t, q, param},
        .outputs = {{"dv", "nbody x nq x 3", rel_pv}, {"dw", "nbody x nq x 3", rel_pw}},
        .needs = relative_symbolic},
@@ -123,18 +131,27 @@ std::vector<EntryPointSpec> make_catalogue() {
       {.name = "accelerations_partials",
        .doc = "accelerations and partial_velocities in one call (dv_dqd, dw_dqd: their dv, dw).",
        .inputs = {t, q, qd, qdd, param},
-       .outputs = {R, x, v, w, a, dw, {"dv_dqd", "nbody x nq x 3", pv}, {"dw_dqd", "nbody x nq x 3", pw}},
+       .outputs =
+           {R, x, v, w, a, dw, {"dv_dqd", "nbody x nq x 3", pv}, {"dw_dqd", "nbody x nq x 3", pw}},
        .needs = symbolic},
       {.name = "relative_accelerations_partials",
-       .doc = "relative_accelerations and relative_partial_velocities in one call (dv_dqd, dw_dqd: their dv, dw).",
+       .doc = "relative_accelerations and relative_partial_velocities in one call (dv_dqd, dw_dqd: "
+              "their dv, dw).",
        .inputs = {t, q, qd, qdd, param},
-       .outputs = {rel_R, rel_x, rel_v, rel_w, rel_a, rel_dw, {"dv_dqd", "nbody x nq x 3", rel_pv},
+       .outputs = {rel_R,
+                   rel_x,
+                   rel_v,
+                   rel_w,
+                   rel_a,
+                   rel_dw,
+                   {"dv_dqd", "nbody x nq x 3", rel_pv},
                    {"dw_dqd", "nbody x nq x 3", rel_pw}},
        .needs = relative_symbolic},
       {.name = "dependent_parameters",
        .doc = "Dependent parameters and their first and second time derivatives.",
        .inputs = {t, q, qd, qdd, param},
-       .outputs = {{"p", "ndep", dependent_values}, {"pd", "ndep", dependent_rates},
+       .outputs = {{"p", "ndep", dependent_values},
+                   {"pd", "ndep", dependent_rates},
                    {"pdd", "ndep", dependent_accelerations}}},
       {.name = "mass_matrix",
        .doc = "Mass matrix M(q, t).",
@@ -160,7 +177,8 @@ std::vector<EntryPointSpec> make_catalogue() {
        .outputs = {M, h, R, x, partial_dv, partial_dw},
        .needs = equations_symbolic},
       {.name = "dynamics_velocities",
-       .doc = "M and h with the positions, velocities and partial velocities that force elements read.",
+       .doc = "M and h with the positions, velocities and partial velocities that force elements "
+              "read.",
        .inputs = {t, q, qd, param},
        .outputs = {M, h, R, x, v, w, partial_dv, partial_dw},
        .needs = equations_symbolic},
@@ -170,16 +188,22 @@ std::vector<EntryPointSpec> make_catalogue() {
        .outputs = {{"tau", "nq", dynamics(&model::Dynamics::inverse)}},
        .needs = equations},
       {.name = "inverse_dynamics_derivatives",
-       .doc = "dtau/dq and dtau/dqd of tau = M qdd + h at (q, qd, qdd), exact, the dependent parameters'\n"
+       .doc = "dtau/dq and dtau/dqd of tau = M qdd + h at (q, qd, qdd), exact, the dependent "
+              "parameters'\n"
               "chain rule included; row-major: dtau_dq[i * nq + j] = dtau_i/dq_j.",
        .inputs = {t, q, qd, qdd, param},
        .outputs = {{"dtau_dq", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dq)},
                    {"dtau_dqd", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dqd)}},
-       .needs = {.absolute_motion = true, .equations_of_motion = true, .derivatives = Derivatives::dynamics}},
+       .needs = {.absolute_motion = true,
+                 .equations_of_motion = true,
+                 .derivatives = Derivatives::dynamics}},
       {.name = "kinematics_derivatives",
-       .doc = "The derivatives with respect to q of every body's velocities and partial velocities (for the\n"
-              "exact derivatives of force elements): dv_dq[(i * nq + k) * 3 + c] = dv_ic/dq_k, and\n"
-              "ddv_dq[((i * nq + j) * nq + k) * 3 + c] = d(dv_i/dqd_j)_c/dq_k; dw_dq, ddw_dq likewise.",
+       .doc =
+           "The derivatives with respect to q of every body's velocities and partial velocities "
+           "(for the\n"
+           "exact derivatives of force elements): dv_dq[(i * nq + k) * 3 + c] = dv_ic/dq_k, and\n"
+           "ddv_dq[((i * nq + j) * nq + k) * 3 + c] = d(dv_i/dqd_j)_c/dq_k; dw_dq, ddw_dq "
+           "likewise.",
        .inputs = {t, q, qd, param},
        .outputs = {{"dv_dq", "nbody x nq x 3", derivatives(&DynamicsDerivatives::dv_dq)},
                    {"dw_dq", "nbody x nq x 3", derivatives(&DynamicsDerivatives::dw_dq)},
@@ -190,14 +214,17 @@ std::vector<EntryPointSpec> make_catalogue() {
                  .equations_of_motion = true,
                  .derivatives = Derivatives::all}},
       {.name = "forward_dynamics_pivots",
-       .doc = "qdd = M^-1 (tau - h) by the articulated-body algorithm, with each coordinate's pivot d of\n"
-              "the LDL^T factorization of its body's D = S^T I^A S and the diagonal entry of D it came from.",
+       .doc = "qdd = M^-1 (tau - h) by the articulated-body algorithm, with each coordinate's "
+              "pivot d of\n"
+              "the LDL^T factorization of its body's D = S^T I^A S and the diagonal entry of D it "
+              "came from.",
        .inputs = {t, q, qd, tau, param},
        .outputs = {{"qdd_solved", "nq", dynamics(&model::Dynamics::forward)},
                    {"pivots", "nq x 2", dynamics(&model::Dynamics::pivots)}},
        .needs = recursive},
       {.name = "forward_dynamics",
-       .doc = "qdd = M^-1 (tau - h) without M; returns -1, or the first coordinate whose pivot is not\n"
+       .doc = "qdd = M^-1 (tau - h) without M; returns -1, or the first coordinate whose pivot is "
+              "not\n"
               "positive or is below 64 ulps of its diagonal entry (then qdd is not to be used).",
        .inputs = {t, q, qd, tau, param},
        .outputs = {{"qdd", "nq", {}}},
@@ -237,25 +264,32 @@ Source partials(std::vector<model::Vec3> Motion::*field, bool relative) {
   return [field, relative](const Quantities& q) {
     std::vector<Expr> out;
     for (const model::BodyKinematics& b : q.kinematics.bodies) {
-      for (const model::Vec3& v : relative ? b.relative.*field : b.*field) out.insert(out.end(), v.begin(), v.end());
+      for (const model::Vec3& v : relative ? b.relative.*field : b.*field)
+        out.insert(out.end(), v.begin(), v.end());
     }
     return out;
   };
 }
 
-Source absolute_partials(std::vector<model::Vec3> Motion::*field) { return partials(field, false); }
-Source relative_partials(std::vector<model::Vec3> Motion::*field) { return partials(field, true); }
+Source absolute_partials(std::vector<model::Vec3> Motion::*field) {
+  return partials(field, false);
+}
+Source relative_partials(std::vector<model::Vec3> Motion::*field) {
+  return partials(field, true);
+}
 
 Source dynamics(std::vector<Expr> model::Dynamics::*field) {
   return [field](const Quantities& q) {
-    if (q.dynamics == nullptr) throw std::logic_error("generate: an output of the dynamics without them derived");
+    if (q.dynamics == nullptr)
+      throw std::logic_error("generate: an output of the dynamics without them derived");
     return q.dynamics->*field;
   };
 }
 
 Source derivatives(std::vector<Expr> DynamicsDerivatives::*field) {
   return [field](const Quantities& q) {
-    if (q.derivatives == nullptr) throw std::logic_error("generate: an output of the derivatives without them derived");
+    if (q.derivatives == nullptr)
+      throw std::logic_error("generate: an output of the derivatives without them derived");
     return q.derivatives->*field;
   };
 }
@@ -268,13 +302,15 @@ std::vector<Expr> masses(const Quantities& q) {
 
 std::vector<Expr> inertias(const Quantities& q) {
   std::vector<Expr> out;
-  for (const model::Body& b : q.model.bodies()) out.insert(out.end(), b.inertia().begin(), b.inertia().end());
+  for (const model::Body& b : q.model.bodies())
+    out.insert(out.end(), b.inertia().begin(), b.inertia().end());
   return out;
 }
 
 std::vector<Expr> dependent_values(const Quantities& q) {
   std::vector<Expr> out;
-  for (const model::DependentKinematics& d : q.kinematics.dependents) out.push_back(d.symbols.symbol);
+  for (const model::DependentKinematics& d : q.kinematics.dependents)
+    out.push_back(d.symbols.symbol);
   return out;
 }
 
@@ -286,7 +322,8 @@ std::vector<Expr> dependent_rates(const Quantities& q) {
 
 std::vector<Expr> dependent_accelerations(const Quantities& q) {
   std::vector<Expr> out;
-  for (const model::DependentKinematics& d : q.kinematics.dependents) out.push_back(d.symbols.acceleration);
+  for (const model::DependentKinematics& d : q.kinematics.dependents)
+    out.push_back(d.symbols.acceleration);
   return out;
 }
 
@@ -337,7 +374,8 @@ std::size_t dimension(std::string_view d, const Sizes& sizes) {
   std::size_t n = 0;
   const auto [end, error] = std::from_chars(d.data(), d.data() + d.size(), n);
   if (error != std::errc() || end != d.data() + d.size()) {
-    throw std::logic_error(fmt::format("generate: '{}' is not a dimension of an entry point's output", d));
+    throw std::logic_error(
+        fmt::format("generate: '{}' is not a dimension of an entry point's output", d));
   }
   return n;
 }
@@ -384,10 +422,12 @@ std::vector<std::string_view> entry_point_names() {
 }
 
 bool is_entry_point(std::string_view name) {
-  return std::any_of(catalogue().begin(), catalogue().end(), [&](const EntryPointSpec& e) { return e.name == name; });
+  return std::any_of(catalogue().begin(), catalogue().end(),
+                     [&](const EntryPointSpec& e) { return e.name == name; });
 }
 
-EntryPoint build_entry_point(const EntryPointSpec& spec, const Quantities& quantities, const Sizes& sizes) {
+EntryPoint build_entry_point(const EntryPointSpec& spec, const Quantities& quantities,
+                             const Sizes& sizes) {
   EntryPoint e{.spec = &spec, .outputs = {}, .body = spec.body ? spec.body(sizes) : std::string()};
   for (const OutputSpec& o : spec.outputs) {
     std::vector<Expr> values = o.source ? o.source(quantities) : std::vector<Expr>();

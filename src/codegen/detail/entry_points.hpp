@@ -25,7 +25,8 @@ namespace symdyn::codegen::detail {
 // The input arrays of the emitted functions; an entry point takes some of
 // them, always in this order (t is a scalar).
 enum class Input { t, q, qd, qdd, tau, param };
-inline constexpr Input kInputs[] = {Input::t, Input::q, Input::qd, Input::qdd, Input::tau, Input::param};
+inline constexpr Input kInputs[] = {Input::t,   Input::q,   Input::qd,
+                                    Input::qdd, Input::tau, Input::param};
 std::string_view input_name(Input input);  // "t", "q", ...
 
 // What one derivation made, from which the outputs are taken.
@@ -68,8 +69,10 @@ struct Needs {
   bool absolute_motion = false;
   Partials partials = Partials::either;  // emitted only with these partial velocities
   bool equations_of_motion = false;      // Options::equations_of_motion: model::Dynamics derived
-  bool recursive_dynamics = false;       // the articulated-body algorithm applies and was chosen (DynamicsChoice)
-  Derivatives derivatives = Derivatives::none;  // at least this Options::derivatives (or named alone)
+  bool recursive_dynamics =
+      false;  // the articulated-body algorithm applies and was chosen (DynamicsChoice)
+  Derivatives derivatives =
+      Derivatives::none;  // at least this Options::derivatives (or named alone)
 };
 
 // A hand-written C++ body, in place of a program.
@@ -77,7 +80,7 @@ using WriteBody = std::string (*)(const Sizes& sizes);
 
 struct EntryPointSpec {
   std::string_view name{};
-  std::string_view doc{};  // the header's comment; several lines are separated by '\n'
+  std::string_view doc{};       // the header's comment; several lines are separated by '\n'
   std::vector<Input> inputs{};  // in the order of kInputs
   std::vector<OutputSpec> outputs{};
   Needs needs{};
@@ -118,6 +121,7 @@ struct EntryPoint {
 };
 
 // The row with its outputs taken from `quantities`.
-EntryPoint build_entry_point(const EntryPointSpec& spec, const Quantities& quantities, const Sizes& sizes);
+EntryPoint build_entry_point(const EntryPointSpec& spec, const Quantities& quantities,
+                             const Sizes& sizes);
 
 }  // namespace symdyn::codegen::detail

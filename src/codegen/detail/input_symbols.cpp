@@ -1,7 +1,6 @@
-#include <symdyn/codegen/detail/input_symbols.hpp>
-
 #include <algorithm>
 
+#include <symdyn/codegen/detail/input_symbols.hpp>
 #include <symdyn/model/dynamics.hpp>
 
 namespace symdyn::codegen::detail {
@@ -14,7 +13,8 @@ InputSymbols::InputSymbols(const model::Model& model) {
   }
   symbols_[index(Input::t)] = {model.time()};
   symbols_[index(Input::tau)] = model::generalized_force_symbols(model);
-  for (const model::Parameter& p : model.parameters()) symbols_[index(Input::param)].push_back(p.symbol);
+  for (const model::Parameter& p : model.parameters())
+    symbols_[index(Input::param)].push_back(p.symbol);
 }
 
 std::vector<model::Expr> InputSymbols::of(const std::vector<Input>& inputs) const {
@@ -23,7 +23,9 @@ std::vector<model::Expr> InputSymbols::of(const std::vector<Input>& inputs) cons
   return out;
 }
 
-std::vector<model::Expr> InputSymbols::all() const { return of({std::begin(kInputs), std::end(kInputs)}); }
+std::vector<model::Expr> InputSymbols::all() const {
+  return of({std::begin(kInputs), std::end(kInputs)});
+}
 
 std::vector<std::size_t> InputSymbols::indices(const std::vector<Input>& inputs) const {
   std::vector<std::size_t> out;

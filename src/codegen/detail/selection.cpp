@@ -1,10 +1,9 @@
-#include <symdyn/codegen/detail/selection.hpp>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include <algorithm>
 
+#include <symdyn/codegen/detail/selection.hpp>
 #include <symdyn/model/errors.hpp>
 
 namespace symdyn::codegen::detail {
@@ -26,14 +25,16 @@ bool Selection::selected(std::string_view name) const {
 
 bool Selection::needs_absolute_motion() const {
   const auto absolute = [](const std::string& name) {
-    return !is_entry_point(name) ||
-           any_row([&](const EntryPointSpec& e) { return e.name == name && e.needs.absolute_motion; });
+    return !is_entry_point(name) || any_row([&](const EntryPointSpec& e) {
+      return e.name == name && e.needs.absolute_motion;
+    });
   };
   return wanted_.empty() || std::any_of(wanted_.begin(), wanted_.end(), absolute);
 }
 
 bool Selection::needs_equations_of_motion() const {
-  return any_row([&](const EntryPointSpec& e) { return e.needs.equations_of_motion && selected(e.name); });
+  return any_row(
+      [&](const EntryPointSpec& e) { return e.needs.equations_of_motion && selected(e.name); });
 }
 
 Derivatives Selection::needs_derivatives(Derivatives asked) const {
@@ -45,7 +46,8 @@ Derivatives Selection::needs_derivatives(Derivatives asked) const {
   return most;
 }
 
-void Selection::apply(std::vector<EntryPoint>& entries, const std::optional<DynamicsChoice>& choice) const {
+void Selection::apply(std::vector<EntryPoint>& entries,
+                      const std::optional<DynamicsChoice>& choice) const {
   if (wanted_.empty()) return;
   check(entries, choice);
   // A hand-written body calls another entry point (EntryPointSpec::calls), which comes with it.
@@ -55,21 +57,25 @@ void Selection::apply(std::vector<EntryPoint>& entries, const std::optional<Dyna
     kept.push_back(e.name());
     if (!e.spec->calls.empty()) kept.push_back(e.spec->calls);
   }
-  std::erase_if(entries,
-                [&](const EntryPoint& e) { return std::find(kept.begin(), kept.end(), e.name()) == kept.end(); });
+  std::erase_if(entries, [&](const EntryPoint& e) {
+    return std::find(kept.begin(), kept.end(), e.name()) == kept.end();
+  });
 }
 
-void Selection::check(const std::vector<EntryPoint>& entries, const std::optional<DynamicsChoice>& choice) const {
+void Selection::check(const std::vector<EntryPoint>& entries,
+                      const std::optional<DynamicsChoice>& choice) const {
   std::vector<std::string_view> names;
   for (const EntryPoint& e : entries) names.push_back(e.name());
   // The equations of motion are derived only for a selected entry point that
   // needs them: where none is, theirs count as emitted all the same (asking
   // for one derives them).
-  const bool derived = std::any_of(entries.begin(), entries.end(),
-                                   [](const EntryPoint& e) { return e.spec->needs.equations_of_motion; });
+  const bool derived = std::any_of(entries.begin(), entries.end(), [](const EntryPoint& e) {
+    return e.spec->needs.equations_of_motion;
+  });
   if (equations_of_motion_ && !derived) {
     for (const EntryPointSpec& e : catalogue()) {
-      if (e.needs.equations_of_motion && std::find(names.begin(), names.end(), e.name) == names.end()) {
+      if (e.needs.equations_of_motion &&
+          std::find(names.begin(), names.end(), e.name) == names.end()) {
         names.push_back(e.name);
       }
     }
@@ -77,8 +83,9 @@ void Selection::check(const std::vector<EntryPoint>& entries, const std::optiona
   for (const std::string& name : wanted_) {
     if (std::find(names.begin(), names.end(), name) == names.end()) {
       const std::string why = choice ? fmt::format("; accelerations: {}", choice->reason) : "";
-      throw model::ModelError(fmt::format("entry point '{}' is not emitted with these options (emitted: {}{})", name,
-                                          fmt::join(names, ", "), why));
+      throw model::ModelError(
+          fmt::format("entry point '{}' is not emitted with these options (emitted: {}{})", name,
+                      fmt::join(names, ", "), why));
     }
   }
 }

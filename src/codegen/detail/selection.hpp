@@ -20,8 +20,9 @@ class Selection {
   Selection(std::vector<std::string> wanted, bool equations_of_motion);
 
   bool selected(std::string_view name) const;
-  bool needs_absolute_motion() const;      // a name not in the catalogue counts as needing it
-  bool needs_equations_of_motion() const;  // whether Options::equations_of_motion asks for them or not
+  bool needs_absolute_motion() const;  // a name not in the catalogue counts as needing it
+  bool needs_equations_of_motion()
+      const;  // whether Options::equations_of_motion asks for them or not
   // Which derivatives are derived: those asked for (Options::derivatives)
   // with every entry point, else the most that a named entry point needs.
   Derivatives needs_derivatives(Derivatives asked) const;
@@ -32,7 +33,8 @@ class Selection {
   void apply(std::vector<EntryPoint>& entries, const std::optional<DynamicsChoice>& choice) const;
 
  private:
-  void check(const std::vector<EntryPoint>& entries, const std::optional<DynamicsChoice>& choice) const;
+  void check(const std::vector<EntryPoint>& entries,
+             const std::optional<DynamicsChoice>& choice) const;
 
   std::vector<std::string> wanted_;  // empty: every entry point
   bool equations_of_motion_;

@@ -16,7 +16,8 @@ using namespace symdyn::model;
 void long_crank(Model& m, std::string_view variant) {
   const Expr q0 = m.coordinate("q0");
   const Expr l1 = m.parameter("l1", 0.1, true), l2 = m.parameter("l2", 0.3, true);
-  const Expr rod_mass = m.parameter("rod_mass", 0.5, true), slider_mass = m.parameter("slider_mass", 0.3, true);
+  const Expr rod_mass = m.parameter("rod_mass", 0.5, true),
+             slider_mass = m.parameter("slider_mass", 0.3, true);
   Expr alpha, x;
   if (variant == "asin") {
     alpha = m.dependent("alpha", asin(l1 * sin(q0) / l2));
@@ -27,9 +28,13 @@ void long_crank(Model& m, std::string_view variant) {
     x = m.dependent("x", l1 * cos(q0) + s);
   }
   m.body("crank").mass(1.0).inertia(1e-4, 8.3e-4, 8.3e-4).motion(Trotz(q0) * Tdisp(l1 / 2, 0, 0));
-  m.body("rod").mass(rod_mass).inertia(1e-4 * rod_mass, 7.5e-3 * rod_mass, 7.5e-3 * rod_mass)
+  m.body("rod")
+      .mass(rod_mass)
+      .inertia(1e-4 * rod_mass, 7.5e-3 * rod_mass, 7.5e-3 * rod_mass)
       .motion(Tdisp(x, 0, 0) * Trotz(-alpha) * Tdisp(-l2 / 2, 0, 0));
-  m.body("slider").mass(slider_mass).inertia(3e-4 * slider_mass, 3e-4 * slider_mass, 3e-4 * slider_mass)
+  m.body("slider")
+      .mass(slider_mass)
+      .inertia(3e-4 * slider_mass, 3e-4 * slider_mass, 3e-4 * slider_mass)
       .motion(Tdisp(x, 0, 0));
   m.gravity(0, 0, -9.81);
   m.initial(q0, 0.0, 10.0);
@@ -42,7 +47,8 @@ void gimbal(Model& m, std::string_view variant) {
   Body& frame = m.body("frame").mass(2.0).inertia(0.1, 0.2, 0.25);
   if (variant == "zyx") {
     const Expr x = m.coordinate("x"), y = m.coordinate("y"), z = m.coordinate("z");
-    const Expr yaw = m.coordinate("yaw"), pitch = m.coordinate("pitch"), roll = m.coordinate("roll");
+    const Expr yaw = m.coordinate("yaw"), pitch = m.coordinate("pitch"),
+               roll = m.coordinate("roll");
     frame.motion(Tdisp(x, y, z) * Trotz(yaw) * Troty(pitch) * Trotx(roll));
   } else {
     const Expr precession = m.coordinate("precession"), nutation = m.coordinate("nutation"),
