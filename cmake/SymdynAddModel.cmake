@@ -25,10 +25,16 @@
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
 # PYTHON also builds the Python module <target> (cmake/SymdynPython.cmake).
+#
+# The emitted code is compiled optimized whatever the project's build type: a
+# build type without optimization (none, Debug) gets -O2 on the targets that
+# compile it (symdyn_optimize_emitted); an -O of the project's own flags stays.
 include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 
-function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;DERIVATIVES;DYNAMICS_DERIVATIVES;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "ONLY" ${ARGN})
+# symdyn_add_generator(<out var> <model.cpp>): the model's generator, the model
+# file linked with symdyn's generator main, named symdyn_generator_<file stem>;
+# defined once per model file. symdyn-generate builds it the same way.
+function(symdyn_add_generator out model_source)
   get_filename_component(model_name ${model_source} NAME_WE)
   get_filename_component(model_path ${model_source} ABSOLUTE)
   set(generator symdyn_generator_${model_name})
@@ -37,6 +43,34 @@ function(symdyn_add_model target model_source)
     target_link_libraries(${generator} PRIVATE symdyn::generator_main)
     symdyn_set_compile_options(${generator})
   endif()
+  set(${out} ${generator} PARENT_SCOPE)
+endfunction()
+
+# symdyn_optimize_emitted(<target>): -O2 for the configurations whose flags
+# (CMAKE_CXX_FLAGS and CMAKE_CXX_FLAGS_<CONFIG>) hold no -O: emitted code is long
+# straight-line arithmetic, written to be optimized. Given as the target's option,
+# so that an option the project adds to the target after it wins.
+function(symdyn_optimize_emitted target)
+  get_property(multi_config GLOBAL PROPERTY GENERATOR_IS_MULTI_CONFIG)
+  if(NOT multi_config)
+    string(TOUPPER "${CMAKE_BUILD_TYPE}" upper)  # none: CMAKE_CXX_FLAGS_ is empty
+    if(NOT " ${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${upper}} " MATCHES " -O")
+      target_compile_options(${target} PRIVATE -O2)
+    endif()
+    return()
+  endif()
+  foreach(config IN LISTS CMAKE_CONFIGURATION_TYPES)
+    string(TOUPPER "${config}" upper)
+    if(NOT " ${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${upper}} " MATCHES " -O")
+      target_compile_options(${target} PRIVATE $<$<CONFIG:${config}>:-O2>)
+    endif()
+  endforeach()
+endfunction()
+
+function(symdyn_add_model target model_source)
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;DERIVATIVES;DYNAMICS_DERIVATIVES;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "ONLY" ${ARGN})
+  get_filename_component(model_name ${model_source} NAME_WE)
+  symdyn_add_generator(generator ${model_source})
   set(flags --basename ${target})
   if(ARG_MODEL)
     list(APPEND flags --model ${ARG_MODEL})
@@ -78,6 +112,7 @@ function(symdyn_add_model target model_source)
   add_library(${target} STATIC ${out_dir}/${target}.cpp ${out_dir}/${target}.hpp)
   target_include_directories(${target} PUBLIC ${out_dir})
   symdyn_set_compile_options(${target})
+  symdyn_optimize_emitted(${target})
   if(NOT ARG_NO_EOM AND NOT ARG_ONLY)
     set_property(GLOBAL APPEND PROPERTY SYMDYN_MODELS ${target})
   endif()
@@ -113,4 +148,5 @@ extern \"C\" __attribute__((visibility(\"default\"))) const symdyn::runtime::Mod
   target_include_directories(${target}_module PRIVATE ${out_dir})
   target_link_libraries(${target}_module PRIVATE symdyn::runtime)
   symdyn_set_compile_options(${target}_module)
+  symdyn_optimize_emitted(${target}_module)
 endfunction()

@@ -9,7 +9,8 @@
 #   target_link_libraries(my_simulation PRIVATE my_arm symdyn::runtime)
 #
 # The emitted header is <target>.hpp; the struct inside is symdyn_generated::<target>.
-# Like symdyn_add_model, a target with equations of motion joins the global
+# Like symdyn_add_model, the emitted code is compiled optimized whatever the build
+# type (symdyn_optimize_emitted), and a target with equations of motion joins the global
 # property SYMDYN_MODELS (tests/simulation checks each of them).
 function(symdyn_add_urdf_model target urdf_file)
   cmake_parse_arguments(ARG "FLOATING_BASE;NO_SIMPLIFY;NO_EOM" "PARTIALS;PART_SIZE" "GRAVITY" ${ARGN})
@@ -43,6 +44,7 @@ function(symdyn_add_urdf_model target urdf_file)
   add_library(${target} STATIC ${out_dir}/${target}.cpp ${out_dir}/${target}.hpp)
   target_include_directories(${target} PUBLIC ${out_dir})
   symdyn_set_compile_options(${target})
+  symdyn_optimize_emitted(${target})
   if(NOT ARG_NO_EOM)
     set_property(GLOBAL APPEND PROPERTY SYMDYN_MODELS ${target})
   endif()

@@ -73,4 +73,5 @@ SYMDYN_PYTHON_MODULE(${target})
     LIBRARY_OUTPUT_DIRECTORY ${SYMDYN_PYTHON_DIR}
     CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
   symdyn_set_compile_options(${target}_python)
+  symdyn_optimize_emitted(${target}_python)
 endfunction()

@@ -415,11 +415,15 @@ int simulate(Arguments& args) {
 int sweep(int argc, char** argv) {
   const char* python = std::getenv("SYMDYN_PYTHON");
   if (python == nullptr || *python == '\0') python = SYMDYN_PYTHON_EXECUTABLE;
-  std::string path = SYMDYN_PYTHON_PACKAGE_DIR;
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe", ec);
+  // Installed, the package is at a fixed place from this program; else it is the build's.
+  const std::filesystem::path installed = self.parent_path() / SYMDYN_PYTHON_PACKAGE_DIR_FROM_BIN;
+  std::string path = !ec && std::filesystem::exists(installed / "symdyn" / "__main__.py")
+                         ? installed.lexically_normal().string()
+                         : SYMDYN_PYTHON_PACKAGE_DIR;
   if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0')
     path += std::string(":") + old;
-  std::error_code ec;
-  const std::string self = std::filesystem::canonical("/proc/self/exe", ec).string();
   setenv("PYTHONPATH", path.c_str(), 1);
   if (!ec) setenv("SYMDYN_SIM", self.c_str(), 1);
   std::vector<char*> command{const_cast<char*>(python), const_cast<char*>("-m"),
@@ -443,7 +447,9 @@ int main(int argc, char** argv) {
   }
   Arguments args;
   CLI::App app{
-      "symdyn-sim: runs a scenario (a JSON file, or a reference model's name) on generated code"};
+      "symdyn-sim: runs a scenario (a JSON file, or a reference model's name) on generated code",
+      "symdyn-sim"};
+  app.set_version_flag("--version", "symdyn-sim " SYMDYN_VERSION);
   app.add_option("scenario", args.scenario,
                  "scenario file (*.json) or built-in model name (see --list)");
   app.add_flag("--list", args.list, "list the built-in scenarios and their models' variants");

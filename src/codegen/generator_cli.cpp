@@ -326,7 +326,9 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
   CLI::App app{
       hooks.description.empty()
           ? "symdyn generator: derives the model's kinematics and equations of motion and emits C++"
-          : hooks.description};
+          : hooks.description,
+      argc > 0 ? std::filesystem::path(argv[0]).filename().string() : "generator"};
+  app.set_version_flag("--version", app.get_name() + " " SYMDYN_VERSION);
   app.add_option("--out", args.out, "directory for <basename>.hpp and <basename>.cpp")
       ->capture_default_str();
   app.add_option("--variant", args.variant, "model variant (default: the model's first)");

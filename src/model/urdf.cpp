@@ -251,28 +251,33 @@ const char* type_name(const urdf::Joint& joint) {
   }
 }
 
-// Six coordinates named <base>_x ... <base>_roll: translation, then Rz(yaw)·Ry(pitch)·Rx(roll).
-Transform floating_motion(Model& m, const std::string& base, std::vector<std::string>& names) {
-  std::vector<Expr> q;
-  for (const char* suffix : {"_x", "_y", "_z", "_yaw", "_pitch", "_roll"}) {
-    names.push_back(base + suffix);
-    q.push_back(m.coordinate(names.back()));
-  }
-  return Tdisp(q[0], q[1], q[2]) * Trotz(q[3]) * Troty(q[4]) * Trotx(q[5]);
+// The first of `name`, `name_2`, `name_3`, ... that is not taken(candidate).
+template <class Taken>
+std::string first_free(const std::string& name, const Taken& taken) {
+  std::string candidate = name;
+  for (int k = 2; taken(candidate); ++k) candidate = fmt::format("{}_{}", name, k);
+  return candidate;
 }
 
 class Importer {
  public:
   Importer(Model& m, const urdf::ModelInterface& robot, const WrittenNumbers& written,
            const UrdfOptions& options)
-      : m_(m), robot_(robot), written_(written), options_(options) {}
+      : m_(m), robot_(robot), written_(written), options_(options) {
+    // What the model holds already (add_urdf into a model of the builder) is taken.
+    symbols_.insert(m_.time().name());
+    for (const Coordinate& c : m_.coordinates()) take_coordinate(c);
+    for (const Parameter& p : m_.parameters()) symbols_.insert(p.symbol.name());
+    for (const Dependent& d : m_.dependents()) symbols_.insert(d.symbol.name());
+    for (const Body& b : m_.bodies()) bodies_.insert(b.name());
+  }
 
   std::vector<UrdfJoint> run() {
     const urdf::Link& root = *robot_.getRoot();
     Transform placement;
     if (options_.floating_base) {
       UrdfJoint base{root.name, "floating", {}, std::nullopt};
-      placement = floating_motion(m_, identifier_shaped(root.name), base.coordinates);
+      placement = floating_motion(root.name, base.coordinates);
       joints_.push_back(base);
     }
     const bool massive = visit(root, placement, std::nullopt);
@@ -298,9 +303,8 @@ class Importer {
     Transform to_link = placement;
     std::optional<std::string> children_reference = reference;
     if (is_massive(link)) {
-      add_body(link, placement, reference);
+      children_reference = add_body(link, placement, reference);
       to_link = inverse_pose_transform(link.inertial->origin, inertial_rpy(link));
-      children_reference = identifier_shaped(link.name);
     }
     bool massive = is_massive(link);
     for (const urdf::JointSharedPtr& joint : link.child_joints) {
@@ -322,15 +326,20 @@ class Importer {
     return massive;
   }
 
-  void add_body(const urdf::Link& link, const Transform& placement,
-                const std::optional<std::string>& reference) {
+  // The link's body, named after it (an identifier, unique); returns the body's name.
+  std::string add_body(const urdf::Link& link, const Transform& placement,
+                       const std::optional<std::string>& reference) {
     const urdf::Inertial& in = *link.inertial;
-    Body& body = m_.body(identifier_shaped(link.name));
+    const std::string name = first_free(identifier_shaped(link.name),
+                                        [&](const std::string& n) { return bodies_.count(n) > 0; });
+    bodies_.insert(name);
+    Body& body = m_.body(name);
     body.mass(in.mass)
         .inertia(Mat3{Expr(in.ixx), Expr(in.ixy), Expr(in.ixz), Expr(in.ixy), Expr(in.iyy),
                       Expr(in.iyz), Expr(in.ixz), Expr(in.iyz), Expr(in.izz)})
         .motion(placement * pose_transform(in.origin, inertial_rpy(link)));
     if (reference) body.relative_to(*reference);
+    return name;
   }
 
   // The joint's own motion, declaring its coordinates; refuses what symdyn cannot represent.
@@ -360,7 +369,7 @@ class Importer {
         break;
       }
       case urdf::Joint::FLOATING:
-        motion = floating_motion(m_, identifier_shaped(joint.name), record.coordinates);
+        motion = floating_motion(joint.name, record.coordinates);
         break;
       default:
         throw ModelError(fmt::format(
@@ -372,15 +381,38 @@ class Importer {
     return motion;
   }
 
+  // Six coordinates named <base>_x ... <base>_roll: translation, then Rz(yaw)·Ry(pitch)·Rx(roll).
+  Transform floating_motion(const std::string& base, std::vector<std::string>& names) {
+    std::vector<Expr> q;
+    for (const char* suffix : {"_x", "_y", "_z", "_yaw", "_pitch", "_roll"}) {
+      q.push_back(coordinate(identifier_shaped(base) + suffix));
+      names.push_back(q.back().name());
+    }
+    return Tdisp(q[0], q[1], q[2]) * Trotz(q[3]) * Troty(q[4]) * Trotx(q[5]);
+  }
+
   // One coordinate named after the joint, starting at 0 or at the nearest limit when 0 is outside
   // them.
   Expr declare(const urdf::Joint& joint, UrdfJoint& record) {
-    record.coordinates.push_back(identifier_shaped(joint.name));
-    const Expr q = m_.coordinate(record.coordinates.back());
+    const Expr q = coordinate(identifier_shaped(joint.name));
+    record.coordinates.push_back(q.name());
     const bool bounded = joint.type != urdf::Joint::CONTINUOUS && record.limits &&
                          record.limits->lower <= record.limits->upper;
     if (bounded) m_.initial(q, std::clamp(0.0, record.limits->lower, record.limits->upper));
     return q;
+  }
+
+  // A coordinate named `name`, or `name_2`, ... when that name, its rate's or its
+  // acceleration's is a symbol of the model already (joints "a-b" and "a_b"; "t").
+  Expr coordinate(const std::string& name) {
+    const Expr q = m_.coordinate(first_free(name, [&](const std::string& n) {
+      return symbols_.count(n) || symbols_.count(n + "_d") || symbols_.count(n + "_dd");
+    }));
+    take_coordinate(m_.coordinates().back());
+    return q;
+  }
+  void take_coordinate(const Coordinate& c) {
+    for (const Expr& s : {c.q, c.qd, c.qdd}) symbols_.insert(s.name());
   }
 
   Rpy joint_rpy(const urdf::Joint& joint) const {
@@ -408,6 +440,8 @@ class Importer {
   const UrdfOptions& options_;
   std::vector<UrdfJoint> joints_;
   std::set<std::string> visited_;
+  std::set<std::string> symbols_;  // the model's symbols' names: no coordinate may take one
+  std::set<std::string> bodies_;   // the model's bodies' names
 };
 
 }  // namespace

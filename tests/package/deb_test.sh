@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The Debian package as a user gets it: made from the release build (cpack -G DEB),
-# installed with apt-get, the example built and run against /usr, then removed,
+# installed with apt-get, the example built and run against /usr, its programs run
+# from /usr (programs_test.sh), then removed,
 # also when a step fails. Needs root; refuses to run when symdyn is already
 # installed, since it would replace that installation and then remove it.
 #   deb_test.sh <release build dir> [cmake option]...   (options: as build_example.sh)
@@ -35,3 +36,4 @@ trap 'remove || exit 1' EXIT
 DEBIAN_FRONTEND=noninteractive apt-get install -y -qq -o DPkg::Lock::Timeout=300 "${debs[0]}" \
   >"$work/apt.log" 2>&1 || { cat "$work/apt.log"; fail "apt-get install ${debs[0]} failed"; }
 bash "$here/build_example.sh" "$source_dir/examples/spinning_top" "$work/example" prefix:/usr "$@"
+bash "$here/programs_test.sh" "$source_dir" prefix:/usr "$work/programs"

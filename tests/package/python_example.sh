@@ -2,7 +2,8 @@
 # A project of its own asks for a Python module of its model from installed symdyn:
 # find_package(symdyn), one symdyn_add_model(... PYTHON) line, then Python runs the
 # spinning top (examples/spinning_top) from steady precession and checks that
-# the nutation stays put and the energy is conserved.
+# the nutation stays put and the energy is conserved; the module and its result
+# name the coordinates as the model file does.
 #   python_example.sh <repo> <symdyn build dir> <work dir> [cmake option]...
 set -euo pipefail
 repo=$1 symdyn_build=$2 work=$3
@@ -33,4 +34,8 @@ print(f"spinning top from Python: {run.t.shape[0]} samples, max |theta - theta0|
       f"energy drift {drift:.2e}")
 assert nutation < 1e-8, nutation
 assert drift < 1e-10, drift
+# The coordinates' names, as the model file gives them, in the module and in a run's result.
+assert top.q_names == ("psi", "theta", "phi"), top.q_names
+assert list(run.q_names) == ["psi", "theta", "phi"], run.q_names
+assert top.body_names == ("top",), top.body_names
 PY

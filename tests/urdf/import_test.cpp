@@ -293,3 +293,36 @@ TEST_CASE("URDF: rpy angles are read as written, a pitch near ±90° included", 
   by_hand.gravity(0, 0, -9.81);
   check_against_hand_written(model::import_urdf(xml).model, by_hand);
 }
+
+TEST_CASE("URDF: names made identifiers stay unique, the time 't' left to time", "[urdf]") {
+  // "a-b" and "a_b" both become a_b, "arm-1" and "arm_1" both arm_1; a joint "t" would be time.
+  const std::string xml = R"(<robot name="names"><link name="base"/>
+    <joint name="a-b" type="continuous"><parent link="base"/><child link="arm-1"/></joint>
+    <joint name="a_b" type="continuous"><parent link="base"/><child link="arm_1"/></joint>
+    <joint name="t" type="prismatic"><parent link="base"/><child link="tip"/>
+      <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    <link name="arm-1"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    <link name="arm_1"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    <link name="tip"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    </robot>)";
+  const model::UrdfRobot robot = model::import_urdf(xml);
+  CHECK(coordinate_names(robot.model) == std::vector<std::string>{"a_b", "a_b_2", "t_2"});
+  std::vector<std::string> bodies;
+  for (const auto& b : robot.model.bodies()) bodies.push_back(b.name());
+  CHECK(bodies == std::vector<std::string>{"arm_1", "arm_1_2", "tip"});
+  // Each joint's record names the coordinate it drives, as the model has it.
+  REQUIRE(robot.joints.size() == 3);
+  CHECK(robot.joints[0].name == "a-b");
+  CHECK(robot.joints[0].coordinates == std::vector<std::string>{"a_b"});
+  CHECK(robot.joints[1].coordinates == std::vector<std::string>{"a_b_2"});
+  CHECK(robot.joints[2].coordinates == std::vector<std::string>{"t_2"});
+  // A joint named as an earlier coordinate's rate (hinge_d, of hinge) gets hinge_d_2.
+  const std::string rates = R"(<robot name="rates"><link name="base"/>
+    <joint name="hinge" type="continuous"><parent link="base"/><child link="b"/></joint>
+    <joint name="hinge_d" type="continuous"><parent link="b"/><child link="c"/></joint>
+    <link name="b"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    <link name="c"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    </robot>)";
+  CHECK(coordinate_names(model::import_urdf(rates).model) ==
+        std::vector<std::string>{"hinge", "hinge_d_2"});
+}

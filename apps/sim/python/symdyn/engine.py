@@ -37,13 +37,16 @@ class _EngineTimeout(RuntimeError):
 
 def find_program(given=None):
     """The symdyn-sim to run: `given` (the driver's) when this machine has it,
-    else $SYMDYN_SIM, else the one of the build this package was copied by."""
+    else $SYMDYN_SIM, else the one of the build this package was copied by, or
+    installed with (_build.py), else the one on PATH."""
     program = given if given and os.path.isfile(given) else os.environ.get("SYMDYN_SIM") or given
     if not program:
         try:
             from ._build import SYMDYN_SIM as program
         except ImportError:
-            raise EngineError("no symdyn-sim: set SYMDYN_SIM to its path") from None
+            program = None
+    if not program:
+        raise EngineError("no symdyn-sim: set SYMDYN_SIM to its path, or put it on PATH")
     return program
 
 
