@@ -17,17 +17,21 @@ python3 "$repo/tests/docs/code_blocks.py" script "$repo" docs/tutorial.md > "$sc
 cd "$scratch"
 bash "$scratch/tutorial.sh"
 
-# The emitted code is compiled optimized though the page gives no build type,
-# and a project's own -O is left alone (cmake/SymdynAddModel.cmake).
 cd "$scratch/spinning_top"
 # The scenario's CSV names the columns after the model's coordinates.
 head -1 top.csv | grep -q "^t,psi,theta,phi,psi_dot,theta_dot,phi_dot," ||
   { echo "error: top.csv's header: $(head -1 top.csv)" >&2; exit 1; }
+# The viewer plots the coordinates under their names.
+"$HOME/.local/bin/symdyn-sim" top.json --out top_viewed.csv --html top.html >/dev/null
+grep -q '"names":\["t","psi","theta","phi"\]' top.html ||
+  { echo "error: top.html's series: $(grep -o '"names":[^]]*]' top.html)" >&2; exit 1; }
 # A coordinate the model does not have is refused, the model's own named.
 status=0
 "$HOME/.local/bin/symdyn-sim" top.json --set initial.q.q0=1 2>refused.txt >/dev/null || status=$?
 [ $status -eq 2 ] && grep -q "'q0'.*psi, theta.*phi" refused.txt ||
   { echo "error: initial.q.q0 on the top: exit $status, $(cat refused.txt)" >&2; exit 1; }
+# The emitted code is compiled optimized though the page gives no build type,
+# and a project's own -O is left alone (cmake/SymdynAddModel.cmake).
 emitted_flags() {  # the command that compiles the emitted source in build folder $1
   ninja -C "$1" -t commands spinning_top | grep "generated/spinning_top/spinning_top.cpp"
 }
