@@ -38,4 +38,14 @@ assert drift < 1e-10, drift
 assert top.q_names == ("psi", "theta", "phi"), top.q_names
 assert list(run.q_names) == ["psi", "theta", "phi"], run.q_names
 assert top.body_names == ("top",), top.body_names
+# A coordinate by its name; a value that is not finite refused, naming its coordinate.
+damper = top.CoordinateSpringDamper("theta", stiffness=0.0, damping=1.0)
+rates = [0.0, 2.0, 0.0]
+added = system.applied_forces(qd=rates, forces=[damper]) - system.applied_forces(qd=rates)
+assert np.allclose(added, [0.0, -2.0, 0.0], rtol=0, atol=1e-12), added
+try:
+    system.positions(q=[0.0, float("nan"), 0.0])
+    raise AssertionError("a NaN nutation was accepted")
+except ValueError as e:
+    assert "coordinate 'theta'" in str(e), e
 PY
