@@ -14,11 +14,16 @@ namespace symdyn::runtime {
 
 namespace {
 
+// The index of `name` in `names`, else a ModelError that lists them.
 int find_name(const std::vector<std::string>& names, std::string_view name, const char* what,
-              const std::string& model) {
+              const char* plural, const std::string& model) {
   const auto it = std::find(names.begin(), names.end(), name);
-  if (it == names.end())
-    throw ModelError(fmt::format("model '{}': no {} named '{}'", model, what, name));
+  if (it == names.end()) {
+    throw ModelError(fmt::format("model '{}': no {} named '{}' ({})", model, what, name,
+                                 names.empty()
+                                     ? fmt::format("it has no {}", plural)
+                                     : fmt::format("{}: {}", plural, fmt::join(names, ", "))));
+  }
   return static_cast<int>(it - names.begin());
 }
 
@@ -226,13 +231,13 @@ void Model::missing(const char* entry) const {
 }
 
 int Model::body_index(std::string_view name) const {
-  return find_name(d_.body_names, name, "body", d_.model);
+  return find_name(d_.body_names, name, "body", "bodies", d_.model);
 }
 int Model::coordinate_index(std::string_view name) const {
-  return find_name(d_.q_names, name, "coordinate", d_.model);
+  return find_name(d_.q_names, name, "coordinate", "coordinates", d_.model);
 }
 int Model::parameter_index(std::string_view name) const {
-  return find_name(d_.param_names, name, "parameter", d_.model);
+  return find_name(d_.param_names, name, "parameter", "parameters", d_.model);
 }
 
 State Model::initial_state() const {

@@ -98,7 +98,7 @@ void check_sqrt_named(const std::string& m) {
 TEST_CASE("bad input: an unknown parameter name is named", "[runtime][bad_input]") {
   Model m = Model::from<long_crank_asin>();
   CHECK(message_of<ModelError>([&] { m.set_parameter("l3", 1.0); }) ==
-        "model 'long_crank': no parameter named 'l3'");
+        "model 'long_crank': no parameter named 'l3' (parameters: l1, l2, rod_mass, slider_mass)");
 }
 
 TEST_CASE("bad input: a NaN or infinite parameter is named, the old values kept",
@@ -132,9 +132,9 @@ TEST_CASE("bad input: unknown body and coordinate names (force elements find the
           "[runtime][bad_input]") {
   const Model m = Model::from<gimbal_zyx>();
   CHECK(message_of<ModelError>([&] { (void)m.body_index("wheel"); }) ==
-        "model 'gimbal': no body named 'wheel'");
+        "model 'gimbal': no body named 'wheel' (bodies: frame)");
   CHECK(message_of<ModelError>([&] { (void)m.coordinate_index("heading"); }) ==
-        "model 'gimbal': no coordinate named 'heading'");
+        "model 'gimbal': no coordinate named 'heading' (coordinates: x, y, z, yaw, pitch, roll)");
   CHECK(m.coordinate_index("pitch") == 4);
 }
 

@@ -62,8 +62,9 @@ TEST_CASE("Absent entry points and unknown names are ModelErrors naming them",
       Catch::Matchers::Message(
           "model 'slider' (variant ''): entry point 'velocities' was not emitted"));
   CHECK_THROWS_WITH(MultibodySystem(sl), Contains("needs the entry point 'velocities'"));
-  CHECK_THROWS_WITH(sl.body_index("wheel"), "model 'slider': no body named 'wheel'");
-  CHECK_THROWS_WITH(sl.coordinate_index("x"), "model 'slider': no coordinate named 'x'");
+  CHECK_THROWS_WITH(sl.body_index("wheel"), "model 'slider': no body named 'wheel' (bodies: puck)");
+  CHECK_THROWS_WITH(sl.coordinate_index("x"),
+                    "model 'slider': no coordinate named 'x' (coordinates: s)");
   const Model p = Model::from<fx::pendulum>();
   CHECK_THROWS_WITH(MultibodySystem(p, EquationsSource::emitted),
                     Contains("the emitted source needs mass_matrix and bias_forces"));
@@ -92,7 +93,8 @@ TEST_CASE("Parameters are settable and re-validate the inertia", "[runtime][mode
   const double q = 0.0;
   m.positions(0.0, &q, k);
   CHECK(k.x(0)(0) == Approx(1.0));
-  CHECK_THROWS_WITH(m.set_parameter("mass", 1.0), "model 'pendulum': no parameter named 'mass'");
+  CHECK_THROWS_WITH(m.set_parameter("mass", 1.0),
+                    "model 'pendulum': no parameter named 'mass' (parameters: length)");
   CHECK_THROWS_WITH(m.set_parameter("length", 0.0),
                     Contains("body 'rod': inertia is not positive definite"));
   CHECK(m.parameters()[0] == 2.0);  // unchanged by the failed update
