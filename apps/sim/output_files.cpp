@@ -1,11 +1,10 @@
 #include "output_files.hpp"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <system_error>
 
+#include <symdyn/detail/writable_path.hpp>
 #include <symdyn/runtime/errors.hpp>
 
 namespace symdyn::sim {
@@ -37,24 +36,6 @@ std::string kind_of(fs::file_type type) {
   }
 }
 
-// Writable for this process, and (root writes anywhere) marked writable.
-bool writable(const fs::path& path, fs::perms perms) {
-  constexpr fs::perms any_write =
-      fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
-  return ::access(path.c_str(), W_OK) == 0 && (perms & any_write) != fs::perms::none;
-}
-
-// Whether a file can be made in the folder, tried (root passes access() on any
-// folder, yet cannot write in /proc or on a read-only mount).
-bool can_create_in(const fs::path& folder) {
-  std::string probe = (folder / ".symdyn-probe-XXXXXX").string();
-  const int fd = ::mkstemp(probe.data());
-  if (fd < 0) return false;
-  ::close(fd);
-  ::unlink(probe.c_str());
-  return true;
-}
-
 }  // namespace
 
 std::string file_kind(const fs::path& path) {
@@ -76,21 +57,19 @@ void check_output_file(std::string_view option, const fs::path& path) {
       refuse(
           fmt::format("is {}: results are written to regular files only", kind_of(status.type())));
     }
-    if (!writable(path, status.permissions()))
+    if (!symdyn::detail::replaceable(path, status.permissions()))
       refuse("is read-only: it is not replaced (make it writable, or name another file)");
   } else if (fs::is_symlink(fs::symlink_status(path, ec))) {
     refuse("is a symbolic link to nothing: name a file");
   }
   // The nearest existing folder: a writable directory.
-  fs::path folder = path.parent_path();
-  while (!folder.empty() && !fs::exists(fs::status(folder, ec))) folder = folder.parent_path();
-  if (folder.empty()) folder = path.is_absolute() ? path.root_path() : fs::path(".");
+  const fs::path folder = symdyn::detail::nearest_existing(path.parent_path());
   const fs::file_status f = fs::status(folder, ec);
   if (f.type() != fs::file_type::directory) {
     refuse(fmt::format("cannot be made: '{}' is {}, not a folder", folder.string(),
                        kind_of(f.type())));
   }
-  if (::access(folder.c_str(), W_OK | X_OK) != 0 || !can_create_in(folder)) {
+  if (!symdyn::detail::can_create_in(folder)) {
     refuse(fmt::format("cannot be written: the folder '{}' is not writable", folder.string()));
   }
 }

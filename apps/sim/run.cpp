@@ -551,7 +551,7 @@ RunResult Simulation::Impl::run() {
   r.model = system->model().name();
   r.variant = system->model().variant();
   r.integrator = integrator;
-  r.tolerance = integrator_options.relative_tolerance;
+  r.relative_tolerance = integrator_options.relative_tolerance;
   r.absolute_tolerance = integrator_options.absolute_tolerance;
   r.global_tolerance = integrator_options.global_tolerance;
 
@@ -642,9 +642,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
 std::string summary(const RunResult& run) {
   const auto& st = run.statistics;
   const std::string tolerance =
-      run.tolerance == run.absolute_tolerance
-          ? fmt::format("tolerance {:g}", run.tolerance)
-          : fmt::format("rtol {:g}, atol {:g}", run.tolerance, run.absolute_tolerance);
+      run.relative_tolerance == run.absolute_tolerance
+          ? fmt::format("tolerance {:g}", run.relative_tolerance)
+          : fmt::format("rtol {:g}, atol {:g}", run.relative_tolerance, run.absolute_tolerance);
   std::string out =
       fmt::format("{} ({}, {} equations), {} at {}, t = 0 .. {:g} s{}\n", run.model, run.variant,
                   run.equations, run.integrator, tolerance, run.t_end,

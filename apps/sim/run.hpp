@@ -64,7 +64,8 @@ struct EnergyDrift {
 
 struct RunResult {
   std::string model, variant, integrator, equations;
-  double t_end = 0.0, tolerance = 0.0;  // tolerance: the relative one
+  double t_end = 0.0;
+  double relative_tolerance = 0.0;
   double absolute_tolerance = 0.0;
   double global_tolerance = 0.0;         // 0: none asked (statistics.global_error_estimate is NaN)
   std::vector<std::string> columns;      // of the CSV

@@ -12,8 +12,8 @@
 #include <cmath>
 #include <limits>
 
+#include <symdyn/runtime/detail/stepping_integrator.hpp>
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::bench {
 

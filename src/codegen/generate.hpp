@@ -21,26 +21,14 @@
 
 namespace symdyn::codegen {
 
-// g++ -O2 spends time superlinear in a function's length (register
-// allocation, CSE, alias walks over the stores before each load): amru5's
-// 10 000-instruction mass matrix took most of a 51 s compilation. Why 125:
-// since outputs are assigned at their definition (emit_cpp_shared), shorter
-// parts compile faster down to about that size although more values cross
-// parts through the scratch array. cc1plus instructions (callgrind, so
-// repeatable) to compile amru5 dependent's velocities (2 972 instructions)
-// alone: parts of 2000: 10.0 G, 1000: 9.3 G, 500: 7.9 G, 250: 6.9 G, 125:
-// 5.9 G, 60: 5.6 G, of which 0.7 G parse <cmath>. Below 125 the gain is small
-// and each call and scratch entry costs at run time; at 125 amru5 dependent
-// case 4's T1 and T2 workloads run 0.8 % and 0.7 % fewer instructions than
-// at 500. (Earlier, with outputs assigned at each part's end, sizes from 125
-// to 2000 compiled in about the same time and 500 was kept.)
+// The instructions per part of a long entry point: g++ -O2 spends time
+// superlinear in a function's length, and shorter parts compile faster down to
+// about this size (bench/results/emitted_code_layout.md).
 inline constexpr std::size_t kDefaultPartInstructions = 125;
 
-// Only a model whose entry points are longer than this together (their
-// shared program's statements) is printed as shared parts: parts of 125 made
-// double_pendulum relative's T1 workload (one entry point of ~130
-// statements) 6 % more instructions for the calls, and short functions
-// compile fast whole.
+// Only a model whose entry points are longer than this together (their shared
+// program's statements) is printed as parts: the calls cost a short one more than
+// its compilation gains (bench/results/emitted_code_layout.md).
 inline constexpr std::size_t kSplitAbove = 500;
 
 // How the accelerations are computed (docs/emitted_interface.md): by the

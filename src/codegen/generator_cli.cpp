@@ -1,18 +1,17 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include <symdyn/codegen/generate.hpp>
 #include <symdyn/codegen/generator_cli.hpp>
+#include <symdyn/detail/writable_path.hpp>
 #include <symdyn/model/errors.hpp>
 #include <symdyn/model/identifier.hpp>
 #include <symdyn/symbolic/errors.hpp>
@@ -93,17 +92,6 @@ const model::Definition& choose_model(const std::string& name) {
                   fmt::join(model_names(), ", ")));
 }
 
-// A file can be made in the folder: tried, since root passes access() in
-// /proc or on a read-only mount.
-bool can_create_in(const std::filesystem::path& folder) {
-  std::string probe = (folder / ".symdyn-probe-XXXXXX").string();
-  const int fd = ::mkstemp(probe.data());
-  if (fd < 0) return false;
-  ::close(fd);
-  ::unlink(probe.c_str());
-  return true;
-}
-
 // What generation writes, checked before the derivation (which can take
 // minutes): --out a directory or one that can be made, writable, and the
 // two files, where they exist, regular files that are not read-only.
@@ -114,19 +102,15 @@ void check_out_directory(const std::string& out, const std::string& basename) {
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
     throw CommandLineError(fmt::format("--out: '{}' exists and is not a directory", out));
   }
-  fs::path folder = dir;
-  while (!folder.empty() && !fs::exists(folder, ec)) folder = folder.parent_path();
-  if (folder.empty()) folder = dir.is_absolute() ? dir.root_path() : fs::path(".");
+  const fs::path folder = symdyn::detail::nearest_existing(dir);
   if (!fs::is_directory(folder, ec)) {
     throw CommandLineError(
         fmt::format("--out: '{}' cannot be made: '{}' is not a directory", out, folder.string()));
   }
-  if (::access(folder.c_str(), W_OK | X_OK) != 0 || !can_create_in(folder)) {
+  if (!symdyn::detail::can_create_in(folder)) {
     throw CommandLineError(fmt::format(
         "--out: '{}' cannot be written: the folder '{}' is not writable", out, folder.string()));
   }
-  constexpr fs::perms any_write =
-      fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
   for (const char* ext : {".hpp", ".cpp"}) {
     const fs::path file = dir / (basename + ext);
     const fs::file_status status = fs::status(file, ec);
@@ -135,8 +119,7 @@ void check_out_directory(const std::string& out, const std::string& basename) {
       throw CommandLineError(
           fmt::format("--out: '{}' exists and is not a regular file", file.string()));
     }
-    if (::access(file.c_str(), W_OK) != 0 ||
-        (status.permissions() & any_write) == fs::perms::none) {
+    if (!symdyn::detail::replaceable(file, status.permissions())) {
       throw CommandLineError(
           fmt::format("--out: '{}' is read-only: it is not replaced", file.string()));
     }

@@ -4,9 +4,9 @@
 #include <optional>
 #include <unordered_map>
 
+#include <symdyn/model/detail/dynamics_terms.hpp>
+#include <symdyn/model/detail/intermediates.hpp>
 #include <symdyn/model/dynamics.hpp>
-#include <symdyn/model/dynamics_terms.hpp>
-#include <symdyn/model/intermediates.hpp>
 #include <symdyn/symbolic/diff.hpp>
 #include <symdyn/symbolic/traversal.hpp>
 

@@ -2,7 +2,7 @@
 
 #include <unordered_map>
 
-#include <symdyn/model/intermediates.hpp>
+#include <symdyn/model/detail/intermediates.hpp>
 #include <symdyn/model/kinematics.hpp>
 #include <symdyn/symbolic/diff.hpp>
 

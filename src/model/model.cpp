@@ -5,8 +5,8 @@
 #include <cctype>
 #include <cmath>
 
+#include <symdyn/detail/inertia.hpp>
 #include <symdyn/model/identifier.hpp>
-#include <symdyn/model/inertia_check.hpp>
 #include <symdyn/model/model.hpp>
 #include <symdyn/symbolic/eval.hpp>
 #include <symdyn/symbolic/traversal.hpp>
@@ -343,7 +343,8 @@ void Model::validate_body(const Body& b) const {
   symbolic::Evaluator<double> evaluate(values);
   std::array<double, 9> I{};
   for (int k = 0; k < 9; ++k) I[k] = evaluate(b.inertia()[k]);
-  check_inertia(where, evaluate(b.mass()), I);
+  const std::string problem = symdyn::detail::inertia_problem(evaluate(b.mass()), I);
+  if (!problem.empty()) throw ModelError(fmt::format("{}: {}", where, problem));
 }
 
 // The emitted gravity is a constant array: numbers only.

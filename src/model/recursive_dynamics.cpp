@@ -7,7 +7,7 @@
 
 #include <algorithm>
 
-#include <symdyn/model/dynamics_terms.hpp>
+#include <symdyn/model/detail/dynamics_terms.hpp>
 
 namespace symdyn::model::detail {
 namespace {

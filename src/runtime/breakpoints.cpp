@@ -26,7 +26,7 @@ void check_breakpoints(const std::vector<double>& breakpoints, double t_begin, d
 // The work of the segments summed; with global_tolerance, the estimates of their
 // errors too (each segment starts from the previous one's result, so an error
 // carried over is in neither estimate: the sum assumes it is carried unamplified).
-void add(Statistics& sum, const Statistics& s, bool first, double global_tolerance) {
+void add_segment(Statistics& sum, const Statistics& s, bool first, double global_tolerance) {
   if (first) {
     sum.global_error_estimate = s.global_error_estimate;
     sum.runs = s.runs;
@@ -38,12 +38,7 @@ void add(Statistics& sum, const Statistics& s, bool first, double global_toleran
   sum.last_step = s.last_step;
   sum.global_tolerance_met =
       global_tolerance > 0.0 && sum.global_error_estimate <= global_tolerance;
-  sum.steps += s.steps;
-  sum.rejected_steps += s.rejected_steps;
-  sum.rhs_evaluations += s.rhs_evaluations;
-  sum.residual_evaluations += s.residual_evaluations;
-  sum.jacobian_evaluations += s.jacobian_evaluations;
-  sum.newton_iterations += s.newton_iterations;
+  sum.add_work(s);
 }
 
 }  // namespace
@@ -69,7 +64,8 @@ SegmentedRun integrate_with_breakpoints(Integrator& integrator, DynamicSystem& s
       const double t_stop = k < breakpoints.size() ? breakpoints[k] : t_end;
       skip_first = k > 0;
       run.final = integrator.integrate(system, run.final, t_stop);
-      add(run.statistics, integrator.statistics(), k == 0, integrator.options().global_tolerance);
+      add_segment(run.statistics, integrator.statistics(), k == 0,
+                  integrator.options().global_tolerance);
       ++run.segments;
       if (k < breakpoints.size()) {
         run.final.t = t_stop;  // exactly, whatever the last step's rounding

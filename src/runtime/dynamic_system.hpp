@@ -12,6 +12,7 @@
 // the explicit form (qdd, yd) = solve(...) exists whenever M is regular.
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 
 namespace symdyn::runtime {
@@ -55,6 +56,15 @@ class DynamicSystem {
   virtual bool exact_acceleration_derivatives(const State& /*s*/, const Vector& /*qdd*/,
                                               Matrix& /*dqdd_dq*/, Matrix& /*dqdd_dqd*/) {
     return false;
+  }
+
+  // Cold: why M (n x n, or an iteration matrix built on it) is singular at s,
+  // where the system knows a reason (a multibody model: an angle sequence at its
+  // singular configuration); nullopt (the default) where it does not, and statics
+  // and linearization name M's null direction instead.
+  virtual std::optional<std::string> explain_singular(const State& /*s*/,
+                                                      const Matrix& /*M*/) const {
+    return std::nullopt;
   }
 };
 

@@ -6,9 +6,9 @@
 #include <utility>
 #include <vector>
 
+#include <symdyn/runtime/detail/non_finite.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
-#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
 
@@ -167,15 +167,6 @@ double difference(const State& a, const State& b, const std::vector<Output>& oa,
   return d;
 }
 
-void add(Statistics& total, const Statistics& run) {
-  total.steps += run.steps;
-  total.rejected_steps += run.rejected_steps;
-  total.rhs_evaluations += run.rhs_evaluations;
-  total.residual_evaluations += run.residual_evaluations;
-  total.jacobian_evaluations += run.jacobian_evaluations;
-  total.newton_iterations += run.newton_iterations;
-}
-
 }  // namespace
 
 // Run k at tolerances tol/100^k, but not below tightest_tolerance() (the last
@@ -227,7 +218,7 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
           "tolerance of {:g} failed{}: {}",
           name(), user.global_tolerance, options_.relative_tolerance, estimate, e.what()));
     }
-    add(total, stats_);
+    total.add_work(stats_);
     ++total.runs;
     total.last_relative_tolerance = options_.relative_tolerance;
     if (k > 0) {
@@ -328,7 +319,7 @@ State Integrator::run_by_step_halving(DynamicSystem& system, const State& initia
       throw not_reached(
           fmt::format("the run at a step of {:g} s failed: {}", options_.initial_step, e.what()));
     }
-    add(total, stats_);
+    total.add_work(stats_);
     ++total.runs;
     total.last_step = options_.initial_step;
     total.last_relative_tolerance = options_.relative_tolerance;
@@ -411,49 +402,5 @@ double ErrorWeights::rms(const Vector& e) const {
       e.cwiseQuotient(w_).squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, w_.size()));
   return std::sqrt(mean);
 }
-
-namespace detail {
-
-std::string at_time(double t, const std::string& what) {
-  // A message from the system already names its time.
-  if (what.rfind("t = ", 0) == 0) return what;
-  return fmt::format("t = {}: {}", t, what);
-}
-
-std::string non_finite_entry(const DynamicSystem& system, const char* quantity, const Vector& v,
-                             bool extra) {
-  for (Eigen::Index i = 0; i < v.size(); ++i) {
-    if (std::isfinite(v[i])) continue;
-    const int k = static_cast<int>(i);
-    return extra ? fmt::format("{} of extra state '{}' is {}", quantity, system.extra_state_name(k),
-                               v[i])
-                 : fmt::format("{} of coordinate '{}' is {}", quantity, system.coordinate_name(k),
-                               v[i]);
-  }
-  return {};
-}
-
-std::string non_finite_value(const DynamicSystem& system, const State& s, const Vector& qdd,
-                             const Vector& yd) {
-  if (s.q.allFinite() && s.qd.allFinite() && s.y.allFinite() && qdd.allFinite() && yd.allFinite())
-    return {};
-  struct Entry {
-    const char* quantity;
-    const Vector& v;
-    bool extra;
-  };
-  const Entry entries[] = {{"q", s.q, false},
-                           {"qd", s.qd, false},
-                           {"y", s.y, true},
-                           {"qdd", qdd, false},
-                           {"yd", yd, true}};
-  for (const auto& e : entries) {
-    std::string bad = non_finite_entry(system, e.quantity, e.v, e.extra);
-    if (!bad.empty()) return bad;
-  }
-  return {};
-}
-
-}  // namespace detail
 
 }  // namespace symdyn::runtime

@@ -157,6 +157,16 @@ struct Statistics {
   double last_step = 0.0;  // fixed-step runs only
   double global_error_estimate = std::numeric_limits<double>::quiet_NaN();
   bool global_tolerance_met = false;
+
+  // Adds other's work (the counters above runs) to this one's.
+  void add_work(const Statistics& other) {
+    steps += other.steps;
+    rejected_steps += other.rejected_steps;
+    rhs_evaluations += other.rhs_evaluations;
+    residual_evaluations += other.residual_evaluations;
+    jacobian_evaluations += other.jacobian_evaluations;
+    newton_iterations += other.newton_iterations;
+  }
 };
 
 class Integrator {

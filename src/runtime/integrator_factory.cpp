@@ -5,14 +5,14 @@
 
 #include <array>
 
-#include <symdyn/runtime/arkode_integrator.hpp>
-#include <symdyn/runtime/cvode_integrator.hpp>
-#include <symdyn/runtime/dop853.hpp>
+#include <symdyn/runtime/detail/arkode_integrator.hpp>
+#include <symdyn/runtime/detail/cvode_integrator.hpp>
+#include <symdyn/runtime/detail/dop853.hpp>
+#include <symdyn/runtime/detail/midpoint.hpp>
+#include <symdyn/runtime/detail/newmark.hpp>
+#include <symdyn/runtime/detail/runge_kutta.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
-#include <symdyn/runtime/midpoint.hpp>
-#include <symdyn/runtime/newmark.hpp>
-#include <symdyn/runtime/runge_kutta.hpp>
 
 namespace symdyn::runtime {
 

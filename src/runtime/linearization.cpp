@@ -8,7 +8,6 @@
 
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/linearization.hpp>
-#include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
@@ -80,8 +79,7 @@ Linearization linearize(DynamicSystem& sys, const State& s, const LinearizationO
   SpdSolver solver(nk);
   if (nk > 0 && !solver.factor(lin.M)) {
     // The model's reason (an angle sequence at its singular configuration) when it knows one.
-    const auto* mbs = dynamic_cast<const MultibodySystem*>(&sys);
-    const auto why = mbs != nullptr ? mbs->explain_singular(s, M) : std::nullopt;
+    const auto why = sys.explain_singular(s, M);
     throw NumericError(fmt::format("linearize: mass matrix is singular or indefinite at t = {}: {}",
                                    s.t, why ? *why : mass_matrix_singularity(lin.M, [&](int r) {
                                      return sys.coordinate_name(lin.kept[r]);

@@ -1,6 +1,5 @@
 #include <fmt/format.h>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cctype>
@@ -8,6 +7,7 @@
 #include <numbers>
 #include <utility>
 
+#include <symdyn/detail/inertia.hpp>
 #include <symdyn/runtime/model.hpp>
 
 namespace symdyn::runtime {
@@ -29,30 +29,10 @@ int find_name(const std::vector<std::string>& names, std::string_view name, cons
 
 // Throws ModelError naming the body when (m, I) is not a rigid body's inertia.
 void validate_inertia(const std::string& body, double m, const Mat3& I) {
-  if (!(m > 0.0) || !std::isfinite(m)) {
-    throw ModelError(fmt::format("body '{}': mass {} is not positive", body, m));
-  }
-  if (!I.allFinite()) throw ModelError(fmt::format("body '{}': inertia is not finite", body));
-  const double scale = std::max(I.cwiseAbs().maxCoeff(), 1e-300);
-  const double asym = (I - I.transpose()).cwiseAbs().maxCoeff();
-  if (asym > 1e-9 * scale) {
-    throw ModelError(
-        fmt::format("body '{}': inertia is not symmetric (|I - I^T| = {})", body, asym));
-  }
-  const Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (I + I.transpose()), Eigen::EigenvaluesOnly);
-  const Vec3 p = eig.eigenvalues();  // ascending
-  if (!(p(0) > 0.0)) {
-    throw ModelError(
-        fmt::format("body '{}': inertia is not positive definite (principal moments {}, {}, {})",
-                    body, p(0), p(1), p(2)));
-  }
-  // A + B >= C for the principal moments; rounding allowed (a thin rod or disc
-  // is exactly at the limit).
-  if (p(0) + p(1) < p(2) * (1.0 - 1e-9)) {
-    throw ModelError(
-        fmt::format("body '{}': principal moments {}, {}, {} violate the triangle inequality", body,
-                    p(0), p(1), p(2)));
-  }
+  std::array<double, 9> row_major{};
+  for (int k = 0; k < 9; ++k) row_major[k] = I(k / 3, k % 3);
+  const std::string problem = symdyn::detail::inertia_problem(m, row_major);
+  if (!problem.empty()) throw ModelError(fmt::format("body '{}': {}", body, problem));
 }
 
 // Where each function with a restricted domain is defined (x its argument, e

@@ -1,6 +1,7 @@
 #pragma once
-// symdyn::runtime, the multibody half: everything a simulation program needs
-// next to its generated model (docs/emitted_interface.md).
+// symdyn::runtime: everything a simulation program needs next to its generated
+// model (docs/emitted_interface.md): the equations of motion, force elements,
+// integrators, statics, linearization and outputs.
 
 #include <symdyn/runtime/animation.hpp>
 #include <symdyn/runtime/breakpoints.hpp>
@@ -18,11 +19,17 @@
 #include <symdyn/runtime/gim_tyre.hpp>
 #include <symdyn/runtime/gltf.hpp>
 #include <symdyn/runtime/html_viewer.hpp>
+#include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/kinematics.hpp>
+#include <symdyn/runtime/kinematics_derivatives.hpp>
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/model.hpp>
+#include <symdyn/runtime/model_module.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
+#include <symdyn/runtime/progress_bar.hpp>
+#include <symdyn/runtime/relative_motion.hpp>
 #include <symdyn/runtime/scene.hpp>
+#include <symdyn/runtime/spd_solver.hpp>
 #include <symdyn/runtime/statics.hpp>
 #include <symdyn/runtime/step_derivatives.hpp>

@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
 #include <symdyn/runtime/statics.hpp>
 
@@ -41,9 +40,7 @@ double trial_residual(DynamicSystem& sys, const State& s, const std::vector<bool
 // Why the iteration matrix is singular: the model's reason (an angle sequence
 // at its singular configuration) when it knows one, else its null direction.
 std::string singular_because(DynamicSystem& sys, const State& s, const Matrix& A) {
-  if (const auto* mbs = dynamic_cast<const MultibodySystem*>(&sys)) {
-    if (auto why = mbs->explain_singular(s, A)) return *why;
-  }
+  if (auto why = sys.explain_singular(s, A)) return *why;
   return "along " + null_direction(A, [&](int j) { return sys.coordinate_name(j); });
 }
 

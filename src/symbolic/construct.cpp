@@ -6,8 +6,8 @@
 #include <numbers>
 #include <unordered_map>
 
+#include <symdyn/symbolic/detail/small_vector.hpp>
 #include <symdyn/symbolic/expr.hpp>
-#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic {
 namespace {

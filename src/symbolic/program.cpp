@@ -6,10 +6,10 @@
 #include <map>
 #include <optional>
 
+#include <symdyn/symbolic/detail/program_code.hpp>
+#include <symdyn/symbolic/detail/program_ir.hpp>
+#include <symdyn/symbolic/detail/small_vector.hpp>
 #include <symdyn/symbolic/program.hpp>
-#include <symdyn/symbolic/program_code.hpp>
-#include <symdyn/symbolic/program_ir.hpp>
-#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic {
 namespace {

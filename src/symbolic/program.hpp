@@ -248,15 +248,9 @@ struct CppNaming {
 // 1/kZeroedArrayShare are +0.0 (and that one set of functions wants,
 // emit_cpp_shared), is zeroed whole by one loop,
 // for (int i = 0; i < 3528; ++i) dv[i] = 0.0;, before its other elements are
-// assigned; its zeros are not assigned again. Why: amru5's partial velocities
-// are mostly zeros (a body does not move with most coordinates), 20 000 of
-// them in case 4: as separate stores and short loops they were 10 to 15 % of
-// the compile time. g++ -O2 turns the loop into memset (`rep stos`, a few
-// cycles per 64 bytes after a start-up of some 30: callgrind counts each byte
-// stored as an instruction), so on a long array a loop over twice as many
-// elements as there are zeros costs less than storing them apart; on a
-// short one (the slider-crank's 27 rotation entries) the stores of the
-// nonzero elements twice made its accelerations 6 % more instructions.
+// assigned; its zeros are not assigned again. Why: g++ turns the loop into
+// memset, cheaper than many separate stores of zero to compile and to run, but
+// not on a short array (bench/results/emitted_code_layout.md).
 inline constexpr std::size_t kMinZeroedArray = 64;
 inline constexpr std::size_t kZeroedArrayShare = 2;
 
@@ -300,9 +294,8 @@ std::string emit_cpp(const Program& program, const CppNaming& naming);
 // definition (after the scratch store, in output order); any other output
 // (a load, or a value other functions need too) is assigned at the end of
 // the group of its own functions, in output order. Why: a value assigned at
-// the end of its part stays live through it, and g++ spilled and reloaded it
-// (amru5's accelerations, parts of 500: 1 550 stack accesses against 940, 19 %
-// more instructions, 7 % more compile work). So outputs are written before
+// the end of its part stays live through it, and g++ spills and reloads it
+// (bench/results/emitted_code_layout.md). So outputs are written before
 // later statements and parts read inputs: output arrays must not overlap
 // inputs (generated parts take __restrict parameters). A part assigns only
 // outputs every function that runs it wants. A long array of many zeros (see

@@ -8,10 +8,10 @@
 #include <functional>
 #include <queue>
 
-#include <symdyn/symbolic/flat_map.hpp>
-#include <symdyn/symbolic/program_ir.hpp>
+#include <symdyn/symbolic/detail/flat_map.hpp>
+#include <symdyn/symbolic/detail/program_ir.hpp>
+#include <symdyn/symbolic/detail/small_vector.hpp>
 #include <symdyn/symbolic/scalar_ops.hpp>
-#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic::ir {
 

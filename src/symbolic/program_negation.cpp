@@ -26,7 +26,7 @@
 #include <optional>
 #include <utility>
 
-#include <symdyn/symbolic/program_code.hpp>
+#include <symdyn/symbolic/detail/program_code.hpp>
 
 namespace symdyn::symbolic::detail {
 namespace {

@@ -18,9 +18,9 @@
 #include <unordered_set>
 
 #include <symdyn/symbolic/cost.hpp>
-#include <symdyn/symbolic/flat_map.hpp>
+#include <symdyn/symbolic/detail/flat_map.hpp>
+#include <symdyn/symbolic/detail/small_vector.hpp>
 #include <symdyn/symbolic/rewrite.hpp>
-#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic {
 namespace {

@@ -2,8 +2,8 @@
 #include <algorithm>
 
 #include <symdyn/symbolic/cost.hpp>
+#include <symdyn/symbolic/detail/trig_rules.hpp>
 #include <symdyn/symbolic/simplify.hpp>
-#include <symdyn/symbolic/trig_rules.hpp>
 
 namespace symdyn::symbolic {
 namespace {

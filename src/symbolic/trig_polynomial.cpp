@@ -8,7 +8,7 @@
 #include <unordered_map>
 
 #include <symdyn/symbolic/cost.hpp>
-#include <symdyn/symbolic/small_vector.hpp>
+#include <symdyn/symbolic/detail/small_vector.hpp>
 #include <symdyn/symbolic/trig_polynomial.hpp>
 
 namespace symdyn::symbolic {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include <symdyn/runtime/lu_solver.hpp>
+#include <symdyn/runtime/detail/lu_solver.hpp>
 
 using namespace symdyn::runtime;
 

@@ -1,4 +1,4 @@
-// newmark and generalized-alpha (src/runtime/newmark.cpp) against independent values: the
+// newmark and generalized-alpha (src/runtime/detail/newmark.cpp) against independent values: the
 // closed-form flow of a damped oscillator driving a filter (local errors), and the double
 // pendulum of docs/models.md released horizontal over 1 s against dop853 at 1e-13 (fixed-step
 // order, the error's proportionality to the tolerance, the tightest error, the global

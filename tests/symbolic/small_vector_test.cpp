@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include <symdyn/symbolic/small_vector.hpp>
+#include <symdyn/symbolic/detail/small_vector.hpp>
 
 namespace {
 

@@ -3,8 +3,8 @@
 #include <bit>
 #include <utility>
 
-#include <symdyn/symbolic/program_code.hpp>
-#include <symdyn/symbolic/program_ir.hpp>
+#include <symdyn/symbolic/detail/program_code.hpp>
+#include <symdyn/symbolic/detail/program_ir.hpp>
 
 namespace symdyn::symbolic::detail {
 

@@ -1,7 +1,6 @@
 #pragma once
 // Private to the runtime: the step loop shared by the one-step integrators
-// (newmark, generalized-alpha, rk4, dopri5, dop853, midpoint), and the checks that
-// name a non-finite value.
+// (newmark, generalized-alpha, rk4, dopri5, dop853, midpoint).
 //
 // Why a shared loop: dense output at the output instants, step-size bounds, the
 // underflow test, rejected-step bookkeeping and progress are the same for every
@@ -11,21 +10,10 @@
 #include <optional>
 #include <string>
 
+#include <symdyn/runtime/detail/non_finite.hpp>
 #include <symdyn/runtime/integrator.hpp>
 
 namespace symdyn::runtime::detail {
-
-// "" when every entry of v is finite, else "<quantity> of coordinate 'x' is nan"
-// (extra = false: v is indexed like q; extra = true: like y).
-std::string non_finite_entry(const DynamicSystem& system, const char* quantity, const Vector& v,
-                             bool extra);
-
-// The first non-finite value among q, qd, y, qdd, yd, or "".
-std::string non_finite_value(const DynamicSystem& system, const State& s, const Vector& qdd,
-                             const Vector& yd);
-
-// "t = <t>: <what>" with t printed round-trip.
-std::string at_time(double t, const std::string& what);
 
 // The outcome of one step attempt.
 struct StepOutcome {

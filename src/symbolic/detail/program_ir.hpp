@@ -20,9 +20,9 @@
 #include <span>
 #include <vector>
 
+#include <symdyn/symbolic/detail/small_vector.hpp>
 #include <symdyn/symbolic/expr.hpp>
 #include <symdyn/symbolic/program.hpp>
-#include <symdyn/symbolic/small_vector.hpp>
 
 namespace symdyn::symbolic::ir {
 

@@ -2,8 +2,8 @@
 #include <array>
 #include <cmath>
 
-#include <symdyn/runtime/dop853.hpp>
-#include <symdyn/runtime/explicit_integrator.hpp>
+#include <symdyn/runtime/detail/dop853.hpp>
+#include <symdyn/runtime/detail/explicit_integrator.hpp>
 
 namespace symdyn::runtime {
 

@@ -4,8 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include <symdyn/runtime/detail/stepping_integrator.hpp>
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime::detail {
 

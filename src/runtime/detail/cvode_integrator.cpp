@@ -1,9 +1,9 @@
 #include <cvode/cvode.h>
 #include <cvode/cvode_ls.h>
 
-#include <symdyn/runtime/cvode_integrator.hpp>
-#include <symdyn/runtime/sundials_integrator.hpp>
-#include <symdyn/runtime/sundials_support.hpp>
+#include <symdyn/runtime/detail/cvode_integrator.hpp>
+#include <symdyn/runtime/detail/sundials_integrator.hpp>
+#include <symdyn/runtime/detail/sundials_support.hpp>
 
 namespace symdyn::runtime {
 

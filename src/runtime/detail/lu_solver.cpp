@@ -1,7 +1,7 @@
 #include <cmath>
 #include <utility>
 
-#include <symdyn/runtime/lu_solver.hpp>
+#include <symdyn/runtime/detail/lu_solver.hpp>
 
 namespace symdyn::runtime {
 

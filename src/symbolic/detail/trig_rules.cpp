@@ -1,6 +1,6 @@
 // The rule tables. One row per identity; see trig_rules.hpp for how each
 // table is used.
-#include <symdyn/symbolic/trig_rules.hpp>
+#include <symdyn/symbolic/detail/trig_rules.hpp>
 
 namespace symdyn::symbolic {
 namespace {

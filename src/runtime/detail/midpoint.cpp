@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include <symdyn/runtime/detail/midpoint.hpp>
+#include <symdyn/runtime/detail/stepping_integrator.hpp>
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/midpoint.hpp>
-#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
 
@@ -48,7 +48,9 @@ class Midpoint final : public detail::SteppingIntegrator {
   Eigen::PartialPivLU<Matrix> lu_;
   Eigen::PartialPivLU<Matrix> newton_lu_;  // of I - dG/dz, (2n+m x 2n+m)
   State probe_;                            // scratch state for the residuals
-  Vector f0_, f1_, g_, zero_n_, zero_m_, Mv_plus_, Mv_minus_;
+  Vector rest_residual_;                   // (n) f at qd = 0, qdd = 0 (gravity and the like)
+  Vector probe_residual_;                  // (n) f at qd = 0, qdd = λ·x
+  Vector g_, zero_n_, zero_m_, Mv_plus_, Mv_minus_;
   // Workspaces sized once, so that a step allocates nothing.
   Vector amplified_, unit_, shifted_q_;  // (n) λ·x, λ·e_j, q ± d·v
   Vector qdd1_, yd1_;                    // (n), (m) at the end of the step being solved
@@ -57,11 +59,11 @@ class Midpoint final : public detail::SteppingIntegrator {
   Matrix newton_matrix_;                 // (2n + m x 2n + m) I - dG/dz
 };
 
-// The power of two nearest to 1e6·max(1, |f0|)/|x|: M·x = (f(λ·x) - f0)/λ with λ·x
-// far larger than f0 loses only eps·|M·x| to rounding, not eps·|f0| (gravity, say);
-// a power of two scales exactly.
-double amplification(const Vector& f0, double x_size) {
-  const double target = 1e6 * std::max(1.0, f0.lpNorm<Eigen::Infinity>()) / x_size;
+// The power of two nearest to 1e6·max(1, |f0|)/|x|, f0 the residual at rest:
+// M·x = (f(λ·x) - f0)/λ with λ·x far larger than f0 loses only eps·|M·x| to rounding,
+// not eps·|f0| (gravity, say); a power of two scales exactly.
+double amplification(const Vector& rest_residual, double x_size) {
+  const double target = 1e6 * std::max(1.0, rest_residual.lpNorm<Eigen::Infinity>()) / x_size;
   return std::exp2(std::round(std::log2(target)));
 }
 
@@ -71,16 +73,16 @@ void Midpoint::mass_times(double t, const Vector& q, const Vector& y, const Vect
   probe_.q = q;
   probe_.qd = zero_n_;
   probe_.y = y;
-  residual(probe_, zero_n_, zero_m_, f0_, g_);
+  residual(probe_, zero_n_, zero_m_, rest_residual_, g_);
   const double size = x.lpNorm<Eigen::Infinity>();
   if (size == 0.0) {
     Mx = zero_n_;
     return;
   }
-  const double lambda = amplification(f0_, size);
+  const double lambda = amplification(rest_residual_, size);
   amplified_ = lambda * x;
-  residual(probe_, amplified_, zero_m_, f1_, g_);
-  Mx = (f1_ - f0_) / lambda;
+  residual(probe_, amplified_, zero_m_, probe_residual_, g_);
+  Mx = (probe_residual_ - rest_residual_) / lambda;
 }
 
 // M column by column: n + 1 residuals, amplified as in mass_times.
@@ -89,14 +91,14 @@ void Midpoint::mass_matrix(double t, const Vector& q, const Vector& y, Matrix& M
   probe_.q = q;
   probe_.qd = zero_n_;
   probe_.y = y;
-  residual(probe_, zero_n_, zero_m_, f0_, g_);
-  const double lambda = amplification(f0_, 1.0);
+  residual(probe_, zero_n_, zero_m_, rest_residual_, g_);
+  const double lambda = amplification(rest_residual_, 1.0);
   M.resize(n_, n_);
   unit_.setZero(n_);
   for (int j = 0; j < n_; ++j) {
     unit_[j] = lambda;
-    residual(probe_, unit_, zero_m_, f1_, g_);
-    M.col(j) = (f1_ - f0_) / lambda;
+    residual(probe_, unit_, zero_m_, probe_residual_, g_);
+    M.col(j) = (probe_residual_ - rest_residual_) / lambda;
     unit_[j] = 0.0;
   }
 }

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <string>
 
+#include <symdyn/runtime/detail/stepping_integrator.hpp>
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime::detail {
 

@@ -9,10 +9,10 @@
 #include <string>
 #include <type_traits>
 
+#include <symdyn/runtime/detail/non_finite.hpp>
+#include <symdyn/runtime/detail/sundials_integrator.hpp>
+#include <symdyn/runtime/detail/sundials_support.hpp>
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/stepping_integrator.hpp>
-#include <symdyn/runtime/sundials_integrator.hpp>
-#include <symdyn/runtime/sundials_support.hpp>
 
 namespace symdyn::runtime::detail {
 

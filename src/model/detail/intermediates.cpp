@@ -1,6 +1,6 @@
 #include <stdexcept>
 
-#include <symdyn/model/intermediates.hpp>
+#include <symdyn/model/detail/intermediates.hpp>
 
 namespace symdyn::model {
 

@@ -1,8 +1,8 @@
 #include <arkode/arkode_arkstep.h>
 
-#include <symdyn/runtime/arkode_integrator.hpp>
-#include <symdyn/runtime/sundials_integrator.hpp>
-#include <symdyn/runtime/sundials_support.hpp>
+#include <symdyn/runtime/detail/arkode_integrator.hpp>
+#include <symdyn/runtime/detail/sundials_integrator.hpp>
+#include <symdyn/runtime/detail/sundials_support.hpp>
 
 namespace symdyn::runtime {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <symdyn/model/detail/intermediates.hpp>
 #include <symdyn/model/dynamics.hpp>
-#include <symdyn/model/intermediates.hpp>
 
 namespace symdyn::model::detail {
 

@@ -5,10 +5,10 @@
 #include <limits>
 #include <utility>
 
+#include <symdyn/runtime/detail/lu_solver.hpp>
+#include <symdyn/runtime/detail/newmark.hpp>
+#include <symdyn/runtime/detail/stepping_integrator.hpp>
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/lu_solver.hpp>
-#include <symdyn/runtime/newmark.hpp>
-#include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
 

@@ -4,9 +4,9 @@
 #include <array>
 #include <cmath>
 
+#include <symdyn/runtime/detail/explicit_integrator.hpp>
+#include <symdyn/runtime/detail/runge_kutta.hpp>
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/explicit_integrator.hpp>
-#include <symdyn/runtime/runge_kutta.hpp>
 
 namespace symdyn::runtime {
 

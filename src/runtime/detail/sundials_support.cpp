@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include <symdyn/runtime/detail/non_finite.hpp>
+#include <symdyn/runtime/detail/sundials_support.hpp>
 #include <symdyn/runtime/errors.hpp>
-#include <symdyn/runtime/stepping_integrator.hpp>
-#include <symdyn/runtime/sundials_support.hpp>
 
 namespace symdyn::runtime::detail {
 
@@ -19,10 +19,26 @@ void unpack(CallbackData& d, double t, N_Vector x) {
   d.s.y = xv.tail(d.m);
 }
 
+// A callback's body run for SUNDIALS: a NumericError is a failure it may recover
+// from by a shorter step (1, its message kept in d); anything else stops it (-1)
+// and is rethrown once SUNDIALS has returned.
+template <class Body>
+int guarded(CallbackData& d, realtype t, Body body) {
+  try {
+    return body();
+  } catch (const NumericError& e) {
+    d.last_failure = at_time(t, e.what());
+    return 1;
+  } catch (...) {
+    d.error = std::current_exception();
+    return -1;
+  }
+}
+
 // dx = (qd, qdd, yd); a failure is kept in d for the message.
 int right_hand_side(realtype t, N_Vector x, N_Vector dx, void* user) {
   auto& d = *static_cast<CallbackData*>(user);
-  try {
+  return guarded(d, t, [&] {
     unpack(d, t, x);
     ++d.evaluations;
     d.qdd.resize(d.n);
@@ -36,13 +52,7 @@ int right_hand_side(realtype t, N_Vector x, N_Vector dx, void* user) {
     Eigen::Map<Vector> out(N_VGetArrayPointer(dx), 2 * d.n + d.m);
     out << d.s.qd, d.qdd, d.yd;
     return 0;
-  } catch (const NumericError& e) {
-    d.last_failure = at_time(t, e.what());
-    return 1;
-  } catch (...) {
-    d.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vector, N_Vector,
@@ -52,7 +62,7 @@ int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vec
   Eigen::Map<Matrix> jac(SUNDenseMatrix_Data(J), size,
                          size);  // column-major, as SUNDIALS' dense matrices
   const Eigen::Map<const Vector> f0(N_VGetArrayPointer(fx), size);
-  try {
+  return guarded(d, t, [&] {
     unpack(d, t, x);
     jac.setZero();
     jac.block(0, n, n, n).setIdentity();
@@ -80,13 +90,7 @@ int jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix J, void* user, N_Vec
       jac.col(j).tail(m) = (d.yd - f0.tail(m)) / step;
     }
     return 0;
-  } catch (const NumericError& e) {
-    d.last_failure = at_time(t, e.what());
-    return 1;
-  } catch (...) {
-    d.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 // ewt = 1/w (SUNDIALS multiplies by its weights).
