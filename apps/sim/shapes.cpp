@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <fstream>
 #include <map>
 #include <memory>
 
@@ -85,10 +86,17 @@ Shape mesh_shape(const Node& n, const std::filesystem::path& directory, MeshCach
       file.fail(e.what());
     }
   }
-  const double scale = n.has("scale") ? n["scale"].positive() : 1.0;
-  if (scale == 1.0) return Shape::triangles(mesh);
+  // "scale": a number, or one per axis (a URDF mesh's); normals n / s, normalized.
+  Vec3 scale = Vec3::Ones();
+  if (const auto s = n.optional("scale")) {
+    scale = s->is_number() ? Vec3::Constant(s->positive()) : vec3(*s);
+    if (!(scale.minCoeff() > 0.0)) s->fail("a scale is > 0");
+  }
+  if (scale == Vec3::Ones()) return Shape::triangles(mesh);
   auto scaled = std::make_shared<runtime::TriangleMesh>(*mesh);
-  for (auto& v : scaled->positions) v *= float(scale);
+  const Eigen::Vector3f by = scale.cast<float>();
+  for (auto& v : scaled->positions) v = v.cwiseProduct(by);
+  for (auto& normal : scaled->normals) normal = normal.cwiseQuotient(by).normalized();
   return Shape::triangles(std::move(scaled));
 }
 
@@ -123,14 +131,22 @@ Shape shape(const Node& n, const std::filesystem::path& directory, MeshCache& ca
   return s;
 }
 
-}  // namespace
+// A file of shapes named by the scenario ("shapes": "arm_shapes.json", as
+// symdyn-urdf --shapes writes), relative to the scenario.
+nlohmann::json read_shapes_file(const Node& name, const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) name.fail(fmt::format("cannot read the shapes file '{}'", path.string()));
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    name.fail(fmt::format("the shapes file '{}' is not JSON: {}", path.string(), e.what()));
+  }
+}
 
-runtime::Scene read_scene(const Scenario& scenario, const runtime::Model& model) {
-  runtime::Scene scene(model);
-  const auto shapes = scenario.root().optional("shapes");
-  if (!shapes) return scene;
+void add_shapes(runtime::Scene& scene, const Node& shapes, const runtime::Model& model,
+                const std::filesystem::path& directory) {
   MeshCache cache;
-  for (const auto& [name, value] : shapes->members()) {
+  for (const auto& [name, value] : shapes.members()) {
     const auto& bodies = model.body_names();
     const auto found = std::find(bodies.begin(), bodies.end(), name);
     if (found == bodies.end()) {
@@ -143,11 +159,26 @@ runtime::Scene read_scene(const Scenario& scenario, const runtime::Model& model)
     const std::vector<Node> list = value.is_object() ? std::vector<Node>{value} : value.elements();
     if (list.empty()) scene.hide(body);
     for (const Node& n : list) {
-      Shape s = shape(n, scenario.directory, cache);
+      Shape s = shape(n, directory, cache);
       s.colour = n.has("colour") ? colour(n["colour"]) : runtime::body_colour(body);
       scene.add(body, std::move(s));
     }
   }
+}
+
+}  // namespace
+
+runtime::Scene read_scene(const Scenario& scenario, const runtime::Model& model) {
+  runtime::Scene scene(model);
+  const auto shapes = scenario.root().optional("shapes");
+  if (!shapes) return scene;
+  if (!shapes->is_string()) {
+    add_shapes(scene, *shapes, model, scenario.directory);
+    return scene;
+  }
+  const std::filesystem::path path = scenario.directory / shapes->string();
+  const nlohmann::json document = read_shapes_file(*shapes, path);
+  add_shapes(scene, Node(document, path.string()), model, path.parent_path());
   return scene;
 }
 

@@ -126,3 +126,42 @@ TEST_CASE("scenario shapes: a mesh file is read relative to the scenario, scaled
   CHECK(largest == Approx(1.0));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("scenario shapes: a file of shapes, its meshes relative to it, scaled per axis",
+          "[scenario]") {
+  const auto dir = testing::scratch_directory("scenario_shapes_file");
+  std::filesystem::create_directories(dir / "robot" / "meshes");
+  // A unit right tetrahedron, scaled by (2, 3, 4): its normals turn as n / s.
+  std::ofstream(dir / "robot" / "meshes" / "tetra.obj")
+      << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  std::ofstream(dir / "robot" / "shapes.json") << R"j({
+    "rod2": [{"type": "mesh", "file": "meshes/tetra.obj", "scale": [2, 3, 4]}]
+  })j";
+  const runtime::Scene scene = scene_of(R"j("robot/shapes.json")j", dir);
+  REQUIRE(scene.shapes(1).size() == 1);
+  const runtime::TriangleMesh& m = *scene.shapes(1)[0].mesh;
+  Eigen::Vector3f largest = Eigen::Vector3f::Zero();
+  for (const auto& p : m.positions) largest = largest.cwiseMax(p);
+  CHECK((largest - Eigen::Vector3f(2, 3, 4)).norm() < 1e-6f);
+  // The slanted face x/2 + y/3 + z/4 = 1: its normal along (1/2, 1/3, 1/4).
+  const Eigen::Vector3f slanted = Eigen::Vector3f(1 / 2.0f, 1 / 3.0f, 1 / 4.0f).normalized();
+  bool found = false;
+  for (const auto& n : m.normals) found = found || (n - slanted).norm() < 1e-5f;
+  CHECK(found);
+
+  std::ofstream(dir / "robot" / "bad.json") << R"j({"rod3": []})j";
+  const auto error = [&](const std::string& shapes) {
+    try {
+      scene_of(shapes, dir);
+    } catch (const sim::ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK_THAT(error(R"j("robot/bad.json")j"),
+             Catch::Matchers::Contains("robot/bad.json: /rod3: unknown body 'rod3'"));
+  CHECK_THAT(error(R"j("robot/none.json")j"),
+             Catch::Matchers::StartsWith("test.json: /shapes: cannot read the shapes file") &&
+                 Catch::Matchers::Contains("none.json"));
+  std::filesystem::remove_all(dir);
+}
