@@ -11,6 +11,14 @@
 
 #include <symdyn/runtime/errors.hpp>
 
+#ifdef SYMDYN_HAVE_ASSIMP
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <assimp/Importer.hpp>
+#endif
+
 namespace symdyn::sim {
 
 namespace {
@@ -72,6 +80,49 @@ Eigen::Isometry3d pose(const Node& n) {
   return p;
 }
 
+// STL and OBJ by symdyn's own reader; the rest (COLLADA .dae, PLY, glTF, ...)
+// through Assimp, its nodes' transforms and its unit applied, its up axis ignored
+// (coordinates as written, as for STL), missing normals made smooth.
+runtime::TriangleMesh read_any_mesh(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".stl" || ext == ".obj") return runtime::read_mesh(path);
+#ifdef SYMDYN_HAVE_ASSIMP
+  Assimp::Importer importer;
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  const aiScene* scene =
+      importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                                           aiProcess_GenSmoothNormals | aiProcess_SortByPType);
+  if (scene == nullptr) {
+    throw runtime::ModelError(
+        fmt::format("mesh '{}': {}", path.string(), importer.GetErrorString()));
+  }
+  runtime::TriangleMesh out;
+  for (unsigned k = 0; k < scene->mNumMeshes; ++k) {
+    const aiMesh& m = *scene->mMeshes[k];
+    if (!(m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || m.mNormals == nullptr) continue;
+    const auto first = static_cast<std::uint32_t>(out.positions.size());
+    for (unsigned v = 0; v < m.mNumVertices; ++v) {
+      out.positions.emplace_back(m.mVertices[v].x, m.mVertices[v].y, m.mVertices[v].z);
+      out.normals.emplace_back(m.mNormals[v].x, m.mNormals[v].y, m.mNormals[v].z);
+    }
+    for (unsigned f = 0; f < m.mNumFaces; ++f) {
+      if (m.mFaces[f].mNumIndices != 3) continue;  // points and lines
+      for (unsigned i = 0; i < 3; ++i) out.indices.push_back(first + m.mFaces[f].mIndices[i]);
+    }
+  }
+  if (out.indices.empty()) {
+    throw runtime::ModelError(fmt::format("mesh '{}' has no triangle", path.string()));
+  }
+  return out;
+#else
+  throw runtime::ModelError(fmt::format(
+      "mesh '{}': this symdyn-sim reads STL and OBJ meshes (it was built without Assimp, "
+      "which reads {} files: Debian's libassimp-dev)",
+      path.string(), ext));
+#endif
+}
+
 // Meshes read once per file, shared by the shapes that name it.
 using MeshCache = std::map<std::filesystem::path, std::shared_ptr<const runtime::TriangleMesh>>;
 
@@ -81,7 +132,7 @@ Shape mesh_shape(const Node& n, const std::filesystem::path& directory, MeshCach
   auto& mesh = cache[path];
   if (!mesh) {
     try {
-      mesh = std::make_shared<const runtime::TriangleMesh>(runtime::read_mesh(path));
+      mesh = std::make_shared<const runtime::TriangleMesh>(read_any_mesh(path));
     } catch (const runtime::ModelError& e) {
       file.fail(e.what());
     }

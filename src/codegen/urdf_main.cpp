@@ -32,8 +32,7 @@ struct UrdfArguments {
 };
 
 // The robot's visuals as a scenario's "shapes": body name -> list of shapes,
-// mesh files relative to the file written. Meshes other than STL and OBJ
-// (what symdyn reads) are left out with a note.
+// mesh files relative to the file written; a note for each visual left out.
 void write_shapes(const std::string& xml, const UrdfArguments& args) {
   namespace fs = std::filesystem;
   std::vector<std::string> skipped;
@@ -50,13 +49,6 @@ void write_shapes(const std::string& xml, const UrdfArguments& args) {
       s["length"] = v.size[1];
     }
     if (v.type == "mesh") {
-      std::string ext = fs::path(v.mesh).extension().string();
-      for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      if (ext != ".stl" && ext != ".obj") {
-        skipped.push_back(
-            fmt::format("a visual of body '{}': mesh '{}' is neither STL nor OBJ", v.body, v.mesh));
-        continue;
-      }
       s["file"] = fs::proximate(fs::absolute(v.mesh), folder).string();
       if (v.scale != std::array<double, 3>{1.0, 1.0, 1.0}) s["scale"] = v.scale;
     }

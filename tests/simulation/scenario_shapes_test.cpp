@@ -165,3 +165,45 @@ TEST_CASE("scenario shapes: a file of shapes, its meshes relative to it, scaled 
                  Catch::Matchers::Contains("none.json"));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("scenario shapes: a COLLADA mesh through Assimp, in its unit", "[scenario]") {
+  const auto dir = testing::scratch_directory("scenario_shapes_dae");
+  // A right tetrahedron of edges 100 cm, Z up.
+  std::ofstream(dir / "tetra.dae") << R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="centimeter" meter="0.01"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="tetra" name="tetra">
+      <mesh>
+        <source id="tetra-positions">
+          <float_array id="tetra-positions-array" count="12">0 0 0 100 0 0 0 100 0 0 0 100</float_array>
+          <technique_common><accessor source="#tetra-positions-array" count="4" stride="3">
+            <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+          </accessor></technique_common>
+        </source>
+        <vertices id="tetra-vertices"><input semantic="POSITION" source="#tetra-positions"/></vertices>
+        <triangles count="4"><input semantic="VERTEX" source="#tetra-vertices" offset="0"/>
+          <p>0 2 1 0 1 3 0 3 2 1 2 3</p></triangles>
+      </mesh>
+    </geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="scene"><node id="tetra-node"><instance_geometry url="#tetra"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+)";
+  const std::string shapes = R"j({"rod1": {"type": "mesh", "file": "tetra.dae"}})j";
+#ifdef SYMDYN_HAVE_ASSIMP
+  const runtime::Scene scene = scene_of(shapes, dir);
+  const runtime::TriangleMesh& m = *scene.shapes(0)[0].mesh;
+  CHECK(m.triangle_count() == 4);
+  Eigen::Vector3f largest = Eigen::Vector3f::Zero();
+  for (const auto& p : m.positions) largest = largest.cwiseMax(p);
+  CHECK((largest - Eigen::Vector3f(1, 1, 1)).norm() < 1e-6f);  // metres, axes as written
+#else
+  CHECK_THROWS_WITH(scene_of(shapes, dir), Catch::Matchers::Contains("tetra.dae") &&
+                                               Catch::Matchers::Contains("built without Assimp"));
+#endif
+  std::filesystem::remove_all(dir);
+}
