@@ -2,7 +2,7 @@
 //   node --test tests/viewer/axis_test.mjs
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { niceAxis, tickLabels, legendLayout, groupByUnit } from '../../viewer/src/axis.js';
+import { niceAxis, tickLabels, legendLayout, groupByUnit, roundUp } from '../../viewer/src/axis.js';
 
 // Whether x is 1, 2 or 5 times a power of ten.
 function isRound(x) {
@@ -63,4 +63,8 @@ test('series are grouped by unit in order of appearance', () => {
   const units = ['s', 'm', 'm', 'rad', 'm', 'rad', ''];
   assert.deepEqual(groupByUnit([1, 3, 2, 5, 6], units),
     [{ unit: 'm', series: [1, 2] }, { unit: 'rad', series: [3, 5] }, { unit: '', series: [6] }]);
+});
+
+test('round numbers: 1, 2 or 5 times a power of ten, not below the value', () => {
+  assert.deepEqual([0.63, 1, 1.2, 3, 7, 0.0021, 4e5].map(roundUp), [1, 1, 2, 5, 10, 0.005, 5e5]);
 });

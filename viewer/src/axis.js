@@ -5,6 +5,12 @@
 // to round-off (an energy drifting by 1e-13 J) is drawn flat, not magnified.
 const relativeSpan = 1e-6;
 
+// The smallest of 1, 2 or 5 × 10^k not below `value` (> 0).
+export function roundUp(value) {
+  const power = 10 ** Math.floor(Math.log10(value));
+  return [1, 2, 5, 10].map((m) => m * power).find((s) => s >= value * (1 - 1e-12));
+}
+
 // Ticks covering [lo, hi], about `count` intervals: { lo, hi, step, ticks },
 // lo and hi rounded out to ticks.
 export function niceAxis(lo, hi, count = 5) {
@@ -17,9 +23,7 @@ export function niceAxis(lo, hi, count = 5) {
     lo = middle - least / 2;
     hi = middle + least / 2;
   }
-  const raw = (hi - lo) / Math.max(1, count);
-  const power = 10 ** Math.floor(Math.log10(raw));
-  const step = [1, 2, 5, 10].map((m) => m * power).find((s) => s >= raw * (1 - 1e-12));
+  const step = roundUp((hi - lo) / Math.max(1, count));
   const first = Math.floor(lo / step + 1e-9), last = Math.ceil(hi / step - 1e-9);
   const ticks = [];
   for (let k = first; k <= last; ++k) ticks.push(k * step);

@@ -9,6 +9,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { Plot } from './plot.js';
+import { roundUp } from './axis.js';
 
 const css = `
 body { margin: 0; font: 13px system-ui, sans-serif; display: flex; height: 100vh; background: #f4f4f6; }
@@ -90,12 +91,6 @@ function sweep(root, mixer, clip, samples = 200) {
   return { swept, path };
 }
 
-// A round number near `value`: 1, 2 or 5 × 10^k.
-function roundNumber(value) {
-  const power = 10 ** Math.floor(Math.log10(value));
-  return [1, 2, 5, 10].map((m) => m * power).find((s) => s >= value);
-}
-
 // A square floor of `cells` × `cells` cells of side `cell`, lined at their
 // edges, in the y = 0 plane.
 function groundGrid(cell, cells) {
@@ -171,7 +166,7 @@ async function main() {
   // plane, not lines: lines that pass behind the camera are dropped by some
   // renderers.)
   const bodySize = start.getSize(new THREE.Vector3()).length() || 1;
-  const cell = roundNumber(bodySize / 4), cells = 200, floor = swept.min.y;
+  const cell = roundUp(bodySize / 4), cells = 200, floor = swept.min.y;
   const grid = groundGrid(cell, cells);
   grid.position.y = floor;
   scene.add(grid);
