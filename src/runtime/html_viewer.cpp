@@ -61,7 +61,7 @@ void check_series(const TimeSeries& series) {
 }  // namespace
 
 std::vector<std::string> coordinate_units(const Model& model) {
-  if (!model.has_positions()) return {};
+  if (!model.has_positions() && !model.has_velocities()) return {};
   const State s = model.initial_state();
   Kinematics base = model.make_kinematics(), moved = model.make_kinematics();
   model.positions(s.t, s.q.data(), base);

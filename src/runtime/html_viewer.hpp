@@ -28,7 +28,7 @@ struct TimeSeries {
 };
 
 // The unit of each coordinate of a model: "rad" when it turns a body (about the
-// model's initial state), else "m"; empty when the model has no positions().
+// model's initial state), else "m"; empty when the model has no kinematics.
 std::vector<std::string> coordinate_units(const Model& model);
 
 // Whether this runtime was built with the viewer (npm was found at build time).

@@ -15,10 +15,12 @@
 #include <sstream>
 
 #include "fixtures/double_pendulum.hpp"
+#include "fixtures/rigid_body.hpp"
 #include <symdyn/runtime/animation.hpp>
 #include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/gltf.hpp>
+#include <symdyn/runtime/html_viewer.hpp>
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/model.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
@@ -208,6 +210,19 @@ TEST_CASE("Each body's default shape has a colour apart from its neighbours'", "
       CHECK(std::abs(ci.r - cj.r) + std::abs(ci.g - cj.g) + std::abs(ci.b - cj.b) > 0.15f);
     }
   }
+}
+
+TEST_CASE("The viewer's units: rad for a coordinate that turns a body, m else",
+          "[runtime][scene]") {
+  // The free block: x, y, z translate it, yaw, pitch, roll turn it (its fixture).
+  const Model block = Model::from<symdyn_fixtures::rigid_body>();
+  CHECK(coordinate_units(block) == std::vector<std::string>{"m", "m", "m", "rad", "rad", "rad"});
+  const Model pendulum = Model::from<symdyn_fixtures::double_pendulum_absolute>();
+  CHECK(coordinate_units(pendulum) == std::vector<std::string>{"rad", "rad"});
+  if (!html_viewer_available()) return;
+  const TimeSeries series{{"t", "q0"}, {{0.0}, {1.0}}, {"s"}};
+  CHECK_THROWS_WITH(write_html(temp_file("units.html"), "units", Scene(pendulum), {}, series),
+                    Contains("1 series units for 2 names"));
 }
 
 TEST_CASE("Bad shapes are refused naming the dimension", "[runtime][scene]") {
