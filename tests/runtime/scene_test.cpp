@@ -186,7 +186,8 @@ TEST_CASE("The inertia cylinder of a wheel or a rod has the body's mass and iner
   CHECK(inertia_shape(m, Vec3(0.04, 0.05, 0.07).asDiagonal()).kind == Shape::Kind::box);
 }
 
-TEST_CASE("A thin wheel keeps a visible width; equal moments make a ball", "[runtime][scene]") {
+TEST_CASE("A thin wheel keeps a visible width; equal or no moments make a ball",
+          "[runtime][scene]") {
   // The trike's wheels: m = 5, moments (0.2, 0.4, 0.2), a disc of no width (r = 0.4).
   const auto wheel = inertia_cylinder(5.0, Vec3(0.2, 0.4, 0.2).asDiagonal());
   REQUIRE(wheel);
@@ -197,6 +198,10 @@ TEST_CASE("A thin wheel keeps a visible width; equal moments make a ball", "[run
   const Shape ball = inertia_shape(2.0, Mat3::Identity() * 0.4 * 2.0 * 0.25 * 0.25);
   CHECK(ball.kind == Shape::Kind::sphere);
   CHECK(ball.size.x() == Approx(0.25));
+  // A point mass: a ball of water, 4/3 pi r³ 1000 = m.
+  const Shape drop = inertia_shape(0.5, Mat3::Zero());
+  CHECK(drop.kind == Shape::Kind::sphere);
+  CHECK(4.0 / 3.0 * std::numbers::pi * std::pow(drop.size.x(), 3) * 1000.0 == Approx(0.5));
 }
 
 TEST_CASE("Each body's default shape has a colour apart from its neighbours'", "[runtime][scene]") {
