@@ -7,7 +7,9 @@
 #   3. simulates 10 s with symdyn-sim on that code, CSV in out/double_pendulum.csv;
 #   4. prints the summary and plots q0 and q1 in the terminal (gnuplot, dumb);
 #   5. runs the trike's scenario and writes its animation (HTML viewer, glTF)
-#      and a plot of its coordinates (PNG) in out/, saying how to open each.
+#      and a picture of what it does (PNG: its path seen from above, its height
+#      and tyre loads, steering and roll, speed and yaw rate; scripts/lib/trike_plot.gp)
+#      in out/, saying how to open each.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/setup.sh
@@ -44,7 +46,9 @@ gnuplot -e "set terminal dumb size 100,24; set datafile separator ','; set key b
 
 echo
 echo "== the trike settles on its tyres, then turns: animation and plot"
-"$sim" trike --out out/trike.csv --html out/trike.html --glb out/trike.glb --plot out/trike.png | tail -n 4
+"$sim" trike --out out/trike.csv --html out/trike.html --glb out/trike.glb | tail -n 3
+gnuplot -e "csv='out/trike.csv'; png='out/trike.png'" scripts/lib/trike_plot.gp
+echo "  wrote out/trike.png"
 echo
 echo "Open out/trike.html in a browser (play, scrub, orbit with the mouse; no network needed),"
 echo "out/trike.glb in Blender or any glTF viewer, out/trike.png in an image viewer."

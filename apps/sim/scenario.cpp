@@ -383,7 +383,7 @@ Scenario scenario_from_document(nlohmann::json document, std::string origin,
   const Node root = s.root();
   root.allow_only({"$schema", "description", "model", "parameters", "initial", "variables",
                    "forces", "events", "integrator", "t_end", "output_interval", "outputs",
-                   "checks"});
+                   "checks", "shapes"});
   s.description = root.string_or("description", "");
   read_model(root, s);
   if (const auto t = root.optional("t_end")) s.t_end = t->positive();

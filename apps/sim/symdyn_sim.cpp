@@ -19,10 +19,10 @@
 // given), which runs this program with --serve once per worker: the engine
 // (serve.hpp) that runs the scenario with each run's changes.
 //
-// --html writes the HTML viewer of the run (the bodies as their inertia boxes,
-// the coordinates plotted beside them), --glb the animation as glTF, --plot the
-// coordinates and the energies against time with gnuplot (PNG or SVG by the
-// extension), --easyanim EasyDyn's STEM.vol and STEM.van for EasyAnim.
+// --html writes the HTML viewer of the run (the bodies as the scenario's shapes,
+// else as their inertia shapes; the coordinates plotted beside them), --glb the animation as glTF,
+// --plot the coordinates and the energies against time with gnuplot (PNG or SVG by the extension),
+// --easyanim EasyDyn's STEM.vol and STEM.van for EasyAnim.
 //
 // --modes linearizes the system (with its force elements at t = 0) about its
 // static equilibrium found from the initial state (or about the initial state
@@ -60,6 +60,7 @@
 #include "overrides.hpp"
 #include "run.hpp"
 #include "serve.hpp"
+#include "shapes.hpp"
 #include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/html_viewer.hpp>
@@ -172,10 +173,13 @@ struct Pictures {
   runtime::Animation animation;
   runtime::TimeSeries series;
 
-  explicit Pictures(const runtime::Model& model) : scene(model), animation(model) {
+  Pictures(runtime::Scene shapes, const runtime::Model& model)
+      : scene(std::move(shapes)), animation(model) {
     series.names.push_back("t");
     for (const std::string& q : model.q_names()) series.names.push_back(q);
     series.columns.resize(series.names.size());
+    series.units = runtime::coordinate_units(model);
+    if (!series.units.empty()) series.units.insert(series.units.begin(), "s");
   }
   void record(const runtime::State& s) {
     animation.record(s);
@@ -236,28 +240,58 @@ std::string gnuplot_text(const std::string& text) {
   return out;
 }
 
-// The coordinates (columns 2 .. nq + 1 of the CSV) against time, by gnuplot,
-// and below them the energies when the CSV has them.
+// Ten colours told apart by most eyes (Tableau's), then the same dashed.
+std::string gnuplot_line_types() {
+  static constexpr const char* colours[] = {"#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#76b7b2",
+                                            "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac"};
+  std::string out;
+  for (int dash = 0; dash < 2; ++dash) {
+    for (int k = 0; k < 10; ++k) {
+      out += fmt::format("set linetype {} lc rgb '{}' lw 1.5 dt {}\n", 10 * dash + k + 1,
+                         colours[k], dash + 1);
+    }
+  }
+  return out + "set linetype cycle 20\n";
+}
+
+// The coordinates against time by gnuplot, a panel per unit (m, rad), and
+// below them the energies when the CSV has them.
 void plot(const std::filesystem::path& csv, const std::string& file, const sim::RunResult& r,
-          const std::string& title) {
+          const std::string& title, const std::vector<std::string>& units) {
   const bool svg = std::filesystem::path(file).extension() == ".svg";
   const bool energies =
       std::find(r.columns.begin(), r.columns.end(), "total_energy") != r.columns.end();
+  // The coordinates by unit, in order of first appearance.
+  std::vector<std::pair<std::string, std::vector<std::string>>> groups;
+  for (std::size_t j = 0; j < r.coordinates.size(); ++j) {
+    const std::string unit = j < units.size() ? units[j] : "";
+    auto group =
+        std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == unit; });
+    if (group == groups.end()) group = groups.insert(groups.end(), {unit, {}});
+    group->second.push_back(r.coordinates[j]);
+  }
+  const std::size_t panels = groups.size() + (energies ? 1 : 0);
   std::string script = fmt::format(
       "set terminal {} size 1000,{} noenhanced\nset output '{}'\nset datafile separator ','\n"
-      "set key autotitle columnhead outside\nset grid\nset xlabel 't (s)'\n",
-      svg ? "svg" : "pngcairo", energies ? 900 : 600, gnuplot_text(file));
-  if (energies) script += "set multiplot layout 2,1\n";
-  script +=
-      fmt::format("set title '{}: coordinates'\nplot for [i=2:{}] '{}' using 1:i with lines\n",
-                  gnuplot_text(title), r.coordinates.size() + 1, gnuplot_text(csv.string()));
+      "set key outside right top Left reverse\nset grid\nset xlabel 't (s)'\n"
+      "set lmargin at screen 0.09\nset rmargin at screen 0.72\n{}",
+      svg ? "svg" : "pngcairo", 150 + 300 * panels, gnuplot_text(file), gnuplot_line_types());
+  script += fmt::format("set multiplot layout {},1 title '{}'\n", panels, gnuplot_text(title));
+  const std::string data = gnuplot_text(csv.string());
+  for (const auto& [unit, names] : groups) {
+    const std::string kind = unit == "m" ? "lengths" : unit == "rad" ? "angles" : "coordinates";
+    script += fmt::format(
+        "set title '{0}'\nset ylabel '{1}'\nplot for [c in '{2}'] '{3}' using 1:c with lines "
+        "title c\n",
+        kind, unit.empty() ? "" : fmt::format("{} ({})", kind, unit), fmt::join(names, " "), data);
+  }
   if (energies) {
     script += fmt::format(
-        "set title '{}: energies (J)'\nplot for [c in 'kinetic_energy gravitational_energy "
-        "elastic_energy "
-        "total_energy'] '{}' using 1:c with lines title c\nunset multiplot\n",
-        gnuplot_text(title), gnuplot_text(csv.string()));
+        "set title 'energies'\nset ylabel 'energy (J)'\nplot for [c in 'kinetic_energy "
+        "gravitational_energy elastic_energy total_energy'] '{}' using 1:c with lines title c\n",
+        data);
   }
+  script += "unset multiplot\n";
   FILE* gnuplot = popen("gnuplot", "w");
   if (gnuplot == nullptr) throw std::runtime_error("--plot: cannot start gnuplot");
   std::fputs(script.c_str(), gnuplot);
@@ -349,13 +383,14 @@ int simulate(Arguments& args) {
     if (pictures) pictures->record(s);
   };
   sim::Simulation simulation(scenario, args.run);
+  runtime::Scene scene = sim::read_scene(scenario, simulation.system().model());
   check_rows(simulation, args.max_rows);
   check_pictures(args);
   // The modes first: a failed equilibrium touches no file.
   std::optional<ModeShapes> modes;
   if (!args.modes.empty()) modes = find_modes(simulation.system(), args);
   if (!args.html.empty() || !args.glb.empty() || !args.easyanim.empty()) {
-    pictures.emplace(simulation.system().model());
+    pictures.emplace(std::move(scene), simulation.system().model());
   }
   for (const auto& [option, file] : output_files(args, path)) sim::create_folders(file);
   csv.open(partial);
@@ -397,7 +432,9 @@ int simulate(Arguments& args) {
   }
   if (pictures)
     pictures->write(args, scenario.name, modes ? &*modes : nullptr, simulation.system().model());
-  if (!args.plot.empty()) plot(path, args.plot, r, scenario.name);
+  if (!args.plot.empty()) {
+    plot(path, args.plot, r, scenario.name, runtime::coordinate_units(simulation.system().model()));
+  }
   for (const std::string* file : {&args.html, &args.glb, &args.plot, &args.modes}) {
     if (!file->empty()) fmt::print("  wrote {}\n", *file);
   }

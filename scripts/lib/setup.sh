@@ -6,7 +6,7 @@
 symdyn_base_packages=(g++ cmake ninja-build pkg-config libeigen3-dev libfmt-dev catch2 libcli11-dev
   nlohmann-json3-dev libbenchmark-dev librapidcheck-dev libsundials-dev libtinygltf-dev
   python3-dev python3-numpy pybind11-dev ccache python3-jsonschema liburdfdom-dev
-  python3-distributed python3-h5py libhdf5-dev help2man dpkg-dev man-db)
+  python3-distributed python3-h5py libhdf5-dev help2man dpkg-dev man-db libassimp-dev)
 
 symdyn_require_packages() {
   local missing=()

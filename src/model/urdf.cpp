@@ -9,6 +9,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -464,6 +465,127 @@ UrdfRobot import_urdf(std::string_view urdf_xml, const UrdfOptions& options) {
   UrdfRobot out{Model(options.name.empty() ? identifier_shaped(robot->getName()) : options.name),
                 {}};
   out.joints = Importer(out.model, *robot, written, options).run();
+  return out;
+}
+
+namespace {
+
+// Rigid poses with urdfdom's quaternions: (a b).p = a.p + a.R b.p.
+urdf::Pose compose(const urdf::Pose& a, const urdf::Pose& b) {
+  urdf::Pose out;
+  out.rotation = a.rotation * b.rotation;
+  const urdf::Vector3 turned = a.rotation * b.position;
+  out.position =
+      urdf::Vector3(a.position.x + turned.x, a.position.y + turned.y, a.position.z + turned.z);
+  return out;
+}
+
+urdf::Pose inverse(const urdf::Pose& a) {
+  urdf::Pose out;
+  out.rotation = a.rotation.GetInverse();
+  const urdf::Vector3 back = out.rotation * a.position;
+  out.position = urdf::Vector3(-back.x, -back.y, -back.z);
+  return out;
+}
+
+// package://name/rest: rest under the nearest folder called name above
+// `directory` (a ROS package's root), else under `directory`.
+std::string resolve_mesh(const std::string& file, const std::string& directory) {
+  namespace fs = std::filesystem;
+  const std::string package = "package://", scheme = "file://";
+  if (file.starts_with(scheme)) return file.substr(scheme.size());
+  if (!file.starts_with(package)) return (fs::path(directory) / file).lexically_normal().string();
+  const std::string rest = file.substr(package.size());
+  const std::string name = rest.substr(0, rest.find('/'));
+  const std::string inside =
+      rest.find('/') == std::string::npos ? "" : rest.substr(rest.find('/') + 1);
+  for (fs::path at = fs::absolute(directory); !at.empty(); at = at.parent_path()) {
+    if (at.filename() == name) return (at / inside).lexically_normal().string();
+    if (at == at.parent_path()) break;
+  }
+  return (fs::path(directory) / inside).lexically_normal().string();
+}
+
+}  // namespace
+
+std::vector<UrdfVisual> urdf_visuals(std::string_view urdf_xml, const std::string& directory,
+                                     std::vector<std::string>* skipped) {
+  const ParsedRobot robot = parse(urdf_xml);
+  std::vector<UrdfVisual> out;
+  const auto skip = [&](std::string why) {
+    if (skipped != nullptr) skipped->push_back(std::move(why));
+  };
+  // Depth first: each link with the body it moves with and the pose of its
+  // frame in that body's (none: moved by a joint with no body on this side).
+  struct Placed {
+    const urdf::Link* link;
+    std::optional<std::string> body;
+    urdf::Pose in_body;
+  };
+  std::vector<Placed> stack{{robot->getRoot().get(), std::nullopt, {}}};
+  while (!stack.empty()) {
+    Placed at = stack.back();
+    stack.pop_back();
+    const urdf::Link& link = *at.link;
+    if (is_massive(link)) {
+      at.body = identifier_shaped(link.name);
+      at.in_body = inverse(link.inertial->origin);
+    }
+    for (const urdf::VisualSharedPtr& v : link.visual_array) {
+      if (!v || !v->geometry) continue;
+      if (!at.body) {
+        skip(fmt::format("a visual of link '{}': the link moves with no body", link.name));
+        continue;
+      }
+      UrdfVisual visual;
+      visual.body = *at.body;
+      const urdf::Pose pose = compose(at.in_body, v->origin);
+      visual.origin = {pose.position.x, pose.position.y, pose.position.z};
+      for (int c = 0; c < 3; ++c) {
+        const urdf::Vector3 column =
+            pose.rotation * urdf::Vector3(c == 0 ? 1 : 0, c == 1 ? 1 : 0, c == 2 ? 1 : 0);
+        visual.axes[3 * c] = column.x;
+        visual.axes[3 * c + 1] = column.y;
+        visual.axes[3 * c + 2] = column.z;
+      }
+      const urdf::Geometry& g = *v->geometry;
+      if (g.type == urdf::Geometry::BOX) {
+        const auto& b = static_cast<const urdf::Box&>(g);
+        visual.type = "box";
+        visual.size = {b.dim.x, b.dim.y, b.dim.z};
+      } else if (g.type == urdf::Geometry::SPHERE) {
+        visual.type = "sphere";
+        visual.size = {static_cast<const urdf::Sphere&>(g).radius, 0.0, 0.0};
+      } else if (g.type == urdf::Geometry::CYLINDER) {
+        const auto& c = static_cast<const urdf::Cylinder&>(g);
+        visual.type = "cylinder";
+        visual.size = {c.radius, c.length, 0.0};
+      } else if (g.type == urdf::Geometry::MESH) {
+        const auto& m = static_cast<const urdf::Mesh&>(g);
+        visual.type = "mesh";
+        visual.mesh = resolve_mesh(m.filename, directory);
+        visual.scale = {m.scale.x, m.scale.y, m.scale.z};
+      } else {
+        skip(fmt::format("a visual of link '{}': unknown geometry", link.name));
+        continue;
+      }
+      if (v->material) {
+        // urdfdom keeps floats: 0.6 as written, not 0.6000000238.
+        const auto written = [](float f) { return std::stod(fmt::format("{}", f)); };
+        const urdf::Color& c = v->material->color;
+        visual.rgba = std::array<double, 4>{written(c.r), written(c.g), written(c.b), written(c.a)};
+      }
+      out.push_back(std::move(visual));
+    }
+    for (const urdf::JointSharedPtr& joint : link.child_joints) {
+      Placed child{robot->getLink(joint->child_link_name).get(), std::nullopt, {}};
+      if (joint->type == urdf::Joint::FIXED && at.body) {
+        child.body = at.body;
+        child.in_body = compose(at.in_body, joint->parent_to_joint_origin_transform);
+      }
+      stack.push_back(child);
+    }
+  }
   return out;
 }
 

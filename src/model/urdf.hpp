@@ -41,6 +41,7 @@
 // urdfdom reports its errors through console_bridge's global output handler,
 // which the importer takes over while parsing: import from one thread at a time.
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -82,6 +83,29 @@ std::vector<UrdfJoint> add_urdf(Model& model, std::string_view urdf_xml,
 
 UrdfRobot import_urdf(std::string_view urdf_xml, const UrdfOptions& options = {});
 UrdfRobot import_urdf_file(const std::string& path, const UrdfOptions& options = {});
+
+// A <visual> of a link, placed on the body it moves with: what a viewer draws
+// (symdyn-urdf --shapes writes them as a scenario's "shapes", docs/urdf.md).
+// The pose is in the body's frame (G, the inertial axes): origin, and axes
+// (the shape's x, y, z as columns, column-major). A link without mass hangs its
+// visuals on the body it is fixed to (through fixed joints only).
+struct UrdfVisual {
+  std::string body;              // the model's body name
+  std::string type;              // "box", "sphere", "cylinder" or "mesh"
+  std::array<double, 3> size{};  // box: edges; sphere: radius, -, -; cylinder: radius, length, -
+  std::string mesh;              // mesh: the file, resolved against the URDF's directory
+  std::array<double, 3> scale{1.0, 1.0, 1.0};  // mesh
+  std::array<double, 3> origin{};
+  std::array<double, 9> axes{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::optional<std::array<double, 4>> rgba;  // the material's colour, if given
+};
+
+// The visuals of a robot; `directory` resolves relative mesh files and
+// package://name/... (against the nearest folder called name above it, else
+// the directory itself). `skipped` gets a line for each visual left out (on a
+// link moved by no body, or of no geometry).
+std::vector<UrdfVisual> urdf_visuals(std::string_view urdf_xml, const std::string& directory,
+                                     std::vector<std::string>* skipped = nullptr);
 
 // The contents of a URDF file; throws ModelError naming it when unreadable.
 std::string read_urdf_file(const std::string& path);

@@ -6,6 +6,7 @@
 
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/html_viewer.hpp>
+#include <symdyn/runtime/model.hpp>
 
 namespace symdyn::runtime {
 
@@ -44,6 +45,10 @@ void check_series(const TimeSeries& series) {
     throw OptionError(fmt::format("HTML viewer: {} series names for {} columns",
                                   series.names.size(), series.columns.size()));
   }
+  if (!series.units.empty() && series.units.size() != series.names.size()) {
+    throw OptionError(fmt::format("HTML viewer: {} series units for {} names", series.units.size(),
+                                  series.names.size()));
+  }
   for (std::size_t k = 1; k < series.columns.size(); ++k) {
     if (series.columns[k].size() != series.columns[0].size()) {
       throw OptionError(fmt::format("HTML viewer: series '{}' has {} values, the time {}",
@@ -54,6 +59,23 @@ void check_series(const TimeSeries& series) {
 }
 
 }  // namespace
+
+std::vector<std::string> coordinate_units(const Model& model) {
+  if (!model.has_positions() && !model.has_velocities()) return {};
+  const State s = model.initial_state();
+  Kinematics base = model.make_kinematics(), moved = model.make_kinematics();
+  model.positions(s.t, s.q.data(), base);
+  std::vector<std::string> units;
+  for (int j = 0; j < model.nq(); ++j) {
+    Vector q = s.q;
+    q[j] += 1e-3;
+    model.positions(s.t, q.data(), moved);
+    bool turns = false;
+    for (int i = 0; i < model.nbody(); ++i) turns = turns || (moved.R(i) - base.R(i)).norm() > 1e-9;
+    units.push_back(turns ? "rad" : "m");
+  }
+  return units;
+}
 
 bool html_viewer_available() {
   return detail::viewer_bundle[0] != nullptr;
@@ -68,9 +90,10 @@ void write_html(const std::filesystem::path& file, const std::string& title, con
   check_series(series);
   std::ostringstream glb;
   write_glb(glb, scene, clips);
-  const nlohmann::json data = {{"title", title},
-                               {"glb", base64(glb.str())},
-                               {"series", {{"names", series.names}, {"columns", series.columns}}}};
+  const nlohmann::json data = {
+      {"title", title},
+      {"glb", base64(glb.str())},
+      {"series", {{"names", series.names}, {"columns", series.columns}, {"units", series.units}}}};
   std::ofstream out(file, std::ios::binary);
   if (!out) throw OptionError(fmt::format("HTML viewer: cannot write '{}'", file.string()));
   out << "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"

@@ -17,11 +17,19 @@
 
 namespace symdyn::runtime {
 
-// Time histories: names[0] is the time, columns[k] the values of names[k].
+class Model;
+
+// Time histories: names[0] is the time, columns[k] the values of names[k] in
+// units[k] (the plot groups series by unit; no units, or an empty one: none).
 struct TimeSeries {
   std::vector<std::string> names;
   std::vector<std::vector<double>> columns;
+  std::vector<std::string> units;
 };
+
+// The unit of each coordinate of a model: "rad" when it turns a body (about the
+// model's initial state), else "m"; empty when the model has no kinematics.
+std::vector<std::string> coordinate_units(const Model& model);
 
 // Whether this runtime was built with the viewer (npm was found at build time).
 bool html_viewer_available();

@@ -170,11 +170,27 @@ TriangleMesh tessellate(const Shape& shape, int segments) {
   return placed;
 }
 
-Shape inertia_box(double mass, const Mat3& inertia) {
+namespace {
+
+// Principal moments, ascending, and their axes as a rotation (columns).
+std::pair<Vec3, Mat3> principal(const Mat3& inertia) {
   const Eigen::SelfAdjointEigenSolver<Mat3> eigen(inertia);
-  const Vec3 I = eigen.eigenvalues();
   Mat3 axes = eigen.eigenvectors();
   if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+  return {eigen.eigenvalues(), axes};
+}
+
+// A shape's local z axis turned onto `axis`.
+Eigen::Isometry3d along(const Vec3& axis) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), axis).toRotationMatrix();
+  return pose;
+}
+
+}  // namespace
+
+Shape inertia_box(double mass, const Mat3& inertia) {
+  const auto [I, axes] = principal(inertia);
   Vec3 edge;
   for (int k = 0; k < 3; ++k) {
     const double sum = I[(k + 1) % 3] + I[(k + 2) % 3] - I[k];
@@ -186,23 +202,67 @@ Shape inertia_box(double mass, const Mat3& inertia) {
   return s;
 }
 
+std::optional<Shape> inertia_cylinder(double mass, const Mat3& inertia) {
+  const auto [I, axes] = principal(inertia);
+  const double close = 0.02 * I[2];
+  const bool low_pair = I[1] - I[0] <= close, high_pair = I[2] - I[1] <= close;
+  if (low_pair == high_pair) return std::nullopt;  // three distinct moments, or three equal
+  const int k = low_pair ? 2 : 0;                  // the axis: the moment apart
+  const double A = I[k], B = (I.sum() - A) / 2;
+  double radius = std::sqrt(2.0 * A / mass);
+  double length = std::sqrt(std::max(0.0, (12.0 * B - 6.0 * A) / mass));
+  radius = std::max(radius, 0.02 * length);
+  length = std::max(length, 0.25 * radius);
+  return Shape::cylinder(radius, length).at(along(axes.col(k)));
+}
+
+Shape inertia_shape(double mass, const Mat3& inertia) {
+  const Vec3 I = principal(inertia).first;
+  if (I[2] <= 0.0) {  // a point mass: a ball of water's density
+    return Shape::sphere(std::cbrt(3.0 * mass / (4.0 * std::numbers::pi * 1000.0)));
+  }
+  if (I[2] - I[0] <= 0.02 * I[2]) return Shape::sphere(std::sqrt(2.5 * I[1] / mass));
+  return inertia_cylinder(mass, inertia).value_or(inertia_box(mass, inertia));
+}
+
+Colour body_colour(int body) {
+  // Tableau's ten, muted enough to be shaded.
+  static constexpr std::array<std::uint32_t, 10> rgb = {0x4e79a7, 0xf28e2b, 0x59a14f, 0xe15759,
+                                                        0x76b7b2, 0xedc948, 0xb07aa1, 0xff9da7,
+                                                        0x9c755f, 0xbab0ac};
+  const std::uint32_t c = rgb[static_cast<std::size_t>(body) % rgb.size()];
+  return {((c >> 16) & 255) / 255.0f, ((c >> 8) & 255) / 255.0f, (c & 255) / 255.0f, 1.0f};
+}
+
 Scene::Scene(const Model& model)
     : names_(model.body_names()),
       shapes_(model.nbody()),
       customized_(model.nbody(), false),
       up_(model.gravity().norm() > 0 ? Vec3(-model.gravity().normalized()) : Vec3::UnitZ()) {
   for (int i = 0; i < model.nbody(); ++i) {
-    shapes_[i].push_back(inertia_box(model.mass(i), model.inertia(i)));
+    if (model.mass(i) <= 0.0) continue;  // a massless frame: nothing to see
+    shapes_[i].push_back(inertia_shape(model.mass(i), model.inertia(i)).with(body_colour(i)));
+  }
+}
+
+void Scene::check_body(int body) const {
+  if (body < 0 || body >= nbody()) {
+    throw ModelError(fmt::format("scene: no body {} (the model has {})", body, nbody()));
   }
 }
 
 Scene& Scene::add(int body, Shape shape) {
-  if (body < 0 || body >= nbody()) {
-    throw ModelError(fmt::format("scene: no body {} (the model has {})", body, nbody()));
-  }
+  check_body(body);
   if (!customized_[body]) shapes_[body].clear();
   customized_[body] = true;
   shapes_[body].push_back(std::move(shape));
+  return *this;
+}
+
+Scene& Scene::hide(int body) {
+  check_body(body);
+  shapes_[body].clear();
+  customized_[body] = true;
   return *this;
 }
 

@@ -2,10 +2,12 @@
 // What the viewers draw: shapes attached to the bodies of a model.
 //
 // A shape has a pose in its body's frame (origin at G, the inertia's axes) and a
-// colour. A body given no shape is drawn as the box of its own mass and inertia
-// (inertia_box): a box of uniform density with the same principal moments,
+// colour. A body given no shape is drawn as a uniform solid of its own mass and
+// inertia (inertia_shape), so that a glance at the scene checks the inertias
+// too: a cylinder when two principal moments are equal (a wheel, an axle, a
+// rod), else the box with the same principal moments (inertia_box),
 //   a² = 6 (B + C - A)/m,  b² = 6 (A + C - B)/m,  c² = 6 (A + B - C)/m,
-// so that a glance at the scene checks the inertias too.
+// each body in a colour of its own (body_colour).
 //
 // Every shape becomes a triangle mesh (tessellate) in its body's frame; the
 // writers (gltf.hpp, easyanim.hpp) place it with the body's R and x from the
@@ -15,6 +17,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,7 +82,23 @@ TriangleMesh tessellate(const Shape& shape, int segments = 24);
 // sum that vanishes) keeps a thickness of 2 % of its largest edge, to be seen.
 Shape inertia_box(double mass, const Mat3& inertia);
 
-// The shapes of every body of a model: inertia boxes until set.
+// The uniform cylinder with the mass and inertia given, its axis along the
+// principal axis of the moment A that differs from the other two, B:
+//   r² = 2 A/m,  l² = (12 B - 6 A)/m;
+// null when no two moments are equal within 2 % of the largest. A disc keeps a
+// thickness of a quarter of its radius, a rod a radius of 2 % of its length.
+std::optional<Shape> inertia_cylinder(double mass, const Mat3& inertia);
+
+// What a body of mass > 0 is drawn as until given shapes: its inertia
+// cylinder; a ball when its three moments are equal (of water's density when
+// they vanish: a point mass); else its inertia box.
+Shape inertia_shape(double mass, const Mat3& inertia);
+
+// The default colour of body i: ten colours apart from one another, in turn.
+Colour body_colour(int body);
+
+// The shapes of every body of a model: inertia shapes, each in its
+// body_colour, until set; nothing for a massless body.
 class Scene {
  public:
   explicit Scene(const Model& model);
@@ -89,10 +108,14 @@ class Scene {
   const std::vector<Shape>& shapes(int body) const { return shapes_[body]; }
   // Replaces the default shape of a body on the first call, then adds to it.
   Scene& add(int body, Shape shape);
+  // Draws nothing for a body (a frame of reference without matter to show).
+  Scene& hide(int body);
   // The up direction of the scene, against gravity (z when there is none).
   const Vec3& up() const { return up_; }
 
  private:
+  void check_body(int body) const;
+
   std::vector<std::string> names_;
   std::vector<std::vector<Shape>> shapes_;
   std::vector<bool> customized_;

@@ -15,10 +15,12 @@
 #include <sstream>
 
 #include "fixtures/double_pendulum.hpp"
+#include "fixtures/rigid_body.hpp"
 #include <symdyn/runtime/animation.hpp>
 #include <symdyn/runtime/easyanim.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/gltf.hpp>
+#include <symdyn/runtime/html_viewer.hpp>
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/model.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
@@ -157,6 +159,75 @@ TEST_CASE("A slender body's inertia box keeps a visible thickness", "[runtime][s
   const Vec3 edges = box.size;
   CHECK(edges.maxCoeff() == Approx(1.0).epsilon(1e-12));
   CHECK(edges.minCoeff() == Approx(0.02).epsilon(1e-12));
+}
+
+TEST_CASE("The inertia cylinder of a wheel or a rod has the body's mass and inertia",
+          "[runtime][scene]") {
+  // A solid disc about y (r = 0.3, l = 0.12: A = m r²/2, B = m (3 r² + l²)/12) and a rod
+  // about a skew axis (r = 0.02, l = 1), each a uniform cylinder: read back by the
+  // divergence theorem from 256 facets around.
+  const Mat3 turn = Eigen::AngleAxisd(0.6, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
+  const double m = 5.0;
+  const auto moments = [&](double r, double l) {
+    return Vec3(m * (3 * r * r + l * l) / 12, m * (3 * r * r + l * l) / 12, m * r * r / 2);
+  };
+  const Vec3 disc = moments(0.3, 0.12), rod = moments(0.02, 1.0);
+  for (const Mat3& I : {Mat3(Vec3(disc.x(), disc.z(), disc.y()).asDiagonal()),
+                        Mat3(turn * rod.asDiagonal() * turn.transpose())}) {
+    const auto cylinder = inertia_cylinder(m, I);
+    REQUIRE(cylinder);
+    CHECK(cylinder->kind == Shape::Kind::cylinder);
+    const MassProperties p = mass_properties(tessellate(*cylinder, 256));
+    CHECK((m / p.volume * p.inertia - I).norm() / I.norm() < 1e-3);
+    CHECK(p.centroid.norm() < 1e-6);
+  }
+  // Three distinct moments: no cylinder, the box.
+  CHECK_FALSE(inertia_cylinder(m, Vec3(0.04, 0.05, 0.07).asDiagonal()));
+  CHECK(inertia_shape(m, Vec3(0.04, 0.05, 0.07).asDiagonal()).kind == Shape::Kind::box);
+}
+
+TEST_CASE("A thin wheel keeps a visible width; equal or no moments make a ball",
+          "[runtime][scene]") {
+  // The trike's wheels: m = 5, moments (0.2, 0.4, 0.2), a disc of no width (r = 0.4).
+  const auto wheel = inertia_cylinder(5.0, Vec3(0.2, 0.4, 0.2).asDiagonal());
+  REQUIRE(wheel);
+  CHECK(wheel->size.x() == Approx(0.4));
+  CHECK(wheel->size.y() == Approx(0.1));  // a quarter of the radius
+  CHECK(std::abs((wheel->pose.linear() * Vec3::UnitZ()).y()) == Approx(1.0));  // about y
+  // A uniform ball: I = 2/5 m r².
+  const Shape ball = inertia_shape(2.0, Mat3::Identity() * 0.4 * 2.0 * 0.25 * 0.25);
+  CHECK(ball.kind == Shape::Kind::sphere);
+  CHECK(ball.size.x() == Approx(0.25));
+  // A point mass: a ball of water, 4/3 pi r³ 1000 = m.
+  const Shape drop = inertia_shape(0.5, Mat3::Zero());
+  CHECK(drop.kind == Shape::Kind::sphere);
+  CHECK(4.0 / 3.0 * std::numbers::pi * std::pow(drop.size.x(), 3) * 1000.0 == Approx(0.5));
+}
+
+TEST_CASE("Each body's default shape has a colour apart from its neighbours'", "[runtime][scene]") {
+  const Model model = Model::from<symdyn_fixtures::double_pendulum_absolute>();
+  const Scene scene(model);
+  const Colour a = scene.shapes(0)[0].colour, b = scene.shapes(1)[0].colour;
+  CHECK(std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b) > 0.3f);
+  for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j < i; ++j) {
+      const Colour ci = body_colour(i), cj = body_colour(j);
+      CHECK(std::abs(ci.r - cj.r) + std::abs(ci.g - cj.g) + std::abs(ci.b - cj.b) > 0.15f);
+    }
+  }
+}
+
+TEST_CASE("The viewer's units: rad for a coordinate that turns a body, m else",
+          "[runtime][scene]") {
+  // The free block: x, y, z translate it, yaw, pitch, roll turn it (its fixture).
+  const Model block = Model::from<symdyn_fixtures::rigid_body>();
+  CHECK(coordinate_units(block) == std::vector<std::string>{"m", "m", "m", "rad", "rad", "rad"});
+  const Model pendulum = Model::from<symdyn_fixtures::double_pendulum_absolute>();
+  CHECK(coordinate_units(pendulum) == std::vector<std::string>{"rad", "rad"});
+  if (!html_viewer_available()) return;
+  const TimeSeries series{{"t", "q0"}, {{0.0}, {1.0}}, {"s"}};
+  CHECK_THROWS_WITH(write_html(temp_file("units.html"), "units", Scene(pendulum), {}, series),
+                    Contains("1 series units for 2 names"));
 }
 
 TEST_CASE("Bad shapes are refused naming the dimension", "[runtime][scene]") {
@@ -319,6 +390,7 @@ TEST_CASE("Animation refuses frames out of order", "[runtime][scene]") {
 TEST_CASE("EasyAnim: every node of .van follows its body", "[runtime][scene]") {
   const Model model = Model::from<symdyn_fixtures::double_pendulum_absolute>();
   Scene scene(model);
+  for (int body = 0; body < 2; ++body) scene.add(body, Shape::box(1.0, 0.1, 0.1));
   Animation animation(model);
   const std::vector<double> times = {0.0, 0.3, 0.9};
   for (const double t : times) animation.record(pendulum_state(t));
@@ -369,7 +441,9 @@ TEST_CASE("EasyAnim modes: the pole, then the scene displaced by each part of th
   const Linearization lin = linearize(system, hanging);
   const std::vector<Mode> m = modes(lin);
   const auto stem = temp_file("pendulum_modes");
-  write_easyanim_modes(stem, Scene(system.model()), system.model(), hanging, lin, m, 0.1, "modes");
+  Scene boxes(system.model());  // 8 nodes a body
+  for (int body = 0; body < 2; ++body) boxes.add(body, Shape::box(1.0, 0.1, 0.1));
+  write_easyanim_modes(stem, boxes, system.model(), hanging, lin, m, 0.1, "modes");
   std::ifstream vmo(stem.string() + ".vmo");
   std::vector<double> numbers;
   for (double v; vmo >> v;) numbers.push_back(v);

@@ -45,6 +45,14 @@ bad = [
     dict(base, forces=[{"type": "bushing", "name": "b", "a": {"body": "ground"}, "b": {"body": "rod1"},
                         "stiffness": [1, -1, 1]}]),
     dict(base, forces=[{"type": "gim_tyre", "name": "w", "body": "rod2", "Kz": -1}]),
+    # shapes
+    dict(base, shapes={"rod1": {"type": "cone", "radius": 1}}),
+    dict(base, shapes={"rod1": {"type": "cylinder", "radius": 0.1}}),
+    dict(base, shapes={"rod1": [{"type": "sphere", "radius": -0.1}]}),
+    dict(base, shapes={"rod1": {"type": "box", "size": [1, 1]}}),
+    dict(base, shapes={"rod1": {"type": "sphere", "radius": 0.1, "colour": "red"}}),
+    dict(base, shapes={"rod1": {"type": "sphere", "radius": 0.1, "colour": [1, 0, 2]}}),
+    dict(base, shapes={"rod1": {"type": "sphere", "radius": 0.1, "color": "#ff0000"}}),
 ]
 for scenario in bad:
     assert not validator.is_valid(scenario), scenario

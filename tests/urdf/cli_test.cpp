@@ -64,3 +64,34 @@ TEST_CASE(
   CHECK_FALSE(std::filesystem::exists(out / "gen"));
   std::filesystem::remove_all(out);
 }
+
+TEST_CASE("symdyn-urdf --shapes writes the visuals as a scenario's shapes", "[urdf][cli]") {
+  const auto dir = scratch_directory("urdf_cli_shapes");
+  std::filesystem::create_directories(dir / "robot" / "urdf");
+  std::filesystem::create_directories(dir / "robot" / "meshes");
+  std::ofstream(dir / "robot" / "meshes" / "cover.stl") << "solid c\nendsolid c\n";
+  std::ofstream(dir / "robot" / "urdf" / "r.urdf") << R"(<robot name="r">
+    <link name="a"><inertial><mass value="1"/>
+      <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+      <visual><geometry><box size="0.1 0.2 0.3"/></geometry>
+        <material name="blue"><color rgba="0 0 1 1"/></material></visual>
+      <visual><geometry><mesh filename="package://robot/meshes/cover.stl"/></geometry></visual>
+      <visual><geometry><mesh filename="../meshes/cover.dae"/></geometry></visual>
+    </link>
+    <joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>
+    <link name="b"><inertial><mass value="1"/>
+      <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    </robot>)";
+  const auto shapes = dir / "out" / "r_shapes.json";
+  std::filesystem::create_directories(dir / "out");
+  const CommandResult r =
+      run_command({kGenerator, "--urdf", (dir / "robot" / "urdf" / "r.urdf").string(), "--out",
+                   (dir / "out").string(), "--shapes", shapes.string()});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string json = read_text(shapes);
+  CHECK_THAT(json, Contains(R"({"type":"box","size":[0.1,0.2,0.3],"colour":[0.0,0.0,1.0,1.0]})"));
+  CHECK_THAT(json, Contains(R"("file":"../robot/meshes/cover.stl")"));
+  CHECK_THAT(json, Contains(R"("file":"../robot/meshes/cover.dae")"));
+  std::filesystem::remove_all(dir);
+}

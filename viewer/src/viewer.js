@@ -1,31 +1,35 @@
 // symdyn's HTML viewer: the glTF animation written by the runtime (gltf.hpp),
 // its clips (the motion, then each mode), and the time histories plotted
-// beside it with a cursor at the current time. Everything it shows comes from
-// the JSON in <script id="symdyn-data">: { title, glb (base64), series:
-// { names, columns } }. The URL's hash sets the start: #t=1.5&clip=0&paused.
+// beside it with a cursor at the current time (plot.js). Everything it shows
+// comes from the JSON in <script id="symdyn-data">: { title, glb (base64),
+// series: { names, columns, units } }. The camera frames the bodies and, for a
+// motion that goes well beyond them, follows them (a toggle); the path is drawn
+// on the ground. The URL's hash sets the start: #t=1.5&clip=0&paused&follow=0.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { Plot } from './plot.js';
+import { roundUp } from './axis.js';
 
 const css = `
 body { margin: 0; font: 13px system-ui, sans-serif; display: flex; height: 100vh; background: #f4f4f6; }
 #view { flex: 3; position: relative; min-width: 0; }
 #view canvas { display: block; }
-#bar { position: absolute; left: 8px; right: 8px; bottom: 8px; display: flex; gap: 8px; align-items: center;
+#bar { position: absolute; left: 8px; right: 8px; bottom: 8px; display: flex; flex-wrap: wrap; gap: 8px; align-items: center;
        background: #ffffffd0; padding: 6px 8px; border-radius: 6px; }
-#bar input[type=range] { flex: 1; }
+#bar input[type=range] { flex: 1; min-width: 80px; }
 #bar span { min-width: 7em; white-space: nowrap; }
-#bar select { max-width: 16em; }
+#bar select { max-width: 11em; }
 #title { position: absolute; left: 10px; top: 8px; font-weight: 600; }
 #hover { position: absolute; pointer-events: none; background: #222; color: #fff; padding: 2px 6px;
          border-radius: 4px; display: none; }
 #side { flex: 2; display: flex; flex-direction: column; border-left: 1px solid #ccc; background: #fff; min-width: 0; }
 #series { padding: 6px 8px; overflow-y: auto; max-height: 30%; columns: 3; }
 #series label { display: block; white-space: nowrap; overflow: hidden; text-overflow: ellipsis; }
+#series .swatch { display: inline-block; width: 16px; margin: 0 5px 3px 2px; vertical-align: middle; }
+#bar label { white-space: nowrap; }
 #plot { flex: 1; min-height: 0; }
 `;
-
-const palette = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#17becf'];
 
 function element(tag, attributes = {}, parent = null) {
   const e = Object.assign(document.createElement(tag), attributes);
@@ -55,82 +59,68 @@ function bodyOf(object) {
   return object.parent ? object.name : null;
 }
 
-// A line plot of the chosen series against time, with a cursor.
-class Plot {
-  constructor(canvas, series) {
-    this.canvas = canvas;
-    this.names = series.names;
-    this.columns = series.columns;
-    this.chosen = new Set(this.names.slice(1, 3));
-    this.time = 0;
-  }
-
-  draw() {
-    const c = this.canvas;
-    const ratio = window.devicePixelRatio || 1;
-    c.width = c.clientWidth * ratio;
-    c.height = c.clientHeight * ratio;
-    const g = c.getContext('2d');
-    g.scale(ratio, ratio);
-    const w = c.clientWidth, h = c.clientHeight, left = 56, right = 10, top = 10, bottom = 28;
-    g.fillStyle = '#fff';
-    g.fillRect(0, 0, w, h);
-    const t = this.columns[0];
-    if (!t || t.length === 0) return;
-    const shown = this.names.map((n, i) => i).filter((i) => i > 0 && this.chosen.has(this.names[i]));
-    let lo = Infinity, hi = -Infinity;
-    for (const i of shown) for (const v of this.columns[i]) if (isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
-    if (!(hi > lo)) { lo = (isFinite(lo) ? lo : 0) - 1; hi = lo + 2; }
-    const t0 = t[0], t1 = t[t.length - 1] > t0 ? t[t.length - 1] : t0 + 1;
-    const x = (v) => left + ((v - t0) / (t1 - t0)) * (w - left - right);
-    const y = (v) => top + ((hi - v) / (hi - lo)) * (h - top - bottom);
-    g.strokeStyle = '#999';
-    g.strokeRect(left, top, w - left - right, h - top - bottom);
-    g.fillStyle = '#333';
-    g.font = '11px system-ui, sans-serif';
-    g.textAlign = 'right';
-    g.fillText(hi.toPrecision(4), left - 4, top + 10);
-    g.fillText(lo.toPrecision(4), left - 4, h - bottom);
-    g.textAlign = 'left';
-    g.fillText(`t = ${t0} … ${t1} s`, left, h - 8);
-    shown.forEach((i, k) => {
-      g.strokeStyle = palette[k % palette.length];
-      g.beginPath();
-      this.columns[i].forEach((v, j) => (j ? g.lineTo(x(t[j]), y(v)) : g.moveTo(x(t[j]), y(v))));
-      g.stroke();
-      g.fillStyle = g.strokeStyle;
-      g.fillText(this.names[i], left + 6 + 90 * (k % 4), top + 14 + 14 * Math.floor(k / 4));
-    });
-    g.strokeStyle = '#000';
-    g.beginPath();
-    g.moveTo(x(t0 + this.time), top);
-    g.lineTo(x(t0 + this.time), h - bottom);
-    g.stroke();
-  }
+// The bodies' box in the pose shown (precise: from the vertices, not from
+// the turned boxes of the meshes).
+function bodiesBox(root, precise = false) {
+  return new THREE.Box3().setFromObject(root, precise);
 }
 
-// The camera looks at the whole motion: the box the bodies sweep over the
-// first clip (sampled), from above and aside.
-function sweptBox(root, mixer, clip) {
-  const box = new THREE.Box3().setFromObject(root);
-  if (!clip) return box;
+// The mean of the bodies' origins (their centres of mass): what the camera
+// follows and the path traces, steady while a wheel turns.
+function bodiesCentre(root) {
+  const bodies = root.children[0]?.children ?? [];
+  const centre = new THREE.Vector3();
+  for (const body of bodies) centre.add(body.getWorldPosition(new THREE.Vector3()));
+  return bodies.length ? centre.divideScalar(bodies.length) : bodiesBox(root).getCenter(centre);
+}
+
+// The first clip sampled: the box the bodies sweep, and the path of their
+// centre (drawn on the ground).
+function sweep(root, mixer, clip, samples = 200) {
+  const swept = bodiesBox(root, true), path = [bodiesCentre(root)];
+  if (!clip) return { swept, path };
   const action = mixer.clipAction(clip);
   action.play();
-  for (let k = 0; k <= 24; ++k) {
-    action.time = (clip.duration * k) / 24;
+  for (let k = 0; k <= samples; ++k) {
+    action.time = (clip.duration * k) / samples;
     mixer.update(0);
-    box.expandByObject(root);
+    swept.union(bodiesBox(root, true));
+    path.push(bodiesCentre(root));
   }
   action.stop();
-  return box;
+  return { swept, path };
 }
 
+// A square floor of `cells` × `cells` cells of side `cell`, lined at their
+// edges, in the y = 0 plane.
+function groundGrid(cell, cells) {
+  const canvas = document.createElement('canvas');
+  canvas.width = canvas.height = 64;
+  const g = canvas.getContext('2d');
+  g.fillStyle = '#efeff2';
+  g.fillRect(0, 0, 64, 64);
+  g.fillStyle = '#c8c8d0';
+  g.fillRect(0, 0, 64, 2);
+  g.fillRect(0, 0, 2, 64);
+  const texture = new THREE.CanvasTexture(canvas);
+  texture.wrapS = texture.wrapT = THREE.RepeatWrapping;
+  texture.repeat.set(cells, cells);
+  texture.anisotropy = 8;
+  texture.colorSpace = THREE.SRGBColorSpace;
+  const plane = new THREE.Mesh(new THREE.PlaneGeometry(cell * cells, cell * cells),
+    new THREE.MeshBasicMaterial({ map: texture, depthWrite: false }));
+  plane.rotation.x = -Math.PI / 2;
+  plane.renderOrder = -1;  // under the path and the bodies it touches
+  return plane;
+}
+
+// The camera looks at the bodies (not their whole path) from above and aside.
 function frameCamera(camera, controls, box) {
   const size = box.getSize(new THREE.Vector3()).length() || 1;
   const centre = box.getCenter(new THREE.Vector3());
-  camera.near = size / 100;
-  camera.far = size * 100;
-  camera.position.copy(centre).add(new THREE.Vector3(0.6, 0.5, 1.0).normalize().multiplyScalar(size * 1.3));
+  camera.near = size / 200;
+  camera.far = size * 500;
+  camera.position.copy(centre).add(new THREE.Vector3(0.6, 0.5, 1.0).normalize().multiplyScalar(size * 1.6));
   camera.updateProjectionMatrix();
   controls.target.copy(centre);
   controls.update();
@@ -168,15 +158,53 @@ async function main() {
   scene.add(gltf.scene);
   const mixer = new THREE.AnimationMixer(gltf.scene);
   const clips = gltf.animations;
-  const box = sweptBox(gltf.scene, mixer, clips[0]);
-  frameCamera(camera, controls, box);
-  const grid = new THREE.GridHelper(box.getSize(new THREE.Vector3()).length() * 2, 20, 0x999999, 0xcccccc);
-  grid.position.set(box.getCenter(new THREE.Vector3()).x, box.min.y, box.getCenter(new THREE.Vector3()).z);
+  const start = bodiesBox(gltf.scene, true);  // the first pose
+  let centre = bodiesCentre(gltf.scene);
+  const { swept, path } = sweep(gltf.scene, mixer, clips[0]);
+  // The ground: a floor of round cells at the lowest point reached, moved in
+  // whole cells under the camera's target so that it never ends. (A textured
+  // plane, not lines: lines that pass behind the camera are dropped by some
+  // renderers.)
+  const bodySize = start.getSize(new THREE.Vector3()).length() || 1;
+  const cell = roundUp(bodySize / 4), cells = 200, floor = swept.min.y;
+  const grid = groundGrid(cell, cells);
+  grid.position.y = floor;
   scene.add(grid);
+  const placeGrid = () => grid.position.set(Math.round(controls.target.x / cell) * cell, floor,
+    Math.round(controls.target.z / cell) * cell);
+  // The path of the motion on the ground, seen from above.
+  const trace = new THREE.Line(new THREE.BufferGeometry().setFromPoints(path.map((p) => new THREE.Vector3(p.x, floor + cell * 1e-3, p.z))),
+    new THREE.LineBasicMaterial({ color: 0xe15759 }));
+  scene.add(trace);
+  // Following: the camera and its target move with the bodies' centre. On
+  // when the motion goes well beyond the bodies (a vehicle), off for a
+  // mechanism that stays in place; the hash's follow=0 or 1 decides.
+  const followLabel = element('label', { title: 'the camera moves with the bodies' }, bar);
+  const follow = element('input', { type: 'checkbox' }, followLabel);
+  followLabel.append(' follow');
+  const options = hashOptions();
+  follow.checked = options.follow !== undefined ? options.follow !== '0'
+    : swept.getSize(new THREE.Vector3()).length() > 2.5 * bodySize;
+  // A mechanism in place is seen whole; a vehicle, close.
+  frameCamera(camera, controls, follow.checked ? start : swept);
+  placeGrid();
+  controls.addEventListener('change', placeGrid);
+  function track() {
+    const now = bodiesCentre(gltf.scene);
+    if (follow.checked) {
+      const move = now.clone().sub(centre);
+      camera.position.add(move);
+      controls.target.add(move);
+      controls.update();
+      placeGrid();
+    }
+    centre = now;
+  }
   clips.forEach((clip, i) => element('option', { value: i, textContent: clip.name }, clipSelect));
   let action = null;
   function selectClip(i) {
     if (action) action.stop();
+    trace.visible = Number(i) === 0;
     if (!clips[i]) return;
     action = mixer.clipAction(clips[i]);
     action.play();
@@ -187,14 +215,26 @@ async function main() {
   const series = data.series || { names: ['t'], columns: [[]] };
   const list = element('div', { id: 'series' }, side);
   const plot = new Plot(element('canvas', { id: 'plot' }, side), series);
-  series.names.slice(1).forEach((name) => {
-    const label = element('label', {}, list);
+  const swatches = new Map();
+  // Each ticked series' line style beside its name.
+  const showSwatches = () => {
+    const styles = new Map(plot.shown().map((s) => [s.i, s]));
+    swatches.forEach((swatch, i) => {
+      const s = styles.get(i);
+      swatch.style.borderTop = s ? `3px ${s.dash.length ? 'dashed' : 'solid'} ${s.colour}` : '3px solid transparent';
+    });
+  };
+  series.names.forEach((name, i) => {
+    if (i === 0) return;
+    const unit = plot.units[i];
+    const label = element('label', { title: unit ? `${name} (${unit})` : name }, list);
     const box = element('input', { type: 'checkbox', checked: plot.chosen.has(name) }, label);
-    label.append(` ${name}`);
-    box.onchange = () => { box.checked ? plot.chosen.add(name) : plot.chosen.delete(name); plot.draw(); };
+    swatches.set(i, element('span', { className: 'swatch' }, label));
+    label.append(unit ? `${name} (${unit})` : name);
+    box.onchange = () => { box.checked ? plot.chosen.add(name) : plot.chosen.delete(name); showSwatches(); plot.draw(); };
   });
+  showSwatches();
 
-  const options = hashOptions();
   let paused = options.paused === true || options.t !== undefined;
   let time = Number(options.t) || 0;
   selectClip(Number(options.clip) || 0);
@@ -230,6 +270,7 @@ async function main() {
     const duration = action ? action.getClip().duration : 0;
     time = duration > 0 ? ((t % duration) + duration) % duration : 0;
     if (action) { action.time = time; mixer.update(0); }
+    track();
     slider.value = time;
     clock.textContent = `t = ${time.toFixed(3)} s`;
     plot.time = clipSelect.value === '0' ? time : 0;
@@ -249,7 +290,8 @@ async function main() {
   document.body.dataset.ready = 'true';
   // For scripts and tests: the state of the viewer, and a way to move it.
   window.symdynViewer = { ready: true, clips: clips.map((c) => c.name), bodies: gltf.scene.children[0]?.children.map((c) => c.name) ?? [],
-                          setTime: (t) => { paused = true; show(t); }, time: () => time };
+                          setTime: (t) => { paused = true; show(t); }, time: () => time, following: () => follow.checked };
+  document.body.dataset.follow = String(follow.checked);
 }
 
 main().catch((error) => {
