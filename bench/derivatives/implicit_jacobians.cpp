@@ -66,7 +66,7 @@ const Problem all_problems[] = {
     {"slider_crank_1s", "slider_crank", 1.0, "cvode", {1e-6, 1e-9}},
     {"trike_5s", "trike", 5.0, "cvode", {1e-6}},
     {"amru5_2s", "amru5", 2.0, "cvode", {1e-6}},
-    {"trike_1s", "trike", 1.0, "midpoint", {5e-3}},
+    {"trike_1s", "trike", 1.0, "midpoint", {2e-3}},
 };
 
 // How the Jacobians are obtained: a row's label and the system's switches.
