@@ -7,6 +7,7 @@
 
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/midpoint.hpp>
+#include <symdyn/runtime/spd_solver.hpp>
 #include <symdyn/runtime/stepping_integrator.hpp>
 
 namespace symdyn::runtime {
@@ -62,7 +63,7 @@ class Midpoint final : public detail::SteppingIntegrator {
   bool exact_ = false;
   Matrix Mj_, C_, K_, B_, M_plus_, B_plus_, M_minus_, B_minus_, M_inverse_;
   Matrix dv_dq_, dp_dq_, dp_dv_;
-  Eigen::PartialPivLU<Matrix> exact_lu_;
+  SpdSolver exact_mass_;  // of M at the midpoint, for M⁻¹
 };
 
 // The power of two nearest to 1e6·max(1, |f0|)/|x|: M·x = (f(λ·x) - f0)/λ with λ·x
@@ -150,6 +151,7 @@ void Midpoint::start(const State& initial) {
   momentum_rate(initial.t, initial.q, initial.qd, initial.y, qdd_, M_, pdot_);
   Matrix dqdd_dq, dqdd_dqd;
   exact_ = m_ == 0 && system_->exact_acceleration_derivatives(current_, qdd_, dqdd_dq, dqdd_dqd);
+  if (exact_) exact_mass_ = SpdSolver(n_);
 }
 
 // qd1 = M(q1)⁻¹·p1 and (qdd1, yd1) at the step end; "" or what went wrong.
@@ -263,8 +265,11 @@ std::string Midpoint::factor_exact_newton_matrix(double h) {
     return detail::at_time(probe_.t, e.what());
   }
   const double over_2d = speed > 0.0 ? 0.5 / d : 0.0;
-  exact_lu_.compute(Mj_);
-  M_inverse_ = exact_lu_.inverse();
+  if (!exact_mass_.factor(Mj_)) {
+    return detail::at_time(probe_.t, "the mass matrix at the midpoint is not positive definite");
+  }
+  M_inverse_.setIdentity(n_, n_);
+  exact_mass_.solve_in_place(M_inverse_);
   dv_dq_.noalias() = -0.5 * M_inverse_ * B_;
   dp_dq_ = -K_ + over_2d * (B_plus_ - B_minus_);
   dp_dv_ = -C_ + over_2d * (M_plus_ - M_minus_) + B_;
