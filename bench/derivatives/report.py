@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """Writes bench/results/derivatives.md from what bench/derivatives/run.sh measured.
 
-report.py WORK_DIR OUT.md: WORK_DIR holds time.tsv (symdyn_bench_derivatives time:
+report.py [--integrators-only] WORK_DIR OUT.md: WORK_DIR holds time.tsv (symdyn_bench_derivatives time:
 scale, steps, rounding, check and time rows), counts.tsv (model, method, instructions
 per call, calls), breakdown.tsv (model, part, instructions per call of symdyn_exact),
 integrators.tsv (symdyn_bench_implicit_jacobians), build.tsv (chain_64's generation
 and compilation, from run.sh --measure-build) and meta.txt (key = value lines).
+--integrators-only: only integrators.tsv and meta.txt, whose sections (and the summary's
+line on them) replace those of the existing OUT.md.
 """
 import collections
 import os
@@ -83,13 +85,148 @@ def solves_time(work, n):
     return float("nan")
 
 
-def main(work, out):
+def amru5_summary(integ):
+    """The summary's line on Newmark on amru5, or None."""
+    cpu = {(r[3], r[4]): float(r[6]) for r in integ
+           if r[0] == "run" and r[1].startswith("amru5") and r[2] == "newmark"}
+    rs = [(cpu[(tol, "differences")] / cpu[(tol, "exact")], tol) for (tol, j) in cpu
+          if j == "exact" and (tol, "differences") in cpu]
+    if not rs:
+        return None
+    return ("Newmark on amru5 walking, exact against differenced Jacobians at the same error: " +
+            ", ".join(f"{r:.2f}x at tol {tol}" for r, tol in rs) + " (target 1.5x).")
+
+
+def integrators_section(integ, measured=None):
+    """The sections on the time per Jacobian and the implicit integrators (lines); measured:
+    a line naming the commit and machine, when they were measured apart."""
+    o = []
+    runs = [r for r in integ if r[0] == "run"]
+    refs = {r[1]: r for r in integ if r[0] == "reference"}
+    jacs = [r for r in integ if r[0] == "jacobian"]
+    if jacs:
+        o.append("## Time per Jacobian: the force elements' exact derivatives against differenced ones\n")
+        o.append("`symdyn_bench_implicit_jacobians`: one `MultibodySystem::jacobians` (M, C and K of the "
+                 "residual, what an implicit integrator asks for) at the end state of the scenario, the "
+                 "scenario's force elements included: \"exact\", with the emitted derivatives and the "
+                 "force elements' own (the tyres' and contacts' laws differentiated automatically, "
+                 "`runtime/kinematics_derivatives.hpp`); \"elements differenced\", the same but every "
+                 "force element's part by central differences of its Q (`set_exact_load_derivatives(false)`: "
+                 "the kinematics evaluated twice per coordinate in q); \"differences\", central "
+                 "differences of the whole residual (`set_exact_jacobians(false)`). CPU time, median of 21 "
+                 "interleaved rounds.\n")
+        if measured:
+            o.append(measured + "\n")
+        o.append("| problem | Jacobians | time per Jacobian (µs) | / exact | method |")
+        o.append("|---|---|---:|---:|---|")
+        exact = {r[1]: float(r[3]) for r in jacs if r[2] == "exact"}
+        for r in jacs:
+            rr = f"**{float(r[3]) / exact[r[1]]:.2f}**" if r[2] != "exact" and r[1] in exact else ""
+            o.append(f"| {r[1]} | {r[2]} | {float(r[3]):.1f} | {rr} | {r[5]} |")
+        o.append("")
+    if not runs:
+        return o
+    o.append("## Implicit integrators: exact against differenced Jacobians\n")
+    o.append("`symdyn_bench_implicit_jacobians` (`bench/derivatives/implicit_jacobians.cpp`): the scenarios "
+             "of `models/scenarios` as `symdyn-sim` runs them, force elements included (each run's output "
+             "interval is its whole interval, so no output is written), each problem and tolerance in "
+             "three ways in one process, interleaved: with the emitted derivatives and the force elements' "
+             "own (\"exact\", the default); with every force element's part differenced "
+             "(\"elements differenced\", `set_exact_load_derivatives(false)`); after "
+             "`set_exact_jacobians(false)` (\"differences\"), where Newmark's iteration matrix "
+             "M + γh·C + βh²·K takes C and K from central differences of the residual (4·nq residuals per "
+             "matrix, not counted among the integrator's residuals below), CVODE's Jacobian falls back to "
+             "its forward differences of the accelerations (2·nq calls, counted among its right-hand "
+             "sides) and midpoint's Newton matrix (tol: its fixed step) to forward differences of its map "
+             "(2·nq maps, not counted). Error: the largest |q − q_ref|, |qd − qd_ref| at the end against "
+             "dop853 at rtol = atol = 1e-12 (\"reference\": its distance to dopri5 at 1e-12). CPU: median "
+             "of the repetitions, the set-up excluded.\n")
+    if measured:
+        o.append(measured + "\n")
+    for name, r in refs.items():
+        o.append(f"- reference of {name}: dop853 at 1e-12, agreement with dopri5 {float(r[4]):.1e}, "
+                 f"both computed in {float(r[5]):.1f} s")
+    o.append("")
+    o.append("| problem | integrator | tol | Jacobians | error | CPU (ms) | steps | rejected | Newton "
+             "iterations | residuals | right-hand sides | Jacobian evaluations | / exact (CPU) |")
+    o.append("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    cpu = {(r[1], r[2], r[3], r[4]): float(r[6]) for r in runs}
+    for r in runs:
+        rr = ""
+        if r[4] != "exact" and (r[1], r[2], r[3], "exact") in cpu:
+            rr = f"**{cpu[(r[1], r[2], r[3], r[4])] / cpu[(r[1], r[2], r[3], 'exact')]:.2f}**"
+        o.append(f"| {r[1]} | {r[2]} | {r[3]} | {r[4]} | {float(r[5]):.2e} | {float(r[6]):.1f} | {r[7]} | "
+                 f"{r[8]} | {r[9]} | {r[10]} | {r[11]} | {r[12]} | {rr} |")
+    o.append("")
+    o.append("How each run obtained its Jacobians (`MultibodySystem::jacobian_method()`):\n")
+    seen = set()
+    for r in runs:
+        if (r[1], r[2], r[4]) not in seen:
+            seen.add((r[1], r[2], r[4]))
+            o.append(f"- {r[1]}, {r[2]}, {r[4]}: {r[13]}")
+    o.append("")
+    o.append("The slider-crank has one coordinate: differences cost CVODE two evaluations per Jacobian, "
+             "nothing for exact derivatives to save. With CVODE the kinds of Jacobian also lead to "
+             "different steps (forward differences are less accurate, and CVODE's step and Jacobian "
+             "reuse follow its Newton convergence): compare the rows' steps before their times. With "
+             "the force elements differenced (the trike's tyres, amru5's contacts), the exact Jacobian "
+             "evaluates the kinematics twice per coordinate in q for them. A coordinate force given as an "
+             "expression (the trike's drive) is differenced in every row, and differencing any element "
+             "evaluates the kinematics at every shifted q: with its drive, the trike's Jacobian costs the "
+             "same whether its tyres are exact or differenced, where amru5's, all of whose elements are "
+             "exact, is cheaper (\"Time per Jacobian\"). Midpoint's exact Newton matrix costs six "
+             "Jacobians (M, C and K at the midpoint and at q ± d·v, with qdd = 0 and qdd = v) where its "
+             "differenced one costs 2·nq maps.\n")
+    amru = [(cpu[(p, i, tol, 'differences')] / cpu[(p, i, tol, 'exact')], tol)
+            for (p, i, tol, j) in cpu
+            if p.startswith("amru5") and i == "newmark" and j == "exact" and (p, i, tol, "differences") in cpu]
+    if amru:
+        errs = {(r[3], r[4]): float(r[5]) for r in runs if r[1].startswith("amru5") and r[2] == "newmark"}
+        same = all(abs(errs[(tol, 'exact')] - errs[(tol, 'differences')]) <= 0.1 * errs[(tol, 'exact')]
+                   for _, tol in amru)
+        lo = min(amru)
+        o.append(f"Target: Newmark on amru5 at least 1.5 times faster at the same error: "
+                 f"{'**met**' if lo[0] >= 1.5 and same else '**not met**'}: " +
+                 ", ".join(f"{r:.2f}x at tol {tol} (errors {errs[(tol, 'exact')]:.2e} exact, "
+                           f"{errs[(tol, 'differences')]:.2e} differences)"
+                           for r, tol in sorted(amru, key=lambda x: x[1])) + ".\n")
+    return o
+
+
+def replace_integrators(work, out):
+    """Rewrites, in the results file out, the sections integrators_section writes (and the
+    summary's line on amru5) from WORK_DIR's integrators.tsv and meta.txt alone."""
+    meta = read_meta(work)
+    integ = read_tsv(os.path.join(work, "integrators.tsv"))
+    measured = (f"Measured apart (`bench/derivatives/run.sh --integrators-only`) at commit "
+                f"{meta.get('commit', '?')}: {meta.get('machine', '')}; {meta.get('compiler', '')}; "
+                f"{meta.get('reps', '?')} repetitions.")
+    with open(out) as f:
+        text = f.read()
+    first = min(i for i in (text.find("## Time per Jacobian"), text.find("## Implicit integrators")) if i >= 0)
+    rest = text.find("\n## ", text.find("## Implicit integrators") + 1)
+    tail = text[rest + 1:] if rest >= 0 else ""
+    text = text[:first] + "\n".join(integrators_section(integ, measured)) + "\n" + tail
+    line = amru5_summary(integ)
+    if line:
+        text = "\n".join(f"- {line}" if x.startswith("- Newmark on amru5 walking") else x
+                         for x in text.split("\n"))
+    with open(out, "w") as f:
+        f.write(text)
+
+
+def read_meta(work):
     meta = {}
     with open(os.path.join(work, "meta.txt")) as f:
         for line in f:
             if " = " in line:
                 k, v = line.rstrip("\n").split(" = ", 1)
                 meta[k] = v
+    return meta
+
+
+def main(work, out):
+    meta = read_meta(work)
     models, nq, scale, steps, rounding = [], {}, {}, {}, {}
     checks = collections.defaultdict(dict)  # model -> method -> (e_dq, e_dqd)
     times = {}  # (model, method) -> (median, q1, q3)
@@ -161,13 +298,9 @@ def main(work, out):
     if rb:
         summary.append(f"This change to `dynamics_derivatives` (all columns in one solve, M's factorization reused): "
                        f"{min(rb)[0]:.2f}x ({min(rb)[1]}) to {max(rb)[0]:.2f}x ({max(rb)[1]}) faster than before.")
-    amru_cpu = {(r[3], r[4]): float(r[6]) for r in integ
-                if r[0] == "run" and r[1].startswith("amru5") and r[2] == "newmark"}
-    amru_r = [(amru_cpu[(tol, "differences")] / amru_cpu[(tol, "exact")], tol) for (tol, j) in amru_cpu
-              if j == "exact" and (tol, "differences") in amru_cpu]
-    if amru_r:
-        summary.append("Newmark on amru5 walking, exact against differenced Jacobians at the same error: " +
-                       ", ".join(f"{r:.2f}x at tol {tol}" for r, tol in amru_r) + " (target 1.5x).")
+    line = amru5_summary(integ)
+    if line:
+        summary.append(line)
     for x in summary:
         o.append(f"- {x}")
     o.append("")
@@ -388,63 +521,7 @@ def main(work, out):
                      f"{v['by_columns'] / v['runtime']:.1f} |")
         o.append("")
 
-    # Integrators.
-    runs = [r for r in integ if r[0] == "run"]
-    refs = {r[1]: r for r in integ if r[0] == "reference"}
-    if runs:
-        o.append("## Implicit integrators: exact against differenced Jacobians\n")
-        o.append("`symdyn_bench_implicit_jacobians` (`bench/derivatives/implicit_jacobians.cpp`): the scenarios "
-                 "of `models/scenarios` as `symdyn-sim` runs them, force elements included (each run's output "
-                 "interval is its whole interval, so no output is written), each problem and tolerance twice in "
-                 "one process, interleaved: with the emitted derivatives (the default), then after "
-                 "`set_exact_jacobians(false)`. Newmark's iteration matrix M + γh·C + βh²·K then takes C and K "
-                 "from central differences of the residual (4·nq residuals per matrix, not counted among the "
-                 "integrator's residuals below); CVODE's Jacobian falls back to its forward differences of "
-                 "the accelerations (2·nq calls, counted among its right-hand sides). Error: the largest "
-                 "|q − q_ref|, |qd − qd_ref| at the end against dop853 at rtol = atol = 1e-12 (\"reference\": "
-                 "its distance to dopri5 at 1e-12). CPU: median of the repetitions, the set-up excluded.\n")
-        for name, r in refs.items():
-            o.append(f"- reference of {name}: dop853 at 1e-12, agreement with dopri5 {float(r[4]):.1e}, "
-                     f"both computed in {float(r[5]):.1f} s")
-        o.append("")
-        o.append("| problem | integrator | tol | Jacobians | error | CPU (ms) | steps | rejected | Newton "
-                 "iterations | residuals | right-hand sides | Jacobian evaluations | differences / exact (CPU) |")
-        o.append("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-        cpu = {(r[1], r[2], r[3], r[4]): float(r[6]) for r in runs}
-        for r in runs:
-            rr = ""
-            if r[4] == "differences" and (r[1], r[2], r[3], "exact") in cpu:
-                rr = f"**{cpu[(r[1], r[2], r[3], 'differences')] / cpu[(r[1], r[2], r[3], 'exact')]:.2f}**"
-            o.append(f"| {r[1]} | {r[2]} | {r[3]} | {r[4]} | {float(r[5]):.2e} | {float(r[6]):.1f} | {r[7]} | "
-                     f"{r[8]} | {r[9]} | {r[10]} | {r[11]} | {r[12]} | {rr} |")
-        o.append("")
-        o.append("How each run obtained its Jacobians (`MultibodySystem::jacobian_method()`):\n")
-        seen = set()
-        for r in runs:
-            if (r[1], r[2], r[4]) not in seen:
-                seen.add((r[1], r[2], r[4]))
-                o.append(f"- {r[1]}, {r[2]}, {r[4]}: {r[13]}")
-        o.append("")
-        o.append("The slider-crank has one coordinate: differences cost CVODE two evaluations per Jacobian, "
-                 "nothing for exact derivatives to save. With CVODE the two kinds of Jacobian also lead to "
-                 "different steps (forward differences are less accurate, and CVODE's step and Jacobian "
-                 "reuse follow its Newton convergence): compare the rows' steps before their times. With "
-                 "force elements that give no derivatives (the trike's tyres and drive, amru5's contacts), "
-                 "the exact Jacobian still differences those elements in q, evaluating the kinematics "
-                 "twice per coordinate.\n")
-        amru = [(cpu[(p, i, tol, 'differences')] / cpu[(p, i, tol, 'exact')], tol)
-                for (p, i, tol, j) in cpu
-                if p.startswith("amru5") and i == "newmark" and j == "exact" and (p, i, tol, "differences") in cpu]
-        if amru:
-            errs = {(r[3], r[4]): float(r[5]) for r in runs if r[1].startswith("amru5") and r[2] == "newmark"}
-            same = all(abs(errs[(tol, 'exact')] - errs[(tol, 'differences')]) <= 0.1 * errs[(tol, 'exact')]
-                       for _, tol in amru)
-            lo = min(amru)
-            o.append(f"Target: Newmark on amru5 at least 1.5 times faster at the same error: "
-                     f"{'**met**' if lo[0] >= 1.5 and same else '**not met**'}: " +
-                     ", ".join(f"{r:.2f}x at tol {tol} (errors {errs[(tol, 'exact')]:.2e} exact, "
-                               f"{errs[(tol, 'differences')]:.2e} differences)" for r, tol in sorted(amru, key=lambda x: x[1])) +
-                     ".\n")
+    o += integrators_section(integ)
 
     if build:
         b = {r[0]: r[1:] for r in build}
@@ -470,4 +547,7 @@ def main(work, out):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    if len(sys.argv) == 4 and sys.argv[1] == "--integrators-only":
+        replace_integrators(sys.argv[2], sys.argv[3])
+    else:
+        main(sys.argv[1], sys.argv[2])

@@ -6,11 +6,13 @@
 # spends them), runs the implicit integrators, and writes bench/results/derivatives.md.
 #
 #   bench/derivatives/run.sh [--rounds N] [--reps N] [--no-count] [--no-integrators]
-#                            [--measure-build] [--results FILE] [MODEL...]
+#                            [--integrators-only] [--measure-build] [--results FILE] [MODEL...]
 #
 # --rounds: interleaved timing rounds (21); --reps: repetitions of each integrator
 # run (5); --no-count: skip callgrind; --no-integrators: skip the implicit
-# integrators; --measure-build: also generate and compile chain_64 once more
+# integrators; --integrators-only: build and run symdyn_bench_implicit_jacobians
+# alone and replace its sections (time per Jacobian, implicit integrators) in the
+# results file, which names the commit they were measured at; --measure-build: also generate and compile chain_64 once more
 # under /usr/bin/time, ccache off (about 4 min of CPU, 2.5 GB), for the build
 # figures (kept in build/release/bench/derivatives/ for later reports);
 # MODEL...: only these (e.g. chain_8_absolute); a partial run should go to another --results file.
@@ -23,9 +25,10 @@ while [ $# -gt 0 ]; do
     --reps) reps=$2; shift 2 ;;
     --no-count) count=0; shift ;;
     --no-integrators) integrators=0; shift ;;
+    --integrators-only) integrators=only; shift ;;
     --measure-build) measure_build=1; shift ;;
     --results) results=$2; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *) models+=("$1"); shift ;;
   esac
 done
@@ -34,6 +37,22 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 build=build/release
 kept=$build/bench/derivatives
+
+version() { dpkg-query -W -f='${Package} ${Version}' "$1" 2>/dev/null || echo "$1: not installed"; }
+commit=$(git rev-parse --short HEAD)
+git diff --quiet HEAD -- src models bench || commit="$commit (with uncommitted changes)"
+machine="AMD EPYC, 2 vCPU under KVM, shared with other work (/work/.library/env/machines/cpp.md)"
+
+if [ "$integrators" = only ]; then
+  cmake --build --preset release -j2 --target symdyn_bench_implicit_jacobians
+  echo "implicit integrators and Jacobians, exact against differenced ($reps repetitions)..."
+  "$build/bench/derivatives/symdyn_bench_implicit_jacobians" --reps "$reps" | tee "$work/integrators.tsv" | cut -c1-160
+  printf 'machine = %s\ncompiler = %s, CMake release preset (-O3, no -march)\ncommit = %s\nreps = %s\n' \
+    "$machine" "$(g++ --version | head -1)" "$commit" "$reps" >"$work/meta.txt"
+  python3 bench/derivatives/report.py --integrators-only "$work" "$results"
+  echo "rewrote the integrators' sections of $results in $(( $(date +%s) - start )) s"
+  exit 0
+fi
 
 cmake --preset release -DSYMDYN_PEERS_BENCH=ON >"$work/configure.log" || { cat "$work/configure.log"; exit 1; }
 grep 'peers bench' "$work/configure.log" || true
@@ -116,11 +135,8 @@ if [ "$measure_build" = 1 ]; then
 fi
 [ -f "$kept/chain_64_build.tsv" ] && cp "$kept/chain_64_build.tsv" "$work/build.tsv" || : >"$work/build.tsv"
 
-version() { dpkg-query -W -f='${Package} ${Version}' "$1" 2>/dev/null || echo "$1: not installed"; }
-commit=$(git rev-parse --short HEAD)
-git diff --quiet HEAD -- src models bench || commit="$commit (with uncommitted changes)"
 {
-  echo "machine = AMD EPYC, 2 vCPU under KVM, shared with other work (/work/.library/env/machines/cpp.md)"
+  echo "machine = $machine"
   echo "cpu = $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')"
   echo "compiler = $(g++ --version | head -1), CMake release preset (-O3, no -march)"
   echo "commit = $commit"

@@ -1,4 +1,5 @@
 #include <Eigen/LU>
+#include <array>
 #include <utility>
 
 #include <symdyn/runtime/bushing.hpp>
@@ -22,39 +23,59 @@ Bushing::Bushing(std::string name, BodyFrame a, BodyFrame b, const BushingProper
   check_property(me, "preload_torque", p_.preload_torque);
 }
 
-Bushing::Deflection Bushing::deflection(const Kinematics& k) const {
-  const Mat3 RA = k.rotation(a_.body) * a_.axes;
-  const Mat3 RB = k.rotation(b_.body) * b_.axes;
-  const Vec3 OA = k.point_position(a_.body, a_.origin);
-  const Vec3 OB = k.point_position(b_.body, b_.origin);
-  const Vec3 wA = a_.body == ground ? Vec3::Zero() : Vec3(k.w(a_.body));
-  const Vec3 wB = b_.body == ground ? Vec3::Zero() : Vec3(k.w(b_.body));
-  Deflection def;
+template <class T>
+Bushing::BasicDeflection<T> Bushing::deflection(const BodyMotion<T>& a,
+                                                const BodyMotion<T>& b) const {
+  const Mat3T<T> RA = a.R * a_.axes.cast<T>();
+  const Mat3T<T> RB = b.R * b_.axes.cast<T>();
+  const Vec3T<T> OA = a.point(a_.origin), OB = b.point(b_.origin);
+  BasicDeflection<T> def;
   def.d = RA.transpose() * (OB - OA);
-  def.dd = RA.transpose() * (k.point_velocity(b_.body, b_.origin) -
-                             k.point_velocity(a_.body, a_.origin) - wA.cross(OB - OA));
-  def.theta = cardan_angles(order_, RA.transpose() * RB);
-  const Mat3 E = cardan_rate_matrix(order_, def.theta);
-  def.thetad = E.partialPivLu().solve(RA.transpose() * (wB - wA));
+  def.dd = RA.transpose() * (b.velocity_at(OB) - a.velocity_at(OA) - a.w.cross(OB - OA));
+  def.theta = cardan_angles(order_, Mat3T<T>(RA.transpose() * RB));
+  const Mat3T<T> E = cardan_rate_matrix(order_, def.theta);
+  def.thetad = E.inverse() * (RA.transpose() * (b.w - a.w));
   return def;
 }
 
+Bushing::Deflection Bushing::deflection(const Kinematics& k) const {
+  return deflection(body_motion(k, a_.body), body_motion(k, b_.body));
+}
+
+// R_A f on b and its opposite on a at the mid-point of O_A and O_B, and the moments
+// ±R_A E^-T tau, reduced to the centres of gravity.
+template <class T>
+std::array<Wrench<T>, 2> Bushing::wrenches(const BodyMotion<T>& a, const BodyMotion<T>& b) const {
+  const BasicDeflection<T> def = deflection(a, b);
+  const Mat3T<T> RA = a.R * a_.axes.cast<T>();
+  const Vec3T<T> f = p_.preload_force.cast<T>() - p_.stiffness.cast<T>().cwiseProduct(def.d) -
+                     p_.damping.cast<T>().cwiseProduct(def.dd);
+  const Vec3T<T> tau = p_.preload_torque.cast<T>() -
+                       p_.rotational_stiffness.cast<T>().cwiseProduct(def.theta) -
+                       p_.rotational_damping.cast<T>().cwiseProduct(def.thetad);
+  const Mat3T<T> E = cardan_rate_matrix(order_, def.theta);
+  const Vec3T<T> F = RA * f;
+  const Vec3T<T> moment = RA * (E.transpose().inverse() * tau);
+  const Vec3T<T> mid = T(0.5) * (a.point(a_.origin) + b.point(b_.origin));
+  Wrench<T> on_b{F, Vec3T<T>((mid - b.x).cross(F) + moment)};
+  Wrench<T> on_a{Vec3T<T>(-F), Vec3T<T>((mid - a.x).cross(Vec3T<T>(-F)) - moment)};
+  return {on_b, on_a};
+}
+
 void Bushing::apply(const State& /*s*/, const Kinematics& k, Loads& loads) const {
-  const Deflection def = deflection(k);
-  const Mat3 RA = k.rotation(a_.body) * a_.axes;
-  const Vec3 f =
-      p_.preload_force - p_.stiffness.cwiseProduct(def.d) - p_.damping.cwiseProduct(def.dd);
-  const Vec3 tau = p_.preload_torque - p_.rotational_stiffness.cwiseProduct(def.theta) -
-                   p_.rotational_damping.cwiseProduct(def.thetad);
-  const Mat3 E = cardan_rate_matrix(order_, def.theta);
-  const Vec3 F = RA * f;
-  const Vec3 Mom = RA * E.transpose().partialPivLu().solve(tau);
-  const Vec3 mid =
-      0.5 * (k.point_position(a_.body, a_.origin) + k.point_position(b_.body, b_.origin));
-  loads.add_force_at(b_.body, k, mid, F);
-  loads.add_force_at(a_.body, k, mid, -F);
-  loads.add_moment(b_.body, Mom);
-  loads.add_moment(a_.body, -Mom);
+  const auto [on_b, on_a] = wrenches(body_motion(k, a_.body), body_motion(k, b_.body));
+  loads.add_force(b_.body, on_b.force);
+  loads.add_moment(b_.body, on_b.moment);
+  loads.add_force(a_.body, on_a.force);
+  loads.add_moment(a_.body, on_a.moment);
+}
+
+void Bushing::add_load_derivatives(const State& /*s*/, const Kinematics& k,
+                                   const KinematicsDerivatives& dk, Matrix& dQ_dq,
+                                   Matrix& dQ_dqd) const {
+  // Slot 0: b, 1: a, as the wrenches.
+  const auto b = seeded_motion<2>(k, b_.body, 0), a = seeded_motion<2>(k, a_.body, 1);
+  add_wrench_derivatives<2>(k, dk, {b_.body, a_.body}, wrenches(a, b), dQ_dq, dQ_dqd);
 }
 
 double Bushing::potential_energy(const State& /*s*/, const Kinematics& k) const {

@@ -14,6 +14,7 @@
 // moment whose power on the relative rotation is tau . thetad, exact for
 // large angles; EasyDyn used tau directly) acts on b and its opposite on a.
 
+#include <array>
 #include <string>
 
 #include <symdyn/runtime/cardan.hpp>
@@ -45,16 +46,32 @@ class Bushing : public ForceElement {
           std::string_view order = "xyz");
   std::string name() const override { return "bushing '" + name_ + "'"; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+  // Exact: the law differentiated automatically with respect to the motions of a and b
+  // (add_wrench_derivatives).
+  LoadDerivatives load_derivatives() const override {
+    return LoadDerivatives::exact_with_kinematics_derivatives;
+  }
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
   // 1/2 d^T K_t d + 1/2 theta^T K_r theta (stored elastic energy).
   double potential_energy(const State& s, const Kinematics& k) const override;
 
   // Deflections: d and theta (and their rates) at the given kinematics.
-  struct Deflection {
-    Vec3 d, dd, theta, thetad;
+  template <class T>
+  struct BasicDeflection {
+    Vec3T<T> d, dd, theta, thetad;
   };
+  using Deflection = BasicDeflection<double>;
   Deflection deflection(const Kinematics& k) const;
 
  private:
+  // The deflections and the wrenches on b and on a (at their centres of gravity) for the
+  // motions of a and b, with any scalar.
+  template <class T>
+  BasicDeflection<T> deflection(const BodyMotion<T>& a, const BodyMotion<T>& b) const;
+  template <class T>
+  std::array<Wrench<T>, 2> wrenches(const BodyMotion<T>& a, const BodyMotion<T>& b) const;
+
   std::string name_;
   BodyFrame a_, b_;
   BushingProperties p_;

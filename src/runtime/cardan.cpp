@@ -1,8 +1,5 @@
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cmath>
-
 #include <symdyn/runtime/cardan.hpp>
 #include <symdyn/runtime/errors.hpp>
 
@@ -27,15 +24,7 @@ CardanOrder CardanOrder::parse(std::string_view order) {
 }
 
 Mat3 elementary_rotation(int axis, double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  const int j = (axis + 1) % 3, k = (axis + 2) % 3;
-  Mat3 R = Mat3::Zero();
-  R(axis, axis) = 1.0;
-  R(j, j) = c;
-  R(j, k) = -s;
-  R(k, j) = s;
-  R(k, k) = c;
-  return R;
+  return elementary_rotation<double>(axis, a);
 }
 
 Mat3 cardan_rotation(const CardanOrder& o, const Vec3& angles) {
@@ -44,24 +33,11 @@ Mat3 cardan_rotation(const CardanOrder& o, const Vec3& angles) {
 }
 
 Vec3 cardan_angles(const CardanOrder& o, const Mat3& R) {
-  const int i = o.axes[0], j = o.axes[1], k = o.axes[2];
-  // +1 for the cyclic orders (xyz, yzx, zxy), -1 for the others.
-  const double e = ((j - i + 3) % 3 == 1) ? 1.0 : -1.0;
-  const double b = std::asin(std::clamp(e * R(i, k), -1.0, 1.0));
-  const double a = std::atan2(-e * R(j, k), R(k, k));
-  const double c = std::atan2(-e * R(i, j), R(i, i));
-  return Vec3(a, b, c);
+  return cardan_angles<double>(o, R);
 }
 
 Mat3 cardan_rate_matrix(const CardanOrder& o, const Vec3& angles) {
-  // w = ad e_i + bd R_i(a) e_j + cd R_i(a) R_j(b) e_k
-  const Mat3 Ri = elementary_rotation(o.axes[0], angles(0));
-  const Mat3 Rij = Ri * elementary_rotation(o.axes[1], angles(1));
-  Mat3 E;
-  E.col(0) = Mat3::Identity().col(o.axes[0]);
-  E.col(1) = Ri.col(o.axes[1]);
-  E.col(2) = Rij.col(o.axes[2]);
-  return E;
+  return cardan_rate_matrix<double>(o, angles);
 }
 
 }  // namespace symdyn::runtime

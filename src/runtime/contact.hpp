@@ -47,15 +47,28 @@ class PlaneContact : public ForceElement {
                const ContactProperties& p);
   std::string name() const override { return "contact '" + name_ + "'"; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+  // Exact: the law differentiated automatically with respect to the body's motion
+  // (add_wrench_derivatives), C moving with the sphere's centre, not with the body; on the
+  // side of each switch (contact, N > 0, |vt| against v_s) where the state is.
+  LoadDerivatives load_derivatives() const override {
+    return LoadDerivatives::exact_with_kinematics_derivatives;
+  }
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
 
   // The contact quantities at the given kinematics.
-  struct Result {
-    double penetration = 0.0, penetration_rate = 0.0, normal_force = 0.0;
-    Vec3 contact_point = Vec3::Zero(), force = Vec3::Zero();
+  template <class T>
+  struct BasicResult {
+    T penetration = T(0.0), penetration_rate = T(0.0), normal_force = T(0.0);
+    Vec3T<T> contact_point = Vec3T<T>::Zero(), force = Vec3T<T>::Zero();
   };
+  using Result = BasicResult<double>;
   Result evaluate(const Kinematics& k) const;
 
  private:
+  template <class T>
+  BasicResult<T> evaluate(const BodyMotion<T>& body) const;
+
   std::string name_;
   int body_;
   Vec3 point_;
@@ -86,14 +99,28 @@ class SimpleTyre : public ForceElement {
   SimpleTyre(std::string name, int body, const SimpleTyreProperties& p, const Plane& ground = {});
   std::string name() const override { return "tyre '" + name_ + "'"; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+  // Exact: the law differentiated automatically with respect to the wheel's motion
+  // (add_wrench_derivatives), P moving with the wheel's centre and axis; on the side of each
+  // switch (contact, N > 0) where the state is.
+  LoadDerivatives load_derivatives() const override {
+    return LoadDerivatives::exact_with_kinematics_derivatives;
+  }
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
 
-  struct Result {
-    Vec3 contact_point = Vec3::Zero(), contact_velocity = Vec3::Zero(), force = Vec3::Zero();
-    double penetration = 0.0, normal_force = 0.0;
+  template <class T>
+  struct BasicResult {
+    Vec3T<T> contact_point = Vec3T<T>::Zero(), contact_velocity = Vec3T<T>::Zero(),
+             force = Vec3T<T>::Zero();
+    T penetration = T(0.0), normal_force = T(0.0);
   };
+  using Result = BasicResult<double>;
   Result evaluate(const Kinematics& k) const;
 
  private:
+  template <class T>
+  BasicResult<T> evaluate(const BodyMotion<T>& wheel) const;
+
   std::string name_;
   int body_;
   SimpleTyreProperties p_;

@@ -44,25 +44,32 @@
 
 namespace symdyn::runtime {
 
-struct BrushInput {
-  double normal_force = 0.0;      // Fz >= 0
-  double slip_long = 0.0;         // s_long
-  double slip_lat = 0.0;          // s_lat
-  double camber = 0.0;            // gamma (rad)
-  double friction = 1.0;          // mu
-  double stiffness_long = 0.0;    // C_long (N per unit slip)
-  double stiffness_lat = 0.0;     // C_lat (N per unit slip)
-  double stiffness_camber = 0.0;  // C_camber (N/rad)
-  double half_length = 0.0;       // a (m)
+template <class T>
+struct BasicBrushInput {
+  T normal_force = T(0.0);      // Fz >= 0
+  T slip_long = T(0.0);         // s_long
+  T slip_lat = T(0.0);          // s_lat
+  T camber = T(0.0);            // gamma (rad)
+  T friction = T(1.0);          // mu
+  T stiffness_long = T(0.0);    // C_long (N per unit slip)
+  T stiffness_lat = T(0.0);     // C_lat (N per unit slip)
+  T stiffness_camber = T(0.0);  // C_camber (N/rad)
+  T half_length = T(0.0);       // a (m)
 };
+using BrushInput = BasicBrushInput<double>;
 
-struct BrushOutput {
-  double Fx = 0.0, Fy = 0.0, Mz = 0.0;
-  double adhesion = 1.0;  // xi_s: adhesion fraction of the contact length
-  bool sliding = false;   // full sliding
+template <class T>
+struct BasicBrushOutput {
+  T Fx = T(0.0), Fy = T(0.0), Mz = T(0.0);
+  T adhesion = T(1.0);   // xi_s: adhesion fraction of the contact length
+  bool sliding = false;  // full sliding
 };
+using BrushOutput = BasicBrushOutput<double>;
 
 BrushOutput gim_brush(const BrushInput& in);
+// The same for any scalar T (the automatic differentiation of GimTyre's loads).
+template <class T>
+BasicBrushOutput<T> gim_brush(const BasicBrushInput<T>& in);
 
 struct GimTyreProperties {
   double r1 = 0.3;        // outer radius (m)
@@ -83,18 +90,34 @@ class GimTyre : public ForceElement {
   GimTyre(std::string name, int body, const GimTyreProperties& p, const Plane& ground = {});
   std::string name() const override { return "Gim tyre '" + name_ + "'"; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+  // Exact: the law differentiated automatically with respect to the wheel's motion
+  // (add_wrench_derivatives), P moving with the wheel's centre and axis; on the side of each
+  // switch where the state is (contact, Fz > 0, adhesion or full sliding, the adhesion
+  // length clamped, |vC.x| against 1e-3, the slip against 1 in mu; at zero slip, mu's cone,
+  // the derivative 0).
+  LoadDerivatives load_derivatives() const override {
+    return LoadDerivatives::exact_with_kinematics_derivatives;
+  }
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
 
-  struct Result {
-    Vec3 contact_point = Vec3::Zero();
-    Vec3 x = Vec3::Zero(), y = Vec3::Zero();  // contact frame axes
-    double penetration = 0.0, slip_long = 0.0, slip_lat = 0.0, camber = 0.0, friction = 0.0;
-    double Fz = 0.0;
-    BrushOutput brush;
-    Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // global, at the contact point
+  template <class T>
+  struct BasicResult {
+    Vec3T<T> contact_point = Vec3T<T>::Zero();
+    Vec3T<T> x = Vec3T<T>::Zero(), y = Vec3T<T>::Zero();  // contact frame axes
+    T penetration = T(0.0), slip_long = T(0.0), slip_lat = T(0.0), camber = T(0.0),
+      friction = T(0.0);
+    T Fz = T(0.0);
+    BasicBrushOutput<T> brush;
+    Vec3T<T> force = Vec3T<T>::Zero(), moment = Vec3T<T>::Zero();  // global, at the contact point
   };
+  using Result = BasicResult<double>;
   Result evaluate(const Kinematics& k) const;
 
  private:
+  template <class T>
+  BasicResult<T> evaluate(const BodyMotion<T>& wheel) const;
+
   std::string name_;
   int body_;
   GimTyreProperties p_;

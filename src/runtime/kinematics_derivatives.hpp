@@ -12,6 +12,9 @@
 // since ∂r/∂q_k = dw_ik × r (∂R/∂q_k = skew(dw_ik)·R), and ∂Ṗ/∂qd_k = J_k.
 // Points of the ground have none of them (zero).
 
+#include <Eigen/Core>
+#include <array>
+#include <unsupported/Eigen/AutoDiff>
 #include <vector>
 
 #include <symdyn/runtime/kinematics.hpp>
@@ -57,5 +60,55 @@ class KinematicsDerivatives {
   int nq_ = 0;
   std::vector<double> dv_dq_, dw_dq_, ddv_dq_, ddw_dq_;
 };
+
+// Force elements whose law is too long to differentiate by hand (bushings,
+// contacts, tyres) write it once for a scalar T and are differentiated by
+// forward-mode automatic differentiation (exact to rounding) with respect to
+// the motions of the bodies they act on, then by the chain rule through the
+// kinematics' derivatives (add_wrench_derivatives).
+//
+// The motion of a body: position x of G, rotation R, velocities v and w. Its
+// perturbation (12 numbers): δx, δθ (R → (I + skew(δθ))·R), δv, δw; with
+// respect to q_k they are dv_k, dw_k, ∂v/∂q_k, ∂w/∂q_k; to qd_k, 0, 0, dv_k, dw_k.
+template <int Bodies>
+using MotionDual = Eigen::AutoDiffScalar<Eigen::Matrix<double, 12 * Bodies, 1>>;
+template <class T>
+using Vec3T = Eigen::Matrix<T, 3, 1>;
+template <class T>
+using Mat3T = Eigen::Matrix<T, 3, 3>;
+
+template <class T>
+struct BodyMotion {
+  Vec3T<T> x, v, w;
+  Mat3T<T> R;
+  // Of a point given in body coordinates from G / a global point X.
+  Vec3T<T> to_global(const Vec3& p) const { return R * p.cast<T>(); }
+  Vec3T<T> point(const Vec3& p) const { return x + to_global(p); }
+  Vec3T<T> velocity_at(const Vec3T<T>& X) const { return v + w.cross(X - x); }
+};
+
+// The motion of `body` (the ground: at rest, identity) from the kinematics,
+// with no derivatives or seeded as the slot-th of Bodies bodies (the ground:
+// constant).
+BodyMotion<double> body_motion(const Kinematics& k, int body);
+template <int Bodies>
+BodyMotion<MotionDual<Bodies>> seeded_motion(const Kinematics& k, int body, int slot);
+
+// A force at G and a moment (global axes) on a body.
+template <class T>
+struct Wrench {
+  Vec3T<T> force = Vec3T<T>::Zero(), moment = Vec3T<T>::Zero();
+};
+
+// Adds to dQ_dq and dQ_dqd (nq x nq) the derivatives of Q_j = Σ_a F_a·dv_aj + M_a·dw_aj
+// of the wrenches (F_a, M_a) on bodies[a] (none on the ground), each a function of the
+// motions of the bodies, bodies[a]'s seeded as slot a (seeded_motion):
+//   ∂Q_j/∂q_k  = Σ_a ∂W_a/∂q_k·(dv_aj, dw_aj) + F_a·∂dv_aj/∂q_k + M_a·∂dw_aj/∂q_k,
+//   ∂Q_j/∂qd_k = Σ_a ∂W_a/∂qd_k·(dv_aj, dw_aj).
+template <int Bodies>
+void add_wrench_derivatives(const Kinematics& k, const KinematicsDerivatives& dk,
+                            const std::array<int, Bodies>& bodies,
+                            const std::array<Wrench<MotionDual<Bodies>>, Bodies>& wrenches,
+                            Eigen::MatrixXd& dQ_dq, Eigen::MatrixXd& dQ_dqd);
 
 }  // namespace symdyn::runtime

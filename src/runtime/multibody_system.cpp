@@ -544,6 +544,7 @@ std::string MultibodySystem::jacobian_method() const {
 }
 
 bool MultibodySystem::exact_loads(const ForceElement& e) const {
+  if (!use_exact_loads_) return false;
   switch (e.load_derivatives()) {
     case LoadDerivatives::exact:
       return true;

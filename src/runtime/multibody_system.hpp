@@ -125,6 +125,9 @@ class MultibodySystem : public DynamicSystem {
   // default); false: central differences of the residual, as without them
   // (to compare the two on one model).
   void set_exact_jacobians(bool exact) { use_exact_jacobians_ = exact; }
+  // Whether the force elements' own exact derivatives are used (the default); false: every
+  // element's part by central differences of its Q (to compare the two).
+  void set_exact_load_derivatives(bool exact) { use_exact_loads_ = exact; }
   // Where exact_jacobians() (and there are no extra states, whose equations
   // are not differentiated): -M⁻¹·K and -M⁻¹·C.
   bool exact_acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
@@ -241,6 +244,7 @@ class MultibodySystem : public DynamicSystem {
   // no kinematics read): accelerations() calls it inline, no dispatch per call.
   ForwardDynamicsFn forward_alone_ = nullptr;
   bool use_exact_jacobians_ = true;
+  bool use_exact_loads_ = true;
   bool mass_factored_ = false;  // solver_ holds M at the state of the last accelerations()
 
   // Workspace: sized at construction, reused by every evaluation.

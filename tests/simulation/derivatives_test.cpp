@@ -2,7 +2,9 @@
 // dynamics_derivatives from the emitted inverse_dynamics_derivatives) against
 // differences of the residual and of the accelerations with Richardson's
 // extrapolation, on every generated model that has them, with force elements;
-// and the double pendulum's modes against their closed forms.
+// the exact derivatives of the bushing, contact and tyres in each regime of
+// their laws against Richardson differences of their generalized forces; and
+// the double pendulum's modes against their closed forms.
 
 #include <fmt/format.h>
 
@@ -18,8 +20,11 @@
 
 #include "all_models.hpp"
 #include "random_state.hpp"
+#include <symdyn/runtime/bushing.hpp>
+#include <symdyn/runtime/contact.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
+#include <symdyn/runtime/gim_tyre.hpp>
 #include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
@@ -90,6 +95,63 @@ void add_force_elements(MultibodySystem& system) {
       KinematicsLevel::none);
   system.add<PointSpringDamper>("strut", BodyPoint{0, Vec3(0.1, 0.0, 0.0)},
                                 BodyPoint{ground, Vec3(0.0, 1.0, 0.5)}, 200.0, 3.0, 0.4);
+}
+
+// The elements' exact dQ/dq and dQ/dqd (K and C of the bare model less those of the
+// model with them: f = tau - Q) against Richardson differences of their generalized
+// forces, the steps scaled by `step` (below 1 at states near a switch of a law, so that
+// the differences stay on its side).
+void check_load_derivatives(MultibodySystem& with, MultibodySystem& bare, const State& s,
+                            double step = 1.0) {
+  REQUIRE(with.jacobian_method() == "exact (emitted derivatives)");
+  const int n = with.num_coordinates();
+  const Vector zero = Vector::Zero(n);
+  Matrix M, C, K, Cb, Kb;
+  with.jacobians(s, zero, M, C, K);
+  bare.jacobians(s, zero, M, Cb, Kb);
+  const Matrix dQ_dq = Kb - K, dQ_dqd = Cb - C;
+  Matrix Dq(n, n), Dqd(n, n);
+  for (int j = 0; j < n; ++j) {
+    const auto Q_of = [&](Vector State::*member) {
+      return [&, member](double x) {
+        State p = s;
+        (p.*member)(j) = x;
+        Vector Q;
+        with.applied_forces(p, Q);
+        return Q;
+      };
+    };
+    Dq.col(j) = richardson(Q_of(&State::q), s.q(j), step);
+    Dqd.col(j) = richardson(Q_of(&State::qd), s.qd(j), step);
+  }
+  const double scale = std::max({1.0, max_abs(Dq), max_abs(Dqd)});
+  INFO("dQ/dq\n"
+       << dQ_dq << "\ndifferences\n"
+       << Dq << "\ndQ/dqd\n"
+       << dQ_dqd << "\ndifferences\n"
+       << Dqd);
+  CHECK(max_abs(dQ_dq - Dq) < 1e-7 * scale);
+  CHECK(max_abs(dQ_dqd - Dqd) < 1e-7 * scale);
+}
+
+// robot3d (turret, arm, gripper; 5 coordinates) at a random state, bare and with the
+// element under test.
+struct Rig {
+  MultibodySystem bare{Model::from<symdyn_generated::robot3d_absolute>()};
+  MultibodySystem with{Model::from<symdyn_generated::robot3d_absolute>()};
+  State s;
+  explicit Rig(std::mt19937& rng) : s(random_state(bare, rng)) {}
+  const Kinematics& kinematics() { return bare.evaluate_kinematics(s); }
+  // Velocities scaled (the model is scleronomic: v and w are linear in qd).
+  void scale_speeds(double factor) { s.qd *= factor; }
+};
+
+constexpr int gripper = 2;
+const Vec3 tilted_normal = Vec3(0.2, -0.3, 1.0).normalized();
+
+// The plane of normal n placing the element's contact point `lowest` at penetration pen.
+Plane plane_at(const Vec3& lowest, const Vec3& n, double pen) {
+  return {lowest + pen * n, n};
 }
 
 }  // namespace
@@ -318,4 +380,240 @@ TEST_CASE(
   INFO("A\n" << d.A << "\ndifferences\n" << A << "\nB\n" << d.B << "\ndifferences\n" << B);
   CHECK(max_abs(d.A - A) < 1e-9 * std::max(1.0, max_abs(A)));
   CHECK(max_abs(d.B - B) < 1e-9 * std::max(1.0, max_abs(B)));
+}
+
+TEST_CASE("a bushing's exact load derivatives equal Richardson differences",
+          "[models][derivatives][elements]") {
+  BushingProperties p;
+  p.stiffness = Vec3(300.0, 200.0, 500.0);
+  p.damping = Vec3(3.0, 2.0, 4.0);
+  p.rotational_stiffness = Vec3(40.0, 60.0, 30.0);
+  p.rotational_damping = Vec3(0.5, 0.3, 0.8);
+  p.preload_force = Vec3(5.0, -3.0, 2.0);
+  p.preload_torque = Vec3(0.4, -0.2, 0.1);
+  const Mat3 axes = Eigen::AngleAxisd(0.4, Vec3(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
+  std::mt19937 rng(11);
+  for (const char* order : {"xyz", "zyx", "yxz"}) {
+    for (const int a : {ground, 0}) {
+      Rig rig(rng);
+      rig.with.add<Bushing>("mount", BodyFrame{a, Vec3(0.1, 0.05, 0.2), axes},
+                            BodyFrame{gripper, Vec3(-0.05, 0.02, 0.1), axes.transpose()}, p, order);
+      INFO("order " << order << ", frame A on body " << a);
+      check_load_derivatives(rig.with, rig.bare, rig.s);
+    }
+  }
+}
+
+namespace {
+
+// A random state of the rig and the plane of normal ±tilted_normal at penetration pen of
+// the contact point of make(plane)'s element, the sign that makes the contact point's
+// velocity separate from the plane (vP·n > 0) or approach it, as asked (neither depends
+// on the plane's point).
+template <class Make>
+Plane place(Rig& rig, std::mt19937& rng, double pen, bool separating, Make make) {
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    rig.s = random_state(rig.bare, rng);
+    const Kinematics& k = rig.kinematics();
+    for (const double sign : {1.0, -1.0}) {
+      const Vec3 n = sign * tilted_normal;
+      const Vec3 P = make(Plane{Vec3::Zero(), n})->evaluate(k).contact_point;
+      if ((k.velocity_at(gripper, P).dot(n) > 0.0) == separating) return plane_at(P, n, pen);
+    }
+  }
+  FAIL("no state with the contact point " << (separating ? "separating" : "approaching"));
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("a plane contact's exact load derivatives equal Richardson differences in each regime",
+          "[models][derivatives][elements]") {
+  ContactProperties base;
+  base.stiffness = 1e5;
+  base.stiffness_exponent = 1.5;
+  base.damping = 2e3;
+  base.damping_exponent = 1.0;
+  base.friction = 0.6;
+  base.slip_speed = 1e-3;
+  const Vec3 centre(0.1, 0.02, -0.05);
+  const double radius = 0.05;
+  std::mt19937 rng(5);
+  const auto make = [&](const Plane& plane, const ContactProperties& p) {
+    return std::make_shared<PlaneContact>("ball", gripper, centre, radius, plane, p);
+  };
+  // A contact whose properties tune(p, vC, n) sets from the contact point's velocity.
+  const auto run = [&](const char* regime, double pen, bool separating, double step, auto tune) {
+    INFO("regime: " << regime);
+    Rig rig(rng);
+    const Plane plane =
+        place(rig, rng, pen, separating, [&](const Plane& at) { return make(at, base); });
+    const Kinematics& k = rig.kinematics();
+    const Vec3 C = make(plane, base)->evaluate(k).contact_point;
+    ContactProperties p = base;
+    tune(p, Vec3(k.velocity_at(gripper, C)), plane.normal);
+    const auto contact = make(plane, p);
+    rig.with.add(contact);
+    const PlaneContact::Result r = contact->evaluate(rig.kinematics());
+    CHECK(std::abs(r.penetration - pen) < 1e-12);
+    check_load_derivatives(rig.with, rig.bare, rig.s, step);
+    return r;
+  };
+  const auto keep = [](ContactProperties&, const Vec3&, const Vec3&) {};
+  // The damping that makes N = 0: Kn pen^pk = Cd pen^pd (vC·n) for a separating point.
+  const auto damping_factor = [&](double factor, double pen) {
+    return [=](ContactProperties& p, const Vec3& vC, const Vec3& n) {
+      p.damping = factor * p.stiffness * std::pow(pen, p.stiffness_exponent) /
+                  (std::pow(pen, p.damping_exponent) * vC.dot(n));
+    };
+  };
+  const auto slip_speed_factor = [&](double factor, FrictionRegularization reg) {
+    return [=](ContactProperties& p, const Vec3& vC, const Vec3& n) {
+      p.slip_speed = factor * (vC - vC.dot(n) * n).norm();
+      p.regularization = reg;
+    };
+  };
+  using enum FrictionRegularization;
+  CHECK(run("apart", -0.01, false, 1.0, keep).normal_force == 0.0);
+  CHECK(run("apart, near touching", -1e-4, false, 0.01, keep).normal_force == 0.0);
+  CHECK(run("touching, approaching", 0.02, false, 1.0, keep).normal_force > 0.0);
+  CHECK(run("touching, separating", 0.02, true, 1.0, keep).normal_force > 0.0);
+  CHECK(run("just touching", 1e-3, false, 0.1, keep).normal_force > 0.0);
+  CHECK(run("pulling (N clipped to 0)", 0.02, true, 1.0, damping_factor(2.0, 0.02)).normal_force ==
+        0.0);
+  CHECK(run("N just above 0", 0.02, true, 0.1, damping_factor(0.9, 0.02)).normal_force > 0.0);
+  CHECK(run("N just clipped", 0.02, true, 0.1, damping_factor(1.1, 0.02)).normal_force == 0.0);
+  CHECK(run("linear friction below v_s", 0.02, false, 1.0, slip_speed_factor(3.0, linear))
+            .normal_force > 0.0);
+  CHECK(run("linear friction just below v_s", 0.02, false, 0.1, slip_speed_factor(1.05, linear))
+            .normal_force > 0.0);
+  CHECK(run("linear friction just above v_s", 0.02, false, 0.1, slip_speed_factor(0.95, linear))
+            .normal_force > 0.0);
+  CHECK(run("smooth friction", 0.02, false, 1.0, slip_speed_factor(0.5, smooth)).normal_force >
+        0.0);
+}
+
+TEST_CASE("a simple tyre's exact load derivatives equal Richardson differences in each regime",
+          "[models][derivatives][elements]") {
+  SimpleTyreProperties base;  // the trike's: R 0.3, k 2e5, c 500, mu 0.9, eps 0.05
+  base.centre = Vec3(0.05, 0.0, 0.0);
+  base.axis = Vec3(0.1, 1.0, 0.2).normalized();
+  std::mt19937 rng(6);
+  const auto make = [&](const Plane& plane, const SimpleTyreProperties& p) {
+    return std::make_shared<SimpleTyre>("wheel", gripper, p, plane);
+  };
+  // damping_factor > 0: the damping times that which makes N = k pen - c vP·n = 0.
+  const auto run = [&](const char* regime, double pen, bool separating, double step,
+                       double damping_factor = 0.0) {
+    INFO("regime: " << regime);
+    Rig rig(rng);
+    const Plane plane =
+        place(rig, rng, pen, separating, [&](const Plane& at) { return make(at, base); });
+    SimpleTyreProperties p = base;
+    if (damping_factor > 0.0) {
+      const Vec3 vP = make(plane, base)->evaluate(rig.kinematics()).contact_velocity;
+      p.damping = damping_factor * p.stiffness * pen / vP.dot(plane.normal);
+    }
+    const auto tyre = make(plane, p);
+    rig.with.add(tyre);
+    const SimpleTyre::Result r = tyre->evaluate(rig.kinematics());
+    CHECK(std::abs(r.penetration - pen) < 1e-12);
+    check_load_derivatives(rig.with, rig.bare, rig.s, step);
+    return r;
+  };
+  CHECK(run("off the ground", -0.01, false, 1.0).normal_force == 0.0);
+  CHECK(run("just off the ground", -1e-4, false, 0.01).normal_force == 0.0);
+  CHECK(run("on the ground, approaching", 0.01, false, 1.0).normal_force > 0.0);
+  CHECK(run("on the ground, separating", 0.01, true, 1.0).normal_force > 0.0);
+  CHECK(run("just touching", 1e-3, false, 0.1).normal_force > 0.0);
+  CHECK(run("pulling (N clipped to 0)", 0.01, true, 1.0, 2.0).normal_force == 0.0);
+  CHECK(run("N just above 0", 0.01, true, 0.1, 0.9).normal_force > 0.0);
+  CHECK(run("N just clipped", 0.01, true, 0.1, 1.1).normal_force == 0.0);
+}
+
+TEST_CASE("a Gim tyre's exact load derivatives equal Richardson differences in each regime",
+          "[models][derivatives][elements]") {
+  GimTyreProperties base;  // r1 0.3, r2 0.1, Kz 2e5, Cz 500, Fznom 3000, mu 1 / 0.8
+  base.centre = Vec3(0.05, 0.0, 0.0);
+  base.axis = Vec3(0.1, 1.0, 0.2).normalized();
+  std::mt19937 rng(8);
+  const auto make = [&](const Plane& plane, const GimTyreProperties& p) {
+    return std::make_shared<GimTyre>("wheel", gripper, p, plane);
+  };
+  // A tyre whose properties (and the rig's speeds) tune(p, rig, plane) sets.
+  const auto run = [&](const char* regime, double pen, bool separating, double step, auto tune) {
+    INFO("regime: " << regime);
+    Rig rig(rng);
+    const Plane plane =
+        place(rig, rng, pen, separating, [&](const Plane& at) { return make(at, base); });
+    GimTyreProperties p = base;
+    tune(p, rig, plane);
+    const auto tyre = make(plane, p);
+    rig.with.add(tyre);
+    const GimTyre::Result r = tyre->evaluate(rig.kinematics());
+    CHECK(std::abs(r.penetration - pen) < 1e-12);
+    check_load_derivatives(rig.with, rig.bare, rig.s, step);
+    return r;
+  };
+  const auto keep = [](GimTyreProperties&, Rig&, const Plane&) {};
+  // The vertical damping times that which makes Fz = Kz pen - sqrt(Kz pen / Fznom) Cz vP·n = 0.
+  const auto damping_factor = [&](double factor) {
+    return [=, &make](GimTyreProperties& p, Rig& rig, const Plane& plane) {
+      const GimTyre::Result r = make(plane, p)->evaluate(rig.kinematics());
+      const double elastic = p.Kz * r.penetration;
+      const Vec3 vP = rig.kinematics().velocity_at(gripper, r.contact_point);
+      p.Cz = factor * elastic / (std::sqrt(elastic / p.Fznom) * vP.dot(plane.normal));
+    };
+  };
+  // The slip stiffnesses scaled to make |(X, Y + 3 G)| / (3 mu Fz) = ratio: full sliding
+  // from 1 on (every stiffness is proportional to its nominal value).
+  const auto sliding_ratio = [&](double ratio) {
+    return [=, &make](GimTyreProperties& p, Rig& rig, const Plane& plane) {
+      const GimTyre::Result r = make(plane, p)->evaluate(rig.kinematics());
+      const double load = r.Fz / p.Fznom;
+      const double X = p.Clongnom * load * r.slip_long, Y = p.Clatnom * load * r.slip_lat;
+      const double G = p.Ccambernom * load * r.camber;
+      const double factor = ratio * 3.0 * r.friction * r.Fz / std::hypot(X, Y + 3.0 * G);
+      p.Clongnom *= factor;
+      p.Clatnom *= factor;
+      p.Ccambernom *= factor;
+    };
+  };
+  // The speeds scaled to make the centre's forward speed |vC·x| = speed (V = max(it, 1e-3)).
+  const auto forward_speed = [&](double speed) {
+    return [=, &make](GimTyreProperties& p, Rig& rig, const Plane& plane) {
+      const Kinematics& k = rig.kinematics();
+      const GimTyre::Result r = make(plane, p)->evaluate(k);
+      const Vec3 C = k.point_position(gripper, p.centre);
+      rig.scale_speeds(speed / std::abs(k.velocity_at(gripper, C).dot(r.x)));
+    };
+  };
+  CHECK(run("off the ground", -0.01, false, 1.0, keep).Fz == 0.0);
+  CHECK(run("just off the ground", -1e-4, false, 0.01, keep).Fz == 0.0);
+  CHECK(run("just touching", 1e-3, false, 0.1, keep).Fz > 0.0);
+  CHECK(run("pulling (Fz clipped to 0)", 0.01, true, 1.0, damping_factor(2.0)).Fz == 0.0);
+  CHECK(run("Fz just above 0", 0.01, true, 0.1, damping_factor(0.9)).Fz > 0.0);
+  CHECK(run("Fz just clipped", 0.01, true, 0.1, damping_factor(1.1)).Fz == 0.0);
+  for (const double ratio : {0.3, 0.97}) {
+    const GimTyre::Result r =
+        run("adhesion", 0.01, false, ratio < 0.9 ? 1.0 : 0.1, sliding_ratio(ratio));
+    CHECK_FALSE(r.brush.sliding);
+    CHECK(r.brush.adhesion > 0.0);
+    CHECK(r.brush.adhesion < 1.0);
+  }
+  CHECK(run("full sliding, just", 0.01, false, 0.1, sliding_ratio(1.03)).brush.sliding);
+  CHECK(run("at the forward speed's floor", 0.01, false, 0.01, forward_speed(5e-4)).Fz > 0.0);
+  CHECK(run("just below the floor", 0.01, false, 0.01, forward_speed(0.95e-3)).Fz > 0.0);
+  CHECK(run("just above the floor", 0.01, false, 0.01, forward_speed(1.05e-3)).Fz > 0.0);
+  // Random states at nominal properties: full sliding, mu on both sides of the slip of 1.
+  int slip_below_1 = 0, slip_above_1 = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const GimTyre::Result r = run("nominal", 0.01, false, 1.0, keep);
+    CHECK(r.Fz > 0.0);
+    const double slip = std::hypot(r.slip_long, r.slip_lat);
+    slip_below_1 += slip < 0.99;
+    slip_above_1 += slip > 1.01;
+  }
+  CHECK(slip_below_1 > 0);
+  CHECK(slip_above_1 > 0);
 }

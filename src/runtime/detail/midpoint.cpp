@@ -8,6 +8,7 @@
 #include <symdyn/runtime/detail/midpoint.hpp>
 #include <symdyn/runtime/detail/stepping_integrator.hpp>
 #include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
 
@@ -29,6 +30,8 @@ class Midpoint final : public detail::SteppingIntegrator {
   std::string map(double h, const Vector& z, Vector& Gz);
   double change(const Vector& dz, const Vector& z) const;
   std::string factor_newton_matrix(double h, const Vector& z, const Vector& Gz);
+  std::string factor_exact_newton_matrix(double h);
+  void mass_product_derivative(const State& at, const Vector& x, Matrix& M, Matrix& B);
 
   void mass_matrix(double t, const Vector& q, const Vector& y, Matrix& M);
   void mass_times(double t, const Vector& q, const Vector& y, const Vector& x, Vector& Mx);
@@ -57,6 +60,12 @@ class Midpoint final : public detail::SteppingIntegrator {
   Vector z_, Gz_, dz_, newton_rhs_;      // (2n + m) the iteration's unknown, map, update
   Vector z_probe_, Gz_probe_;            // (2n + m) the difference Jacobian's probes
   Matrix newton_matrix_;                 // (2n + m x 2n + m) I - dG/dz
+  // Whether the Newton matrix comes from the system's exact Jacobians (m = 0), and their
+  // workspaces (n x n).
+  bool exact_ = false;
+  Matrix Mj_, C_, K_, B_, M_plus_, B_plus_, M_minus_, B_minus_, M_inverse_;
+  Matrix dv_dq_, dp_dq_, dp_dv_;
+  SpdSolver exact_mass_;  // of M at the midpoint, for M⁻¹
 };
 
 // The power of two nearest to 1e6·max(1, |f0|)/|x|, f0 the residual at rest:
@@ -142,6 +151,9 @@ void Midpoint::start(const State& initial) {
   const std::string bad = detail::non_finite_value(*system_, current_, qdd_, yd_);
   if (!bad.empty()) throw NumericError(detail::at_time(initial.t, bad));
   momentum_rate(initial.t, initial.q, initial.qd, initial.y, qdd_, M_, pdot_);
+  Matrix dqdd_dq, dqdd_dqd;
+  exact_ = m_ == 0 && system_->exact_acceleration_derivatives(current_, qdd_, dqdd_dq, dqdd_dqd);
+  if (exact_) exact_mass_ = SpdSolver(n_);
 }
 
 // qd1 = M(q1)⁻¹·p1 and (qdd1, yd1) at the step end; "" or what went wrong.
@@ -218,9 +230,67 @@ std::string Midpoint::factor_newton_matrix(double h, const Vector& z, const Vect
   return {};
 }
 
+// ∂(M(q)·x)/∂q = K(q, v, x) - K(q, v, 0) (f is linear in qdd, with coefficient M(q)),
+// and M, at the state `at`.
+void Midpoint::mass_product_derivative(const State& at, const Vector& x, Matrix& M, Matrix& B) {
+  system_->jacobians(at, zero_n_, M, C_, K_);
+  system_->jacobians(at, x, M, C_, B);
+  B -= K_;
+}
+
+// I - dG/dz from the system's exact Jacobians at the midpoint of the last map (qm_, vm_;
+// m = 0). With ṗ(q, v) = -f(q, v, 0) + Ṁ(q, v)·v, B = ∂(M·vm)/∂q, and Ṁ and ∂B/∂q·vm by
+// central differences along vm as in momentum_rate (whose Ṁ·v they differentiate):
+//   ∂vm/∂q1 = -M⁻¹·B/2,  ∂vm/∂p1 = M⁻¹/2,
+//   ∂ṗ/∂q = -K + ∂B/∂q·vm,  ∂ṗ/∂v = -C + Ṁ + B  (K, C at qdd = 0),
+//   ∂ṗm/∂q1 = ∂ṗ/∂q/2 + ∂ṗ/∂v·∂vm/∂q1,  ∂ṗm/∂p1 = ∂ṗ/∂v·M⁻¹/2.
+std::string Midpoint::factor_exact_newton_matrix(double h) {
+  probe_.t = current_.t + 0.5 * h;
+  probe_.qd = vm_;
+  probe_.y = ym_;
+  const double speed = vm_.cwiseQuotient(q_scale_).lpNorm<Eigen::Infinity>();
+  const double d = speed > 0.0 ? std::cbrt(eps) / speed : 0.0;
+  try {
+    M_plus_.setZero(n_, n_);
+    B_plus_.setZero(n_, n_);
+    M_minus_.setZero(n_, n_);
+    B_minus_.setZero(n_, n_);
+    if (speed > 0.0) {
+      probe_.q = qm_ + d * vm_;
+      mass_product_derivative(probe_, vm_, M_plus_, B_plus_);
+      probe_.q = qm_ - d * vm_;
+      mass_product_derivative(probe_, vm_, M_minus_, B_minus_);
+    }
+    probe_.q = qm_;
+    mass_product_derivative(probe_, vm_, Mj_, B_);  // and K, C at qdd = 0 (C_ and K_)
+  } catch (const NumericError& e) {
+    return detail::at_time(probe_.t, e.what());
+  }
+  const double over_2d = speed > 0.0 ? 0.5 / d : 0.0;
+  if (!exact_mass_.factor(Mj_)) {
+    return detail::at_time(probe_.t, "the mass matrix at the midpoint is not positive definite");
+  }
+  M_inverse_.setIdentity(n_, n_);
+  exact_mass_.solve_in_place(M_inverse_);
+  dv_dq_.noalias() = -0.5 * M_inverse_ * B_;
+  dp_dq_ = -K_ + over_2d * (B_plus_ - B_minus_);
+  dp_dv_ = -C_ + over_2d * (M_plus_ - M_minus_) + B_;
+  newton_matrix_.setIdentity(2 * n_, 2 * n_);
+  newton_matrix_.topLeftCorner(n_, n_) -= h * dv_dq_;
+  newton_matrix_.topRightCorner(n_, n_) -= (0.5 * h) * M_inverse_;
+  newton_matrix_.bottomLeftCorner(n_, n_).noalias() -= (0.5 * h) * dp_dq_;
+  newton_matrix_.bottomLeftCorner(n_, n_).noalias() -= h * dp_dv_ * dv_dq_;
+  newton_matrix_.bottomRightCorner(n_, n_).noalias() -= (0.5 * h) * dp_dv_ * M_inverse_;
+  if (!newton_matrix_.allFinite()) {
+    return detail::at_time(probe_.t, "the midpoint's Newton matrix is not finite");
+  }
+  newton_lu_.compute(newton_matrix_);
+  return {};
+}
+
 // Fixed-point iteration z <- G(z), which contracts by about h·|dG/dz|/2; when it
-// contracts slowly (fast motion, large step), Newton on z - G(z) = 0 with a
-// difference Jacobian takes over.
+// contracts slowly (fast motion, large step), Newton on z - G(z) = 0 takes over, its
+// matrix from the exact Jacobians (exact_) or by differences of the map.
 detail::StepOutcome Midpoint::attempt(double h, bool) {
   const double t1 = current_.t + h;
   // Guess: q advanced by Taylor, p and y by the last rates.
@@ -255,7 +325,8 @@ detail::StepOutcome Midpoint::attempt(double h, bool) {
     }
     if (!newton && k >= 3 && c > 0.25 * previous_change) {
       bad = map(h, z, Gz);
-      if (bad.empty()) bad = factor_newton_matrix(h, z, Gz);
+      if (bad.empty())
+        bad = exact_ ? factor_exact_newton_matrix(h) : factor_newton_matrix(h, z, Gz);
       if (!bad.empty()) return {false, h, bad};
       ++stats_.jacobian_evaluations;
       newton = true;

@@ -11,13 +11,15 @@
 //   p1 = p0 + h·(M(qm)·qdd_m + Ṁ(qm, vm)·vm)      (ṗ = M·qdd + Ṁ·qd)
 //   y1 = y0 + h·yd_m
 //
-// solved by fixed-point iteration, switching to Newton with a difference Jacobian
-// when it contracts slowly (fast motion, large step), until the update stops
+// solved by fixed-point iteration, switching to Newton when it contracts slowly (fast
+// motion, large step): its matrix I - dG/dz from the system's exact Jacobians where it
+// has them (DynamicSystem::exact_acceleration_derivatives) and no extra states, else by
+// forward differences of the map; until the update stops
 // shrinking at the level of rounding (a loose solve would break the symplectic map),
 // at most options.max_newton_iterations iterations (counted as newton_iterations;
-// Jacobians as jacobian_evaluations). Only the
-// DynamicSystem interface is used: M·x = (f(q, 0, λ·x) - f(q, 0, 0))/λ (f is linear
-// in qdd; λ, a large power of two, keeps the rounding relative to M·x), so M costs
+// Jacobians as jacobian_evaluations). Only the DynamicSystem interface is used (its
+// jacobians() for the exact Newton matrix, midpoint.cpp): M·x = (f(q, 0, λ·x) - f(q, 0, 0))/λ
+// (f is linear in qdd; λ, a large power of two, keeps the rounding relative to M·x), so M costs
 // n + 1 residuals; Ṁ·v is a central difference of M(q)·v along v
 // (4 residuals), with a step of cbrt(eps) relative to q_scale (1 by default).
 //
