@@ -65,6 +65,9 @@ struct Options {
   // kinematics force elements at body points read (kinematics_derivatives,
   // growing as nbody·nq²: chain_64's are too long to compile quickly).
   Derivatives derivatives = Derivatives::none;
+  // Also emit joint_reactions: the wrench every body's joint transmits
+  // (docs/emitted_interface.md), which the runtime reports where emitted.
+  bool joint_reactions = false;
   // recursive: forward_dynamics where the articulated-body algorithm applies
   // (else the mass matrix, GeneratedCode::dynamics says why).
   DynamicsMethod dynamics = DynamicsMethod::automatic;
