@@ -85,10 +85,10 @@ struct Options {
   std::vector<std::string> entry_points;
 };
 
-// One emitted function: its input arrays (among t, q, qd, qdd, param, in
-// order), its output arrays, and the program it runs (the instructions of
-// the parts it calls, when shared), so that tests can run the interpreter on
-// exactly what was emitted.
+// One emitted function: its input arrays (among t, q, qd, qdd, tau, param,
+// F_applied, M_applied, in order), its output arrays, and the program it runs
+// (the instructions of the parts it calls, when shared), so that tests can
+// run the interpreter on exactly what was emitted.
 struct EmittedFunction {
   std::string name;
   std::vector<std::string> inputs;

@@ -14,6 +14,7 @@
 #include "double_pendulum_relative.hpp"
 #include "simulation/random_state.hpp"
 #include "slider_crank_dependent.hpp"
+#include "trike.hpp"
 #include <symdyn/codegen/generate.hpp>
 #include <symdyn/model/model.hpp>
 #include <symdyn/runtime/errors.hpp>
@@ -249,6 +250,36 @@ TEST_CASE("joint reactions: the slider-crank's pins against a free-body diagram"
   }
 }
 
+// A torque on a coordinate (a motor) is not a body load: it is what the joint
+// transmits about its axis.
+class ElbowTorque : public ForceElement {
+ public:
+  std::string name() const override { return "elbow torque"; }
+  KinematicsLevel reads() const override { return KinematicsLevel::none; }
+  void apply(const State&, const Kinematics&, Loads& loads) const override {
+    loads.add_generalized(1, kTorque);
+  }
+  static constexpr double kTorque = 3.0;
+};
+
+TEST_CASE("joint reactions: a hinge's moment about its axis is the torque driving it",
+          "[reactions]") {
+  // double_pendulum relative: rod2 hinged on rod1 about z by q1; free, it
+  // transmits no moment about z at the elbow, driven, exactly the torque.
+  MultibodySystem system(Model::from<gen::double_pendulum_relative>());
+  const int rod2 = system.model().body_index("rod2");
+  std::mt19937 rng(5);
+  for (const bool driven : {false, true}) {
+    if (driven) system.add<ElbowTorque>();
+    for (int trial = 0; trial < 5; ++trial) {
+      const State s = symdyn::testing::random_state(system, rng);
+      Matrix reaction;
+      system.joint_reactions(s, reaction);
+      CHECK(reaction(5, rod2) == Approx(driven ? ElbowTorque::kTorque : 0.0).margin(1e-12));
+    }
+  }
+}
+
 TEST_CASE("joint reactions: named components, and a model emitted without them", "[reactions]") {
   MultibodySystem system(Model::from<gen::double_pendulum_relative>());
   CHECK(system.model().has_joint_reactions());
@@ -260,4 +291,8 @@ TEST_CASE("joint reactions: named components, and a model emitted without them",
   CHECK(reaction.rows() == 6);
   CHECK(reaction.cols() == 2);
   CHECK(std::string(Model::kReactionComponents[5]) == "Mz");
+  MultibodySystem trike(Model::from<gen::trike>());
+  CHECK_FALSE(trike.model().has_joint_reactions());
+  CHECK_THROWS_WITH(trike.joint_reactions(trike.initial_state(), reaction),
+                    Catch::Contains("without joint_reactions") && Catch::Contains("REACTIONS"));
 }
