@@ -1,6 +1,6 @@
 # symdyn_add_model(<target> <model.cpp> [MODEL <name>] [VARIANT <v>]
 #                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM]
-#                  [DERIVATIVES | DYNAMICS_DERIVATIVES] [PART_SIZE n]
+#                  [DERIVATIVES | DYNAMICS_DERIVATIVES] [REACTIONS] [PART_SIZE n]
 #                  [DYNAMICS auto|mass-matrix|recursive] [ONLY <entry point>...]
 #                  [PYTHON] [SIM_MODULE])
 #
@@ -21,6 +21,8 @@
 # linearization and modes, control); DYNAMICS_DERIVATIVES those of the equations
 # of motion alone (--dynamics-derivatives: they grow as nq², the kinematics' as
 # nbody·nq²), the force elements at body points then differenced.
+# REACTIONS also emits joint_reactions (generator --reactions): the force and
+# moment every body's joint transmits, which the runtime then reports.
 # Every target with equations of motion (no NO_EOM, no ONLY) is appended to the global
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
@@ -68,7 +70,7 @@ function(symdyn_optimize_emitted target)
 endfunction()
 
 function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;DERIVATIVES;DYNAMICS_DERIVATIVES;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "ONLY" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;DERIVATIVES;DYNAMICS_DERIVATIVES;REACTIONS;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "ONLY" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
   symdyn_add_generator(generator ${model_source})
   set(flags --basename ${target})
@@ -91,6 +93,9 @@ function(symdyn_add_model target model_source)
     list(APPEND flags --derivatives)
   elseif(ARG_DYNAMICS_DERIVATIVES)
     list(APPEND flags --dynamics-derivatives)
+  endif()
+  if(ARG_REACTIONS)
+    list(APPEND flags --reactions)
   endif()
   if(ARG_DYNAMICS)
     list(APPEND flags --dynamics ${ARG_DYNAMICS})

@@ -46,6 +46,9 @@ std::string valid_names(const Names& names, const Scope& scope) {
   }
   if (scope.system) {
     groups.push_back(joined(kEnergies) + ", " + joined(kMomenta));
+    if (scope.accelerations && names.model->has_joint_reactions())
+      groups.push_back(
+          fmt::format("reaction.<body>.<{}>", joined(runtime::Model::kReactionComponents)));
     std::vector<std::string> elements;
     for (const auto& e : *names.elements) elements.push_back(e->id());
     if (!elements.empty())
@@ -61,11 +64,41 @@ std::string valid_names(const Names& names, const Scope& scope) {
   throw ExpressionError(fmt::format("unknown {} (valid: {})", what, valid));
 }
 
+// reaction.<body>.<component>: needs the accelerations and the emitted joint_reactions.
+int resolve_reaction(std::string_view name, const Names& names, const Scope& scope,
+                     SymbolTable& table) {
+  const std::string_view what = name.substr(name.find('.') + 1);
+  const auto dot = what.rfind('.');
+  const std::string_view body = what.substr(0, dot),
+                         component = dot == std::string_view::npos ? "" : what.substr(dot + 1);
+  if (!scope.system || !scope.accelerations) {
+    throw ExpressionError(fmt::format(
+        "'{}': joint reactions are not known here (outputs and checks read them)", name));
+  }
+  if (!names.model->has_joint_reactions()) {
+    throw ExpressionError(fmt::format(
+        "'{}': model '{}' was generated without joint reactions (REACTIONS in symdyn_add_model, "
+        "generator --reactions)",
+        name, names.model->name()));
+  }
+  const int b = index_of(names.model->body_names(), body);
+  if (b < 0)
+    unknown(fmt::format("body '{}' in '{}'", body, name), joined(names.model->body_names()));
+  const int c = index_of(runtime::Model::kReactionComponents, component);
+  if (c < 0) {
+    unknown(fmt::format("reaction component '{}' in '{}'", component, name),
+            joined(runtime::Model::kReactionComponents));
+  }
+  return table.add({.source = Source::reaction, .a = b, .b = c});
+}
+
 int resolve_dotted(std::string_view name, const Names& names, const Scope& scope,
                    SymbolTable& table) {
   const auto dot = name.find('.');
   const std::string_view owner = name.substr(0, dot), attribute = name.substr(dot + 1);
   const auto& bodies = names.model->body_names();
+  if (owner == "reaction" && index_of(bodies, owner) < 0)
+    return resolve_reaction(name, names, scope, table);
   if (const int body = index_of(bodies, owner); body >= 0 && scope.state) {
     const int a = index_of(kBodyAttributes, attribute);
     if (a < 0)
@@ -197,7 +230,7 @@ SampleEnvironment::SampleEnvironment(runtime::MultibodySystem& system, const Sym
 void SampleEnvironment::set(const State& s, const runtime::Vector& qdd) {
   s_ = &s;
   qdd_ = &qdd;
-  have_kinematics_ = have_energies_ = have_momentum_ = false;
+  have_kinematics_ = have_energies_ = have_momentum_ = have_reactions_ = false;
 }
 
 const Kinematics& SampleEnvironment::kinematics() const {
@@ -234,6 +267,18 @@ double SampleEnvironment::value(int symbol) const {
       have_momentum_ = true;
       have_kinematics_ = false;
       return sym.a < 3 ? momentum_.linear(sym.a) : momentum_.angular(sym.a - 3);
+    }
+    case Source::reaction: {
+      if (!have_reactions_) {
+        if (qdd_->size() == s_->q.size()) {
+          system_.joint_reactions(*s_, *qdd_, reactions_);
+        } else {
+          system_.joint_reactions(*s_, reactions_);
+        }
+      }
+      have_reactions_ = true;
+      have_kinematics_ = false;
+      return reactions_(sym.b, sym.a);
     }
     case Source::element:
       return elements_[static_cast<std::size_t>(sym.a)]->quantity(sym.b, *s_, kinematics());

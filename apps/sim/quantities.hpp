@@ -6,6 +6,8 @@
 //   .R22 (rotation matrix, body to global);
 //   kinetic_energy, gravitational_energy, elastic_energy, total_energy,
 //   momentum_x .. _z, angular_momentum_x .. _z (about the global origin);
+//   reaction.<body>.Fx .. .Mz, the body's joint reaction (body axes, about
+//   its joint point: runtime::MultibodySystem::joint_reactions);
 //   <element>.<quantity> of a force element (elements.hpp lists them);
 //   the scenario's variables; rtol, atol, t_end.
 // Which of them an expression may read depends on where it is (a force law
@@ -30,6 +32,7 @@ enum class Source {
   body,
   energy,
   momentum,
+  reaction,
   element,
   variable,
   constant,
@@ -131,9 +134,11 @@ class SampleEnvironment : public Environment {
   const std::vector<double>& statistics_;
   const runtime::State* s_ = nullptr;
   const runtime::Vector* qdd_ = nullptr;
-  mutable bool have_kinematics_ = false, have_energies_ = false, have_momentum_ = false;
+  mutable bool have_kinematics_ = false, have_energies_ = false, have_momentum_ = false,
+               have_reactions_ = false;
   mutable runtime::Energies energies_;
   mutable runtime::Momentum momentum_;
+  mutable runtime::Matrix reactions_;  // (6 x nbody)
 };
 
 // Body quantity `attribute` (the order of the list in quantities.cpp) of body i.

@@ -412,6 +412,13 @@ struct Simulation::Impl {
     };
     const Node q = n["quantity"];
     const std::string kind = q.string();
+    if (kind == "reaction") {  // reaction.<body>.Fx ..: not an attribute of the body
+      for (const char* c : runtime::Model::kReactionComponents) {
+        const std::string column = fmt::format("reaction.{}.{}", body, c);
+        add_channel(column, column, q);
+      }
+      return;
+    }
     for (const auto& [name, attributes] : kinds) {
       if (kind != name) continue;
       for (const char* a : attributes) add_channel(body + "." + a, body + "." + a, q);
@@ -419,8 +426,7 @@ struct Simulation::Impl {
     }
     q.fail(
         fmt::format("unknown body quantity '{}' (expected position, velocity, angular_velocity, "
-                    "velocity_local, "
-                    "orientation)",
+                    "velocity_local, orientation, reaction)",
                     kind));
   }
 

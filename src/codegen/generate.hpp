@@ -53,6 +53,9 @@ struct Options {
   // kinematics force elements at body points read (kinematics_derivatives,
   // growing as nbody·nq²: chain_64's are too long to compile quickly).
   Derivatives derivatives = Derivatives::none;
+  // Also emit joint_reactions: the wrench every body's joint transmits
+  // (docs/emitted_interface.md), which the runtime reports where emitted.
+  bool joint_reactions = false;
   // recursive: forward_dynamics where the articulated-body algorithm applies
   // (else the mass matrix, GeneratedCode::dynamics says why).
   DynamicsMethod dynamics = DynamicsMethod::automatic;
@@ -70,10 +73,10 @@ struct Options {
   std::vector<std::string> entry_points;
 };
 
-// One emitted function: its input arrays (among t, q, qd, qdd, param, in
-// order), its output arrays, and the program it runs (the instructions of
-// the parts it calls, when shared), so that tests can run the interpreter on
-// exactly what was emitted.
+// One emitted function: its input arrays (among t, q, qd, qdd, tau, param,
+// F_applied, M_applied, in order), its output arrays, and the program it runs
+// (the instructions of the parts it calls, when shared), so that tests can
+// run the interpreter on exactly what was emitted.
 struct EmittedFunction {
   std::string name;
   std::vector<std::string> inputs;

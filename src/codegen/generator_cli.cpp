@@ -40,6 +40,7 @@ struct Arguments {
   bool no_eom = false;
   bool derivatives = false;
   bool dynamics_derivatives = false;
+  bool reactions = false;
   bool list = false;
   bool stats = false;
   bool describe = false;
@@ -159,6 +160,7 @@ Job check_arguments(const Arguments& args) {
   job.options.derivatives = args.derivatives            ? codegen::Derivatives::all
                             : args.dynamics_derivatives ? codegen::Derivatives::dynamics
                                                         : codegen::Derivatives::none;
+  job.options.joint_reactions = args.reactions;
   job.options.dynamics = args.dynamics == "recursive"     ? codegen::DynamicsMethod::recursive
                          : args.dynamics == "mass-matrix" ? codegen::DynamicsMethod::mass_matrix
                                                           : codegen::DynamicsMethod::automatic;
@@ -333,6 +335,8 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
   app.add_flag("--dynamics-derivatives", args.dynamics_derivatives,
                "only those of the equations of motion: growing as nq², where the kinematics' grow "
                "as nbody·nq²");
+  app.add_flag("--reactions", args.reactions,
+               "also emit joint_reactions: the force and moment every body's joint transmits");
   app.add_option(
          "--dynamics", args.dynamics,
          "accelerations by the mass matrix (Cholesky at run time) or the emitted recursive forward "

@@ -58,10 +58,12 @@ MotionInBodyAxes in_body_axes(const Transform& motion) {
 
 class EquationsOfMotion {
  public:
-  EquationsOfMotion(const Model& model, const Kinematics& k, const SimplifyFunction& simplify)
+  EquationsOfMotion(const Model& model, const Kinematics& k, const SimplifyFunction& simplify,
+                    bool reactions)
       : model_(model),
         k_(k),
         simplify_(simplify),
+        reactions_(reactions),
         nq_(model.coordinates().size()),
         refs_(model.reference_indices()),
         order_(model.topological_order()),
@@ -87,7 +89,7 @@ class EquationsOfMotion {
       for (std::size_t j = 0; j <= k; ++j)
         d_.mass_matrix[j * nq_ + k] = d_.mass_matrix[k * nq_ + j] = mass_matrix_entry(j, k);
     }
-    d_.inverse = detail::inverse_dynamics(model_, bodies_, d_.bias, names_);
+    detail::inverse_dynamics(model_, bodies_, reactions_ ? &k_ : nullptr, names_, d_);
     detail::forward_dynamics(model_, bodies_, names_, d_);
     std::vector<symbolic::Definition> gathered = names_.take_definitions();
     d_.definitions.insert(d_.definitions.end(), gathered.begin(), gathered.end());
@@ -366,6 +368,7 @@ class EquationsOfMotion {
   const Model& model_;
   const Kinematics& k_;
   const SimplifyFunction& simplify_;
+  const bool reactions_;
   const std::size_t nq_;
   const std::vector<int> refs_;
   const std::vector<int> order_;
@@ -386,9 +389,29 @@ std::vector<Expr> generalized_force_symbols(const Model& model) {
   return tau;
 }
 
-Dynamics derive_dynamics(const Model& model, const Kinematics& k,
-                         const SimplifyFunction& simplify) {
-  return EquationsOfMotion(model, k, simplify).run();
+namespace {
+std::vector<Expr> per_body_symbols(const Model& model, std::string_view what) {
+  std::vector<Expr> out;
+  for (const Body& b : model.bodies()) {
+    for (const char* c : {"x", "y", "z"})
+      out.push_back(
+          symbolic::symbol(fmt::format("{}.{}.{}", what, b.name(), c), symbolic::SymbolKind::Free));
+  }
+  return out;
+}
+}  // namespace
+
+std::vector<Expr> applied_force_symbols(const Model& model) {
+  return per_body_symbols(model, "F_applied");
+}
+
+std::vector<Expr> applied_moment_symbols(const Model& model) {
+  return per_body_symbols(model, "M_applied");
+}
+
+Dynamics derive_dynamics(const Model& model, const Kinematics& k, const SimplifyFunction& simplify,
+                         bool reactions) {
+  return EquationsOfMotion(model, k, simplify, reactions).run();
 }
 
 }  // namespace symdyn::model

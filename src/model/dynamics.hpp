@@ -60,6 +60,17 @@
 // of its motion (a hinge's S is its axis there), and carried between frames
 // step by step of the motions, a child's constant steps merged with its
 // reference's: an elementary rotation and one displacement per body.
+//
+// Joint reactions, where asked: the wrench each body's joint (its motion
+// relative to its reference) transmits onto it from its reference, from the
+// same backward pass. With A_i the applied wrench at G_i (inputs, global axes,
+// turned to the body's), gathered children first like f and I·α,
+//
+//   W_i = f^C_i + (I·α)^C_i - A^C_i,
+//
+// in the body's axes about G_i (gravity is in f: the ground accelerates at
+// -g), then moved to the joint point J_i, the origin of the frame after the
+// last varying step of its motion (a hinge's centre): n_J = n_G + (G - J)×f.
 
 #include <string>
 #include <vector>
@@ -79,6 +90,10 @@ struct Dynamics {
   std::vector<Expr> forward;  // (nq)
   std::vector<Expr> pivots;   // (nq x 2)
   std::string why_not;
+  // Only where derive_dynamics was asked for them: every body's joint reaction
+  // (nbody x 6), force then moment about its joint point, in its axes, in the
+  // symbols qdd and applied_load_symbols().
+  std::vector<Expr> reactions;
   // The symbols the expressions above use besides the kinematics': the values
   // at qdd = 0 of the dependent accelerations ("<name>__0"), and the gathered
   // quantities; each after those it uses.
@@ -89,9 +104,16 @@ struct Dynamics {
 // of the forward dynamics.
 std::vector<Expr> generalized_force_symbols(const Model& model);
 
+// The symbols of the loads applied at every body's G in global axes, inputs
+// of the joint reactions: forces "F_applied.<body>.x" (nbody x 3), then
+// moments "M_applied.<body>.x" (nbody x 3).
+std::vector<Expr> applied_force_symbols(const Model& model);
+std::vector<Expr> applied_moment_symbols(const Model& model);
+
 // Uses the kinematics' relative motions and dependent parameters; `simplify`
 // (if any) simplifies the rates of the motions' angles and displacements.
+// `reactions`: also the joint reactions (they need the absolute orientations).
 Dynamics derive_dynamics(const Model& model, const Kinematics& kinematics,
-                         const SimplifyFunction& simplify = {});
+                         const SimplifyFunction& simplify = {}, bool reactions = false);
 
 }  // namespace symdyn::model

@@ -207,9 +207,11 @@ class Recursion {
   }
 
   // tau_j = h_j + Σ_a Σ_d c_dj·l_d·(I·α)^C_a, α the acceleration qdd adds
-  // (parents first), I·α gathered up (children first).
+  // (parents first), I·α gathered up (children first) into gathered_.
   std::vector<Expr> inverse_dynamics(const std::vector<Expr>& bias) {
-    std::vector<Spatial> alpha(bodies_.size()), gathered(bodies_.size());
+    std::vector<Spatial> alpha(bodies_.size());
+    std::vector<Spatial>& gathered = gathered_;
+    gathered.assign(bodies_.size(), {});
     for (int i : order_) {
       const BodyTerms& b = bodies_[i];
       Spatial a = refs_[i] < 0 ? Spatial{} : to_body(alpha[refs_[i]], b.R, b.r);
@@ -236,6 +238,33 @@ class Recursion {
     return tau;
   }
 
+  // After inverse_dynamics: each body's joint reaction W = f^C + (I·α)^C - A^C
+  // (force, then moment about its joint point), in its axes; the applied
+  // wrenches A (global axes, at G) turned to the body's axes by `k`'s R.
+  std::vector<Expr> joint_reactions(const Kinematics& k) {
+    using model::operator+;  // not the steps' below
+    const std::vector<Expr> F = applied_force_symbols(model_), M = applied_moment_symbols(model_);
+    std::vector<Spatial> applied(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      const Mat3& R = k.bodies[i].R;
+      applied[i] = {transpose_times(R, {M[3 * i], M[3 * i + 1], M[3 * i + 2]}),
+                    transpose_times(R, {F[3 * i], F[3 * i + 1], F[3 * i + 2]})};
+    }
+    std::vector<Expr> out(6 * bodies_.size());
+    for (auto i = order_.rbegin(); i != order_.rend(); ++i) {
+      const BodyTerms& b = bodies_[*i];
+      const std::string& n = model_.bodies()[*i].name();
+      name(applied[*i], n + ".A");
+      if (refs_[*i] >= 0)
+        applied[refs_[*i]] = applied[refs_[*i]] + to_reference(applied[*i], b.R, b.x);
+      Spatial w = b.wrench + gathered_[*i] + Expr(-1) * applied[*i];
+      name(w, n + ".W");
+      const Vec3 moment = w.angular + cross(joint_to_G(*i), w.linear);
+      std::copy(w.linear.begin(), w.linear.end(), out.begin() + 6 * *i);
+      std::copy(moment.begin(), moment.end(), out.begin() + 6 * *i + 3);
+    }
+    return out;
+  }
   // Why the articulated-body algorithm does not apply, or nothing: each
   // coordinate must drive the local motion of exactly one body.
   std::string articulated_body_obstacle() const {
@@ -438,6 +467,24 @@ class Recursion {
     alpha[i] = total;
   }
 
+  // G from the joint point (after the last varying step), in the body's
+  // axes: the displacements of the constant steps after it, turned as in
+  // dynamics.cpp's in_body_axes.
+  Vec3 joint_to_G(int i) const {
+    using model::operator+;
+    const std::vector<Step>& steps = model_.bodies()[i].motion().steps();
+    Mat3 R = identity3();
+    Vec3 r = zero3();
+    for (auto s = steps.rbegin(); s != steps.rend() && !varies(*s); ++s) {
+      if (s->is_rotation) {
+        R = rotation(*s) * R;
+      } else {
+        r = r + transpose_times(R, s->displacement);
+      }
+    }
+    return r;
+  }
+
   // A local twist of some body, as one coordinate drives it.
   struct Mover {
     std::size_t body;
@@ -460,14 +507,17 @@ class Recursion {
   const std::vector<int> order_;
   std::vector<std::vector<Mover>> movers_;  // (nq) the local twists of each coordinate
   std::vector<Articulated> articulated_;    // (nbody)
+  std::vector<Spatial> gathered_;           // (nbody) (I·α)^C, from inverse_dynamics
   Dynamics* d_ = nullptr;                   // what forward_dynamics() fills
 };
 
 }  // namespace
 
-std::vector<Expr> inverse_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
-                                   const std::vector<Expr>& bias, IntermediateNames& names) {
-  return Recursion(model, bodies, names).inverse_dynamics(bias);
+void inverse_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
+                      const Kinematics* reactions, IntermediateNames& names, Dynamics& d) {
+  Recursion recursion(model, bodies, names);
+  d.inverse = recursion.inverse_dynamics(d.bias);
+  if (reactions) d.reactions = recursion.joint_reactions(*reactions);
 }
 
 void forward_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,

@@ -618,6 +618,15 @@ Vector accelerations(System& self, const py::object& q, const py::object& qd, do
   return qdd;
 }
 
+// Row i: body i's joint reaction Fx, Fy, Fz, Mx, My, Mz (body axes, about its joint point).
+runtime::Matrix joint_reactions(System& self, const py::object& q, const py::object& qd, double t,
+                                const std::vector<Force>& forces) {
+  MultibodySystem& system = self.with(forces);
+  runtime::Matrix reaction;
+  system.joint_reactions(state_arg(system, t, q, qd), reaction);
+  return reaction.transpose();
+}
+
 py::dict energies(System& self, const py::object& q, const py::object& qd, double t,
                   const std::vector<Force>& forces) {
   MultibodySystem& system = self.with(forces);
@@ -890,6 +899,11 @@ void define_system(py::module_& module, ModelFactory make_model) {
            "forces"_a = no_forces, "Q: generalized forces of the force elements (nq).")
       .def("accelerations", &accelerations, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
            "forces"_a = no_forces, "qdd solving M qdd = Q - h (nq).")
+      .def("joint_reactions", &joint_reactions, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
+           "forces"_a = no_forces,
+           "Each body's joint reaction (nbody x 6: Fx, Fy, Fz, Mx, My, Mz), onto the body from "
+           "its reference, in its axes, the moment about its joint point, at the accelerations "
+           "of the state.")
       .def("energies", &energies, "q"_a = none, "qd"_a = none, "t"_a = 0.0, "forces"_a = no_forces,
            "{kinetic, gravitational, elastic, total} at the state.")
       .def("simulate", &simulate, "t_end"_a, "integrator"_a = "dopri5", "rtol"_a = 1e-6,

@@ -341,6 +341,12 @@ void Model::inverse_dynamics(double t, const double* q, const double* qd, const 
   d_.inverse_dynamics(t, q, qd, qdd, param_.data(), tau);
 }
 
+void Model::joint_reactions(double t, const double* q, const double* qd, const double* qdd,
+                            const double* F, const double* M, double* reaction) const {
+  if (d_.joint_reactions == nullptr) missing("joint_reactions");
+  d_.joint_reactions(t, q, qd, qdd, param_.data(), F, M, reaction);
+}
+
 namespace {
 
 // A square matrix transposed in place by swaps: Eigen's blocked in-place

@@ -78,6 +78,12 @@ using KinematicsDerivativesFn = void (*)(double t, const double* q, const double
 // first coordinate whose pivot failed (then qdd is not to be used).
 using ForwardDynamicsFn = int (*)(double t, const double* q, const double* qd, const double* tau,
                                   const double* param, double* qdd);
+// The wrench each body's joint transmits onto it from its reference (nbody x
+// 6: force, moment about the joint point, body axes), given the loads applied
+// at every G (nbody x 3 each, global axes).
+using JointReactionsFn = void (*)(double t, const double* q, const double* qd, const double* qdd,
+                                  const double* param, const double* F_applied,
+                                  const double* M_applied, double* reaction);
 
 namespace detail {
 template <class G>
@@ -95,6 +101,10 @@ concept has_kinematics_derivatives = requires(double t, const double* c, double*
 template <class G>
 concept has_forward_dynamics = requires(double t, const double* c, double* o) {
   { G::forward_dynamics(t, c, c, c, c, o) } -> std::convertible_to<int>;
+};
+template <class G>
+concept has_joint_reactions = requires(double t, const double* c, double* o) {
+  G::joint_reactions(t, c, c, c, c, c, c, o);
 };
 template <class G>
 concept has_positions = requires(double t, const double* c, double* o) {
@@ -218,6 +228,7 @@ struct ModelDescription {
   ForwardDynamicsFn forward_dynamics = nullptr;  // only where the generator chose it
   InverseDynamicsDerivativesFn inverse_dynamics_derivatives = nullptr;  // only where asked for
   KinematicsDerivativesFn kinematics_derivatives = nullptr;             // likewise
+  JointReactionsFn joint_reactions = nullptr;                           // likewise
   // Cold diagnostics; empty or null for code emitted before them.
   std::vector<std::string> dependent_names;  // (ndep)
   std::vector<DomainCheck> domain_checks;
@@ -288,6 +299,7 @@ class Model {
     return d_.inverse_dynamics_derivatives != nullptr;
   }
   bool has_kinematics_derivatives() const { return d_.kinematics_derivatives != nullptr; }
+  bool has_joint_reactions() const { return d_.joint_reactions != nullptr; }
 
   // A kinematics buffer of the right sizes for this model.
   Kinematics make_kinematics() const { return Kinematics(d_.nq, d_.nbody, d_.ndep); }
@@ -334,6 +346,16 @@ class Model {
   // failed pivot (qdd then unusable: the mass matrix names the culprit).
   int forward_dynamics(double t, const double* q, const double* qd, const double* tau,
                        double* qdd) const;
+  // Every body's joint reaction (6 x nbody, column i: force, then moment about
+  // the body's joint point, in its axes; docs/runtime.md) at (q, qd, qdd) with
+  // the loads F, M (3 x nbody, at each G, global axes; Loads' F and M).
+  void joint_reactions(double t, const double* q, const double* qd, const double* qdd,
+                       const double* F, const double* M, double* reaction) const;
+  // The names of joint_reactions' rows for body i: "<body>.Fx" .. "<body>.Mz"
+  // (N, then N·m).
+  static constexpr std::array<const char*, 6> kReactionComponents = {"Fx", "Fy", "Fz",
+                                                                     "Mx", "My", "Mz"};
+
   // The emitted entry points, or null: for callers that dispatch once, with parameters().data().
   InverseDynamicsFn emitted_inverse_dynamics() const { return d_.inverse_dynamics; }
   ForwardDynamicsFn emitted_forward_dynamics() const { return d_.forward_dynamics; }
@@ -446,6 +468,7 @@ ModelDescription Model::describe() {
       }
       if constexpr (detail::has_kinematics_derivatives<G>)
         d.kinematics_derivatives = &G::kinematics_derivatives;
+      if constexpr (detail::has_joint_reactions<G>) d.joint_reactions = &G::joint_reactions;
       bool forward = true;
       if constexpr (requires { G::has_forward_dynamics; }) forward = G::has_forward_dynamics;
       if constexpr (detail::has_forward_dynamics<G>) {

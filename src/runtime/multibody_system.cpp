@@ -775,6 +775,36 @@ Momentum MultibodySystem::momentum(const State& s) {
   return runtime::momentum(model_, k_);
 }
 
+void MultibodySystem::joint_reactions(const State& s, Matrix& reaction) {
+  Vector qdd, yd(num_extra_states());
+  accelerations(s, qdd, yd);
+  joint_reactions(s, qdd, reaction);
+}
+
+void MultibodySystem::joint_reactions(const State& s, const Vector& qdd, Matrix& reaction) {
+  if (!model_.has_joint_reactions()) {
+    throw ModelError(fmt::format(
+        "model '{}' (variant '{}') was emitted without joint_reactions (generator --reactions, "
+        "REACTIONS in symdyn_add_model)",
+        model_.name(), model_.variant()));
+  }
+  if (qdd.size() != model_.nq()) {
+    throw ModelError(fmt::format("joint reactions: qdd has {} entries, model '{}' {} coordinates",
+                                 qdd.size(), model_.name(), model_.nq()));
+  }
+  evaluate_kinematics(s);
+  compute_loads(s);
+  reaction.resize(6, model_.nbody());
+  model_.joint_reactions(s.t, s.q.data(), s.qd.data(), qdd.data(), loads_.F.data(), loads_.M.data(),
+                         reaction.data());
+  for (int i = 0; i < model_.nbody(); ++i) {
+    if (!reaction.col(i).allFinite()) {
+      throw NumericError(fmt::format("t = {}: the joint reaction of body '{}' is not finite at {}",
+                                     s.t, model_.body_names()[i], describe(s)));
+    }
+  }
+}
+
 SourceComparison compare_sources(MultibodySystem& system, const State& s) {
   if (!system.model().has_equations_of_motion()) {
     throw ModelError(fmt::format("model '{}': no emitted equations of motion to compare with",

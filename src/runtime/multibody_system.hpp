@@ -155,6 +155,15 @@ class MultibodySystem : public DynamicSystem {
 
   Energies energies(const State& s);
   Momentum momentum(const State& s);
+  // The wrench every body's joint (its motion relative to its reference body
+  // or the ground) transmits onto it from its reference at s (docs/runtime.md):
+  // reaction (6 x nbody) column i the force (N), then the moment (N·m) about
+  // body i's joint point, in body i's axes, with the force elements' loads at
+  // s and qdd its accelerations (computed by the first form). ModelError where
+  // the model was emitted without joint_reactions; NumericError naming the
+  // body whose reaction is not finite.
+  void joint_reactions(const State& s, Matrix& reaction);
+  void joint_reactions(const State& s, const Vector& qdd, Matrix& reaction);
 
   // The kinematics and loads of the last evaluation.
   const Kinematics& kinematics() const { return k_; }

@@ -113,6 +113,16 @@ class EquationsOfMotion(unittest.TestCase):
         self.check(system, OTHER)
 
 
+class JointReactions(unittest.TestCase):
+    def test_hanging_at_rest_each_rod_carries_its_weight(self):
+        # Hanging straight down at rest: qdd = 0, every body moves from the
+        # ground, so each rod's reaction is all its pins give it: its own
+        # weight, up, which is -x in its axes; no moment about its joint point.
+        reaction = double_pendulum_absolute.System().joint_reactions([-math.pi / 2, 0.0], [0, 0])
+        self.assertEqual(reaction.shape, (2, 6))
+        np.testing.assert_allclose(reaction, [[-G, 0, 0, 0, 0, 0]] * 2, atol=1e-12)
+
+
 class Simulation(unittest.TestCase):
     def test_free_run_conserves_energy(self):
         system = double_pendulum_absolute.System()

@@ -226,3 +226,33 @@ TEST_CASE("the run summary says whether the global error was estimated and met",
   CHECK(r.statistics.global_error_estimate <= 1e-6);
   CHECK_THAT(sim::summary(r), Contains("global tolerance 1e-06 met"));
 }
+
+TEST_CASE("a scenario outputs and checks joint reactions by name", "[models][scenario]") {
+  // Hanging straight down at rest, every rod from the ground: rod 2's pin
+  // holds its weight, up, which is -x in its axes (docs/emitted_interface.md).
+  const sim::Scenario s = sim::parse_scenario(R"json({
+    "model": "double_pendulum",
+    "initial": {"q": {"q0": -1.5707963267948966, "q1": 0}},
+    "t_end": 0.1,
+    "output_interval": 0.05,
+    "outputs": [{"body": "rod2", "quantity": "reaction"}],
+    "checks": [{"name": "rod 2's pin", "value": "maximum(abs(reaction.rod2.Fx + 9.81))",
+                "band": [0, 1e-9]}]
+  })json",
+                                              "reactions.json");
+  std::ostringstream csv;
+  sim::RunOptions o;
+  o.csv = &csv;
+  const sim::RunResult r = sim::run_scenario(s, o);
+  CHECK(r.columns == std::vector<std::string>{"t", "reaction.rod2.Fx", "reaction.rod2.Fy",
+                                              "reaction.rod2.Fz", "reaction.rod2.Mx",
+                                              "reaction.rod2.My", "reaction.rod2.Mz"});
+  REQUIRE(r.checks.size() == 1);
+  CHECK(r.checks[0].ok());
+  // A model generated without them says so, and how to generate them.
+  const sim::Scenario trike = sim::parse_scenario(
+      R"json({"model": "trike", "t_end": 0.1,
+              "outputs": [{"name": "f", "value": "reaction.chassis.Fx"}]})json",
+      "trike.json");
+  CHECK_THROWS_WITH(sim::Simulation(trike), Contains("without joint reactions"));
+}

@@ -113,6 +113,26 @@ std::size_t statements(const symbolic::Program& program) {
   return n;
 }
 
+// The statements of the entry points on the hot path (not EntryPointSpec::cold).
+std::size_t hot_statements(const Derivation& d, const std::vector<std::size_t>& all_inputs) {
+  const std::vector<std::vector<std::size_t>> groups = entry_outputs(d);
+  std::vector<std::size_t> hot;
+  bool any_cold = false;
+  for (std::size_t e = 0, g = 0; e < d.entries.size(); ++e) {
+    if (d.entries[e].hand_written()) continue;
+    const std::vector<std::size_t>& outputs = groups[g++];
+    if (d.entries[e].spec->cold) {
+      any_cold = true;
+      continue;
+    }
+    hot.insert(hot.end(), outputs.begin(), outputs.end());
+  }
+  if (!any_cold) return statements(d.program);
+  std::sort(hot.begin(), hot.end());
+  hot.erase(std::unique(hot.begin(), hot.end()), hot.end());
+  return statements(d.program.subprogram(hot, all_inputs));
+}
+
 }  // namespace
 
 std::vector<std::vector<std::size_t>> entry_outputs(const Derivation& d) {
@@ -201,7 +221,8 @@ Derivation Deriver::derive(bool simplify) {
   define_dependents(k, d.definitions);
   std::optional<model::Dynamics> dynamics;
   if (options_.equations_of_motion && selection_.needs_equations_of_motion()) {
-    dynamics = model::derive_dynamics(model_, k, derive.simplify);
+    dynamics = model::derive_dynamics(model_, k, derive.simplify,
+                                      selection_.needs_reactions(options_.joint_reactions));
     if (derive.simplify) model::reduce_trigonometry(*dynamics, k);
     d.definitions.insert(d.definitions.end(), dynamics->definitions.begin(),
                          dynamics->definitions.end());
@@ -238,7 +259,9 @@ void Deriver::compile_programs(Derivation& d) const {
   for (const OutputArray& a : d.arrays)
     outputs.insert(outputs.end(), a.values.begin(), a.values.end());
   d.program = symbolic::compile_program(inputs_.all(), outputs, d.definitions, entry_outputs(d));
-  if (options_.part_instructions == 0 || statements(d.program) <= options_.split_above) {
+  const std::vector<Input> every_input(std::begin(kInputs), std::end(kInputs));
+  if (options_.part_instructions == 0 ||
+      hot_statements(d, inputs_.indices(every_input)) <= options_.split_above) {
     for (std::size_t e = 0; e < d.entries.size(); ++e) d.whole.push_back(whole_program(d, e));
   }
 }
@@ -261,6 +284,7 @@ bool Deriver::derivable(const Needs& needs, const Quantities& quantities) const 
   const bool recursive =
       dynamics && !dynamics->forward.empty() && options_.dynamics != DynamicsMethod::mass_matrix;
   return partials && (!needs.equations_of_motion || dynamics) &&
+         (!needs.reactions || (dynamics && !dynamics->reactions.empty())) &&
          (!needs.recursive_dynamics || recursive) &&
          (needs.derivatives == Derivatives::none ||
           (quantities.derivatives &&

@@ -233,6 +233,18 @@ std::vector<EntryPointSpec> make_catalogue() {
        .body = forward_dynamics_body,
        .note = "(forward_dynamics_pivots and the pivot check)",
        .calls = "forward_dynamics_pivots"},
+      {.name = "joint_reactions",
+       .doc = "The wrench each body's joint (its motion relative to reference_body, or the "
+              "ground)\n"
+              "transmits onto it from its reference, with gravity, the inertia forces and the "
+              "applied\n"
+              "loads F_applied, M_applied (at each G, global axes): reaction[6 i .. 6 i + 2] the "
+              "force,\n"
+              "[6 i + 3 .. 6 i + 5] the moment about its joint point, both in the body's axes.",
+       .inputs = {t, q, qd, qdd, param, F_applied, M_applied},
+       .outputs = {{"reaction", "nbody x 6", dynamics(&model::Dynamics::reactions)}},
+       .needs = {.absolute_motion = true, .equations_of_motion = true, .reactions = true},
+       .cold = true},
   };
 }
 
@@ -394,7 +406,8 @@ std::vector<std::size_t> dimensions(std::string_view shape, const Sizes& sizes) 
 }  // namespace
 
 std::string_view input_name(Input input) {
-  constexpr std::string_view kNames[] = {"t", "q", "qd", "qdd", "tau", "param"};
+  constexpr std::string_view kNames[] = {"t",   "q",     "qd",        "qdd",
+                                         "tau", "param", "F_applied", "M_applied"};
   return kNames[static_cast<std::size_t>(input)];
 }
 

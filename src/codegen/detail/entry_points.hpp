@@ -23,10 +23,11 @@
 namespace symdyn::codegen::detail {
 
 // The input arrays of the emitted functions; an entry point takes some of
-// them, always in this order (t is a scalar).
-enum class Input { t, q, qd, qdd, tau, param };
-inline constexpr Input kInputs[] = {Input::t,   Input::q,   Input::qd,
-                                    Input::qdd, Input::tau, Input::param};
+// them, always in this order (t is a scalar). F_applied and M_applied are
+// the loads at every body's G in global axes (nbody x 3 each).
+enum class Input { t, q, qd, qdd, tau, param, F_applied, M_applied };
+inline constexpr Input kInputs[] = {Input::t,   Input::q,     Input::qd,        Input::qdd,
+                                    Input::tau, Input::param, Input::F_applied, Input::M_applied};
 std::string_view input_name(Input input);  // "t", "q", ...
 
 // What one derivation made, from which the outputs are taken.
@@ -72,7 +73,8 @@ struct Needs {
   bool recursive_dynamics =
       false;  // the articulated-body algorithm applies and was chosen (DynamicsChoice)
   Derivatives derivatives =
-      Derivatives::none;  // at least this Options::derivatives (or named alone)
+      Derivatives::none;   // at least this Options::derivatives (or named alone)
+  bool reactions = false;  // Options::joint_reactions (or named alone)
 };
 
 // A hand-written C++ body, in place of a program.
@@ -91,6 +93,9 @@ struct EntryPointSpec {
   WriteBody body = nullptr;
   std::string_view note{};
   std::string_view calls{};
+  // Off the runtime's hot path: not counted when deciding whether the code is
+  // short enough to print each entry point whole (Options::split_above).
+  bool cold = false;
 };
 
 // Every entry point, in the order they are emitted. A name has one row, or one

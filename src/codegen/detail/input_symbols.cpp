@@ -15,6 +15,8 @@ InputSymbols::InputSymbols(const model::Model& model) {
   symbols_[index(Input::tau)] = model::generalized_force_symbols(model);
   for (const model::Parameter& p : model.parameters())
     symbols_[index(Input::param)].push_back(p.symbol);
+  symbols_[index(Input::F_applied)] = model::applied_force_symbols(model);
+  symbols_[index(Input::M_applied)] = model::applied_moment_symbols(model);
 }
 
 std::vector<model::Expr> InputSymbols::of(const std::vector<Input>& inputs) const {

@@ -46,6 +46,11 @@ Derivatives Selection::needs_derivatives(Derivatives asked) const {
   return most;
 }
 
+bool Selection::needs_reactions(bool asked) const {
+  if (wanted_.empty()) return asked;
+  return any_row([&](const EntryPointSpec& e) { return e.needs.reactions && selected(e.name); });
+}
+
 void Selection::apply(std::vector<EntryPoint>& entries,
                       const std::optional<DynamicsChoice>& choice) const {
   if (wanted_.empty()) return;

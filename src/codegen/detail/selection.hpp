@@ -26,6 +26,9 @@ class Selection {
   // Which derivatives are derived: those asked for (Options::derivatives)
   // with every entry point, else the most that a named entry point needs.
   Derivatives needs_derivatives(Derivatives asked) const;
+  // Whether the joint reactions are derived: `asked` (Options::joint_reactions)
+  // with every entry point, else whether they are named.
+  bool needs_reactions(bool asked) const;
 
   // Throws model::ModelError naming a wanted entry point that is not among
   // `entries` (those derived with these options), with the list of those

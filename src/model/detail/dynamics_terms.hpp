@@ -119,9 +119,10 @@ struct BodyTerms {
   std::vector<std::optional<Spatial>> gathered, from_children;  // (nq) G_k and G'_k, where nonzero
 };
 
-// tau = M·qdd + h (nq) by recursive Newton-Euler, h the derived bias forces.
-std::vector<Expr> inverse_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
-                                   const std::vector<Expr>& bias, IntermediateNames& names);
+// d.inverse, tau = M·qdd + h (nq), by recursive Newton-Euler from h = d.bias;
+// given the absolute kinematics (the bodies' orientations), also d.reactions.
+void inverse_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
+                      const Kinematics* reactions, IntermediateNames& names, Dynamics& d);
 
 // d.forward and d.pivots by the articulated-body algorithm, or d.why_not.
 void forward_dynamics(const Model& model, const std::vector<BodyTerms>& bodies,
