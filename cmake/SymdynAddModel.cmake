@@ -37,12 +37,15 @@ include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 # no instruction (bench/results/build_loop.md). Set SYMDYN_EMITTED_CODE_FLAGS
 # to change them, or to "" for the build type's flags alone; an optimization
 # level in CMAKE_CXX_FLAGS is the user's choice and is kept.
-set(SYMDYN_EMITTED_CODE_FLAGS_DEFAULT "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre")
-set(SYMDYN_EMITTED_CODE_SOURCES_DEFAULT 4)
-set(SYMDYN_EMITTED_CODE_FLAGS "${SYMDYN_EMITTED_CODE_FLAGS_DEFAULT}" CACHE STRING
-  "Compiler flags of the code symdyn emits, after the build type's (empty: the build type's alone)")
-set(SYMDYN_EMITTED_CODE_SOURCES ${SYMDYN_EMITTED_CODE_SOURCES_DEFAULT} CACHE STRING
-  "Source files the code of one model is spread over at most, compiled in parallel")
+# (Variables, not cache entries, so that a new default reaches every build;
+# -D sets them.)
+if(NOT DEFINED SYMDYN_EMITTED_CODE_FLAGS)
+  set(SYMDYN_EMITTED_CODE_FLAGS "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations")
+endif()
+# The most source files of one model, compiled in parallel (SOURCES).
+if(NOT DEFINED SYMDYN_EMITTED_CODE_SOURCES)
+  set(SYMDYN_EMITTED_CODE_SOURCES 4)
+endif()
 
 # The emitted source files of <target> spread over <count>: <target>.cpp, then
 # <target>.2.cpp ... <target>.<count>.cpp, the flags above on each (for every
