@@ -48,6 +48,9 @@ inline constexpr std::size_t kSplitAbove = 500;
 // parsing <cmath> and the header before its first definition, and compiling
 // 200 kB of definitions about 1 s (bench/results/build_loop.md).
 inline constexpr std::size_t kBytesPerSource = 200'000;
+// The most source files a model is spread over (Options::sources): more
+// than there are definitions, or processors, compile no faster.
+inline constexpr std::size_t kMaxSources = 256;
 
 // How the accelerations are computed (docs/emitted_interface.md): by the
 // mass matrix and bias forces and a Cholesky factorization at run time, or by

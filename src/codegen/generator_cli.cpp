@@ -184,6 +184,10 @@ Job check_arguments(const Arguments& args) {
   job.options.part_instructions = count(args.part_size, 1, "--part-size");
   job.options.split_above = count(args.split_above, 0, "--split-above");
   job.options.sources = count(args.sources, 1, "--sources");
+  if (job.options.sources > codegen::kMaxSources) {
+    throw CommandLineError(fmt::format("--sources: {} is out of range (it must be at most {})",
+                                       args.sources, codegen::kMaxSources));
+  }
   job.options.source_bytes = count(args.source_bytes, 1, "--source-bytes");
   job.options.entry_points = args.only;
   if (args.out.empty()) throw CommandLineError("--out: the directory name is empty");

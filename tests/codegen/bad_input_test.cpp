@@ -72,6 +72,19 @@ TEST_CASE("generate: a namespace that cannot be declared is refused", "[bad_inpu
   CHECK_NOTHROW(codegen::generate(pendulum(1.0), "v", "pend", in_namespace("sim::generated")));
 }
 
+TEST_CASE("generate: a number of source files out of range is refused", "[bad_input]") {
+  codegen::Options o;
+  o.sources = 0;
+  CHECK(generate_error("v", "pend", o) == "sources is 0 (it must be 1 to 256)");
+  o.sources = 257;
+  CHECK(generate_error("v", "pend", o) == "sources is 257 (it must be 1 to 256)");
+  o.sources = 256;
+  o.source_bytes = 0;
+  CHECK(generate_error("v", "pend", o) == "source_bytes is 0 (it must be at least 1)");
+  o.source_bytes = 1;
+  CHECK(codegen::generate(pendulum(1.0), "v", "pend", o).more_sources.size() == 255);
+}
+
 TEST_CASE("generate: a variant printed in the code must have an identifier's shape",
           "[bad_input]") {
   CHECK(generate_error("two words", "pend") ==

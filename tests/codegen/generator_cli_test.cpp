@@ -101,6 +101,9 @@ TEST_CASE("cli: --sources writes that many source files; 0 is refused", "[bad_in
   auto r = generator(kPendulum, {"--sources", "0"});
   CHECK(r.exit_code == 2);
   CHECK(r.err == "error: --sources: 0 is out of range (it must be at least 1)\n");
+  r = generator(kPendulum, {"--sources", "1000000000"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "error: --sources: 1000000000 is out of range (it must be at most 256)\n");
   r = generator(kPendulum, {"--sources", "3", "--source-bytes", "0"});
   CHECK(r.exit_code == 2);
   CHECK(r.err == "error: --source-bytes: 0 is out of range (it must be at least 1)\n");
