@@ -2,7 +2,7 @@
 #                  [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM]
 #                  [DERIVATIVES | DYNAMICS_DERIVATIVES] [REACTIONS] [PART_SIZE n]
 #                  [DYNAMICS auto|mass-matrix|recursive] [ONLY <entry point>...]
-#                  [PYTHON] [SIM_MODULE])
+#                  [SOURCES n] [PYTHON] [SIM_MODULE])
 #
 # Builds the model's generator (the model file linked with symdyn's generator
 # main; one per model file, shared by every variant), runs it at build time
@@ -26,12 +26,53 @@
 # Every target with equations of motion (no NO_EOM, no ONLY) is appended to the global
 # property SYMDYN_MODELS, in the order added: tests/simulation checks each of
 # them (emitted against assembled equations) without being told.
+# SOURCES spreads the emitted definitions over up to n source files (generator
+# --sources), which make or ninja compile in parallel (default
+# SYMDYN_EMITTED_CODE_SOURCES); a small model fills the first alone.
 # PYTHON also builds the Python module <target> (cmake/SymdynPython.cmake).
 #
-# The emitted code is compiled optimized whatever the project's build type: a
-# build type without optimization (none, Debug) gets -O2 on the targets that
-# compile it (symdyn_optimize_emitted); an -O of the project's own flags stays.
+# The emitted code is compiled optimized whatever the project's build type (the
+# flags of "Compiling the emitted code" below); an -O of the project's own
+# CMAKE_CXX_FLAGS stays.
 include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
+
+# ---- Compiling the emitted code -------------------------------------------
+# The emitted code is long straight-line functions, whose compilation takes
+# most of a model's build: these flags, after the build type's (in every
+# build type), skip the passes of -O2 that cost compile time there and win
+# no instruction (bench/results/build_loop.md). Set SYMDYN_EMITTED_CODE_FLAGS
+# to change them, or to "" for the build type's flags alone; an optimization
+# level in CMAKE_CXX_FLAGS is the user's choice and is kept.
+# (Variables, not cache entries, so that a new default reaches every build;
+# -D sets them.)
+if(NOT DEFINED SYMDYN_EMITTED_CODE_FLAGS)
+  set(SYMDYN_EMITTED_CODE_FLAGS "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations")
+endif()
+# The most source files of one model, compiled in parallel (SOURCES).
+if(NOT DEFINED SYMDYN_EMITTED_CODE_SOURCES)
+  set(SYMDYN_EMITTED_CODE_SOURCES 4)
+endif()
+
+# The emitted source files of <target> spread over <count>: <target>.cpp, then
+# <target>.2.cpp ... <target>.<count>.cpp, the flags above on each (for every
+# target compiling them: the library, the Python and the symdyn-sim module).
+function(symdyn_emitted_sources var out_dir target count)
+  if(NOT count MATCHES "^[1-9][0-9]*$")
+    message(FATAL_ERROR "${target}: SOURCES '${count}' is not a number of files (1 or more)")
+  endif()
+  set(files ${out_dir}/${target}.cpp)
+  if(count GREATER 1)
+    foreach(i RANGE 2 ${count})
+      list(APPEND files ${out_dir}/${target}.${i}.cpp)
+    endforeach()
+  endif()
+  if(NOT CMAKE_CXX_FLAGS MATCHES "(^| )-O")
+    separate_arguments(flags UNIX_COMMAND "${SYMDYN_EMITTED_CODE_FLAGS}")
+    set_source_files_properties(${files} PROPERTIES COMPILE_OPTIONS "${flags}")
+  endif()
+  set(${var} ${files} PARENT_SCOPE)
+endfunction()
+# ---------------------------------------------------------------------------
 
 # symdyn_add_generator(<out var> <model.cpp>): the model's generator, the model
 # file linked with symdyn's generator main, named symdyn_generator_<file stem>;
@@ -48,29 +89,8 @@ function(symdyn_add_generator out model_source)
   set(${out} ${generator} PARENT_SCOPE)
 endfunction()
 
-# symdyn_optimize_emitted(<target>): -O2 for the configurations whose flags
-# (CMAKE_CXX_FLAGS and CMAKE_CXX_FLAGS_<CONFIG>) hold no -O: emitted code is long
-# straight-line arithmetic, written to be optimized. Given as the target's option,
-# so that an option the project adds to the target after it wins.
-function(symdyn_optimize_emitted target)
-  get_property(multi_config GLOBAL PROPERTY GENERATOR_IS_MULTI_CONFIG)
-  if(NOT multi_config)
-    string(TOUPPER "${CMAKE_BUILD_TYPE}" upper)  # none: CMAKE_CXX_FLAGS_ is empty
-    if(NOT " ${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${upper}} " MATCHES " -O")
-      target_compile_options(${target} PRIVATE -O2)
-    endif()
-    return()
-  endif()
-  foreach(config IN LISTS CMAKE_CONFIGURATION_TYPES)
-    string(TOUPPER "${config}" upper)
-    if(NOT " ${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${upper}} " MATCHES " -O")
-      target_compile_options(${target} PRIVATE $<$<CONFIG:${config}>:-O2>)
-    endif()
-  endforeach()
-endfunction()
-
 function(symdyn_add_model target model_source)
-  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;DERIVATIVES;DYNAMICS_DERIVATIVES;REACTIONS;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS" "ONLY" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SIMPLIFY;NO_EOM;DERIVATIVES;DYNAMICS_DERIVATIVES;REACTIONS;PYTHON;SIM_MODULE" "MODEL;VARIANT;PARTIALS;PART_SIZE;DYNAMICS;SOURCES" "ONLY" ${ARGN})
   get_filename_component(model_name ${model_source} NAME_WE)
   symdyn_add_generator(generator ${model_source})
   set(flags --basename ${target})
@@ -107,17 +127,22 @@ function(symdyn_add_model target model_source)
   if(DEFINED ARG_PART_SIZE)
     list(APPEND flags --part-size ${ARG_PART_SIZE} --split-above 0)
   endif()
+  if(NOT ARG_SOURCES)
+    set(ARG_SOURCES ${SYMDYN_EMITTED_CODE_SOURCES})
+  endif()
+  list(APPEND flags --sources ${ARG_SOURCES})
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/generated/${target})
+  symdyn_emitted_sources(sources ${out_dir} ${target} ${ARG_SOURCES})
   add_custom_command(
-    OUTPUT ${out_dir}/${target}.hpp ${out_dir}/${target}.cpp
+    OUTPUT ${out_dir}/${target}.hpp ${sources}
     COMMAND ${generator} --out ${out_dir} ${flags}
     DEPENDS ${generator}
     COMMENT "symdyn: generating ${target} from ${model_name}"
     VERBATIM)
-  add_library(${target} STATIC ${out_dir}/${target}.cpp ${out_dir}/${target}.hpp)
+  add_library(${target} STATIC ${sources} ${out_dir}/${target}.hpp)
+  set_target_properties(${target} PROPERTIES SYMDYN_EMITTED_SOURCES "${sources}")
   target_include_directories(${target} PUBLIC ${out_dir})
   symdyn_set_compile_options(${target})
-  symdyn_optimize_emitted(${target})
   if(NOT ARG_NO_EOM AND NOT ARG_ONLY)
     set_property(GLOBAL APPEND PROPERTY SYMDYN_MODELS ${target})
   endif()
@@ -147,11 +172,11 @@ extern \"C\" __attribute__((visibility(\"default\"))) const symdyn::runtime::Mod
   return &module;
 }
 ")
-  add_library(${target}_module MODULE ${out_dir}/${target}.cpp ${entry})
+  get_target_property(sources ${target} SYMDYN_EMITTED_SOURCES)
+  add_library(${target}_module MODULE ${sources} ${entry})
   set_target_properties(${target}_module PROPERTIES PREFIX "" POSITION_INDEPENDENT_CODE ON
                                                     CXX_VISIBILITY_PRESET hidden)
   target_include_directories(${target}_module PRIVATE ${out_dir})
   target_link_libraries(${target}_module PRIVATE symdyn::runtime)
   symdyn_set_compile_options(${target}_module)
-  symdyn_optimize_emitted(${target}_module)
 endfunction()

@@ -1,5 +1,6 @@
 # symdyn_add_urdf_model(<target> <robot.urdf> [FLOATING_BASE] [GRAVITY gx gy gz]
-#                       [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM] [PART_SIZE n])
+#                       [PARTIALS numeric|symbolic] [NO_SIMPLIFY] [NO_EOM] [PART_SIZE n]
+#                       [SOURCES n])
 #
 # The URDF counterpart of symdyn_add_model (docs/urdf.md): runs symdyn-urdf on
 # the file at build time, whenever the file or the generator changes, and makes
@@ -9,11 +10,11 @@
 #   target_link_libraries(my_simulation PRIVATE my_arm symdyn::runtime)
 #
 # The emitted header is <target>.hpp; the struct inside is symdyn_generated::<target>.
-# Like symdyn_add_model, the emitted code is compiled optimized whatever the build
-# type (symdyn_optimize_emitted), and a target with equations of motion joins the global
+# SOURCES and the flags of the emitted code as in symdyn_add_model. Like
+# symdyn_add_model, a target with equations of motion joins the global
 # property SYMDYN_MODELS (tests/simulation checks each of them).
 function(symdyn_add_urdf_model target urdf_file)
-  cmake_parse_arguments(ARG "FLOATING_BASE;NO_SIMPLIFY;NO_EOM" "PARTIALS;PART_SIZE" "GRAVITY" ${ARGN})
+  cmake_parse_arguments(ARG "FLOATING_BASE;NO_SIMPLIFY;NO_EOM" "PARTIALS;PART_SIZE;SOURCES" "GRAVITY" ${ARGN})
   get_filename_component(urdf_path ${urdf_file} ABSOLUTE)
   set(flags --urdf ${urdf_path} --basename ${target})
   if(ARG_FLOATING_BASE)
@@ -34,17 +35,22 @@ function(symdyn_add_urdf_model target urdf_file)
   if(DEFINED ARG_PART_SIZE)
     list(APPEND flags --part-size ${ARG_PART_SIZE} --split-above 0)
   endif()
+  if(NOT ARG_SOURCES)
+    set(ARG_SOURCES ${SYMDYN_EMITTED_CODE_SOURCES})
+  endif()
+  list(APPEND flags --sources ${ARG_SOURCES})
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/generated/${target})
+  symdyn_emitted_sources(sources ${out_dir} ${target} ${ARG_SOURCES})
   add_custom_command(
-    OUTPUT ${out_dir}/${target}.hpp ${out_dir}/${target}.cpp
+    OUTPUT ${out_dir}/${target}.hpp ${sources}
     COMMAND symdyn-urdf --out ${out_dir} ${flags}
     DEPENDS symdyn-urdf ${urdf_path}
     COMMENT "symdyn: generating ${target} from ${urdf_file}"
     VERBATIM)
-  add_library(${target} STATIC ${out_dir}/${target}.cpp ${out_dir}/${target}.hpp)
+  add_library(${target} STATIC ${sources} ${out_dir}/${target}.hpp)
+  set_target_properties(${target} PROPERTIES SYMDYN_EMITTED_SOURCES "${sources}")
   target_include_directories(${target} PUBLIC ${out_dir})
   symdyn_set_compile_options(${target})
-  symdyn_optimize_emitted(${target})
   if(NOT ARG_NO_EOM)
     set_property(GLOBAL APPEND PROPERTY SYMDYN_MODELS ${target})
   endif()

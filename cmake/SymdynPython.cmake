@@ -65,7 +65,8 @@ SYMDYN_PYTHON_MODULE(${target})
 " @ONLY)
   # The emitted source is compiled again here, position-independent.
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/generated/${target})
-  add_library(${target}_python MODULE ${source} ${out_dir}/${target}.cpp)
+  get_target_property(emitted ${target} SYMDYN_EMITTED_SOURCES)
+  add_library(${target}_python MODULE ${source} ${emitted})
   target_include_directories(${target}_python PRIVATE ${out_dir})
   target_link_libraries(${target}_python PRIVATE symdyn_python)
   set_target_properties(${target}_python PROPERTIES
@@ -73,5 +74,4 @@ SYMDYN_PYTHON_MODULE(${target})
     LIBRARY_OUTPUT_DIRECTORY ${SYMDYN_PYTHON_DIR}
     CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
   symdyn_set_compile_options(${target}_python)
-  symdyn_optimize_emitted(${target}_python)
 endfunction()

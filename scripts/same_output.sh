@@ -3,7 +3,8 @@
 # generator of a build (each model it registers, each variant; symdyn-urdf on
 # each robot of tests/urdf/robots) with each option set below, and keeps what
 # it wrote, printed and returned: DIR/<model>/<variant>/<set>/ holds gen.hpp,
-# gen.cpp, stdout, stderr and rc. Save before the change, check after it:
+# gen.cpp (and gen.2.cpp ... with --sources), stdout, stderr and rc. Save before the
+# change, check after it:
 #
 #   cmake --build --preset release --target $(scripts/same_output.sh targets)
 #   scripts/same_output.sh save /tmp/before
@@ -28,6 +29,7 @@ option_sets=(
   "mass_matrix|--dynamics mass-matrix"
   "case1|--no-simplify --partials numeric --no-eom"
   "parts16|--part-size 16 --split-above 0"
+  "sources3|--part-size 16 --split-above 0 --sources 3 --source-bytes 1000"
   "only_positions|--only positions"
   "only_relative|--only relative_accelerations,dependent_parameters"
   "only_inertia|--only inertia"

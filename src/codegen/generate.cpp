@@ -21,6 +21,11 @@ using model::ModelError;
 void check_options(std::string_view variant, std::string_view basename, const Options& options) {
   model::check_name(variant, "variant");  // first: the default basename is made of it
   model::check_identifier(basename, "basename");
+  if (options.sources == 0 || options.sources > kMaxSources) {
+    throw ModelError(
+        fmt::format("sources is {} (it must be 1 to {})", options.sources, kMaxSources));
+  }
+  if (options.source_bytes == 0) throw ModelError("source_bytes is 0 (it must be at least 1)");
   if (options.name_space.empty())
     throw ModelError("namespace is empty (the code would be in an anonymous namespace)");
   std::string_view rest = options.name_space;

@@ -31,6 +31,15 @@ inline constexpr std::size_t kDefaultPartInstructions = 125;
 // its compilation gains (bench/results/emitted_code_layout.md).
 inline constexpr std::size_t kSplitAbove = 500;
 
+// A source file of the emitted code holds at least this many bytes of the
+// definitions (Options::sources): compiling a file costs about 0.1 s of
+// parsing <cmath> and the header before its first definition, and compiling
+// 200 kB of definitions about 1 s (bench/results/build_loop.md).
+inline constexpr std::size_t kBytesPerSource = 200'000;
+// The most source files a model is spread over (Options::sources): more
+// than there are definitions, or processors, compile no faster.
+inline constexpr std::size_t kMaxSources = 256;
+
 // How the accelerations are computed (docs/emitted_interface.md): by the
 // mass matrix and bias forces and a Cholesky factorization at run time, or by
 // the emitted recursive forward_dynamics() (the articulated-body algorithm);
@@ -66,6 +75,13 @@ struct Options {
   // these values: see kDefaultPartInstructions and kSplitAbove.
   std::size_t part_instructions = kDefaultPartInstructions;
   std::size_t split_above = kSplitAbove;
+  // The definitions are spread over up to this many source files, compiled in
+  // parallel: <basename>.cpp, then <basename>.2.cpp ... <basename>.N.cpp
+  // (GeneratedCode::more_sources), each with source_bytes of them or more;
+  // the files left over hold a comment alone, so that a build can name them
+  // all in advance. 1: one file.
+  std::size_t sources = 1;
+  std::size_t source_bytes = kBytesPerSource;
   // Emit only these entry points (and those their hand-written bodies call),
   // to call them directly: code to draw a scene needs positions() alone.
   // Empty: every entry point, which MultibodySystem needs. A name not emitted
@@ -100,6 +116,7 @@ struct GeneratedCode {
                             // why (or empty)
   std::string header;       // <basename>.hpp
   std::string source;       // <basename>.cpp
+  std::vector<std::string> more_sources;  // <basename>.2.cpp ... (Options::sources - 1 of them)
   std::vector<EmittedFunction> functions;
 };
 

@@ -36,6 +36,8 @@ struct Arguments {
   // Signed, so that a negative count is refused rather than wrapped around.
   std::int64_t part_size = static_cast<std::int64_t>(codegen::kDefaultPartInstructions);
   std::int64_t split_above = static_cast<std::int64_t>(codegen::kSplitAbove);
+  std::int64_t sources = 1;
+  std::int64_t source_bytes = static_cast<std::int64_t>(codegen::kBytesPerSource);
   bool no_simplify = false;
   bool no_eom = false;
   bool derivatives = false;
@@ -95,8 +97,8 @@ const model::Definition& choose_model(const std::string& name) {
 
 // What generation writes, checked before the derivation (which can take
 // minutes): --out a directory or one that can be made, writable, and the
-// two files, where they exist, regular files that are not read-only.
-void check_out_directory(const std::string& out, const std::string& basename) {
+// files, where they exist, regular files that are not read-only.
+void check_out_directory(const std::string& out, const std::vector<std::string>& files) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::path dir(out);
@@ -112,8 +114,8 @@ void check_out_directory(const std::string& out, const std::string& basename) {
     throw CommandLineError(fmt::format(
         "--out: '{}' cannot be written: the folder '{}' is not writable", out, folder.string()));
   }
-  for (const char* ext : {".hpp", ".cpp"}) {
-    const fs::path file = dir / (basename + ext);
+  for (const std::string& name : files) {
+    const fs::path file = dir / name;
     const fs::file_status status = fs::status(file, ec);
     if (!fs::exists(status)) continue;
     if (!fs::is_regular_file(status)) {
@@ -166,6 +168,12 @@ Job check_arguments(const Arguments& args) {
                                                           : codegen::DynamicsMethod::automatic;
   job.options.part_instructions = count(args.part_size, 1, "--part-size");
   job.options.split_above = count(args.split_above, 0, "--split-above");
+  job.options.sources = count(args.sources, 1, "--sources");
+  if (job.options.sources > codegen::kMaxSources) {
+    throw CommandLineError(fmt::format("--sources: {} is out of range (it must be at most {})",
+                                       args.sources, codegen::kMaxSources));
+  }
+  job.options.source_bytes = count(args.source_bytes, 1, "--source-bytes");
   job.options.entry_points = args.only;
   if (args.out.empty()) throw CommandLineError("--out: the directory name is empty");
   return job;
@@ -255,6 +263,14 @@ std::string describe(const Job& job) {
       fmt::join(inlined, ", "), json_vec3(m.gravity()), fmt::join(bodies, ",\n"));
 }
 
+// The files a job writes: <basename>.hpp, <basename>.cpp, then <basename>.2.cpp ...
+std::vector<std::string> file_names(const Job& job) {
+  std::vector<std::string> names{job.basename + ".hpp", job.basename + ".cpp"};
+  for (std::size_t f = 2; f <= job.options.sources; ++f)
+    names.push_back(fmt::format("{}.{}.cpp", job.basename, f));
+  return names;
+}
+
 int generate(const Job& job, const Arguments& args) {
   const auto start = std::chrono::steady_clock::now();
   const model::Model m = job.definition->make(job.variant);
@@ -262,12 +278,19 @@ int generate(const Job& job, const Arguments& args) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::filesystem::create_directories(args.out);
-  write_if_changed(std::filesystem::path(args.out) / (job.basename + ".hpp"), code.header);
-  write_if_changed(std::filesystem::path(args.out) / (job.basename + ".cpp"), code.source);
+  const std::vector<std::string> names = file_names(job);
+  std::vector<const std::string*> texts{&code.header, &code.source};
+  for (const std::string& more : code.more_sources) texts.push_back(&more);
+  std::size_t source_bytes = 0;
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    write_if_changed(std::filesystem::path(args.out) / names[f], *texts[f]);
+    if (f > 0) source_bytes += texts[f]->size();
+  }
   if (args.stats) {
-    fmt::print("model {} variant {}: generated in {:.4f} s, {} bytes ({} header + {} source)\n",
-               job.definition->name, job.variant, seconds, code.header.size() + code.source.size(),
-               code.header.size(), code.source.size());
+    fmt::print("model {} variant {}: generated in {:.4f} s, {} bytes ({} header + {} source{})\n",
+               job.definition->name, job.variant, seconds, code.header.size() + source_bytes,
+               code.header.size(), source_bytes,
+               names.size() > 2 ? fmt::format(" in {} files", names.size() - 1) : "");
     for (const auto& e : code.functions) {
       fmt::print("  {:<22} {:>7} operations  {}\n", e.name, e.operations.total(),
                  e.operations.str());
@@ -287,7 +310,7 @@ int run(const Arguments& args, const codegen::GeneratorHooks& hooks) {
       return 0;
     }
     const Job job = check_arguments(args);
-    check_out_directory(args.out, job.basename);
+    check_out_directory(args.out, file_names(job));
     return generate(job, args);
   } catch (const CommandLineError& e) {
     std::cerr << "error: " << e.what() << '\n';
@@ -349,6 +372,14 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
   app.add_option(
          "--split-above", args.split_above,
          "share functions only if all entry points together are longer than N statements (N >= 0)")
+      ->capture_default_str();
+  app.add_option("--sources", args.sources,
+                 "spread the definitions over up to N source files, to compile in parallel: "
+                 "<basename>.cpp, <basename>.2.cpp ... <basename>.N.cpp, those left over empty "
+                 "(N >= 1)")
+      ->capture_default_str();
+  app.add_option("--source-bytes", args.source_bytes,
+                 "with --sources: at least N bytes of definitions in each file used (N >= 1)")
       ->capture_default_str();
   app.add_option(
          "--only", args.only,

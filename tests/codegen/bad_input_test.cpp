@@ -72,6 +72,19 @@ TEST_CASE("generate: a namespace that cannot be declared is refused", "[bad_inpu
   CHECK_NOTHROW(codegen::generate(pendulum(1.0), "v", "pend", in_namespace("sim::generated")));
 }
 
+TEST_CASE("generate: a number of source files out of range is refused", "[bad_input]") {
+  codegen::Options o;
+  o.sources = 0;
+  CHECK(generate_error("v", "pend", o) == "sources is 0 (it must be 1 to 256)");
+  o.sources = 257;
+  CHECK(generate_error("v", "pend", o) == "sources is 257 (it must be 1 to 256)");
+  o.sources = 256;
+  o.source_bytes = 0;
+  CHECK(generate_error("v", "pend", o) == "source_bytes is 0 (it must be at least 1)");
+  o.source_bytes = 1;
+  CHECK(codegen::generate(pendulum(1.0), "v", "pend", o).more_sources.size() == 255);
+}
+
 TEST_CASE("generate: a variant printed in the code must have an identifier's shape",
           "[bad_input]") {
   CHECK(generate_error("two words", "pend") ==
@@ -116,14 +129,18 @@ struct Toolchain {
     std::filesystem::create_directories((dir / name).parent_path());
     std::ofstream(dir / name, std::ios::binary) << text;
   }
-  // A static library of one emitted source, as symdyn_add_model makes it.
+  // A static library of the emitted sources, as symdyn_add_model makes it.
   void library(const std::string& sub, const codegen::GeneratedCode& code) const {
     write(fmt::format("{}/{}.hpp", sub, code.struct_name), code.header);
-    write(fmt::format("{}/{}.cpp", sub, code.struct_name), code.source);
-    compile(fmt::format("{}/{}.cpp", sub, code.struct_name), sub, fmt::format("{}/model.o", sub));
-    REQUIRE(testing::run_command({SYMDYN_TEST_AR, "qc", (dir / sub / "libmodel.a").string(),
-                                  (dir / sub / "model.o").string()})
-                .exit_code == 0);
+    std::vector<std::string> archive{SYMDYN_TEST_AR, "qc", (dir / sub / "libmodel.a").string()};
+    for (std::size_t f = 0; f <= code.more_sources.size(); ++f) {
+      const std::string name =
+          f == 0 ? code.struct_name : fmt::format("{}.{}", code.struct_name, f + 1);
+      write(fmt::format("{}/{}.cpp", sub, name), f == 0 ? code.source : code.more_sources[f - 1]);
+      compile(fmt::format("{}/{}.cpp", sub, name), sub, fmt::format("{}/{}.o", sub, name));
+      archive.push_back((dir / sub / fmt::format("{}.o", name)).string());
+    }
+    REQUIRE(testing::run_command(archive).exit_code == 0);
   }
   void compile(const std::string& source, const std::string& include,
                const std::string& object) const {
@@ -172,5 +189,40 @@ TEST_CASE("two different models of one struct name in one program fail to link, 
   const auto both = tc.link({"main.o", "use_a.o", "use_b.o", "a/libmodel.a", "b/libmodel.a"});
   CHECK(both.exit_code != 0);
   CHECK_THAT(both.err, Contains("multiple definition of `symdyn_generated::symdyn_model_pend_a'"));
+  std::filesystem::remove_all(tc.dir);
+}
+
+TEST_CASE("a model spread over three source files links and computes what one file computes",
+          "[bad_input][link]") {
+  const Toolchain tc;
+  const model::Model m = model::find_definition("slider_crank").make("dependent");
+  codegen::Options options;
+  options.part_instructions = 16;  // parts to spread: slider_crank is short
+  options.split_above = 0;
+  tc.library("one", codegen::generate(m, "dependent", "crank_one", options));
+  options.sources = 3;
+  options.source_bytes = 1;
+  tc.library("three", codegen::generate(m, "dependent", "crank_three", options));
+  tc.write("main.cpp", R"(#include "one/crank_one.hpp"
+#include "three/crank_three.hpp"
+using One = symdyn_generated::crank_one;
+using Three = symdyn_generated::crank_three;
+int main() {
+  constexpr int n = One::nq;
+  double q[n], qd[n], qdd[n], M[2][n * n], h[2][n], tau[2][n];
+  for (int i = 0; i < n; ++i) q[i] = 0.3 + 0.2 * i, qd[i] = 0.7 - 0.1 * i, qdd[i] = 1.1;
+  One::dynamics(0.0, q, qd, One::param_defaults, M[0], h[0]);
+  Three::dynamics(0.0, q, qd, Three::param_defaults, M[1], h[1]);
+  One::inverse_dynamics(0.0, q, qd, qdd, One::param_defaults, tau[0]);
+  Three::inverse_dynamics(0.0, q, qd, qdd, Three::param_defaults, tau[1]);
+  int differ = 0;
+  for (int i = 0; i < n * n; ++i) differ += M[0][i] != M[1][i];
+  for (int i = 0; i < n; ++i) differ += (h[0][i] != h[1][i]) + (tau[0][i] != tau[1][i]);
+  return differ;
+}
+)");
+  tc.compile("main.cpp", ".", "main.o");
+  REQUIRE(tc.link({"main.o", "one/libmodel.a", "three/libmodel.a"}).exit_code == 0);
+  CHECK(testing::run_command({(tc.dir / "program").string()}).exit_code == 0);
   std::filesystem::remove_all(tc.dir);
 }

@@ -97,6 +97,31 @@ TEST_CASE("cli: part sizes out of range are refused", "[bad_input][cli]") {
   CHECK(generator(kPendulum, {"--part-size", "16", "--split-above", "0"}).exit_code == 0);
 }
 
+TEST_CASE("cli: --sources writes that many source files; 0 is refused", "[bad_input][cli]") {
+  auto r = generator(kPendulum, {"--sources", "0"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "error: --sources: 0 is out of range (it must be at least 1)\n");
+  r = generator(kPendulum, {"--sources", "1000000000"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "error: --sources: 1000000000 is out of range (it must be at most 256)\n");
+  r = generator(kPendulum, {"--sources", "3", "--source-bytes", "0"});
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "error: --source-bytes: 0 is out of range (it must be at least 1)\n");
+  const auto out = scratch_directory("sources");
+  r = run_command({kPendulum, "--out", out.string(), "--basename", "p", "--sources", "3",
+                   "--part-size", "16", "--split-above", "0", "--source-bytes", "1"});
+  CHECK(r.exit_code == 0);
+  for (const char* file : {"p.hpp", "p.cpp", "p.2.cpp", "p.3.cpp"}) {
+    INFO(file);
+    CHECK(std::filesystem::is_regular_file(out / file));
+  }
+  CHECK_FALSE(std::filesystem::exists(out / "p.4.cpp"));
+  std::ifstream third(out / "p.3.cpp");
+  const std::string text((std::istreambuf_iterator<char>(third)), std::istreambuf_iterator<char>());
+  CHECK_THAT(text, Contains("[[gnu::noinline]] void part"));
+  std::filesystem::remove_all(out);
+}
+
 TEST_CASE("cli: a basename that is not an identifier is refused before generation",
           "[bad_input][cli]") {
   auto r = generator(kPendulum, {"--basename", "pend-a"});

@@ -40,9 +40,15 @@ GeneratedCode emit_code(const TextContext& c, Derivation&& d,
 // without `static`) or the definition's head ("void <struct>::positions(
 // [[maybe_unused]] double t, ...)") of an entry point.
 std::string signature(const EntryPointSpec& spec, std::string_view struct_name, bool definition);
-// Appends the entry points' definitions to code.source, and each to
-// code.functions with its program (moved out of d.whole).
-void emit_functions(const TextContext& c, Derivation& d, GeneratedCode& code);
+// The entry points' definitions, and each entry point to code.functions
+// with its program (moved out of d.whole).
+struct FunctionTexts {
+  bool shared = false;  // definitions are the parts, calls the entry points that call them
+  std::vector<std::string> definitions;  // in order, each whole: any source file may hold it
+  std::string declarations;              // of the parts ("void part0(...);" lines)
+  std::string calls;                     // for the first source file, after the definitions
+};
+FunctionTexts emit_functions(const TextContext& c, Derivation& d, GeneratedCode& code);
 
 // cpp_text_header.cpp: the header up to its link guard, which closes its namespace.
 std::string header_text(const TextContext& c, const std::vector<EntryPoint>& entries,

@@ -46,51 +46,55 @@ symbolic::CppNaming naming(const TextContext& c, const EntryPoint& e) {
   return naming;
 }
 
-// Each entry point its own function.
-void emit_whole(const TextContext& c, Derivation& d, GeneratedCode& code) {
+// Each entry point its own function, each a definition of its own.
+void emit_whole(const TextContext& c, Derivation& d, GeneratedCode& code, FunctionTexts& texts) {
   for (std::size_t i = 0; i < d.entries.size(); ++i) {
     const EntryPoint& entry = d.entries[i];
     EmittedFunction& f = emitted(entry, code.functions);
     if (!entry.hand_written()) f.program = std::move(d.whole[i]);
-    code.source += function_text(
-        c, entry, f.program ? symbolic::emit_cpp(*f.program, naming(c, entry)) : entry.body);
+    texts.definitions.push_back(function_text(
+        c, entry, f.program ? symbolic::emit_cpp(*f.program, naming(c, entry)) : entry.body));
     if (f.program) f.operations = f.program->operation_count();
   }
 }
 
-// The parts as internal functions. noinline keeps the compiler from gluing
-// them back into one function; __restrict on every array (outputs never
-// overlap inputs, nor each other) tells it that a store changes no input,
-// output or scratch entry it has read, so nothing is read again and its
-// alias queries end at once.
-std::string part_functions(const Derivation& d, const symbolic::CppShared& shared,
-                           const symbolic::CppNaming& naming) {
+// A part's parameters: the arrays it reads and writes. __restrict on every
+// array (outputs never overlap inputs, nor each other) tells the compiler
+// that a store changes no input, output or scratch entry it has read, so
+// nothing is read again and its alias queries end at once.
+std::string part_parameters(const symbolic::CppPart& part, const symbolic::CppNaming& naming) {
+  std::vector<std::string> params;
+  for (std::size_t a : part.input_arrays) {
+    const std::string& in = naming.input_arrays[a].first;
+    params.push_back(in == "t" ? "double t" : fmt::format("const double* __restrict {}", in));
+  }
+  for (std::size_t a : part.output_arrays)
+    params.push_back(fmt::format("double* __restrict {}", naming.output_arrays[a].first));
+  if (part.scratch) params.push_back(fmt::format("double* __restrict {}", naming.scratch));
+  return fmt::format("{}", fmt::join(params, ", "));
+}
+
+// The parts as internal functions, each a definition. noinline keeps the
+// compiler from gluing them back into one function.
+void part_functions(const Derivation& d, const symbolic::CppShared& shared,
+                    const symbolic::CppNaming& naming, FunctionTexts& texts) {
   std::vector<std::string_view> names;  // of the entry points with a program, by function
   for (const EntryPoint& e : d.entries) {
     if (!e.hand_written()) names.push_back(e.name());
   }
-  std::string out = "\nnamespace {\n";
   for (std::size_t p = 0; p < shared.parts.size(); ++p) {
     const symbolic::CppPart& part = shared.parts[p];
-    std::vector<std::string> params;
     std::vector<std::string_view> users;
-    for (std::size_t a : part.input_arrays) {
-      const std::string& in = naming.input_arrays[a].first;
-      params.push_back(in == "t" ? "double t" : fmt::format("const double* __restrict {}", in));
-    }
-    for (std::size_t a : part.output_arrays) {
-      params.push_back(fmt::format("double* __restrict {}", naming.output_arrays[a].first));
-    }
-    if (part.scratch) params.push_back(fmt::format("double* __restrict {}", naming.scratch));
     for (std::size_t f : part.functions) users.push_back(names[f]);
-    out +=
+    const std::string params = part_parameters(part, naming);
+    std::string text =
         fmt::format("\n// Part {} of {}, run by {}.\n[[gnu::noinline]] void part{}({}) {{\n", p + 1,
-                    shared.parts.size(), fmt::join(users, ", "), p, fmt::join(params, ", "));
-    out += part.body;
-    out += "}\n";
+                    shared.parts.size(), fmt::join(users, ", "), p, params);
+    text += part.body;
+    text += "}\n";
+    texts.definitions.push_back(std::move(text));
+    texts.declarations += fmt::format("void part{}({});\n", p, params);
   }
-  out += "\n}  // namespace\n";
-  return out;
 }
 
 // An entry point's body: its scratch array, then a call of each of its parts.
@@ -125,8 +129,9 @@ std::string part_calls(const Derivation& d, std::size_t entry,
 }
 
 // Every entry point with a program runs the parts its outputs need, the
-// parts first (internal functions), then the entry points in order.
-void emit_shared(const TextContext& c, const Derivation& d, GeneratedCode& code) {
+// parts (internal functions), then the entry points in order, which call them.
+void emit_shared(const TextContext& c, const Derivation& d, GeneratedCode& code,
+                 FunctionTexts& texts) {
   symbolic::CppNaming naming;
   for (Input in : kInputs) {
     const std::size_t n = c.inputs.size(in);
@@ -141,17 +146,17 @@ void emit_shared(const TextContext& c, const Derivation& d, GeneratedCode& code)
   const std::vector<std::vector<std::size_t>> functions = entry_outputs(d);
   const symbolic::CppShared shared =
       symbolic::emit_cpp_shared(d.program, naming, functions, c.options.part_instructions);
-  code.source += part_functions(d, shared, naming);
+  part_functions(d, shared, naming, texts);
   for (std::size_t e = 0, fn = 0; e < d.entries.size(); ++e) {
     const EntryPoint& entry = d.entries[e];
     EmittedFunction& f = emitted(entry, code.functions);
     if (entry.hand_written()) {
-      code.source += function_text(c, entry, entry.body);
+      texts.calls += function_text(c, entry, entry.body);
       continue;
     }
     f.program = d.program.subprogram(functions[fn], c.inputs.indices(entry.spec->inputs));
     f.operations = f.program->operation_count();
-    code.source +=
+    texts.calls +=
         function_text(c, entry, part_calls(d, e, shared.parts, shared.functions[fn], naming));
     ++fn;
   }
@@ -172,12 +177,15 @@ std::string signature(const EntryPointSpec& spec, std::string_view struct_name, 
                      definition ? "::" : "", spec.name, fmt::join(params, ", "));
 }
 
-void emit_functions(const TextContext& c, Derivation& d, GeneratedCode& code) {
-  if (d.whole.empty()) {
-    emit_shared(c, d, code);
+FunctionTexts emit_functions(const TextContext& c, Derivation& d, GeneratedCode& code) {
+  FunctionTexts texts;
+  texts.shared = d.whole.empty();
+  if (texts.shared) {
+    emit_shared(c, d, code, texts);
   } else {
-    emit_whole(c, d, code);
+    emit_whole(c, d, code, texts);
   }
+  return texts;
 }
 
 }  // namespace symdyn::codegen::detail
