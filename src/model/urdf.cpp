@@ -271,7 +271,7 @@ class Importer {
     const urdf::Link& root = *robot_.getRoot();
     Transform placement;
     if (options_.floating_base) {
-      UrdfJoint base{root.name, "floating", {}, std::nullopt};
+      UrdfJoint base{root.name, "floating", {}, std::nullopt, {}};
       placement = floating_motion(m_, identifier_shaped(root.name), base.coordinates);
       joints_.push_back(base);
     }
@@ -335,12 +335,7 @@ class Importer {
 
   // The joint's own motion, declaring its coordinates; refuses what symdyn cannot represent.
   Transform joint_motion(const urdf::Joint& joint) {
-    if (joint.mimic) {
-      throw ModelError(
-          fmt::format("URDF joint '{}': mimic joints are not supported (it mimics '{}')",
-                      joint.name, joint.mimic->joint_name));
-    }
-    UrdfJoint record{joint.name, type_name(joint), {}, std::nullopt};
+    UrdfJoint record{joint.name, type_name(joint), {}, std::nullopt, {}};
     if (joint.limits) {
       record.limits = UrdfJoint::Limits{joint.limits->lower, joint.limits->upper,
                                         joint.limits->velocity, joint.limits->effort};
@@ -351,11 +346,11 @@ class Importer {
         break;
       case urdf::Joint::REVOLUTE:
       case urdf::Joint::CONTINUOUS:
-        motion = Trot(unit_axis(joint), declare(joint, record));
+        motion = Trot(unit_axis(joint), variable(joint, record));
         break;
       case urdf::Joint::PRISMATIC: {
         const Vec3 axis = unit_axis(joint);
-        const Expr q = declare(joint, record);
+        const Expr q = variable(joint, record);
         motion = Tdisp(axis[0] * q, axis[1] * q, axis[2] * q);
         break;
       }
@@ -368,8 +363,31 @@ class Importer {
             "prismatic, floating are)",
             joint.name, type_name(joint)));
     }
+    if (joint.mimic && record.mimic.empty()) {
+      throw ModelError(fmt::format(
+          "URDF joint '{}': a {} joint cannot mimic '{}' (revolute, continuous and prismatic "
+          "joints can)",
+          joint.name, type_name(joint), joint.mimic->joint_name));
+    }
     joints_.push_back(std::move(record));
     return motion;
+  }
+
+  // The joint's variable: its coordinate, or for a mimic joint the dependent
+  // parameter multiplier·q + offset of the joint it mimics, named after it.
+  Expr variable(const urdf::Joint& joint, UrdfJoint& record) {
+    if (!joint.mimic) return values_[joint.name] = declare(joint, record);
+    const urdf::JointMimic& mimic = *joint.mimic;
+    const auto mimicked = values_.find(mimic.joint_name);
+    if (mimicked == values_.end()) {
+      throw ModelError(fmt::format(
+          "URDF joint '{}' mimics '{}', which is not a revolute, continuous or prismatic joint "
+          "met before it (from the root, parents first)",
+          joint.name, mimic.joint_name));
+    }
+    record.mimic = mimic.joint_name;
+    return values_[joint.name] = m_.dependent(identifier_shaped(joint.name),
+                                              mimic.multiplier * mimicked->second + mimic.offset);
   }
 
   // One coordinate named after the joint, starting at 0 or at the nearest limit when 0 is outside
@@ -408,6 +426,7 @@ class Importer {
   const UrdfOptions& options_;
   std::vector<UrdfJoint> joints_;
   std::set<std::string> visited_;
+  std::map<std::string, Expr> values_;  // each one-variable joint's coordinate or dependent
 };
 
 }  // namespace
