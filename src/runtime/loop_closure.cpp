@@ -1,4 +1,5 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -44,7 +45,7 @@ double LoopClosure::smallest_pivot() const {
 
 void LoopClosure::factor(const Model& model, double t, const Vector& x) {
   lu_.compute(g_p_);
-  if (!(smallest_pivot() >= kSingularPivot)) not_closed(model, t, x, "singular");
+  if (!(smallest_pivot() >= kSingularPivot)) not_closed(model, t, x, Failure::singular);
 }
 
 void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x) {
@@ -62,12 +63,12 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   for (int iteration = 0;; ++iteration) {
     evaluate(model, t, x);
     if (!(g_.allFinite() && g_q_.allFinite() && g_p_.allFinite() && g_t_.allFinite()))
-      not_closed(model, t, x, "not finite");
+      not_closed(model, t, x, Failure::not_finite);
     const double scale = std::max({1.0, g_q_.cwiseAbs().maxCoeff(), g_p_.cwiseAbs().maxCoeff()});
     const double residual = g_.cwiseAbs().maxCoeff();
     const double rounding = 64 * std::numeric_limits<double>::epsilon() * scale;
     if (residual <= rounding || (polished && residual <= kTolerance * scale)) break;
-    if (iteration == kMaxIterations) not_closed(model, t, x, "no convergence");
+    if (iteration == kMaxIterations) not_closed(model, t, x, Failure::no_convergence);
     polished = residual <= kTolerance * scale;
     factor(model, t, x);
     step_ = lu_.solve(g_);
@@ -96,16 +97,16 @@ void LoopClosure::close(const Model& model, double t, const Vector& q, const Vec
   step_ = lu_.solve(g_t_);
   xd.tail(m_) -= step_;
   model.constraint_bias(t, x.data(), xd.data(), gamma_.data());
-  if (!(gamma_.allFinite() && xd.allFinite())) not_closed(model, t, x, "not finite");
+  if (!(gamma_.allFinite() && xd.allFinite())) not_closed(model, t, x, Failure::not_finite);
   step_ = lu_.solve(gamma_);
   c_.tail(m_) = -step_;
 }
 
-void LoopClosure::not_closed(const Model& model, double t, const Vector& x, const char* why) const {
+void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Failure why) const {
   // The loops of the equations that fail: those of the largest residual, or
   // those a left null vector of g_p combines (the dependent equations).
   std::vector<int> equations;
-  if (std::string_view(why) == "singular") {
+  if (why == Failure::singular) {
     const Matrix null = Eigen::FullPivLU<Matrix>(g_p_.transpose()).kernel();
     const Vector w = null.col(0).cwiseAbs();
     for (int k = 0; k < m_; ++k) {
@@ -130,13 +131,13 @@ void LoopClosure::not_closed(const Model& model, double t, const Vector& x, cons
   const std::string which =
       fmt::format("loop{} {}", loops.size() == 1 ? "" : "s", fmt::join(loops, ", "));
   std::string what;
-  if (std::string_view(why) == "singular") {
+  if (why == Failure::singular) {
     what = fmt::format(
         "{} at a singular configuration: g_p (the Jacobian of the loop equations with respect to "
         "the implicit dependent parameters) is singular (smallest pivot {:.3g} of its largest "
         "entry), a toggle or dead-centre position where q does not determine them",
         which, smallest_pivot());
-  } else if (std::string_view(why) == "not finite") {
+  } else if (why == Failure::not_finite) {
     what = fmt::format("{}: the loop equations are not finite", which);
   } else {
     what = fmt::format(

@@ -58,8 +58,9 @@ class LoopClosure {
   void factor(const Model& model, double t, const Vector& x);
   double smallest_pivot() const;  // of lu_, as a share of g_p's largest entry
   void evaluate(const Model& model, double t, const Vector& x);
+  enum class Failure { singular, not_finite, no_convergence };
   [[noreturn, gnu::cold]] void not_closed(const Model& model, double t, const Vector& x,
-                                          const char* why) const;
+                                          Failure why) const;
 
   int n_ = 0, m_ = 0;
   Vector g_, g_t_, gamma_, guess_, step_, dq_;
