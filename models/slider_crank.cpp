@@ -1,4 +1,7 @@
-// Slider-crank (paper Tables 4-5, eqs. 1-5; docs/models.md 3).
+// Slider-crank (paper Tables 4-5, eqs. 1-5; docs/models.md 3). Variants:
+// inline and dependent, alpha and x given in closed form; implicit, alpha and
+// x determined by the loop closed at the crank pin (docs/builder.md), the
+// same mechanics.
 #include <symdyn/model/model.hpp>
 
 namespace {
@@ -9,8 +12,13 @@ void build(Model& m, std::string_view variant) {
   m.inline_dependents(variant == "inline");
   const Expr q0 = m.coordinate("q0");
   const double l1 = 0.1, l2 = 0.3;
-  const Expr alpha = m.dependent("alpha", asin(l1 * sin(q0) / l2));
-  const Expr x = m.dependent("x", l1 * cos(q0) + l2 * cos(alpha));
+  const bool implicit = variant == "implicit";
+  // Implicit, alpha and x have names of their own: a symbol's name has one kind
+  // in a process that builds several variants.
+  const Expr alpha = implicit ? m.implicit_dependent("rod_angle", 0.0)
+                              : m.dependent("alpha", asin(l1 * sin(q0) / l2));
+  const Expr x = implicit ? m.implicit_dependent("slider_x", l1 + l2)
+                          : m.dependent("x", l1 * cos(q0) + l2 * cos(alpha));
   m.body("crank")
       .mass(1.0)
       .inertia(1e-4, 8.3333333333333333e-4, 8.3333333333333333e-4)
@@ -22,8 +30,10 @@ void build(Model& m, std::string_view variant) {
   m.body("slider").mass(0.3).inertia(1e-4, 1e-4, 1e-4).motion(Tdisp(x, 0, 0));
   m.gravity(0, -9.81, 0);
   m.initial(q0, 0.0, 50.0);
+  // The crank's pin (its end, l1/2 from G) is the rod's end (l2/2 behind G).
+  if (implicit) m.close_loop("crank_pin", "crank", {l1 / 2, 0, 0}, "rod", {-l2 / 2, 0, 0});
 }
 
-const Registration registration({"slider_crank", {"inline", "dependent"}, build});
+const Registration registration({"slider_crank", {"inline", "dependent", "implicit"}, build});
 
 }  // namespace

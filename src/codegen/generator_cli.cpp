@@ -226,9 +226,22 @@ std::string describe(const Job& job) {
   m.validate();
   std::vector<std::string> coordinates, dependents, inlined, parameters, bodies;
   for (const model::Coordinate& c : m.coordinates()) {
-    coordinates.push_back(fmt::format("{{\"q\": {}, \"qd\": {}, \"qdd\": {}}}", json_expr(c.q),
-                                      json_expr(c.qd), json_expr(c.qdd)));
+    // An implicit dependent parameter of a closed loop, with its guess.
+    const std::string implicit = c.implicit ? fmt::format(", \"implicit\": true, \"guess\": {}",
+                                                          symbolic::cpp_literal(c.initial))
+                                            : "";
+    coordinates.push_back(fmt::format("{{\"q\": {}, \"qd\": {}, \"qdd\": {}{}}}", json_expr(c.q),
+                                      json_expr(c.qd), json_expr(c.qdd), implicit));
   }
+  // Closed loops, only in a model that has them: each with its equations g = 0.
+  std::string loops;
+  for (const model::Loop& l : m.loops()) {
+    std::vector<std::string> equations;
+    for (model::Expr g : l.equations) equations.push_back(json_expr(g));
+    loops += fmt::format("{}{{\"name\": {}, \"equations\": [{}]}}", loops.empty() ? "" : ", ",
+                         json_string(l.name), fmt::join(equations, ", "));
+  }
+  if (!loops.empty()) loops = fmt::format("  \"loops\": [{}],\n", loops);
   for (const model::Dependent& d : m.dependents()) {
     dependents.push_back(fmt::format("{{\"p\": {}, \"pd\": {}, \"pdd\": {}, \"expression\": {}}}",
                                      json_expr(d.symbol), json_expr(d.rate),
@@ -257,10 +270,10 @@ std::string describe(const Job& job) {
   return fmt::format(
       "{{\n  \"model\": {},\n  \"variant\": {},\n  \"time\": {},\n  \"coordinates\": [{}],\n"
       "  \"parameters\": [{}],\n  \"dependents\": [{}],\n  \"inlined_dependents\": [{}],\n"
-      "  \"gravity\": {},\n  \"bodies\": [\n{}\n  ]\n}}\n",
+      "{}  \"gravity\": {},\n  \"bodies\": [\n{}\n  ]\n}}\n",
       json_string(job.definition->name), json_string(job.variant), json_expr(m.time()),
       fmt::join(coordinates, ", "), fmt::join(parameters, ", "), fmt::join(dependents, ", "),
-      fmt::join(inlined, ", "), json_vec3(m.gravity()), fmt::join(bodies, ",\n"));
+      fmt::join(inlined, ", "), loops, json_vec3(m.gravity()), fmt::join(bodies, ",\n"));
 }
 
 // The files a job writes: <basename>.hpp, <basename>.cpp, then <basename>.2.cpp ...

@@ -9,6 +9,7 @@
 #include <symdyn/model/identifier.hpp>
 #include <symdyn/model/model.hpp>
 #include <symdyn/symbolic/eval.hpp>
+#include <symdyn/symbolic/simplify.hpp>
 #include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::model {
@@ -43,7 +44,7 @@ void check_builder_name(std::string_view name, std::string_view what) {
 std::string describe_symbol(Expr s) {
   switch (s.symbol_kind()) {
     case SymbolKind::Variable:
-      return fmt::format("coordinate '{}'", s.name());
+      return fmt::format("coordinate '{}'", s.name());  // or implicit dependent parameter
     case SymbolKind::Time:
       return fmt::format("time '{}'", s.name());
     case SymbolKind::Parameter:
@@ -155,9 +156,83 @@ Expr Model::coordinate(std::string_view name) {
     throw ModelError(fmt::format("coordinate '{}' is declared twice", name));
   }
   auto [rate, acceleration] = derivative_names(name);
-  coordinates_.push_back({declare(name, SymbolKind::Variable), declare(rate, SymbolKind::Rate),
-                          declare(acceleration, SymbolKind::Acceleration)});
+  // Before the implicit dependent parameters: x = (q, p).
+  const auto at =
+      coordinates_.insert(coordinates_.end() - static_cast<std::ptrdiff_t>(num_implicit_),
+                          {declare(name, SymbolKind::Variable), declare(rate, SymbolKind::Rate),
+                           declare(acceleration, SymbolKind::Acceleration)});
+  return at->q;
+}
+
+Expr Model::implicit_dependent(std::string_view name, double guess) {
+  check_builder_name(name, "implicit dependent parameter");
+  if (!std::isfinite(guess)) {
+    throw ModelError(
+        fmt::format("implicit dependent parameter '{}': guess {} is not finite", name, guess));
+  }
+  if (is_declared(declare(name, SymbolKind::Variable)))
+    throw ModelError(fmt::format("implicit dependent parameter '{}' is declared twice", name));
+  auto [rate, acceleration] = derivative_names(name);
+  coordinates_.push_back({.q = declare(name, SymbolKind::Variable),
+                          .qd = declare(rate, SymbolKind::Rate),
+                          .qdd = declare(acceleration, SymbolKind::Acceleration),
+                          .initial = guess,
+                          .implicit = true});
+  ++num_implicit_;
   return coordinates_.back().q;
+}
+
+void Model::check_loop_name(std::string_view name) const {
+  check_builder_name(name, "loop");
+  if (std::any_of(loops_.begin(), loops_.end(), [&](const Loop& l) { return l.name == name; }))
+    throw ModelError(fmt::format("loop '{}' is declared twice", name));
+}
+
+void Model::constraint(std::string_view name, std::vector<Expr> equations) {
+  check_loop_name(name);
+  Loop loop{std::string(name), {}};
+  symbolic::Simplifier simplify;
+  for (std::size_t k = 0; k < equations.size(); ++k) {
+    const Expr g = equations[k];
+    check_declared(g, fmt::format("loop '{}' equation {}", name, k));
+    // Identically zero: no equation (a planar mechanism's z); a nonzero constant: never satisfied.
+    const Expr simplified = g.is_number() ? g : simplify(g);
+    if (simplified.is_number()) {
+      if (simplified == Expr(0)) continue;
+      throw ModelError(fmt::format("loop '{}' equation {} is the constant {}, never 0", name, k,
+                                   simplified.str()));
+    }
+    loop.equations.push_back(g);
+  }
+  if (loop.equations.empty())
+    throw ModelError(fmt::format("loop '{}' has no equation that is not identically 0", name));
+  loops_.push_back(std::move(loop));
+}
+
+Transform::Pose Model::absolute_pose(std::string_view name, std::string_view loop) const {
+  const int i = body_index(name);
+  if (i < 0)
+    throw ModelError(fmt::format("loop '{}' closes on '{}', which is not a body", loop, name));
+  const Body& b = bodies_[i];
+  if (!b.has_motion()) {
+    throw ModelError(
+        fmt::format("loop '{}' closes on body '{}', which has no motion yet (give it before "
+                    "close_loop)",
+                    loop, name));
+  }
+  Transform::Pose pose = b.motion().pose();
+  if (!b.reference()) return pose;
+  const Transform::Pose base = absolute_pose(*b.reference(), loop);
+  return {base.R * pose.R, base.x + base.R * pose.x, {}};
+}
+
+void Model::close_loop(std::string_view name, std::string_view body_a, const Vec3& point_a,
+                       std::string_view body_b, const Vec3& point_b) {
+  check_loop_name(name);
+  topological_order();  // unknown references and cycles, before following them
+  const Transform::Pose a = absolute_pose(body_a, name), b = absolute_pose(body_b, name);
+  const Vec3 gap = (a.x + a.R * point_a) - (b.x + b.R * point_b);
+  constraint(name, {gap[0], gap[1], gap[2]});
 }
 
 std::vector<Expr> Model::coordinates(int n, std::string_view prefix) {
@@ -297,13 +372,14 @@ std::vector<int> Model::topological_order() const {
 void Model::validate() const {
   // In this order (docs/errors.md): the first culprit found is reported.
   static constexpr void (Model::*kChecks[])()
-      const = {&Model::validate_structure, &Model::validate_bodies, &Model::validate_gravity,
-               &Model::validate_coordinates_move_bodies, &Model::validate_initial_configuration};
+      const = {&Model::validate_structure, &Model::validate_bodies,
+               &Model::validate_gravity,   &Model::validate_coordinates_move_bodies,
+               &Model::validate_loops,     &Model::validate_initial_configuration};
   for (auto check : kChecks) (this->*check)();
 }
 
 void Model::validate_structure() const {
-  if (coordinates_.empty()) throw ModelError(fmt::format("model '{}' has no coordinate", name_));
+  if (num_independent() == 0) throw ModelError(fmt::format("model '{}' has no coordinate", name_));
   if (bodies_.empty()) throw ModelError(fmt::format("model '{}' has no body", name_));
   topological_order();  // unknown references and cycles
 }
@@ -414,6 +490,70 @@ void Model::validate_initial_configuration() const {
       for (Expr e : s.displacement) check(e, evaluate, "body", b.name(), " motion");
       check(s.angle, evaluate, "body", b.name(), " motion");
     }
+  }
+  for (const Loop& l : loops_) {
+    for (Expr g : l.equations) check(g, evaluate, "loop", l.name, " equation");
+  }
+}
+
+// The loops determine the implicit dependent parameters: as many equations
+// as parameters, each loop depending on some of them and each of them on
+// some loop (directly or through explicit dependent parameters).
+void Model::validate_loops() const {
+  if (loops_.empty() && num_implicit_ == 0) return;
+  std::vector<std::string> implicit;
+  for (const Coordinate& c : coordinates_) {
+    if (c.implicit) implicit.push_back(c.q.name());
+  }
+  // The symbols of `e`, with those of the explicit dependent parameters it uses.
+  const auto symbols = [&](Expr e) {
+    std::vector<Expr> used = symbolic::free_symbols(std::span<const Expr>(&e, 1));
+    for (auto d = dependents_.rbegin(); d != dependents_.rend(); ++d) {
+      if (std::find(used.begin(), used.end(), d->symbol) == used.end()) continue;
+      for (Expr s : symbolic::free_symbols(std::span<const Expr>(&d->expression, 1)))
+        used.push_back(s);
+    }
+    return used;
+  };
+  std::vector<Expr> determined;
+  std::size_t equations = 0;
+  std::vector<std::string> counts;
+  for (const Loop& l : loops_) {
+    bool any = false;
+    for (Expr g : l.equations) {
+      for (Expr s : symbols(g)) {
+        const auto c = std::find_if(coordinates_.begin(), coordinates_.end(),
+                                    [&](const Coordinate& c) { return c.q == s && c.implicit; });
+        if (c == coordinates_.end()) continue;
+        any = true;
+        determined.push_back(s);
+      }
+    }
+    if (!any) {
+      throw ModelError(fmt::format(
+          "loop '{}' depends on no implicit dependent parameter: it would constrain the "
+          "coordinates themselves (declare the parameters it determines with implicit_dependent)",
+          l.name));
+    }
+    equations += l.equations.size();
+    counts.push_back(fmt::format("loop '{}' ({} equation{})", l.name, l.equations.size(),
+                                 l.equations.size() == 1 ? "" : "s"));
+  }
+  for (const Coordinate& c : coordinates_) {
+    if (c.implicit && std::find(determined.begin(), determined.end(), c.q) == determined.end()) {
+      throw ModelError(fmt::format(
+          "implicit dependent parameter '{}' appears in no loop's equations (declare its loop "
+          "with constraint or close_loop)",
+          c.q.name()));
+    }
+  }
+  if (equations != num_implicit_) {
+    throw ModelError(fmt::format(
+        "{} give{} {} equation{} for {} implicit dependent parameter{} ({}): as many independent "
+        "equations as parameters are needed",
+        fmt::join(counts, ", "), loops_.size() == 1 ? "s" : "", equations,
+        equations == 1 ? "" : "s", num_implicit_, num_implicit_ == 1 ? "" : "s",
+        fmt::join(implicit, ", ")));
   }
 }
 

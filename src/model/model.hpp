@@ -20,7 +20,12 @@
 //   dependent p       explicit functions of q, time and earlier dependent
 //                     parameters; kept as intermediate variables, or inlined
 //                     (substituted) when `inline_dependents(true)`;
-//   time t            for motions prescribed in time.
+//   time t            for motions prescribed in time;
+//   implicit p        dependent parameters of a closed kinematic loop, defined
+//                     implicitly by the loop's equations g(t, q, p) = 0 with a
+//                     starting guess (implicit_dependent, constraint,
+//                     close_loop); the generator treats them as extra tree
+//                     coordinates after q, the runtime solves them (docs/builder.md).
 //
 // Bodies have a mass, an inertia tensor at G in body axes, and a motion: a
 // product of elementary transformations (transform.hpp), absolute or relative
@@ -87,11 +92,21 @@ struct Dependent {
   Expr expression;
 };
 
-// A coordinate q with its rate and acceleration symbols and initial values.
+// A coordinate q with its rate and acceleration symbols and initial values;
+// or an implicit dependent parameter (implicit, its initial value the guess
+// the runtime's first solve starts from).
 struct Coordinate {
   Expr q, qd, qdd;
   double initial = 0.0;
   double initial_rate = 0.0;
+  bool implicit = false;
+};
+
+// A closed kinematic loop: its name and its equations g(t, q, p) = 0, none
+// identically zero.
+struct Loop {
+  std::string name;
+  std::vector<Expr> equations;
 };
 
 // A dependent parameter substituted where it is used (inline_dependents): its
@@ -118,6 +133,22 @@ class Model {
   // `runtime` is set or run-time parameters are requested for the whole model.
   Expr parameter(std::string_view name, double value, bool runtime = false);
   Expr dependent(std::string_view name, Expr expression);
+  // A dependent parameter of a closed loop, determined by the loops'
+  // equations (constraint, close_loop) and solved at run time from `guess`
+  // (the first time) or from its last value. Declared as a coordinate after
+  // every independent one (coordinates() holds q, then these).
+  Expr implicit_dependent(std::string_view name, double guess);
+  // Loop `name`: equations g(t, q, p) = 0 in the coordinates, the implicit
+  // and explicit dependent parameters, t and run-time parameters. Equations
+  // that are identically zero are dropped.
+  void constraint(std::string_view name, std::vector<Expr> equations);
+  // Loop `name` closed by a point of body_a coinciding with a point of body_b
+  // (each in its body's axes, about its G): the components of
+  // x_a + R_a·point_a - x_b - R_b·point_b that do not simplify to 0 (z in a
+  // planar mechanism) are its equations. Both bodies, and the bodies they
+  // are relative to, must have their motion already.
+  void close_loop(std::string_view name, std::string_view body_a, const Vec3& point_a,
+                  std::string_view body_b, const Vec3& point_b);
   Expr time() const { return time_; }
   Body& body(std::string_view name);
   void gravity(Scalar gx, Scalar gy, Scalar gz);
@@ -126,7 +157,12 @@ class Model {
   void inline_dependents(bool on) { inline_dependents_ = on; }
   void runtime_parameters(bool on) { runtime_parameters_ = on; }
 
+  // The coordinates: the independent ones q first, then the implicit dependent
+  // parameters p (the extended coordinates x = (q, p) of the tree).
   const std::vector<Coordinate>& coordinates() const { return coordinates_; }
+  std::size_t num_independent() const { return coordinates_.size() - num_implicit_; }
+  std::size_t num_implicit() const { return num_implicit_; }
+  const std::vector<Loop>& loops() const { return loops_; }
   const std::vector<Dependent>& dependents() const { return dependents_; }
   const std::vector<InlinedDependent>& inlined_dependents() const { return inlined_dependents_; }
   const std::vector<Parameter>& parameters() const { return parameters_; }
@@ -167,9 +203,16 @@ class Model {
   void validate_gravity() const;
   void validate_coordinates_move_bodies() const;
   void validate_initial_configuration() const;
+  void validate_loops() const;
+  // Body `name`'s absolute pose; ModelError naming `loop` unless it and its
+  // references have motions.
+  Transform::Pose absolute_pose(std::string_view name, std::string_view loop) const;
+  void check_loop_name(std::string_view name) const;
 
   std::string name_;
-  std::vector<Coordinate> coordinates_;
+  std::vector<Coordinate> coordinates_;  // independent, then implicit
+  std::size_t num_implicit_ = 0;
+  std::vector<Loop> loops_;
   std::vector<Dependent> dependents_;
   std::vector<InlinedDependent> inlined_dependents_;
   std::vector<Parameter> parameters_;

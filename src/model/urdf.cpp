@@ -277,7 +277,7 @@ class Importer {
     const urdf::Link& root = *robot_.getRoot();
     Transform placement;
     if (options_.floating_base) {
-      UrdfJoint base{root.name, "floating", {}, std::nullopt};
+      UrdfJoint base{root.name, "floating", {}, std::nullopt, {}};
       placement = floating_motion(root.name, base.coordinates);
       joints_.push_back(base);
     }
@@ -345,12 +345,7 @@ class Importer {
 
   // The joint's own motion, declaring its coordinates; refuses what symdyn cannot represent.
   Transform joint_motion(const urdf::Joint& joint) {
-    if (joint.mimic) {
-      throw ModelError(
-          fmt::format("URDF joint '{}': mimic joints are not supported (it mimics '{}')",
-                      joint.name, joint.mimic->joint_name));
-    }
-    UrdfJoint record{joint.name, type_name(joint), {}, std::nullopt};
+    UrdfJoint record{joint.name, type_name(joint), {}, std::nullopt, {}};
     if (joint.limits) {
       record.limits = UrdfJoint::Limits{joint.limits->lower, joint.limits->upper,
                                         joint.limits->velocity, joint.limits->effort};
@@ -361,11 +356,11 @@ class Importer {
         break;
       case urdf::Joint::REVOLUTE:
       case urdf::Joint::CONTINUOUS:
-        motion = Trot(unit_axis(joint), declare(joint, record));
+        motion = Trot(unit_axis(joint), variable(joint, record));
         break;
       case urdf::Joint::PRISMATIC: {
         const Vec3 axis = unit_axis(joint);
-        const Expr q = declare(joint, record);
+        const Expr q = variable(joint, record);
         motion = Tdisp(axis[0] * q, axis[1] * q, axis[2] * q);
         break;
       }
@@ -377,6 +372,12 @@ class Importer {
             "URDF joint '{}': {} joints are not supported (fixed, revolute, continuous, "
             "prismatic, floating are)",
             joint.name, type_name(joint)));
+    }
+    if (joint.mimic && record.mimic.empty()) {
+      throw ModelError(fmt::format(
+          "URDF joint '{}': a {} joint cannot mimic '{}' (revolute, continuous and prismatic "
+          "joints can)",
+          joint.name, type_name(joint), joint.mimic->joint_name));
     }
     joints_.push_back(std::move(record));
     return motion;
@@ -390,6 +391,23 @@ class Importer {
       names.push_back(q.back().name());
     }
     return Tdisp(q[0], q[1], q[2]) * Trotz(q[3]) * Troty(q[4]) * Trotx(q[5]);
+  }
+
+  // The joint's variable: its coordinate, or for a mimic joint the dependent
+  // parameter multiplier·q + offset of the joint it mimics, named after it.
+  Expr variable(const urdf::Joint& joint, UrdfJoint& record) {
+    if (!joint.mimic) return values_[joint.name] = declare(joint, record);
+    const urdf::JointMimic& mimic = *joint.mimic;
+    const auto mimicked = values_.find(mimic.joint_name);
+    if (mimicked == values_.end()) {
+      throw ModelError(fmt::format(
+          "URDF joint '{}' mimics '{}', which is not a revolute, continuous or prismatic joint "
+          "met before it (from the root, parents first)",
+          joint.name, mimic.joint_name));
+    }
+    record.mimic = mimic.joint_name;
+    return values_[joint.name] = dependent(identifier_shaped(joint.name),
+                                           mimic.multiplier * mimicked->second + mimic.offset);
   }
 
   // One coordinate named after the joint, starting at 0 or at the nearest limit when 0 is outside
@@ -411,6 +429,18 @@ class Importer {
     }));
     take_coordinate(m_.coordinates().back());
     return q;
+  }
+  // A dependent parameter named `name`, or `name_2`, ... when that name is taken (a mimic
+  // joint's variable), with its rate's and acceleration's names taken too.
+  Expr dependent(const std::string& name, Expr expression) {
+    const Expr p = m_.dependent(first_free(name,
+                                           [&](const std::string& n) {
+                                             return symbols_.count(n) || symbols_.count(n + "_d") ||
+                                                    symbols_.count(n + "_dd");
+                                           }),
+                                expression);
+    for (const std::string& n : {p.name(), p.name() + "_d", p.name() + "_dd"}) symbols_.insert(n);
+    return p;
   }
   void take_coordinate(const Coordinate& c) {
     for (const Expr& s : {c.q, c.qd, c.qdd}) symbols_.insert(s.name());
@@ -441,8 +471,9 @@ class Importer {
   const UrdfOptions& options_;
   std::vector<UrdfJoint> joints_;
   std::set<std::string> visited_;
-  std::set<std::string> symbols_;  // the model's symbols' names: no coordinate may take one
-  std::set<std::string> bodies_;   // the model's bodies' names
+  std::set<std::string> symbols_;       // the model's symbols' names: no coordinate may take one
+  std::set<std::string> bodies_;        // the model's bodies' names
+  std::map<std::string, Expr> values_;  // each one-variable joint's coordinate or dependent
 };
 
 }  // namespace

@@ -69,6 +69,9 @@ struct UrdfJoint {
   std::string type;  // "fixed", "revolute", "continuous", "prismatic", "floating"
   std::vector<std::string> coordinates;  // the names given to the model's coordinates
   std::optional<Limits> limits;
+  // For a <mimic> joint, the joint it mimics: its variable is then the dependent
+  // parameter multiplier·q + offset named after it, and `coordinates` is empty.
+  std::string mimic;
 };
 
 struct UrdfRobot {

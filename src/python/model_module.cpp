@@ -540,9 +540,21 @@ class System {
   std::unique_ptr<MultibodySystem> call_;  // the last call's system with extra forces
 };
 
+// An entry point that takes the tree's accelerations, not yet offered for a
+// model with closed loops (whose state holds only its independent coordinates).
+void refuse_loops(const Model& m, const char* what) {
+  if (m.has_loops()) {
+    throw py::value_error(
+        fmt::format("model '{}': {} is not available for a model with closed "
+                    "loops ({})",
+                    m.name(), what, fmt::join(m.loop_names(), ", ")));
+  }
+}
+
 py::tuple positions(System& self, const py::object& q, double t) {
   const Model& m = self.model();
-  const State s = state_arg(self.base(), t, q, py::none());
+  // With closed loops, in the tree's coordinates x = (q, p), the loops closed.
+  const State s = self.base().extended_state(state_arg(self.base(), t, q, py::none()));
   Kinematics k = m.make_kinematics();
   m.positions(t, s.q.data(), k);
   return py::make_tuple(body_array(k.R_data(), m.nbody(), true),
@@ -551,7 +563,7 @@ py::tuple positions(System& self, const py::object& q, double t) {
 
 py::tuple velocities(System& self, const py::object& q, const py::object& qd, double t) {
   const Model& m = self.model();
-  const State s = state_arg(self.base(), t, q, qd);
+  const State s = self.base().extended_state(state_arg(self.base(), t, q, qd));
   Kinematics k = m.make_kinematics();
   m.velocities(t, s.q.data(), s.qd.data(), k);
   return py::make_tuple(body_array(k.v_data(), m.nbody(), false),
@@ -561,6 +573,7 @@ py::tuple velocities(System& self, const py::object& q, const py::object& qd, do
 py::tuple body_accelerations(System& self, const py::object& q, const py::object& qd,
                              const py::object& qdd, double t) {
   const Model& m = self.model();
+  refuse_loops(m, "body_accelerations");
   const State s = state_arg(self.base(), t, q, qd);
   const Vector a = vector_arg(qdd, m.nq(), "qdd");
   check_finite(a, m, "qdd");
@@ -573,6 +586,7 @@ py::tuple body_accelerations(System& self, const py::object& q, const py::object
 py::tuple dependent_parameters(System& self, const py::object& q, const py::object& qd,
                                const py::object& qdd, double t) {
   const Model& m = self.model();
+  refuse_loops(m, "dependent_parameters");
   const State s = state_arg(self.base(), t, q, qd);
   const Vector a = qdd.is_none() ? Vector::Zero(m.nq()) : vector_arg(qdd, m.nq(), "qdd");
   Kinematics k = m.make_kinematics();

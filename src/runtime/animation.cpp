@@ -18,6 +18,13 @@ void Animation::record(const State& s) {
     throw OptionError(fmt::format("animation: frame at t = {} after t = {}: times must increase",
                                   s.t, times_.back()));
   }
+  if (s.q.size() != model_.nq()) {
+    // A model with closed loops is drawn in the tree's coordinates x = (q, p).
+    throw ModelError(fmt::format(
+        "animation: model '{}': a state of {} coordinates, expected {}{}", model_.name(),
+        s.q.size(), model_.nq(),
+        model_.has_loops() ? " (closed loops: record MultibodySystem::extended_state(s))" : ""));
+  }
   model_.positions(s.t, s.q.data(), k_);
   for (int i = 0; i < nbody_; ++i) {
     Eigen::Quaterniond q(Mat3(k_.R(i)));

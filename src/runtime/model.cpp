@@ -97,11 +97,41 @@ Model::Model(ModelDescription d) : d_(std::move(d)) {
   check_size(d_.param_names.size(), d_.nparam, "param_names");
   check_size(d_.param_defaults.size(), d_.nparam, "param_defaults");
   if (d_.inertia == nullptr) missing("inertia");
+  if (d_.nindependent < 0) d_.nindependent = d_.nq;
+  validate_loops();
   validate_diagnostics();
   zeros_.assign(std::max(d_.nq, 1), 0.0);
   param_ = d_.param_defaults;
   if (param_.empty()) param_.push_back(0.0);
   evaluate_inertia(param_, mass_, inertia_);
+}
+
+void Model::validate_loops() const {
+  const auto fail = [&](const std::string& what) {
+    throw ModelError(fmt::format("model '{}': {}", d_.model, what));
+  };
+  if (d_.nindependent > d_.nq) fail(fmt::format("nindependent {} > nq {}", d_.nindependent, d_.nq));
+  if (!has_loops()) return;
+  if (d_.constraints == nullptr || d_.constraint_bias == nullptr)
+    fail("closed loops without the entry points constraints and constraint_bias");
+  if (d_.constraint_loop.size() != static_cast<std::size_t>(ncon()))
+    fail(fmt::format("constraint_loop has {} entries, expected {}", d_.constraint_loop.size(),
+                     ncon()));
+  for (int l : d_.constraint_loop) {
+    if (l < 0 || l >= static_cast<int>(d_.loop_names.size()))
+      fail(fmt::format("constraint_loop names loop {} of {}", l, d_.loop_names.size()));
+  }
+}
+
+void Model::constraints(double t, const double* x, double* g, double* g_q, double* g_p,
+                        double* g_t) const {
+  if (d_.constraints == nullptr) missing("constraints");
+  d_.constraints(t, x, param_.data(), g, g_q, g_p, g_t);
+}
+
+void Model::constraint_bias(double t, const double* x, const double* xd, double* gamma) const {
+  if (d_.constraint_bias == nullptr) missing("constraint_bias");
+  d_.constraint_bias(t, x, xd, param_.data(), gamma);
 }
 
 void Model::validate_diagnostics() const {

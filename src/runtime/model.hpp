@@ -74,6 +74,13 @@ using InverseDynamicsDerivativesFn = void (*)(double t, const double* q, const d
 using KinematicsDerivativesFn = void (*)(double t, const double* q, const double* qd,
                                          const double* param, double* dv_dq, double* dw_dq,
                                          double* ddv_dq, double* ddw_dq);
+// Closed loops (docs/emitted_interface.md): at x = q (extended), the loops'
+// equations g (ncon), g_q (ncon x nindependent), g_p (ncon x ncon), g_t (ncon);
+// and gamma (ncon) with g_q·qdd + g_p·pdd + gamma = 0.
+using ConstraintsFn = void (*)(double t, const double* q, const double* param, double* g,
+                               double* g_q, double* g_p, double* g_t);
+using ConstraintBiasFn = void (*)(double t, const double* q, const double* qd, const double* param,
+                                  double* gamma);
 // qdd = M⁻¹·(tau - h) (nq) by the articulated-body algorithm; returns -1, or the
 // first coordinate whose pivot failed (then qdd is not to be used).
 using ForwardDynamicsFn = int (*)(double t, const double* q, const double* qd, const double* tau,
@@ -163,6 +170,15 @@ concept has_domain_checks = requires(double t, const double* c, double* o) {
   G::domain_arguments(t, c, c, o);
 };
 template <class G>
+concept has_loops = requires(double t, const double* c, double* o) {
+  { G::nindependent } -> std::convertible_to<int>;
+  { G::nloop } -> std::convertible_to<int>;
+  G::loop_names[0];
+  G::constraint_loop[0];
+  G::constraints(t, c, c, o, o, o, o);
+  G::constraint_bias(t, c, c, c, o);
+};
+template <class G>
 concept has_angle_sequences = requires {
   { G::nangle_sequences } -> std::convertible_to<int>;
   G::angle_sequence_body[0];
@@ -234,6 +250,14 @@ struct ModelDescription {
   std::vector<DomainCheck> domain_checks;
   DomainArgumentsFn domain_arguments = nullptr;
   std::vector<AngleSequence> angle_sequences;
+  // Closed loops: q holds the nindependent coordinates, then the implicit
+  // dependent parameters (nq - nindependent, one per loop equation). Without
+  // loops nindependent is nq (-1: set by the constructor) and the rest empty.
+  int nindependent = -1;
+  std::vector<std::string> loop_names;
+  std::vector<int> constraint_loop;  // (nq - nindependent) the loop of each equation
+  ConstraintsFn constraints = nullptr;
+  ConstraintBiasFn constraint_bias = nullptr;
 };
 
 class Model {
@@ -256,6 +280,19 @@ class Model {
   int nbody() const { return d_.nbody; }
   int ndep() const { return d_.ndep; }
   int nparam() const { return d_.nparam; }
+  // Closed loops: nq = nindependent() + ncon(), the coordinates q then the
+  // implicit dependent parameters p (runtime/loop_closure.hpp solves them).
+  int nindependent() const { return d_.nindependent; }
+  int ncon() const { return d_.nq - d_.nindependent; }
+  bool has_loops() const { return ncon() > 0; }
+  const std::vector<std::string>& loop_names() const { return d_.loop_names; }
+  // The loop equation k belongs to.
+  int constraint_loop(int k) const { return d_.constraint_loop[k]; }
+  // The emitted loops' equations at x (nq): g (ncon), g_q (ncon x nindependent),
+  // g_p (ncon x ncon), g_t (ncon), row-major; gamma (ncon) at x, xd.
+  void constraints(double t, const double* x, double* g, double* g_q, double* g_p,
+                   double* g_t) const;
+  void constraint_bias(double t, const double* x, const double* xd, double* gamma) const;
 
   const std::vector<std::string>& q_names() const { return d_.q_names; }
   const std::vector<std::string>& body_names() const { return d_.body_names; }
@@ -265,7 +302,8 @@ class Model {
   int coordinate_index(std::string_view name) const;
   int parameter_index(std::string_view name) const;
 
-  // Initial coordinates and rates from the model (nq each), as a State at t = 0.
+  // Initial coordinates and rates from the model (nq each), as a State at t = 0
+  // (with loops: the implicit dependent parameters at their guesses, rates 0).
   State initial_state() const;
   const Vec3& gravity() const { return d_.gravity; }
   // Body a body's motion is relative to in the model, or -1.
@@ -383,6 +421,7 @@ class Model {
                         std::vector<Mat3>& inertia) const;
   [[noreturn]] void missing(const char* entry) const;
   void validate_diagnostics() const;
+  void validate_loops() const;
   // dynamics() from the separate entry points (a model without the fused ones).
   [[gnu::noinline]] void dynamics_separately(double t, const double* q, const double* qd,
                                              KinematicsLevel level, double* M, double* h,
@@ -441,6 +480,14 @@ ModelDescription Model::describe() {
     for (int k = 0; k < G::ndomain; ++k)
       d.domain_checks.push_back({G::domain_dependents[k], G::domain_functions[k]});
     d.domain_arguments = &G::domain_arguments;
+  }
+  if constexpr (detail::has_loops<G>) {
+    d.nindependent = G::nindependent;
+    for (int l = 0; l < G::nloop; ++l) d.loop_names.emplace_back(G::loop_names[l]);
+    for (int k = 0; k < G::nq - G::nindependent; ++k)
+      d.constraint_loop.push_back(G::constraint_loop[k]);
+    d.constraints = &G::constraints;
+    d.constraint_bias = &G::constraint_bias;
   }
   if constexpr (detail::has_angle_sequences<G>) {
     for (int k = 0; k < G::nangle_sequences; ++k) {

@@ -17,7 +17,7 @@
 
 namespace symdyn::runtime {
 
-inline constexpr int model_module_abi = 3;
+inline constexpr int model_module_abi = 4;
 inline constexpr const char* model_module_entry = "symdyn_model_module";
 
 struct ModelModule {

@@ -1,4 +1,5 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -32,11 +33,12 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   loads_ = Loads(nq, model_.nbody());
   zero_ = Vector::Zero(nq);
   f0_.resize(nq);
-  Qa_.resize(nq);
+  Qa_ = Vector::Zero(nq);  // stays zero without force elements
   h_ = Vector::Zero(nq);
   M_ = Matrix::Zero(nq, nq);
   DwJ_.resize(nq, 3);
-  solver_ = SpdSolver(nq);
+  solver_ = SpdSolver(num_coordinates());
+  if (model_.has_loops()) loops_ = LoopClosure(model_);
   if (model_.has_kinematics_derivatives()) dk_ = model_.make_kinematics_derivatives();
   base_v_.resize(static_cast<std::size_t>(3 * model_.nbody()));
   base_w_.resize(static_cast<std::size_t>(3 * model_.nbody()));
@@ -89,17 +91,78 @@ void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vec
 
 State MultibodySystem::initial_state() const {
   State s = model_.initial_state();
+  s.q.conservativeResize(num_coordinates());
+  s.qd.conservativeResize(num_coordinates());
   s.y = extra_initial_;
   return s;
 }
 
+State MultibodySystem::extended_state(const State& s) {
+  if (!model_.has_loops()) return s;
+  return extended(s);
+}
+
+void MultibodySystem::set_loop_guess(const Vector& p) {
+  if (p.size() != model_.ncon() || !p.allFinite()) {
+    throw ModelError(fmt::format("model '{}': the loops' guess must be {} finite values ({} given)",
+                                 model_.name(), model_.ncon(), p.size()));
+  }
+  loops_.set_guess(p);
+}
+
+const State& MultibodySystem::extended(const State& s) {
+  check_independent(s);
+  return close(s);
+}
+
+const State& MultibodySystem::close(const State& s) {
+  closed_.t = s.t;
+  loops_.close(model_, s.t, s.q, s.qd, closed_.q, closed_.qd);
+  closed_.y = s.y;
+  return closed_;
+}
+
+void MultibodySystem::check_independent(const State& s) const {
+  const Eigen::Index n = num_coordinates(), ny = num_extra_states();
+  if (s.q.size() != n || s.qd.size() != n || s.y.size() != ny) {
+    throw ModelError(fmt::format(
+        "model '{}': a state with {} q, {} qd, {} y given; expected {}, {}, {} (the independent "
+        "coordinates {} of its closed loops)",
+        model_.name(), s.q.size(), s.qd.size(), s.y.size(), n, n, ny,
+        fmt::join(std::vector<std::string>(model_.q_names().begin(), model_.q_names().begin() + n),
+                  ", ")));
+  }
+  if (s.q.allFinite() && s.qd.allFinite() && s.y.allFinite() && std::isfinite(s.t)) return;
+  // The extended state's check names the culprit (p is not solved: the guesses stand in).
+  State x = model_.initial_state();
+  x.t = s.t;
+  x.q.head(n) = s.q;
+  x.qd.head(n) = s.qd;
+  x.y = s.y;
+  state_error(x);
+}
+
+void MultibodySystem::reduce(const Matrix& A, Matrix& out) {
+  const Matrix& T = loops_.T();
+  MT_.noalias() = A * T;
+  out.resize(T.cols(), T.cols());
+  out.noalias() = T.transpose() * MT_;
+}
+
+void MultibodySystem::reduce(const Vector& b, const Matrix& A, Vector& out) {
+  xdd_ = b;
+  xdd_.noalias() += A * loops_.c();
+  out.noalias() = loops_.T().transpose() * xdd_;
+}
+
 std::string MultibodySystem::describe(const State& s) const {
   std::string out = "q = (";
-  for (int j = 0; j < model_.nq(); ++j) {
+  const auto n = static_cast<int>(std::min<Eigen::Index>(s.q.size(), model_.nq()));
+  for (int j = 0; j < n; ++j) {
     out += fmt::format("{}{} = {}", j ? ", " : "", model_.q_names()[j], s.q(j));
   }
   out += "), qd = (";
-  for (int j = 0; j < model_.nq(); ++j) {
+  for (int j = 0; j < std::min<int>(n, static_cast<int>(s.qd.size())); ++j) {
     out += fmt::format("{}{}", j ? ", " : "", s.qd(j));
   }
   return out + ")";
@@ -271,6 +334,7 @@ void MultibodySystem::assemble_mass_matrix(Matrix& M) {
 }
 
 const Kinematics& MultibodySystem::evaluate_kinematics(const State& s) {
+  if (reduces(s)) return evaluate_kinematics(extended(s));
   check_state(s);
   model_.velocities(s.t, s.q.data(), s.qd.data(), k_);
   model_.partial_velocities(s.t, s.q.data(), k_);
@@ -279,6 +343,12 @@ const Kinematics& MultibodySystem::evaluate_kinematics(const State& s) {
 }
 
 void MultibodySystem::mass_matrix(const State& s, Matrix& M) {
+  if (reduces(s)) {
+    const State& x = extended(s);
+    mass_matrix(x, tree_M_);
+    reduce(tree_M_, M);
+    return;
+  }
   if (source_ == EquationsSource::emitted) {
     mass_matrix_emitted(s, M);
   } else {
@@ -287,6 +357,12 @@ void MultibodySystem::mass_matrix(const State& s, Matrix& M) {
 }
 
 void MultibodySystem::mass_matrix_assembled(const State& s, Matrix& M) {
+  if (reduces(s)) {
+    const State& x = extended(s);
+    mass_matrix_assembled(x, tree_M_);
+    reduce(tree_M_, M);
+    return;
+  }
   check_state(s);
   model_.positions(s.t, s.q.data(), k_);
   model_.partial_velocities(s.t, s.q.data(), k_);
@@ -296,6 +372,12 @@ void MultibodySystem::mass_matrix_assembled(const State& s, Matrix& M) {
 }
 
 void MultibodySystem::mass_matrix_emitted(const State& s, Matrix& M) {
+  if (reduces(s)) {
+    const State& x = extended(s);
+    mass_matrix_emitted(x, tree_M_);
+    reduce(tree_M_, M);
+    return;
+  }
   check_state(s);
   // The emitted M is row-major and symmetric, so its column-major layout is
   // the same array.
@@ -304,6 +386,13 @@ void MultibodySystem::mass_matrix_emitted(const State& s, Matrix& M) {
 }
 
 void MultibodySystem::bias_forces_assembled(const State& s, Vector& h) {
+  if (reduces(s)) {
+    const State& x = extended(s);
+    mass_matrix_assembled(x, tree_M_);
+    bias_forces_assembled(x, tree_v_);
+    reduce(tree_v_, tree_M_, h);
+    return;
+  }
   check_state(s);
   model_.accelerations(s.t, s.q.data(), s.qd.data(), zero_.data(), k_);
   model_.partial_velocities(s.t, s.q.data(), k_);
@@ -313,12 +402,25 @@ void MultibodySystem::bias_forces_assembled(const State& s, Vector& h) {
 }
 
 void MultibodySystem::bias_forces_emitted(const State& s, Vector& h) {
+  if (reduces(s)) {
+    const State& x = extended(s);
+    mass_matrix_emitted(x, tree_M_);
+    bias_forces_emitted(x, tree_v_);
+    reduce(tree_v_, tree_M_, h);
+    return;
+  }
   check_state(s);
   h.resize(model_.nq());
   model_.bias_forces(s.t, s.q.data(), s.qd.data(), h.data());
 }
 
 void MultibodySystem::applied_forces(const State& s, Vector& Q) {
+  if (reduces(s)) {
+    const State& x = extended(s);
+    applied_forces(x, tree_v_);
+    Q.noalias() = loops_.T().transpose() * tree_v_;
+    return;
+  }
   evaluate_kinematics(s);
   compute_loads(s);
   Q.resize(model_.nq());
@@ -402,6 +504,10 @@ bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
 }
 
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
+  if (model_.has_loops()) {
+    loop_accelerations(s, qdd, yd);
+    return;
+  }
   const Eigen::Index nq = h_.size();
   if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != extra_initial_.size()) state_error(s);
   mass_factored_ = false;
@@ -447,6 +553,31 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   if (extra_) extra_(s, k_, yd);
 }
 
+// (Tᵀ·M_x·T)·qdd = Tᵀ·(Q_x - h_x - M_x·c) (loop_closure.hpp), the tree's M_x
+// and Q_x - h_x at the extended state as without loops.
+void MultibodySystem::loop_accelerations(const State& s, Vector& qdd, Vector& yd) {
+  check_independent(s);
+  mass_factored_ = false;
+  const State& x = close(s);
+  accelerations_rhs(x, rhs_x_);
+  rhs_x_.noalias() -= M_ * loops_.c();
+  Matrix& reduced = derivative_M_;
+  reduce(M_, reduced);
+  qdd.noalias() = loops_.T().transpose() * rhs_x_;
+  if (!solver_.factor(reduced)) {
+    if (!(reduced.allFinite() && qdd.allFinite())) explain_non_finite(x);
+    throw NumericError(fmt::format(
+        "t = {}: the mass matrix reduced to the independent coordinates of the closed loops is "
+        "singular or indefinite (pivot {:.3g} of its diagonal) at {}",
+        s.t, solver_.smallest_pivot_ratio(), describe(x)));
+  }
+  solver_.solve_in_place(qdd);
+  mass_factored_ = true;
+  if (!all_finite(qdd.data(), qdd.size())) accelerations_not_finite(x);
+  yd.resize(extra_initial_.size());
+  if (extra_) extra_(x, k_, yd);
+}
+
 // The right-hand side of M qdd = rhs of a checked state, M in M_: the assembled
 // equations, or the emitted ones with force elements.
 void MultibodySystem::accelerations_rhs(const State& s, Vector& qdd) {
@@ -468,6 +599,25 @@ void MultibodySystem::accelerations_rhs(const State& s, Vector& qdd) {
 
 void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
                                Vector& g) {
+  if (!model_.has_loops()) {
+    tree_residual(s, qdd, yd, f, g);
+    return;
+  }
+  // f = Tᵀ·f_x(xdd = T·qdd + c)
+  check_independent(s);
+  if (qdd.size() != num_coordinates()) {
+    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
+                                 qdd.size(), num_coordinates()));
+  }
+  const State& x = close(s);
+  xdd_ = loops_.c();
+  xdd_.noalias() += loops_.T() * qdd;
+  tree_residual(x, xdd_, yd, rhs_x_, g);
+  f.noalias() = loops_.T().transpose() * rhs_x_;
+}
+
+void MultibodySystem::tree_residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
+                                    Vector& g) {
   check_state(s);
   if (qdd.size() != model_.nq()) {
     throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
@@ -529,11 +679,13 @@ void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd,
 }
 
 bool MultibodySystem::exact_jacobians() const {
-  return use_exact_jacobians_ && source_ == EquationsSource::emitted &&
+  return use_exact_jacobians_ && !model_.has_loops() && source_ == EquationsSource::emitted &&
          model_.has_inverse_dynamics_derivatives();
 }
 
 std::string MultibodySystem::jacobian_method() const {
+  if (model_.has_loops())
+    return "central differences of the residual (closed loops: no exact derivatives)";
   if (!exact_jacobians()) return "central differences of the residual";
   std::string differenced;
   for (const auto& e : elements_) {
@@ -672,7 +824,7 @@ void MultibodySystem::derivatives_not_finite(const State& s) const {
 
 void MultibodySystem::jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M,
                                                Matrix& C, Matrix& K) {
-  const int n = model_.nq();
+  const int n = num_coordinates();
   mass_matrix(s, M);
   C.resize(n, n);
   K.resize(n, n);
@@ -733,10 +885,10 @@ void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& 
   bool factored = mass_factored_;
   if (tau.size() > 0) {
     // qdd += M⁻¹·tau: the residual M·qdd + h - Q - tau vanishes there.
-    if (tau.size() != model_.nq() || !all_finite(tau.data(), tau.size())) {
+    if (tau.size() != num_coordinates() || !all_finite(tau.data(), tau.size())) {
       throw ModelError(
           fmt::format("model '{}': generalized forces tau must be {} finite values ({} given)",
-                      model_.name(), model_.nq(), tau.size()));
+                      model_.name(), num_coordinates(), tau.size()));
     }
     if (!factored) {
       mass_matrix(s, derivative_M_);
@@ -757,11 +909,12 @@ void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& 
     return;
   }
   // M is factored (acceleration_derivatives): M⁻¹ = M⁻¹·1.
-  out.dqdd_dtau.setIdentity(model_.nq(), model_.nq());
+  out.dqdd_dtau.setIdentity(num_coordinates(), num_coordinates());
   solver_.solve_in_place(out.dqdd_dtau);
 }
 
 Energies MultibodySystem::energies(const State& s) {
+  if (reduces(s)) return energies(State(extended(s)));
   evaluate_kinematics(s);
   Energies e;
   e.kinetic = kinetic_energy(model_, k_);
@@ -771,6 +924,7 @@ Energies MultibodySystem::energies(const State& s) {
 }
 
 Momentum MultibodySystem::momentum(const State& s) {
+  if (reduces(s)) return momentum(extended(s));
   evaluate_kinematics(s);
   return runtime::momentum(model_, k_);
 }

@@ -33,6 +33,16 @@
 // NumericError naming the time, the quantity and the body or coordinate (and
 // the force element for loads).
 //
+// Closed loops (a model with implicit dependent parameters, loop_closure.hpp):
+// the state is in the independent coordinates q (n = nindependent) only; each
+// evaluation solves the implicit dependent parameters p and their rates,
+// evaluates the tree in x = (q, p) and reduces it: M = Tᵀ·M_x·T,
+// h = Tᵀ·(h_x + M_x·c), Q = Tᵀ·Q_x, the force elements seeing the tree's
+// kinematics and the extended state. mass_matrix, bias_forces_*,
+// applied_forces, energies, momentum and evaluate_kinematics take either the
+// state in q (reduced, loops closed) or in x (the tree's). Jacobians are by
+// central differences of the reduced residual.
+//
 // Not thread-safe: a system owns its workspace; use one system per thread.
 
 #include <functional>
@@ -45,6 +55,7 @@
 #include <symdyn/runtime/dynamic_system.hpp>
 #include <symdyn/runtime/energy.hpp>
 #include <symdyn/runtime/force_element.hpp>
+#include <symdyn/runtime/loop_closure.hpp>
 #include <symdyn/runtime/model.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
 
@@ -101,11 +112,22 @@ class MultibodySystem : public DynamicSystem {
   // extra equations read.
   KinematicsLevel kinematics_level() const { return level_; }
 
-  // The model's initial q and qd at t = 0, with the extra states' initial values.
+  // The model's initial q and qd at t = 0, with the extra states' initial values
+  // (with closed loops, the independent coordinates alone).
   State initial_state() const;
 
+  // Closed loops: the state in the tree's coordinates x = (q, p), xd = (qd, pd),
+  // p and pd solved to close the loops at s (given in q; assembly: the first
+  // solve starts from the model's guesses, later ones from the last solution,
+  // reset_loops() starts again from the guesses). The state itself without loops.
+  State extended_state(const State& s);
+  void reset_loops() { loops_.reset(); }
+  // The implicit dependent parameters' guesses (ncon) the next solve (and each
+  // after reset_loops()) starts from: the assembly branch. ModelError for a wrong size.
+  void set_loop_guess(const Vector& p);
+
   // DynamicSystem
-  int num_coordinates() const override { return model_.nq(); }
+  int num_coordinates() const override { return model_.nindependent(); }
   int num_extra_states() const override { return static_cast<int>(extra_names_.size()); }
   std::string coordinate_name(int i) const override { return model_.q_names()[i]; }
   std::string extra_state_name(int i) const override { return extra_names_[i]; }
@@ -181,6 +203,19 @@ class MultibodySystem : public DynamicSystem {
 
  private:
   void check_state(const State& s) const;
+  // Closed loops: whether s is in the independent coordinates (to be
+  // reduced), and the extended state closing the loops at it (a checked state).
+  bool reduces(const State& s) const {
+    return model_.has_loops() && s.q.size() == model_.nindependent();
+  }
+  const State& close(const State& s);
+  const State& extended(const State& s);  // checked, then closed
+  void check_independent(const State& s) const;
+  void loop_accelerations(const State& s, Vector& qdd, Vector& yd);
+  // Tᵀ·A·T and Tᵀ·(b + A·c) of the tree's A and b.
+  void reduce(const Matrix& A, Matrix& out);
+  void reduce(const Vector& b, const Matrix& A, Vector& out);
+  void tree_residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f, Vector& g);
   // Names what is wrong with a state check_state() refused.
   [[noreturn, gnu::cold, gnu::noinline]] void state_error(const State& s) const;
   // Throws naming the first body with a non-finite quantity among those
@@ -238,6 +273,11 @@ class MultibodySystem : public DynamicSystem {
   [[noreturn, gnu::cold, gnu::noinline]] void derivatives_not_finite(const State& s) const;
 
   Model model_;
+  LoopClosure loops_;   // with closed loops
+  State closed_;        // the extended state of the last close()
+  Vector xdd_, rhs_x_;  // (nq) the tree's accelerations and right-hand side
+  Matrix MT_, tree_M_;  // (nq x n) M_x·T, (nq x nq) a tree's matrix
+  Vector tree_v_;       // (nq)
   EquationsSource source_;
   std::vector<std::shared_ptr<const ForceElement>> elements_;
   std::vector<std::string> extra_names_;

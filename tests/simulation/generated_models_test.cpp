@@ -98,7 +98,7 @@ TEMPLATE_LIST_TEST_CASE(
     return worst / scale;
   };
   for (int k = 0; k < 20; ++k) {
-    const State s = random_state(system, rng);
+    const State s = system.extended_state(random_state(system, rng));  // the tree's coordinates
     Vector qdd(model.nq());
     for (int j = 0; j < model.nq(); ++j) qdd(j) = 10.0 * u(rng);
     model.accelerations(s.t, s.q.data(), s.qd.data(), qdd.data(), emitted);

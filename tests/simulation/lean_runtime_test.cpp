@@ -31,7 +31,7 @@ std::vector<State> states_near_initial(MultibodySystem& system, int count) {
        ++attempt) {
     State s = system.initial_state();
     s.t = 0.5 * (1.0 + u(rng));
-    for (int j = 0; j < system.model().nq(); ++j) {
+    for (int j = 0; j < system.num_coordinates(); ++j) {
       s.q(j) += 0.1 * u(rng);
       s.qd(j) += u(rng);
     }
@@ -147,7 +147,7 @@ TEMPLATE_LIST_TEST_CASE("accelerations name a non-finite state value before anyt
   bad.t = std::numeric_limits<double>::quiet_NaN();
   CHECK_THROWS_WITH(system.accelerations(bad, qdd, yd),
                     Catch::Matchers::Contains("time is not finite"));
-  for (int j = 0; j < system.model().nq(); ++j) {
+  for (int j = 0; j < system.num_coordinates(); ++j) {
     const std::string name = "coordinate '" + system.model().q_names()[j] + "' is not finite";
     for (bool rate : {false, true}) {
       bad = good;

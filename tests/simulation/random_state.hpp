@@ -17,9 +17,9 @@ inline runtime::State random_state(runtime::MultibodySystem& system, std::mt1993
   constexpr double q_spread = 0.2, qd_spread = 2.0;
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int attempt = 0; attempt < 1000; ++attempt) {
-    runtime::State s = system.model().initial_state();
+    runtime::State s = system.initial_state();  // the independent coordinates of closed loops
     s.t = 0.5 * (1.0 + u(rng));
-    for (int j = 0; j < system.model().nq(); ++j) {
+    for (int j = 0; j < system.num_coordinates(); ++j) {
       s.q(j) += q_spread * u(rng);
       s.qd(j) += qd_spread * u(rng);
     }

@@ -446,6 +446,11 @@ TEST_CASE("model modules: a module runs as the built-in model, the wrong ones ar
              Contains(fmt::format(
                  "model module '{}' was built for module interface {}, this symdyn-sim reads {}",
                  MODULE_OTHER_ABI, runtime::model_module_abi + 1, runtime::model_module_abi)));
+  // A model with closed loops: refused until symdyn-sim tells its coordinates apart.
+  CHECK_THAT(error_of(fmt::format(R"j({{"model": {{"name": "four_bar", "module": "{}"}}}})j",
+                                  MODULE_FOUR_BAR)),
+             Contains("/model: model 'four_bar' has closed loops (C), which symdyn-sim does not "
+                      "run yet"));
   const auto dir = testing::scratch_directory("module");
   std::ofstream(dir / "text.so") << "not a library\n";
   CHECK_THAT(

@@ -3,6 +3,7 @@
 #include <string>
 
 #include <symdyn/model/urdf.hpp>
+#include <symdyn/symbolic/eval.hpp>
 
 using namespace symdyn;
 using Catch::Matchers::Contains;
@@ -35,14 +36,44 @@ TEST_CASE("URDF: a planar joint is refused, naming it", "[urdf][errors]") {
       Contains("joint 'slide_plane'") && Contains("planar joints are not supported"));
 }
 
-TEST_CASE("URDF: a mimic joint is refused, naming it and the joint it mimics", "[urdf][errors]") {
-  const std::string xml = R"(<robot name="r"><link name="a"/><link name="b">)" +
-                          std::string(kLink) + R"(</link><link name="c">)" + kLink + R"(</link>
-    <joint name="j1" type="continuous"><parent link="a"/><child link="b"/></joint>
-    <joint name="finger" type="continuous"><parent link="b"/><child link="c"/><mimic joint="j1" multiplier="2"/></joint>
-    </robot>)";
-  CHECK_THROWS_WITH(model::import_urdf(xml),
-                    Contains("joint 'finger'") && Contains("mimic") && Contains("'j1'"));
+// Links a (root), b, c: j1 from a to b, `second` from b to c.
+std::string two_joints(const std::string& second) {
+  return R"(<robot name="r"><link name="a"/><link name="b">)" + std::string(kLink) +
+         R"(</link><link name="c">)" + kLink + R"(</link>
+    <joint name="j1" type="continuous"><parent link="a"/><child link="b"/></joint>)" +
+         second + "</robot>";
+}
+
+TEST_CASE("URDF: a mimic joint is the dependent parameter multiplier·q + offset", "[urdf][mimic]") {
+  const model::UrdfRobot r = model::import_urdf(two_joints(
+      R"(<joint name="finger" type="continuous"><parent link="b"/><child link="c"/>
+         <mimic joint="j1" multiplier="2" offset="0.5"/></joint>)"));
+  REQUIRE(r.model.coordinates().size() == 1);
+  REQUIRE(r.model.dependents().size() == 1);
+  const model::Dependent& finger = r.model.dependents()[0];
+  CHECK(finger.symbol.name() == "finger");
+  const model::Expr q = r.model.coordinates()[0].q;
+  symbolic::Bindings<double> at{{q, 0.3}};
+  symbolic::Evaluator<double> evaluate(at);
+  CHECK(evaluate(finger.expression) == Approx(2 * 0.3 + 0.5).epsilon(1e-15));
+  REQUIRE(r.joints.size() == 2);
+  CHECK(r.joints[1].mimic == "j1");
+  CHECK(r.joints[1].coordinates.empty());
+  CHECK_NOTHROW(r.model.validate());
+}
+
+TEST_CASE("URDF: a mimic joint of a joint met after it, or of a fixed joint, is refused",
+          "[urdf][errors]") {
+  CHECK_THROWS_WITH(
+      model::import_urdf(two_joints(
+          R"(<joint name="finger" type="continuous"><parent link="b"/><child link="c"/>
+             <mimic joint="thumb"/></joint>)")),
+      Contains("URDF joint 'finger' mimics 'thumb', which is not a revolute, continuous or "
+               "prismatic joint met before it"));
+  CHECK_THROWS_WITH(model::import_urdf(two_joints(
+                        R"(<joint name="clamp" type="fixed"><parent link="b"/><child link="c"/>
+             <mimic joint="j1"/></joint>)")),
+                    Contains("URDF joint 'clamp': a fixed joint cannot mimic 'j1'"));
 }
 
 TEST_CASE("URDF: an axis of zero length is refused, naming the joint", "[urdf][errors]") {

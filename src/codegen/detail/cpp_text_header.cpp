@@ -40,6 +40,28 @@ std::string declarations(const TextContext& c, const std::vector<EntryPoint>& en
   return out;
 }
 
+// The closed loops' facts the runtime reads (runtime/model.hpp), for a model that has them.
+std::string loops_declarations(const model::Model& model) {
+  if (model.loops().empty()) return "";
+  std::vector<std::string> names, of_equation;
+  for (std::size_t l = 0; l < model.loops().size(); ++l) {
+    names.push_back(model.loops()[l].name);
+    for (std::size_t k = 0; k < model.loops()[l].equations.size(); ++k)
+      of_equation.push_back(fmt::format("{}", l));
+  }
+  return fmt::format(
+      "  // Closed loops: q holds the {0} independent coordinates, then the {1} implicit "
+      "dependent\n"
+      "  // parameters, which the loops' {1} equations determine (constraints, "
+      "constraint_bias).\n"
+      "  static constexpr int nindependent = {0};\n"
+      "  static constexpr int nloop = {2};\n"
+      "  static constexpr const char* loop_names[{2}] = {3};\n"
+      "  static constexpr int constraint_loop[{1}] = {{{4}}};  // the loop of each equation\n\n",
+      model.num_independent(), model.num_implicit(), names.size(), string_array_literal(names),
+      fmt::join(of_equation, ", "));
+}
+
 }  // namespace
 
 std::string header_text(const TextContext& c, const std::vector<EntryPoint>& entries,
@@ -113,6 +135,7 @@ std::string header_text(const TextContext& c, const std::vector<EntryPoint>& ent
       "  static constexpr double qd_initial[{nq}] = {qd0};\n"
       "  static constexpr double gravity[3] = {gravity};\n"
       "  static constexpr int reference_body[{nbody}] = {{{refs}}};\n\n"
+      "{loops}"
       "{declarations}"
       "{diagnostics}"
       "}};\n\n",
@@ -134,7 +157,7 @@ std::string header_text(const TextContext& c, const std::vector<EntryPoint>& ent
       fmt::arg("param_defaults", number_array_literal(param_defaults)),
       fmt::arg("q0", number_array_literal(q0)), fmt::arg("qd0", number_array_literal(qd0)),
       fmt::arg("gravity", number_array_literal(gravity)),
-      fmt::arg("refs", fmt::join(references, ", ")),
+      fmt::arg("refs", fmt::join(references, ", ")), fmt::arg("loops", loops_declarations(model)),
       fmt::arg("declarations", declarations(c, entries)),
       fmt::arg("diagnostics", diagnostics_declarations(c)));
 }

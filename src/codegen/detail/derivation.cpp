@@ -7,6 +7,7 @@
 
 #include <symdyn/codegen/detail/derivation.hpp>
 #include <symdyn/codegen/detail/dynamics_choice.hpp>
+#include <symdyn/model/constraints.hpp>
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/trig_reduction.hpp>
 #include <symdyn/symbolic/simplify.hpp>
@@ -162,7 +163,9 @@ Deriver::Deriver(const model::Model& model, const Options& options, const Select
       inputs_(inputs),
       sizes_{.nq = model.coordinates().size(),
              .nbody = model.bodies().size(),
-             .ndep = model.dependents().size()} {}
+             .ndep = model.dependents().size(),
+             .nind = model.num_independent(),
+             .ncon = model.num_implicit()} {}
 
 Derivation Deriver::run() {
   // Node ids break ties in scheduling and pair CSE, and the simplifier makes
@@ -237,8 +240,11 @@ Derivation Deriver::derive(bool simplify) {
     if (derivatives_reason_.empty())
       derivatives_reason_ = derivatives->reason;  // the first derivation's, as choice_
   }
-  d.entries = build_entry_points(
-      {model_, k, dynamics ? &*dynamics : nullptr, derivatives ? &*derivatives : nullptr});
+  std::optional<model::Constraints> constraints;
+  if (!model_.loops().empty()) constraints = model::derive_constraints(model_, k, derive.simplify);
+  d.entries = build_entry_points({model_, k, dynamics ? &*dynamics : nullptr,
+                                  derivatives ? &*derivatives : nullptr,
+                                  constraints ? &*constraints : nullptr});
   const DynamicsWays ways{.method = options_.dynamics,
                           .nq = sizes_.nq,
                           .why_not = dynamics ? dynamics->why_not : std::string(),
@@ -285,7 +291,7 @@ bool Deriver::derivable(const Needs& needs, const Quantities& quantities) const 
       dynamics && !dynamics->forward.empty() && options_.dynamics != DynamicsMethod::mass_matrix;
   return partials && (!needs.equations_of_motion || dynamics) &&
          (!needs.reactions || (dynamics && !dynamics->reactions.empty())) &&
-         (!needs.recursive_dynamics || recursive) &&
+         (!needs.loops || quantities.constraints) && (!needs.recursive_dynamics || recursive) &&
          (needs.derivatives == Derivatives::none ||
           (quantities.derivatives &&
            (needs.derivatives == Derivatives::dynamics || quantities.derivatives->kinematics)));

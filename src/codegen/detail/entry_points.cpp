@@ -28,6 +28,7 @@ std::vector<Expr> inertias(const Quantities& q);
 std::vector<Expr> dependent_values(const Quantities& q);
 std::vector<Expr> dependent_rates(const Quantities& q);
 std::vector<Expr> dependent_accelerations(const Quantities& q);
+Source constraints(std::vector<Expr> model::Constraints::*field);
 std::string numeric_partials_body(const Sizes& sizes);
 std::string forward_dynamics_body(const Sizes& sizes);
 
@@ -153,6 +154,24 @@ std::vector<EntryPointSpec> make_catalogue() {
        .outputs = {{"p", "ndep", dependent_values},
                    {"pd", "ndep", dependent_rates},
                    {"pdd", "ndep", dependent_accelerations}}},
+      // Closed loops (model/constraints.hpp): q here is x = (q, p), the nind
+      // independent coordinates then the ncon implicit dependent parameters.
+      {.name = "constraints",
+       .doc = "The loops' equations g(t, x) = 0 and their Jacobians g_q = dg/dq, g_p = dg/dp, "
+              "g_t = dg/dt\n"
+              "at x = q (independent coordinates, then implicit dependent parameters).",
+       .inputs = {t, q, param},
+       .outputs = {{"g", "ncon", constraints(&model::Constraints::g)},
+                   {"g_q", "ncon x nind", constraints(&model::Constraints::g_q)},
+                   {"g_p", "ncon x ncon", constraints(&model::Constraints::g_p)},
+                   {"g_t", "ncon", constraints(&model::Constraints::g_t)}},
+       .needs = {.loops = true}},
+      {.name = "constraint_bias",
+       .doc = "gamma such that g_q qdd + g_p pdd + gamma = 0 (d/dt(g_x) xd + d/dt(g_t)), at x = "
+              "q, xd = qd.",
+       .inputs = {t, q, qd, param},
+       .outputs = {{"gamma", "ncon", constraints(&model::Constraints::gamma)}},
+       .needs = {.loops = true}},
       {.name = "mass_matrix",
        .doc = "Mass matrix M(q, t).",
        .inputs = {t, q, param},
@@ -298,6 +317,14 @@ Source dynamics(std::vector<Expr> model::Dynamics::*field) {
   };
 }
 
+Source constraints(std::vector<Expr> model::Constraints::*field) {
+  return [field](const Quantities& q) {
+    if (q.constraints == nullptr)
+      throw std::logic_error("generate: an output of the loops' equations without loops");
+    return q.constraints->*field;
+  };
+}
+
 Source derivatives(std::vector<Expr> DynamicsDerivatives::*field) {
   return [field](const Quantities& q) {
     if (q.derivatives == nullptr)
@@ -383,6 +410,8 @@ std::size_t dimension(std::string_view d, const Sizes& sizes) {
   if (d == "nq") return sizes.nq;
   if (d == "nbody") return sizes.nbody;
   if (d == "ndep") return sizes.ndep;
+  if (d == "nind") return sizes.nind;
+  if (d == "ncon") return sizes.ncon;
   std::size_t n = 0;
   const auto [end, error] = std::from_chars(d.data(), d.data() + d.size(), n);
   if (error != std::errc() || end != d.data() + d.size()) {

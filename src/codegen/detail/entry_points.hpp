@@ -16,6 +16,7 @@
 
 #include <symdyn/codegen/detail/dynamics_derivatives.hpp>
 #include <symdyn/codegen/generate.hpp>
+#include <symdyn/model/constraints.hpp>
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/kinematics.hpp>
 #include <symdyn/model/model.hpp>
@@ -36,6 +37,7 @@ struct Quantities {
   const model::Kinematics& kinematics;
   const model::Dynamics* dynamics;  // null unless the equations of motion were derived
   const DynamicsDerivatives* derivatives = nullptr;  // null unless their derivatives were derived
+  const model::Constraints* constraints = nullptr;   // null unless the model has closed loops
 };
 
 // The expressions of one output array, row-major.
@@ -43,14 +45,18 @@ using Source = std::function<std::vector<model::Expr>(const Quantities&)>;
 
 struct OutputSpec {
   std::string_view name{};
-  // Dimensions separated by " x ", each a number or nq, nbody, ndep: "nbody x 3 x 3".
+  // Dimensions separated by " x ", each a number or nq, nbody, ndep, nind,
+  // ncon: "nbody x 3 x 3".
   std::string_view shape{};
   Source source{};  // empty for the outputs of a hand-written body
 };
 
 // The model's sizes that shapes and hand-written bodies are written in.
+// With closed loops, nq counts the extended coordinates x = (q, p): nind
+// independent ones, then the ncon implicit dependent parameters (one per
+// loop equation).
 struct Sizes {
-  std::size_t nq = 0, nbody = 0, ndep = 0;
+  std::size_t nq = 0, nbody = 0, ndep = 0, nind = 0, ncon = 0;
 };
 
 // "(2 x 3 x 3)" for "nbody x 3 x 3" with 2 bodies.
@@ -75,6 +81,7 @@ struct Needs {
   Derivatives derivatives =
       Derivatives::none;   // at least this Options::derivatives (or named alone)
   bool reactions = false;  // Options::joint_reactions (or named alone)
+  bool loops = false;      // only for a model with closed loops (model::Constraints derived)
 };
 
 // A hand-written C++ body, in place of a program.

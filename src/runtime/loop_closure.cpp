@@ -1,0 +1,151 @@
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/loop_closure.hpp>
+
+namespace symdyn::runtime {
+
+LoopClosure::LoopClosure(const Model& model)
+    : n_(model.nindependent()),
+      m_(model.ncon()),
+      g_(m_),
+      g_t_(m_),
+      gamma_(m_),
+      guess_(model.initial_state().q.tail(m_)),
+      step_(m_),
+      dq_(n_),
+      g_q_(m_, n_),
+      g_p_(m_, m_),
+      g_q_rows_(n_, m_),
+      g_p_rows_(m_, m_),
+      lu_(m_),
+      P_(m_, n_),
+      T_(Matrix::Zero(n_ + m_, n_)),
+      c_(Vector::Zero(n_ + m_)) {
+  T_.topRows(n_).setIdentity();
+}
+
+// The emitted arrays are row-major: a column-major (n x m) buffer holds the
+// transpose.
+void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
+  model.constraints(t, x.data(), g_.data(), g_q_rows_.data(), g_p_rows_.data(), g_t_.data());
+  g_q_ = g_q_rows_.transpose();
+  g_p_ = g_p_rows_.transpose();
+}
+
+double LoopClosure::smallest_pivot() const {
+  const double largest = g_p_.cwiseAbs().maxCoeff();
+  return largest > 0 ? lu_.matrixLU().diagonal().cwiseAbs().minCoeff() / largest : 0.0;
+}
+
+void LoopClosure::factor(const Model& model, double t, const Vector& x) {
+  lu_.compute(g_p_);
+  if (!(smallest_pivot() >= kSingularPivot)) not_closed(model, t, x, Failure::singular);
+}
+
+void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x) {
+  x.resize(n_ + m_);
+  x.head(n_) = q;
+  // From the last solution moved along dp/dq: one Newton step less than from it.
+  if (solved_) {
+    dq_ = q - last_q_;
+    x.tail(m_) = last_p_;
+    x.tail(m_).noalias() += last_P_ * dq_;
+  } else {
+    x.tail(m_) = guess_;
+  }
+  bool polished = false;
+  for (int iteration = 0;; ++iteration) {
+    evaluate(model, t, x);
+    if (!(g_.allFinite() && g_q_.allFinite() && g_p_.allFinite() && g_t_.allFinite()))
+      not_closed(model, t, x, Failure::not_finite);
+    const double scale = std::max({1.0, g_q_.cwiseAbs().maxCoeff(), g_p_.cwiseAbs().maxCoeff()});
+    const double residual = g_.cwiseAbs().maxCoeff();
+    const double rounding = 64 * std::numeric_limits<double>::epsilon() * scale;
+    if (residual <= rounding || (polished && residual <= kTolerance * scale)) break;
+    if (iteration == kMaxIterations) not_closed(model, t, x, Failure::no_convergence);
+    polished = residual <= kTolerance * scale;
+    factor(model, t, x);
+    step_ = lu_.solve(g_);
+    x.tail(m_) -= step_;
+  }
+  factor(model, t, x);
+  P_ = lu_.solve(g_q_);
+  P_ *= -1.0;
+  T_.bottomRows(m_) = P_;
+  solved_ = true;
+  last_q_ = q;
+  last_p_ = x.tail(m_);
+  last_P_ = P_;
+}
+
+void LoopClosure::close_positions(const Model& model, double t, const Vector& q, Vector& x) {
+  solve(model, t, q, x);
+}
+
+void LoopClosure::close(const Model& model, double t, const Vector& q, const Vector& qd, Vector& x,
+                        Vector& xd) {
+  solve(model, t, q, x);
+  xd.resize(n_ + m_);
+  xd.head(n_) = qd;
+  xd.tail(m_).noalias() = P_ * qd;
+  step_ = lu_.solve(g_t_);
+  xd.tail(m_) -= step_;
+  model.constraint_bias(t, x.data(), xd.data(), gamma_.data());
+  if (!(gamma_.allFinite() && xd.allFinite())) not_closed(model, t, x, Failure::not_finite);
+  step_ = lu_.solve(gamma_);
+  c_.tail(m_) = -step_;
+}
+
+void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Failure why) const {
+  // The loops of the equations that fail: those of the largest residual, or
+  // those a left null vector of g_p combines (the dependent equations).
+  std::vector<int> equations;
+  if (why == Failure::singular) {
+    const Matrix null = Eigen::FullPivLU<Matrix>(g_p_.transpose()).kernel();
+    const Vector w = null.col(0).cwiseAbs();
+    for (int k = 0; k < m_; ++k) {
+      if (w(k) > 1e-8 * w.maxCoeff()) equations.push_back(k);
+    }
+  } else {
+    Eigen::Index worst = 0;
+    g_.cwiseAbs().maxCoeff(&worst);
+    equations.push_back(static_cast<int>(worst));
+  }
+  std::vector<std::string> loops;
+  for (int k : equations) {
+    const std::string name =
+        fmt::format("'{}'", model.loop_names()[static_cast<std::size_t>(model.constraint_loop(k))]);
+    if (std::find(loops.begin(), loops.end(), name) == loops.end()) loops.push_back(name);
+  }
+  std::string state;
+  for (int j = 0; j < n_ + m_; ++j) {
+    state +=
+        fmt::format("{}{} = {}", j ? ", " : "", model.q_names()[static_cast<std::size_t>(j)], x(j));
+  }
+  const std::string which =
+      fmt::format("loop{} {}", loops.size() == 1 ? "" : "s", fmt::join(loops, ", "));
+  std::string what;
+  if (why == Failure::singular) {
+    what = fmt::format(
+        "{} at a singular configuration: g_p (the Jacobian of the loop equations with respect to "
+        "the implicit dependent parameters) is singular (smallest pivot {:.3g} of its largest "
+        "entry), a toggle or dead-centre position where q does not determine them",
+        which, smallest_pivot());
+  } else if (why == Failure::not_finite) {
+    what = fmt::format("{}: the loop equations are not finite", which);
+  } else {
+    what = fmt::format(
+        "{} do{} not close: Newton's iteration on the implicit dependent parameters did not "
+        "converge in {} iterations (|g| = {:.3g})",
+        which, loops.size() == 1 ? "es" : "", kMaxIterations, g_.cwiseAbs().maxCoeff());
+  }
+  throw NumericError(fmt::format("t = {}: {} at ({})", t, what, state));
+}
+
+}  // namespace symdyn::runtime

@@ -1,0 +1,258 @@
+// Closed kinematic loops solved at run time (runtime/loop_closure.hpp): the
+// slider-crank with its loop given implicitly against the same mechanism in
+// closed form, the four-bar against the two-circle intersection, the loops'
+// emitted Jacobians and bias against differences, drift and energy over a
+// long run, and the errors of a loop that does not close.
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "four_bar.hpp"
+#include "four_bar_parametric.hpp"
+#include "slider_crank_dependent.hpp"
+#include "slider_crank_implicit.hpp"
+#include <symdyn/runtime/errors.hpp>
+#include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
+
+namespace {
+
+using namespace symdyn::runtime;
+namespace gen = symdyn_generated;
+constexpr double pi = std::numbers::pi;
+
+double max_abs(const Matrix& a) {
+  return a.size() ? a.cwiseAbs().maxCoeff() : 0.0;
+}
+
+// |a - b| relative to the larger of them (and 1).
+double relative(const Matrix& a, const Matrix& b) {
+  return max_abs(a - b) / std::max({1.0, max_abs(a), max_abs(b)});
+}
+
+// An angle in (-pi, pi].
+double wrapped(double a) {
+  return std::remainder(a, 2 * pi);
+}
+
+State state(double t, double q0, double qd0) {
+  State s;
+  s.t = t;
+  s.q = Vector::Constant(1, q0);
+  s.qd = Vector::Constant(1, qd0);
+  return s;
+}
+
+// The loops' equations g at x (ncon), and their Jacobians (ncon x n, ncon x ncon).
+struct Loops {
+  Vector g, g_t;
+  Matrix g_q, g_p;
+};
+Loops constraints(const Model& model, double t, const Vector& x) {
+  const int n = model.nindependent(), m = model.ncon();
+  Loops l{Vector(m), Vector(m), Matrix(n, m), Matrix(m, m)};
+  model.constraints(t, x.data(), l.g.data(), l.g_q.data(), l.g_p.data(), l.g_t.data());
+  l.g_q.transposeInPlace();  // row-major arrays
+  l.g_p.transposeInPlace();
+  return l;
+}
+
+// The four-bar's joint C by the two-circle intersection (circles about A, radius
+// r2, and about D, radius r3), on the side of A->D where the model is assembled
+// (its left), and the angles phi (coupler relative to crank) and psi (rocker).
+struct FourBarPose {
+  double phi, psi;
+};
+FourBarPose four_bar_closed_form(double q0) {
+  const double r1 = 0.1, r2 = 0.35, r3 = 0.3, d = 0.4;
+  const Eigen::Vector2d A(r1 * std::cos(q0), r1 * std::sin(q0)), D(d, 0.0);
+  const double e = (D - A).norm();
+  const double a = (r2 * r2 - r3 * r3 + e * e) / (2 * e), h = std::sqrt(r2 * r2 - a * a);
+  const Eigen::Vector2d u = (D - A) / e, left(-u.y(), u.x());
+  const Eigen::Vector2d C = A + a * u + h * left;
+  return {std::atan2(C.y() - A.y(), C.x() - A.x()) - q0, std::atan2(C.y() - D.y(), C.x() - D.x())};
+}
+
+}  // namespace
+
+TEST_CASE("the implicit slider-crank equals the explicit one at random states", "[models][loops]") {
+  MultibodySystem explicit_(Model::from<gen::slider_crank_dependent>());
+  MultibodySystem implicit(Model::from<gen::slider_crank_implicit>());
+  REQUIRE(implicit.model().has_loops());
+  REQUIRE(implicit.num_coordinates() == 1);
+  REQUIRE(implicit.model().nq() == 3);
+  CHECK(implicit.model().loop_names() == std::vector<std::string>{"crank_pin"});
+  std::mt19937 rng(20261126u);
+  std::uniform_real_distribution<double> angle(-pi, pi), rate(-50.0, 50.0), time(0.0, 1.0);
+  Matrix Me, Mi;
+  Vector he, hi, qdde, qddi, yd;
+  Kinematics dep = explicit_.model().make_kinematics();
+  for (int k = 0; k < 200; ++k) {
+    const State s = state(time(rng), angle(rng), rate(rng));
+    CAPTURE(k, s.t, s.q(0), s.qd(0));
+    // States far apart: each assembled from the model's guesses, as the closed
+    // form's branch (|alpha| < pi/2), not from the last state's solution.
+    implicit.reset_loops();
+    explicit_.mass_matrix(s, Me);
+    implicit.mass_matrix(s, Mi);
+    CHECK(relative(Me, Mi) <= 1e-12);
+    explicit_.bias_forces_emitted(s, he);
+    implicit.bias_forces_emitted(s, hi);
+    CHECK(relative(he, hi) <= 1e-12);
+    explicit_.accelerations(s, qdde, yd);
+    implicit.accelerations(s, qddi, yd);
+    CHECK(relative(qdde, qddi) <= 1e-12);
+    // The implicit parameters and their rates are alpha, x of the closed form.
+    const State x = implicit.extended_state(s);
+    explicit_.model().dependent_parameters(s.t, s.q.data(), s.qd.data(), qdde.data(), dep);
+    for (int j = 0; j < 2; ++j) {
+      CHECK(std::abs(x.q(1 + j) - dep.p()[static_cast<std::size_t>(j)]) <=
+            1e-12 * (1 + std::abs(dep.p()[static_cast<std::size_t>(j)])));
+      CHECK(std::abs(x.qd(1 + j) - dep.pd()[static_cast<std::size_t>(j)]) <=
+            1e-12 * (1 + std::abs(dep.pd()[static_cast<std::size_t>(j)])));
+    }
+    // Positions and velocities of every body.
+    const Kinematics ke = explicit_.evaluate_kinematics(s);
+    const Kinematics& ki = implicit.evaluate_kinematics(s);
+    for (int i = 0; i < 3; ++i) {
+      CHECK(relative(ke.R(i), ki.R(i)) <= 1e-12);
+      CHECK(relative(ke.x(i), ki.x(i)) <= 1e-12);
+      CHECK(relative(ke.v(i), ki.v(i)) <= 1e-12);
+    }
+  }
+}
+
+TEST_CASE(
+    "the four-bar's position analysis is the two-circle intersection, its rates the "
+    "derivative",
+    "[models][loops]") {
+  MultibodySystem system(Model::from<gen::four_bar>());
+  REQUIRE(system.num_coordinates() == 1);
+  // Around the crank's whole turn, each solve starting from the last one.
+  for (int k = 0; k <= 360; ++k) {
+    const double q0 = 2 * pi * k / 360, qd0 = 3.0;
+    CAPTURE(q0);
+    const State x = system.extended_state(state(0.0, q0, qd0));
+    const FourBarPose expected = four_bar_closed_form(q0);
+    CHECK(std::abs(wrapped(x.q(1) - expected.phi)) <= 1e-12);
+    CHECK(std::abs(wrapped(x.q(2) - expected.psi)) <= 1e-12);
+    // pd = dp/dq0·qd0 by central differences of the closed form.
+    const double h = 1e-5;
+    const FourBarPose plus = four_bar_closed_form(q0 + h), minus = four_bar_closed_form(q0 - h);
+    CHECK(std::abs(x.qd(1) - wrapped(plus.phi - minus.phi) / (2 * h) * qd0) <= 1e-7);
+    CHECK(std::abs(x.qd(2) - wrapped(plus.psi - minus.psi) / (2 * h) * qd0) <= 1e-7);
+  }
+}
+
+TEST_CASE("the emitted loop Jacobians and bias agree with differences of g", "[models][loops]") {
+  MultibodySystem system(Model::from<gen::four_bar>());
+  const Model& model = system.model();
+  std::mt19937 rng(7u);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < 20; ++k) {
+    // Any x (the equations need not hold for their derivatives).
+    Vector x(3), xd(3);
+    for (int j = 0; j < 3; ++j) x(j) = 2 * u(rng), xd(j) = 3 * u(rng);
+    CAPTURE(x.transpose(), xd.transpose());
+    const Loops at = constraints(model, 0.0, x);
+    const double h = 1e-6;
+    Matrix g_x(2, 3);
+    for (int j = 0; j < 3; ++j) {
+      Vector plus = x, minus = x;
+      plus(j) += h;
+      minus(j) -= h;
+      g_x.col(j) = (constraints(model, 0.0, plus).g - constraints(model, 0.0, minus).g) / (2 * h);
+    }
+    CHECK(max_abs(g_x.leftCols(1) - at.g_q) <= 1e-8);
+    CHECK(max_abs(g_x.rightCols(2) - at.g_p) <= 1e-8);
+    CHECK(max_abs(at.g_t) == 0.0);  // no time in these loops
+    // gamma = d/dt(g_x)·xd, g_x differenced along xd.
+    const auto jacobian = [&](const Vector& y) {
+      const Loops l = constraints(model, 0.0, y);
+      Matrix j(2, 3);
+      j << l.g_q, l.g_p;
+      return j;
+    };
+    const Vector expected = (jacobian(x + h * xd) - jacobian(x - h * xd)) / (2 * h) * xd;
+    Vector gamma(2);
+    model.constraint_bias(0.0, x.data(), xd.data(), gamma.data());
+    CHECK(max_abs(gamma - expected) <= 1e-7 * (1 + max_abs(expected)));
+  }
+}
+
+TEST_CASE("the free four-bar keeps its loop closed and its energy over 100 s", "[models][loops]") {
+  MultibodySystem system(Model::from<gen::four_bar>());
+  const Model& model = system.model();
+  IntegratorOptions o;
+  o.relative_tolerance = 1e-11;
+  o.absolute_tolerance = 1e-11;
+  o.output_interval = 0.1;
+  const double e0 = system.energies(system.initial_state()).total();
+  double drift = 0.0, velocity_drift = 0.0, energy_drift = 0.0, kinetic = 0.0;
+  o.on_output = [&](const State& s, const Vector&, const Vector&) {
+    const State x = system.extended_state(s);
+    const Loops l = constraints(model, s.t, x.q);
+    drift = std::max(drift, max_abs(l.g));
+    velocity_drift =
+        std::max(velocity_drift, max_abs(l.g_q * x.qd.head(1) + l.g_p * x.qd.tail(2) + l.g_t));
+    const Energies e = system.energies(s);
+    energy_drift = std::max(energy_drift, std::abs(e.total() - e0));
+    kinetic = std::max(kinetic, e.kinetic);
+  };
+  const State end = make_integrator("dopri5", o)->integrate(system, system.initial_state(), 100.0);
+  CHECK(end.t == 100.0);
+  CHECK(kinetic > 0.1);   // it turned (5 rad/s at the start and gravity)
+  CHECK(drift <= 1e-10);  // m
+  CHECK(velocity_drift <= 1e-10);
+  CHECK(energy_drift / kinetic < 1e-7);
+}
+
+TEST_CASE("a loop at its toggle position or that cannot close is an error naming it",
+          "[models][loops][errors]") {
+  MultibodySystem system(Model::from<gen::four_bar_parametric>());
+  Vector qdd, yd;
+  SECTION("singular g_p: the coupler and rocker stretched in line") {
+    // |AD| = r2 + r3 at q0 = 0: C = (0.25, 0), phi = 0, psi = pi.
+    system.set_parameter("r2", 0.15);
+    system.set_parameter("r3", 0.15);
+    system.set_loop_guess(Eigen::Vector2d(0.0, pi));
+    CHECK_THROWS_WITH(system.accelerations(state(0.5, 0.0, 1.0), qdd, yd),
+                      Catch::Contains("t = 0.5: loop 'C' at a singular configuration") &&
+                          Catch::Contains("toggle") && Catch::Contains("q0 = 0, phi = 0"));
+  }
+  SECTION("no convergence: the coupler and rocker too short to reach") {
+    // |AD| = 0.7 > r2 + r3 = 0.65 at q0 = pi.
+    system.set_parameter("r1", 0.3);
+    CHECK_THROWS_WITH(system.accelerations(state(2.0, pi, 0.0), qdd, yd),
+                      Catch::Contains("t = 2: loop 'C' does not close") &&
+                          Catch::Contains("did not converge") && Catch::Contains("q0 = 3.14159"));
+  }
+  SECTION("a state in the extended coordinates is refused") {
+    State x = system.model().initial_state();
+    CHECK_THROWS_AS(system.accelerations(x, qdd, yd), ModelError);
+    CHECK_THROWS_WITH(system.accelerations(x, qdd, yd),
+                      Catch::Contains("the independent coordinates q0 of its closed loops"));
+  }
+}
+
+TEST_CASE("loop models report differenced Jacobians, and those agree with the accelerations",
+          "[models][loops]") {
+  MultibodySystem system(Model::from<gen::four_bar>());
+  CHECK_FALSE(system.exact_jacobians());
+  CHECK(system.jacobian_method() ==
+        "central differences of the residual (closed loops: no exact derivatives)");
+  // The residual vanishes at the accelerations, and df/dqdd is the reduced M.
+  const State s = state(0.3, 0.7, 2.0);
+  Vector qdd, yd, f, g;
+  system.accelerations(s, qdd, yd);
+  system.residual(s, qdd, yd, f, g);
+  Matrix M, C, K;
+  system.jacobians(s, qdd, M, C, K);
+  CHECK(max_abs(f) <= 1e-12 * (1 + max_abs(M)));
+  // f(qdd + e) - f(qdd) = M·e (f is affine in qdd).
+  Vector fe, e = Vector::Constant(1, 0.5);
+  system.residual(s, qdd + e, yd, fe, g);
+  CHECK(max_abs(fe - f - M * e) <= 1e-12 * (1 + max_abs(M)));
+}
