@@ -5,6 +5,7 @@
 // The part's umbrella is all.hpp because model.hpp is the builder.
 
 #include <symdyn/model/diagnostics.hpp>
+#include <symdyn/model/constraints.hpp>
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/errors.hpp>
 #include <symdyn/model/identifier.hpp>

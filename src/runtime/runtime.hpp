@@ -23,6 +23,7 @@
 #include <symdyn/runtime/kinematics.hpp>
 #include <symdyn/runtime/kinematics_derivatives.hpp>
 #include <symdyn/runtime/linearization.hpp>
+#include <symdyn/runtime/loop_closure.hpp>
 #include <symdyn/runtime/model.hpp>
 #include <symdyn/runtime/model_module.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
