@@ -32,11 +32,11 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   k_ = model_.make_kinematics();
   loads_ = Loads(nq, model_.nbody());
   zero_ = Vector::Zero(nq);
-  f0_.resize(nq);
-  Qa_ = Vector::Zero(nq);  // stays zero without force elements
+  assembled_residual_.resize(nq);
+  elements_Q_ = Vector::Zero(nq);  // stays zero without force elements
   h_ = Vector::Zero(nq);
   M_ = Matrix::Zero(nq, nq);
-  DwJ_.resize(nq, 3);
+  dw_inertia_.resize(nq, 3);
   solver_ = SpdSolver(num_coordinates());
   if (model_.has_loops()) loops_ = LoopClosure(model_);
   if (model_.has_kinematics_derivatives()) dk_ = model_.make_kinematics_derivatives();
@@ -72,7 +72,7 @@ void MultibodySystem::update_level() {
   dynamics_ = level_ == KinematicsLevel::none ? model_.emitted_dynamics() : nullptr;
   const bool alone =
       source_ == EquationsSource::emitted && level_ == KinematicsLevel::none && elements_.empty();
-  forward_alone_ = alone ? forward_ : nullptr;
+  forward_without_elements_ = alone ? forward_ : nullptr;
 }
 
 void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vector& initial,
@@ -253,7 +253,7 @@ void MultibodySystem::check_kinematics(const State& s, KinematicsLevel level,
   }
 }
 
-void MultibodySystem::compute_loads(const State& s) {
+void MultibodySystem::apply_elements(const State& s) {
   loads_.clear();
   for (const auto& e : elements_) e->apply(s, k_, loads_);
   if (level_ == KinematicsLevel::none && loads_.on_bodies()) {
@@ -328,8 +328,8 @@ void MultibodySystem::assemble_mass_matrix(Matrix& M) {
   for (int i = 0; i < model_.nbody(); ++i) {
     const Mat3 J = model_.global_inertia(i, k_);
     M.noalias() += model_.mass(i) * k_.dv_dqd(i) * k_.dv_dqd(i).transpose();
-    DwJ_.noalias() = k_.dw_dqd(i) * J;
-    M.noalias() += DwJ_ * k_.dw_dqd(i).transpose();
+    dw_inertia_.noalias() = k_.dw_dqd(i) * J;
+    M.noalias() += dw_inertia_ * k_.dw_dqd(i).transpose();
   }
 }
 
@@ -422,21 +422,21 @@ void MultibodySystem::applied_forces(const State& s, Vector& Q) {
     return;
   }
   evaluate_kinematics(s);
-  compute_loads(s);
+  apply_elements(s);
   Q.resize(model_.nq());
   project_loads(Q);
 }
 
 void MultibodySystem::evaluate_equations(const State& s) {
   model_.dynamics(s.t, s.q.data(), s.qd.data(), level_, M_.data(), h_.data(), k_);
-  load_elements(s);
+  elements_generalized_forces(s);
 }
 
-void MultibodySystem::load_elements(const State& s) {
+void MultibodySystem::elements_generalized_forces(const State& s) {
   if (elements_.empty()) return;
   if (!k_.finite_up_to(level_)) check_kinematics(s, level_, false);
-  compute_loads(s);
-  project_loads(Qa_);
+  apply_elements(s);
+  project_loads(elements_Q_);
 }
 
 void MultibodySystem::mass_matrix_refused(const State& s) const {
@@ -485,19 +485,19 @@ void MultibodySystem::explain_non_finite(const State& s, const char* result) con
   throw NumericError(fmt::format("t = {}: {} not finite at {}", s.t, result, describe(s)));
 }
 
-void MultibodySystem::evaluate_loads(const State& s) {
+void MultibodySystem::evaluate_elements(const State& s) {
   using enum KinematicsLevel;
   if (level_ == positions) model_.positions(s.t, s.q.data(), k_);
   if (level_ == velocities) model_.velocities(s.t, s.q.data(), s.qd.data(), k_);
   if (level_ != none) model_.partial_velocities(s.t, s.q.data(), k_);
-  load_elements(s);
+  elements_generalized_forces(s);
 }
 
 bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
   check_state(s);
-  evaluate_loads(s);
+  evaluate_elements(s);
   qdd.resize(h_.size());
-  const double* tau = elements_.empty() ? zero_.data() : Qa_.data();
+  const double* tau = elements_.empty() ? zero_.data() : elements_Q_.data();
   const int failed =
       forward_(s.t, s.q.data(), s.qd.data(), tau, model_.parameters().data(), qdd.data());
   return failed < 0 && all_finite(qdd.data(), qdd.size());
@@ -513,22 +513,29 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   mass_factored_ = false;
   bool recursive = false;
   if (forward_ != nullptr) {  // the way of M tests nothing more
-    if (forward_alone_ != nullptr) {
+    if (forward_without_elements_ != nullptr) {
       // qdd = M⁻¹·(-h) by the articulated-body algorithm, inline: nothing else to evaluate.
       // The state's values are checked with qdd's after it, as on the way of M below.
       qdd.resize(nq);
-      recursive = forward_alone_(s.t, s.q.data(), s.qd.data(), zero_.data(),
-                                 model_.parameters().data(), qdd.data()) < 0 &&
+      recursive = forward_without_elements_(s.t, s.q.data(), s.qd.data(), zero_.data(),
+                                            model_.parameters().data(), qdd.data()) < 0 &&
                   all_finite(s, qdd);
     } else if (source_ == EquationsSource::emitted) {
       // With force elements or kinematics read: the state checked before them.
       recursive = recursive_accelerations(s, qdd);
     }
   }
-  if (recursive) {
-    // qdd = M⁻¹·(Q - h) by the articulated-body algorithm, state and qdd checked. A
-    // failed pivot or a non-finite qdd goes the way of M, whose checks name why.
-  } else if (source_ == EquationsSource::emitted && elements_.empty()) {
+  // Done: qdd = M⁻¹·(Q - h) by the articulated-body algorithm, state and qdd checked. A
+  // failed pivot or a non-finite qdd goes the way of M, whose checks name why.
+  if (!recursive) mass_matrix_accelerations(s, qdd);
+  yd.resize(extra_initial_.size());
+  if (extra_) extra_(s, k_, yd);
+}
+
+// qdd = M⁻¹·(Q - h) by M's factorization, qdd checked.
+void MultibodySystem::mass_matrix_accelerations(const State& s, Vector& qdd) {
+  const Eigen::Index nq = h_.size();
+  if (source_ == EquationsSource::emitted && elements_.empty()) {
     // M qdd = -h. No code of the user's sees the state before its values are checked,
     // with the result's (below): a NaN in the state only propagates through the
     // emitted code, to a refused M or a non-finite qdd, whose reports name the state first.
@@ -548,9 +555,7 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
     solver_.solve_in_place(qdd);
     mass_factored_ = true;
   }
-  if (!recursive && !all_finite(s, qdd)) accelerations_not_finite(s);
-  yd.resize(extra_initial_.size());
-  if (extra_) extra_(s, k_, yd);
+  if (!all_finite(s, qdd)) accelerations_not_finite(s);
 }
 
 // (Tᵀ·M_x·T)·qdd = Tᵀ·(Q_x - h_x - M_x·c) (loop_closure.hpp), the tree's M_x
@@ -586,14 +591,14 @@ void MultibodySystem::accelerations_rhs(const State& s, Vector& qdd) {
     model_.accelerations(s.t, s.q.data(), s.qd.data(), zero_.data(), k_);
     model_.partial_velocities(s.t, s.q.data(), k_);
     check_kinematics(s, KinematicsLevel::velocities, true);
-    compute_loads(s);
-    assemble_residual(f0_, true, true);
+    apply_elements(s);
+    assemble_residual(assembled_residual_, true, true);
     assemble_mass_matrix(M_);
-    qdd = -f0_;
+    qdd = -assembled_residual_;
   } else {
     // M qdd = Q - h
     evaluate_equations(s);
-    qdd = Qa_ - h_;
+    qdd = elements_Q_ - h_;
   }
 }
 
@@ -628,13 +633,13 @@ void MultibodySystem::tree_residual(const State& s, const Vector& qdd, const Vec
     model_.accelerations(s.t, s.q.data(), s.qd.data(), qdd.data(), k_);
     model_.partial_velocities(s.t, s.q.data(), k_);
     check_kinematics(s, KinematicsLevel::velocities, true);
-    compute_loads(s);
+    apply_elements(s);
     assemble_residual(f, true, true);
   } else if (inverse_ != nullptr) {
     // f = inverse_dynamics(qdd) - Q = M qdd + h - Q
-    evaluate_loads(s);
+    evaluate_elements(s);
     inverse_(s.t, s.q.data(), s.qd.data(), qdd.data(), model_.parameters().data(), f.data());
-    if (!elements_.empty()) f -= Qa_;
+    if (!elements_.empty()) f -= elements_Q_;
     if (!all_finite(f.data(), f.size()))
       evaluate_equations(s);  // cold: M and h to name the culprit
   } else {
@@ -642,7 +647,7 @@ void MultibodySystem::tree_residual(const State& s, const Vector& qdd, const Vec
     evaluate_equations(s);
     f.noalias() = M_ * qdd;
     f += h_;
-    if (!elements_.empty()) f -= Qa_;
+    if (!elements_.empty()) f -= elements_Q_;
   }
   if (!all_finite(f.data(), f.size()))
     explain_non_finite(s, "residual is");  // cold: names the culprit
@@ -724,7 +729,7 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
         (exact_loads(*e) &&
          e->load_derivatives() == LoadDerivatives::exact_with_kinematics_derivatives);
   }
-  evaluate_loads_kinematics(s);
+  evaluate_elements_kinematics(s);
   if (kinematics_derivatives) {
     model_.kinematics_derivatives(s.t, s.q.data(), s.qd.data(), dk_);
     if (!dk_.all_finite()) derivatives_not_finite(s);
@@ -770,7 +775,7 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
     }
   }
   if (!(all_finite(dQ_dq.data(), dQ_dq.size()) && all_finite(dQ_dqd.data(), dQ_dqd.size()))) {
-    compute_loads(s);  // names a non-finite load
+    apply_elements(s);  // names a non-finite load
     throw NumericError(
         fmt::format("t = {}: the derivatives of the force elements' loads are not finite at {}",
                     s.t, describe(s)));
@@ -780,7 +785,7 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
 }
 
 // The kinematics the force elements read, at a checked state.
-void MultibodySystem::evaluate_loads_kinematics(const State& s) {
+void MultibodySystem::evaluate_elements_kinematics(const State& s) {
   using enum KinematicsLevel;
   if (level_ == positions) model_.positions(s.t, s.q.data(), k_);
   if (level_ == velocities) model_.velocities(s.t, s.q.data(), s.qd.data(), k_);
@@ -792,7 +797,7 @@ void MultibodySystem::evaluate_loads_kinematics(const State& s) {
 
 // Q of the force elements without derivatives of their own.
 void MultibodySystem::differenced_forces(const State& s, Vector& Q) {
-  evaluate_loads_kinematics(s);
+  evaluate_elements_kinematics(s);
   differenced_loads(s, Q);
 }
 
@@ -812,7 +817,7 @@ void MultibodySystem::differenced_loads(const State& s, Vector& Q) {
     if (!exact_loads(*e)) e->apply(s, k_, loads_);
   }
   if (!(loads_.F.allFinite() && loads_.M.allFinite() && loads_.Q.allFinite()))
-    compute_loads(s);  // names the culprit
+    apply_elements(s);  // names the culprit
   project_loads(Q);
 }
 
@@ -947,7 +952,7 @@ void MultibodySystem::joint_reactions(const State& s, const Vector& qdd, Matrix&
                                  qdd.size(), model_.name(), model_.nq()));
   }
   evaluate_kinematics(s);
-  compute_loads(s);
+  apply_elements(s);
   reaction.resize(6, model_.nbody());
   model_.joint_reactions(s.t, s.q.data(), s.qd.data(), qdd.data(), loads_.F.data(), loads_.M.data(),
                          reaction.data());

@@ -195,7 +195,7 @@ class MultibodySystem : public DynamicSystem {
   // too) is singular at s, when it knows one: an angle sequence at its
   // singular configuration (Model::singular_angle_sequence). For statics and
   // linearization, which meet M through DynamicSystem.
-  std::optional<std::string> explain_singular(const State& s, const Matrix& M) const;
+  std::optional<std::string> explain_singular(const State& s, const Matrix& M) const override;
 
   // Evaluates velocity-level kinematics and partial velocities at s into
   // kinematics() (checked for finite values).
@@ -223,9 +223,9 @@ class MultibodySystem : public DynamicSystem {
   // and a, dw with accelerations.
   void check_kinematics(const State& s, KinematicsLevel level, bool accelerations) const;
   void update_level();
-  // M_, h_ and (with force elements) Qa_ at s, kinematics up to level_.
+  // M_, h_ and (with force elements) elements_Q_ at s, kinematics up to level_.
   void evaluate_equations(const State& s);
-  void compute_loads(const State& s);
+  void apply_elements(const State& s);
   // sum_i F_i.dv_ij + M_i.dw_ij + Q_j of the current loads and kinematics.
   void project_loads(Vector& Q) const;
   // f of the assembled residual from the current kinematics (with a, dw) and
@@ -239,11 +239,13 @@ class MultibodySystem : public DynamicSystem {
   // kinematics read (the state checked first); false when a pivot failed or qdd
   // is not finite (the caller then takes the way of M).
   bool recursive_accelerations(const State& s, Vector& qdd);
+  // qdd of a state by M's factorization (the way of M), qdd checked.
+  void mass_matrix_accelerations(const State& s, Vector& qdd);
   // Kinematics up to level_ (for force elements and extra equations) and,
-  // with force elements, their generalized forces into Qa_.
-  void evaluate_loads(const State& s);
-  // The force elements' generalized forces into Qa_, from the kinematics up to level_.
-  void load_elements(const State& s);
+  // with force elements, their generalized forces into elements_Q_.
+  void evaluate_elements(const State& s);
+  // The force elements' generalized forces into elements_Q_, from the kinematics up to level_.
+  void elements_generalized_forces(const State& s);
   // Out of the hot path: what is wrong when M_ was refused or the accelerations are
   // not finite, the state first.
   [[noreturn, gnu::cold, gnu::noinline]] void mass_matrix_refused(const State& s) const;
@@ -264,7 +266,7 @@ class MultibodySystem : public DynamicSystem {
   void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
   // Whether the element's part of jacobians() is exact (else differenced).
   bool exact_loads(const ForceElement& e) const;
-  void evaluate_loads_kinematics(const State& s);
+  void evaluate_elements_kinematics(const State& s);
   void differenced_forces(const State& s, Vector& Q);
   // Q of those elements from the kinematics in k_ (not evaluated).
   void differenced_loads(const State& s, Vector& Q);
@@ -291,7 +293,7 @@ class MultibodySystem : public DynamicSystem {
   InverseDynamicsFn inverse_ = nullptr;
   // forward_ when the emitted source has nothing else to evaluate (no force element,
   // no kinematics read): accelerations() calls it inline, no dispatch per call.
-  ForwardDynamicsFn forward_alone_ = nullptr;
+  ForwardDynamicsFn forward_without_elements_ = nullptr;
   bool use_exact_jacobians_ = true;
   bool use_exact_loads_ = true;
   bool mass_factored_ = false;  // solver_ holds M at the state of the last accelerations()
@@ -299,9 +301,9 @@ class MultibodySystem : public DynamicSystem {
   // Workspace: sized at construction, reused by every evaluation.
   Kinematics k_;
   Loads loads_;
-  Vector zero_, f0_, Qa_, h_;
+  Vector zero_, assembled_residual_, elements_Q_, h_;
   Matrix M_;
-  Eigen::Matrix<double, Eigen::Dynamic, 3> DwJ_;  // (nq x 3)
+  Eigen::Matrix<double, Eigen::Dynamic, 3> dw_inertia_;  // (nq x 3)
   SpdSolver solver_;
   State jacobian_state_;                                         // jacobians(): the shifted state,
   Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
