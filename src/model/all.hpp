@@ -4,8 +4,8 @@
 // urdf.hpp: URDF import is a library of its own (symdyn::urdf, docs/urdf.md).
 // The part's umbrella is all.hpp because model.hpp is the builder.
 
-#include <symdyn/model/diagnostics.hpp>
 #include <symdyn/model/constraints.hpp>
+#include <symdyn/model/diagnostics.hpp>
 #include <symdyn/model/dynamics.hpp>
 #include <symdyn/model/errors.hpp>
 #include <symdyn/model/identifier.hpp>

@@ -6,15 +6,6 @@
 namespace symdyn::model {
 namespace {
 
-symbolic::RateMap rates(const Model& model) {
-  symbolic::RateMap rates;
-  for (const Coordinate& c : model.coordinates())
-    rates.emplace(c.q, c.qd), rates.emplace(c.qd, c.qdd);
-  for (const Dependent& d : model.dependents())
-    rates.emplace(d.symbol, d.rate), rates.emplace(d.rate, d.acceleration);
-  return rates;
-}
-
 // The rates (or the accelerations) of the coordinates set to zero.
 std::unordered_map<Expr, Expr> zero(const Model& model, bool accelerations) {
   std::unordered_map<Expr, Expr> out;
@@ -37,7 +28,7 @@ Constraints derive_constraints(const Model& model, const Kinematics& k,
                                const SimplifyFunction& simplify) {
   const auto simplified = [&](Expr e) { return simplify ? simplify(e) : e; };
   Constraints out;
-  symbolic::TimeDerivative d_dt(rates(model));
+  symbolic::TimeDerivative d_dt(model.rates());
   symbolic::Substitution zero_rates(zero(model, false)), zero_accelerations(zero(model, true));
   add_dependents(k, false, zero_rates);
   add_dependents(k, true, zero_accelerations);

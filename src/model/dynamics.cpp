@@ -67,7 +67,7 @@ class EquationsOfMotion {
         nq_(model.coordinates().size()),
         refs_(model.reference_indices()),
         order_(model.topological_order()),
-        d_dt_(rates(model)),
+        d_dt_(model.rates()),
         at_zero_qdd_(zero_qdd(model)),
         bodies_(k.bodies.size()) {}
 
@@ -103,15 +103,6 @@ class EquationsOfMotion {
     Expr coefficient;
     std::size_t direction;
   };
-
-  static symbolic::RateMap rates(const Model& model) {
-    symbolic::RateMap rates;
-    for (const Coordinate& c : model.coordinates())
-      rates.emplace(c.q, c.qd), rates.emplace(c.qd, c.qdd);
-    for (const Dependent& d : model.dependents())
-      rates.emplace(d.symbol, d.rate), rates.emplace(d.rate, d.acceleration);
-    return rates;
-  }
 
   static symbolic::Substitution zero_qdd(const Model& model) {
     std::unordered_map<Expr, Expr> zero;

@@ -14,16 +14,7 @@ using symbolic::SymbolKind;
 class Deriver {
  public:
   Deriver(const Model& model, const DeriveOptions& options) : model_(model), options_(options) {
-    symbolic::RateMap rates;
-    for (const Coordinate& c : model.coordinates()) {
-      rates.emplace(c.q, c.qd);
-      rates.emplace(c.qd, c.qdd);
-    }
-    for (const Dependent& d : model.dependents()) {
-      rates.emplace(d.symbol, d.rate);
-      rates.emplace(d.rate, d.acceleration);
-    }
-    d_dt_ = std::make_unique<symbolic::TimeDerivative>(std::move(rates));
+    d_dt_ = std::make_unique<symbolic::TimeDerivative>(model.rates());
   }
 
   Kinematics run() {

@@ -292,6 +292,15 @@ void Model::initial(Expr q, double value, double rate) {
   throw ModelError(fmt::format("initial: '{}' is not a coordinate of model '{}'", q.str(), name_));
 }
 
+symbolic::RateMap Model::rates() const {
+  symbolic::RateMap rates;
+  for (const Coordinate& c : coordinates_) rates.emplace(c.q, c.qd), rates.emplace(c.qd, c.qdd);
+  for (const Dependent& d : dependents_) {
+    rates.emplace(d.symbol, d.rate), rates.emplace(d.rate, d.acceleration);
+  }
+  return rates;
+}
+
 int Model::body_index(std::string_view name) const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (bodies_[i].name() == name) return static_cast<int>(i);

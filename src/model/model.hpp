@@ -41,6 +41,7 @@
 
 #include <symdyn/model/errors.hpp>
 #include <symdyn/model/transform.hpp>
+#include <symdyn/symbolic/diff.hpp>
 
 namespace symdyn::model {
 
@@ -169,6 +170,9 @@ class Model {
   const std::deque<Body>& bodies() const { return bodies_; }
   const Vec3& gravity() const { return gravity_; }
   int body_index(std::string_view name) const;  // -1 if unknown
+  // Each symbol's rate, for d/dt: q -> qd -> qdd of every coordinate (implicit ones too),
+  // p -> pd -> pdd of every dependent parameter.
+  symbolic::RateMap rates() const;
   // Index of each body's reference, or -1 for an absolute motion.
   std::vector<int> reference_indices() const;
   // Whether some body's motion is relative to each body.
