@@ -44,19 +44,24 @@ include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 # to change them, or to "" for the build type's flags alone; an optimization
 # level in CMAKE_CXX_FLAGS is the user's choice and is kept.
 # (Variables, not cache entries, so that a new default reaches every build;
-# -D sets them.)
-if(NOT DEFINED SYMDYN_EMITTED_CODE_FLAGS)
-  set(SYMDYN_EMITTED_CODE_FLAGS "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations")
-endif()
-# The most source files of one model, compiled in parallel (SOURCES).
-if(NOT DEFINED SYMDYN_EMITTED_CODE_SOURCES)
-  set(SYMDYN_EMITTED_CODE_SOURCES 4)
-endif()
+# -D sets them.) Defaulted where a model is added, not only here: a project
+# that adds symdyn with add_subdirectory sees none of symdyn's variables.
+macro(symdyn_emitted_code_defaults)
+  if(NOT DEFINED SYMDYN_EMITTED_CODE_FLAGS)
+    set(SYMDYN_EMITTED_CODE_FLAGS "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations")
+  endif()
+  # The most source files of one model, compiled in parallel (SOURCES).
+  if(NOT DEFINED SYMDYN_EMITTED_CODE_SOURCES)
+    set(SYMDYN_EMITTED_CODE_SOURCES 4)
+  endif()
+endmacro()
+symdyn_emitted_code_defaults()
 
 # The emitted source files of <target> spread over <count>: <target>.cpp, then
 # <target>.2.cpp ... <target>.<count>.cpp, the flags above on each (for every
 # target compiling them: the library, the Python and the symdyn-sim module).
 function(symdyn_emitted_sources var out_dir target count)
+  symdyn_emitted_code_defaults()
   if(NOT count MATCHES "^[1-9][0-9]*$")
     message(FATAL_ERROR "${target}: SOURCES '${count}' is not a number of files (1 or more)")
   endif()
@@ -128,6 +133,7 @@ function(symdyn_add_model target model_source)
     list(APPEND flags --part-size ${ARG_PART_SIZE} --split-above 0)
   endif()
   if(NOT ARG_SOURCES)
+    symdyn_emitted_code_defaults()
     set(ARG_SOURCES ${SYMDYN_EMITTED_CODE_SOURCES})
   endif()
   list(APPEND flags --sources ${ARG_SOURCES})
