@@ -134,6 +134,25 @@ struct Output {
   Vector qdd, yd;
 };
 
+// What both global-tolerance loops share: the user's options back however the runs end,
+// and each run's outputs held (only the accepted run's reach the user, through replay).
+struct HeldRuns {
+  explicit HeldRuns(IntegratorOptions& options) : options(options), user(options) {
+    if (user.on_output) {
+      options.on_output = [this](const State& s, const Vector& qdd, const Vector& yd) {
+        outputs.push_back({s, qdd, yd});
+      };
+    }
+  }
+  ~HeldRuns() { options = user; }
+  HeldRuns(const HeldRuns&) = delete;
+  HeldRuns& operator=(const HeldRuns&) = delete;
+
+  IntegratorOptions& options;
+  const IntegratorOptions user;
+  std::vector<Output> outputs, previous_outputs;
+};
+
 // The outputs of the run that met the global tolerance, kept while the runs
 // were compared, given to the caller.
 void replay(const std::vector<Output>& outputs, const IntegratorOptions& user) {
@@ -179,18 +198,10 @@ double difference(const State& a, const State& b, const std::vector<Output>& oa,
 // than 1/2 per two decades is not yet the method's order: tighten again.
 State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& initial,
                                           double t_end) {
-  const IntegratorOptions user = options_;
-  struct Restore {  // the user's options back, however the runs end
-    IntegratorOptions& options;
-    const IntegratorOptions& user;
-    ~Restore() { options = user; }
-  } restore{options_, user};
-  std::vector<Output> outputs, previous_outputs;
-  if (user.on_output) {
-    options_.on_output = [&outputs](const State& s, const Vector& qdd, const Vector& yd) {
-      outputs.push_back({s, qdd, yd});
-    };
-  }
+  HeldRuns held(options_);
+  const IntegratorOptions& user = held.user;
+  std::vector<Output>& outputs = held.outputs;
+  std::vector<Output>& previous_outputs = held.previous_outputs;
   Statistics total;
   total.runs = 0;
   State previous;
@@ -269,18 +280,10 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
 State Integrator::run_by_step_halving(DynamicSystem& system, const State& initial, double t_end) {
   constexpr int kMaxHalvings = 12;
   constexpr double kSlowestFall = 0.75;
-  const IntegratorOptions user = options_;
-  struct Restore {
-    IntegratorOptions& options;
-    const IntegratorOptions& user;
-    ~Restore() { options = user; }
-  } restore{options_, user};
-  std::vector<Output> outputs, previous_outputs;
-  if (user.on_output) {
-    options_.on_output = [&outputs](const State& s, const Vector& qdd, const Vector& yd) {
-      outputs.push_back({s, qdd, yd});
-    };
-  }
+  HeldRuns held(options_);
+  const IntegratorOptions& user = held.user;
+  std::vector<Output>& outputs = held.outputs;
+  std::vector<Output>& previous_outputs = held.previous_outputs;
   const double richardson = 1.0 / (std::pow(2.0, fixed_step_order()) - 1.0);
   Statistics total;
   total.runs = 0;
