@@ -16,37 +16,18 @@
 #include <string>
 #include <vector>
 
+#include "runtime/test_systems.hpp"
 #include <symdyn/runtime/integrator.hpp>
 
 namespace {
 
 using namespace symdyn::runtime;
 
-constexpr double g = 9.81;
 constexpr double t_end = 10.0;
 constexpr double interval = 0.1;
 
-class Pendulum : public DynamicSystem {
- public:
-  int num_coordinates() const override { return 1; }
-  std::string coordinate_name(int) const override { return "theta"; }
-  void accelerations(const State& s, Vector& qdd, Vector& yd) override {
-    qdd.resize(1);
-    yd.resize(0);
-    qdd[0] = -g * std::sin(s.q[0]);
-  }
-  void residual(const State& s, const Vector& qdd, const Vector&, Vector& f, Vector& g_) override {
-    f.resize(1);
-    g_.resize(0);
-    f[0] = qdd[0] + g * std::sin(s.q[0]);
-  }
-  void jacobians(const State& s, const Vector&, Matrix& M, Matrix& C, Matrix& K) override {
-    M = Matrix::Identity(1, 1);
-    C = Matrix::Zero(1, 1);
-    K = Matrix::Constant(1, 1, g * std::cos(s.q[0]));
-  }
-  static double energy(const State& s) { return 0.5 * s.qd[0] * s.qd[0] - g * std::cos(s.q[0]); }
-};
+// g = 9.81, L = 1 (tests/runtime/test_systems.hpp).
+using Pendulum = symdyn::runtime::testing::PendulumWithJacobians;
 
 State initial() {
   State s;
@@ -80,15 +61,15 @@ void run(benchmark::State& bench, const std::string& name, double setting) {
     o.absolute_tolerance = setting;
   }
   const auto& ref = reference();
-  const double e0 = Pendulum::energy(initial());
+  Pendulum p;
+  const double e0 = p.energy(initial());
   double error = 0.0, drift = 0.0;
   std::size_t k = 0;
   o.on_output = [&](const State& s, const Vector&, const Vector&) {
     error = std::max(error, std::abs(s.q[0] - ref[k++]));
-    drift = std::max(drift, std::abs(Pendulum::energy(s) - e0) / std::abs(e0));
+    drift = std::max(drift, std::abs(p.energy(s) - e0) / std::abs(e0));
   };
   auto integ = make_integrator(name, o);
-  Pendulum p;
   for (auto _ : bench) {
     k = 0;
     error = drift = 0.0;

@@ -125,9 +125,20 @@ class Pendulum : public DynamicSystem {
     return 0.5 * l_ * l_ * s.qd[0] * s.qd[0] - g_ * l_ * std::cos(s.q[0]);
   }
 
- private:
+ protected:
   double g_ = 9.81;
   double l_ = 1.0;
+};
+
+// The same with its exact Jacobians of the residual: M = L, C = 0, K = g·cos(theta)
+// (the others are found by finite differences).
+class PendulumWithJacobians : public Pendulum {
+ public:
+  void jacobians(const State& s, const Vector&, Matrix& M, Matrix& C, Matrix& K) override {
+    M = Matrix::Constant(1, 1, l_);
+    C = Matrix::Zero(1, 1);
+    K = Matrix::Constant(1, 1, g_ * std::cos(s.q[0]));
+  }
 };
 
 // Two unit masses: x0 held to the ground by a soft spring (2π)², x1 held to x0 by a
