@@ -8,7 +8,7 @@
 
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/contact.hpp>
-#include <symdyn/runtime/element_properties.hpp>
+#include <symdyn/runtime/element_parameters.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/gim_tyre.hpp>
 #include <symdyn/runtime/point_forces.hpp>
@@ -33,28 +33,42 @@ Expression read_expression(const Node& node, const Resolver& resolver) {
 
 namespace {
 
+Vec3 vec3(const Node& n) {
+  const auto v = n.numbers(3);
+  return Vec3(v[0], v[1], v[2]);
+}
+
+// The constants of an element of `type` (runtime::element_parameters): each
+// given one read as a number or 3, a required one missing refused at the
+// element; their ranges are checked by the element's constructor.
+runtime::ParameterValues read_parameters(const Node& node, std::string_view type) {
+  runtime::ParameterValues values(type);
+  for (const runtime::Parameter& p : values.row().parameters) {
+    const auto n = node.optional(p.name);
+    if (!n) continue;
+    if (p.shape == runtime::ParameterShape::number) {
+      values.set(p.name, n->number());
+    } else {
+      values.set(p.name, vec3(*n));
+    }
+  }
+  if (const runtime::Parameter* p = values.missing()) {
+    node.fail(fmt::format("missing key '{}' ({}{}{}: {})", p->name, runtime::requirement(*p),
+                          p->unit.empty() ? "" : ", ", p->unit, p->meaning));
+  }
+  return values;
+}
+
 // Reads the members of one element's object, resolving names against the model.
 class Reader {
  public:
-  Reader(const Node& node, const ElementContext& c) : node_(node), c_(c) {}
+  Reader(const Node& node, const ElementContext& c, const runtime::ParameterValues* values)
+      : node_(node), c_(c), values_(values) {}
 
   const Node& node() const { return node_; }
-  double number(std::string_view key, double fallback) const {
-    return node_.number_or(key, fallback);
-  }
-  double number(std::string_view key) const { return node_[key].number(); }
-  double positive(std::string_view key, double fallback) const {
-    const auto n = node_.optional(key);
-    return n ? n->positive() : fallback;
-  }
-  Vec3 vec3(const Node& n) const {
-    const auto v = n.numbers(3);
-    return Vec3(v[0], v[1], v[2]);
-  }
-  Vec3 vec3(std::string_view key, const Vec3& fallback) const {
-    const auto n = node_.optional(key);
-    return n ? vec3(*n) : fallback;
-  }
+  // The element's constants (a type with constants only).
+  const runtime::ParameterValues& values() const { return *values_; }
+  std::string name() const { return node_["name"].string(); }
   int body(const Node& n) const {
     const std::string name = n.string();
     if (name == "ground") return runtime::ground;
@@ -121,6 +135,7 @@ class Reader {
  private:
   const Node& node_;
   const ElementContext& c_;
+  const runtime::ParameterValues* values_;
 };
 
 // Reads the kinematics up to the level the symbols of its laws need.
@@ -205,9 +220,7 @@ std::shared_ptr<ScenarioElement> wrap(const Reader& r, std::shared_ptr<E> inner)
 
 std::shared_ptr<ScenarioElement> coordinate_spring_damper(const Reader& r) {
   const int j = r.coordinate("coordinate");
-  auto e = wrap(r, std::make_shared<runtime::CoordinateSpringDamper>(
-                       r.node()["name"].string(), j, r.number("stiffness"),
-                       r.number("damping", 0.0), r.number("free_value", 0.0)));
+  auto e = wrap(r, runtime::make_coordinate_spring_damper(r.name(), j, r.values()));
   add_generalized_quantity(*e, j, *r.context().names.model);
   return e;
 }
@@ -253,9 +266,8 @@ std::shared_ptr<ScenarioElement> coordinate_tracking(const Reader& r) {
     };
   };
   auto reference = function("reference");
-  auto e = wrap(r, std::make_shared<runtime::CoordinateTracking>(
-                       r.node()["name"].string(), j, r.number("kp"), r.number("kd", 0.0), reference,
-                       function("reference_rate")));
+  auto e = wrap(r, runtime::make_coordinate_tracking(r.name(), j, reference,
+                                                     function("reference_rate"), r.values()));
   add_generalized_quantity(*e, j, *r.context().names.model);
   e->add_quantity("reference",
                   [reference](const State& s, const Kinematics&) { return reference(s.t); });
@@ -265,9 +277,7 @@ std::shared_ptr<ScenarioElement> coordinate_tracking(const Reader& r) {
 std::shared_ptr<ScenarioElement> point_spring_damper(const Reader& r) {
   const auto a = r.body_point("a"), b = r.body_point("b");
   r.distinct_bodies(a.body, b.body, "a spring");
-  auto spring = std::make_shared<runtime::PointSpringDamper>(
-      r.node()["name"].string(), a, b, r.number("stiffness"), r.number("free_length"),
-      r.number("damping", 0.0));
+  auto spring = runtime::make_point_spring_damper(r.name(), a, b, r.values());
   auto e = wrap(r, spring);
   e->add_quantity("length",
                   [spring](const State&, const Kinematics& k) { return spring->length(k); });
@@ -312,30 +322,22 @@ runtime::BodyFrame body_frame(const Reader& r, std::string_view key) {
   f.allow_only({"body", "origin", "axes"});
   runtime::BodyFrame frame;
   frame.body = r.body(f["body"]);
-  if (f.has("origin")) frame.origin = r.vec3(f["origin"]);
+  if (f.has("origin")) frame.origin = vec3(f["origin"]);
   if (f.has("axes")) {
     const Node axes = f["axes"];
     const auto rows = axes.elements();
     if (rows.size() != 3) axes.fail("expected 3 axes (the columns of the frame, in body axes)");
-    for (int c = 0; c < 3; ++c) frame.axes.col(c) = r.vec3(rows[static_cast<std::size_t>(c)]);
+    for (int c = 0; c < 3; ++c) frame.axes.col(c) = vec3(rows[static_cast<std::size_t>(c)]);
   }
   return frame;
 }
 
 std::shared_ptr<ScenarioElement> bushing(const Reader& r) {
-  runtime::BushingProperties p;
-  p.stiffness = r.vec3("stiffness", p.stiffness);
-  p.damping = r.vec3("damping", p.damping);
-  p.rotational_stiffness = r.vec3("rotational_stiffness", p.rotational_stiffness);
-  p.rotational_damping = r.vec3("rotational_damping", p.rotational_damping);
-  p.preload_force = r.vec3("preload_force", p.preload_force);
-  p.preload_torque = r.vec3("preload_torque", p.preload_torque);
   const auto a = body_frame(r, "a"), b = body_frame(r, "b");
   r.distinct_bodies(a.body, b.body, "a bushing");
   std::shared_ptr<runtime::Bushing> inner;
   try {
-    inner = std::make_shared<runtime::Bushing>(r.node()["name"].string(), a, b, p,
-                                               r.node().string_or("order", "xyz"));
+    inner = runtime::make_bushing(r.name(), a, b, r.node().string_or("order", "xyz"), r.values());
   } catch (const runtime::PropertyError&) {
     throw;  // named at its key by make_element
   } catch (const runtime::ModelError& e) {
@@ -357,23 +359,15 @@ std::shared_ptr<ScenarioElement> bushing(const Reader& r) {
 }
 
 std::shared_ptr<ScenarioElement> plane_contact(const Reader& r) {
-  runtime::ContactProperties p;
-  p.stiffness = r.number("stiffness");
-  p.stiffness_exponent = r.number("stiffness_exponent", p.stiffness_exponent);
-  p.damping = r.number("damping", p.damping);
-  p.damping_exponent = r.number("damping_exponent", p.damping_exponent);
-  p.friction = r.number("friction", p.friction);
-  p.slip_speed = r.positive("slip_speed", p.slip_speed);
+  auto regularization = runtime::FrictionRegularization::linear;
   if (const auto reg = r.node().optional("regularization")) {
     const std::string name = reg->string();
     if (name != "linear" && name != "smooth")
       reg->fail(fmt::format("expected linear or smooth, found '{}'", name));
-    p.regularization = name == "smooth" ? runtime::FrictionRegularization::smooth
-                                        : runtime::FrictionRegularization::linear;
+    if (name == "smooth") regularization = runtime::FrictionRegularization::smooth;
   }
-  auto contact = std::make_shared<runtime::PlaneContact>(
-      r.node()["name"].string(), r.moving_body(r.node()["body"], "a contact"),
-      r.vec3("point", Vec3::Zero()), r.number("radius", 0.0), r.plane("plane"), p);
+  auto contact = runtime::make_plane_contact(r.name(), r.moving_body(r.node()["body"], "a contact"),
+                                             r.plane("plane"), regularization, r.values());
   auto e = wrap(r, contact);
   e->add_quantity("normal_force", [contact](const State&, const Kinematics& k) {
     return contact->evaluate(k).normal_force;
@@ -390,16 +384,8 @@ std::shared_ptr<ScenarioElement> plane_contact(const Reader& r) {
 }
 
 std::shared_ptr<ScenarioElement> simple_tyre(const Reader& r) {
-  runtime::SimpleTyreProperties p;
-  p.radius = r.positive("radius", p.radius);
-  p.stiffness = r.number("stiffness", p.stiffness);
-  p.damping = r.number("damping", p.damping);
-  p.friction = r.number("friction", p.friction);
-  p.epsilon = r.positive("epsilon", p.epsilon);
-  p.axis = r.vec3("axis", p.axis);
-  p.centre = r.vec3("centre", p.centre);
-  auto tyre = std::make_shared<runtime::SimpleTyre>(
-      r.node()["name"].string(), r.moving_body(r.node()["body"], "a tyre"), p, r.plane("ground"));
+  auto tyre = runtime::make_simple_tyre(r.name(), r.moving_body(r.node()["body"], "a tyre"),
+                                        r.plane("ground"), r.values());
   auto e = wrap(r, tyre);
   e->add_quantity("normal_force", [tyre](const State&, const Kinematics& k) {
     return tyre->evaluate(k).normal_force;
@@ -416,24 +402,8 @@ std::shared_ptr<ScenarioElement> simple_tyre(const Reader& r) {
 }
 
 std::shared_ptr<ScenarioElement> gim_tyre(const Reader& r) {
-  runtime::GimTyreProperties p;
-  p.r1 = r.positive("r1", p.r1);
-  p.r2 = r.positive("r2", p.r2);
-  p.Kz = r.number("Kz", p.Kz);
-  p.Cz = r.number("Cz", p.Cz);
-  p.Fznom = r.positive("Fznom", p.Fznom);
-  p.Clongnom = r.number("Clongnom", p.Clongnom);
-  p.nlong = r.number("nlong", p.nlong);
-  p.Clatnom = r.number("Clatnom", p.Clatnom);
-  p.nlat = r.number("nlat", p.nlat);
-  p.Ccambernom = r.number("Ccambernom", p.Ccambernom);
-  p.ncamber = r.number("ncamber", p.ncamber);
-  p.mu_static = r.number("mu_static", p.mu_static);
-  p.mu_dynamic = r.number("mu_dynamic", p.mu_dynamic);
-  p.axis = r.vec3("axis", p.axis);
-  p.centre = r.vec3("centre", p.centre);
-  auto tyre = std::make_shared<runtime::GimTyre>(
-      r.node()["name"].string(), r.moving_body(r.node()["body"], "a tyre"), p, r.plane("ground"));
+  auto tyre = runtime::make_gim_tyre(r.name(), r.moving_body(r.node()["body"], "a tyre"),
+                                     r.plane("ground"), r.values());
   auto e = wrap(r, tyre);
   using Result = runtime::GimTyre::Result;
   const std::pair<const char*, double (*)(const Result&)> quantities[] = {
@@ -455,40 +425,43 @@ std::shared_ptr<ScenarioElement> gim_tyre(const Reader& r) {
   return e;
 }
 
-// One row per element type: its name, the keys it takes besides type, name
-// and enabled, and its builder.
+// One row per element type: its name, what it acts on and its laws (the keys
+// besides type, name, enabled and its constants, which are the runtime's
+// table), listed before the constants and after them, whether it has
+// constants, and its builder.
 struct ElementType {
   const char* type;
-  std::initializer_list<std::string_view> keys;
+  std::initializer_list<std::string_view> keys, keys_after;
+  bool constants;
   std::shared_ptr<ScenarioElement> (*make)(const Reader& r);
 };
 
 const ElementType kElementTypes[] = {
-    {"coordinate_spring_damper",
-     {"coordinate", "stiffness", "damping", "free_value"},
-     coordinate_spring_damper},
-    {"coordinate_force", {"coordinates", "value"}, coordinate_force},
+    {"coordinate_spring_damper", {"coordinate"}, {}, true, coordinate_spring_damper},
+    {"coordinate_force", {"coordinates", "value"}, {}, false, coordinate_force},
     {"coordinate_tracking",
-     {"coordinate", "kp", "kd", "reference", "reference_rate"},
+     {"coordinate"},
+     {"reference", "reference_rate"},
+     true,
      coordinate_tracking},
-    {"point_spring_damper", {"a", "b", "stiffness", "free_length", "damping"}, point_spring_damper},
-    {"point_load", {"at", "force", "torque"}, point_load},
-    {"bushing",
-     {"a", "b", "order", "stiffness", "damping", "rotational_stiffness", "rotational_damping",
-      "preload_force", "preload_torque"},
-     bushing},
-    {"plane_contact",
-     {"body", "point", "radius", "plane", "stiffness", "stiffness_exponent", "damping",
-      "damping_exponent", "friction", "slip_speed", "regularization"},
-     plane_contact},
-    {"simple_tyre",
-     {"body", "radius", "stiffness", "damping", "friction", "epsilon", "axis", "centre", "ground"},
-     simple_tyre},
-    {"gim_tyre",
-     {"body", "r1", "r2", "Kz", "Cz", "Fznom", "Clongnom", "nlong", "Clatnom", "nlat", "Ccambernom",
-      "ncamber", "mu_static", "mu_dynamic", "axis", "centre", "ground"},
-     gim_tyre},
+    {"point_spring_damper", {"a", "b"}, {}, true, point_spring_damper},
+    {"point_load", {"at", "force", "torque"}, {}, false, point_load},
+    {"bushing", {"a", "b", "order"}, {}, true, bushing},
+    {"plane_contact", {"body"}, {"plane", "regularization"}, true, plane_contact},
+    {"simple_tyre", {"body"}, {"ground"}, true, simple_tyre},
+    {"gim_tyre", {"body"}, {"ground"}, true, gim_tyre},
 };
+
+// The keys an element of this type takes besides type and name.
+std::vector<std::string_view> members_of(const ElementType& t) {
+  std::vector<std::string_view> out{"enabled"};
+  out.insert(out.end(), t.keys.begin(), t.keys.end());
+  if (t.constants) {
+    for (const auto& p : runtime::element_parameters(t.type).parameters) out.push_back(p.name);
+  }
+  out.insert(out.end(), t.keys_after.begin(), t.keys_after.end());
+  return out;
+}
 
 bool identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
@@ -509,9 +482,8 @@ std::vector<std::string> element_members(std::string_view type) {
   const auto row = std::find_if(std::begin(kElementTypes), std::end(kElementTypes),
                                 [&](const ElementType& t) { return type == t.type; });
   if (row == std::end(kElementTypes)) return {};
-  std::vector<std::string> out{"enabled"};
-  out.insert(out.end(), row->keys.begin(), row->keys.end());
-  return out;
+  const auto members = members_of(*row);
+  return {members.begin(), members.end()};
 }
 
 std::shared_ptr<ScenarioElement> make_element(const Node& node, const ElementContext& context) {
@@ -523,21 +495,25 @@ std::shared_ptr<ScenarioElement> make_element(const Node& node, const ElementCon
     type.fail(fmt::format("unknown force element type '{}' (types: {})", name,
                           fmt::join(element_types(), ", ")));
   }
-  std::vector<std::string_view> keys{"type", "name", "enabled"};
-  keys.insert(keys.end(), row->keys.begin(), row->keys.end());
+  std::vector<std::string_view> keys{"type", "name"};
+  const auto members = members_of(*row);
+  keys.insert(keys.end(), members.begin(), members.end());
   // allow_only takes an initializer list: check by hand with the same message.
   for (const auto& [key, member] : node.members()) {
-    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-      member.fail(fmt::format("unknown key '{}' for a {} (expected: {})", key, name,
-                              fmt::join(keys, ", ")));
-    }
+    if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
+    const auto close = runtime::close_names(key, keys);
+    member.fail(fmt::format(
+        "unknown key '{}' for a {} (expected: {}){}", key, name, fmt::join(keys, ", "),
+        close.empty() ? "" : fmt::format("; did you mean {}?", fmt::join(close, " or "))));
   }
   const Node id = node["name"];
   if (!identifier(id.string()))
     id.fail(
         fmt::format("'{}' is not a name expressions can use (letters, digits, _)", id.string()));
   try {
-    return row->make(Reader(node, context));
+    if (!row->constants) return row->make(Reader(node, context, nullptr));
+    const runtime::ParameterValues values = read_parameters(node, name);
+    return row->make(Reader(node, context, &values));
   } catch (const runtime::PropertyError& e) {
     // Named at its key ("a/axes": the key axes of the member a) when the file has it.
     Node at = node;

@@ -2,6 +2,8 @@
 // The force elements of a scenario file ("forces": [...]), one row of the
 // table in elements.cpp per type: its keys, how it is built from them, and
 // the quantities it reports to outputs and checks (<element>.<quantity>).
+// Their constants (stiffness, ...) are the runtime's table's
+// (runtime/element_parameters.hpp): names, defaults and ranges.
 // Bodies and coordinates are given by name ("ground" for the fixed frame).
 
 #include <memory>

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -234,49 +235,72 @@ struct Force {
   std::function<ElementPtr(const Model&)> make;
 };
 
-// Property structs filled from keyword arguments, one table row per field.
-template <class P>
-struct Field {
-  const char* name;
-  double P::*number = nullptr;
-  Vec3 P::*vector = nullptr;
-};
-
-template <class P>
-std::string field_names(const std::vector<Field<P>>& fields) {
-  std::string out;
-  for (const auto& f : fields) out += fmt::format("{}{}", out.empty() ? "" : ", ", f.name);
-  return out;
-}
-
-// TypeError naming an unknown keyword and the valid ones.
-template <class P>
-P properties_from(const py::kwargs& given, const std::vector<Field<P>>& fields,
-                  std::string_view element) {
-  P p;
-  for (const auto& [key, value] : given) {
-    const auto name = py::cast<std::string>(key);
-    const auto f = std::find_if(fields.begin(), fields.end(),
-                                [&](const Field<P>& r) { return name == r.name; });
-    if (f == fields.end()) {
-      throw py::type_error(fmt::format("{}: unknown property '{}' (properties: {})", element, name,
-                                       field_names(fields)));
-    }
-    if (f->number != nullptr) {
-      p.*(f->number) = py::cast<double>(value);
-    } else {
-      p.*(f->vector) = vec3_arg(value, fmt::format("{} {}", element, name));
-    }
-  }
-  return p;
-}
-
 // Removes and returns a keyword argument, or `fallback`.
 py::object take(py::kwargs& kwargs, const char* key, py::object fallback) {
   if (!kwargs.contains(key)) return fallback;
   py::object value = kwargs[key];
   PyDict_DelItemString(kwargs.ptr(), key);
   return value;
+}
+
+// The constants of an element of `type` (runtime::element_parameters): the
+// positional values in the table's order, then the keywords; TypeError for an
+// unknown keyword (naming the close ones), a value given twice or a required
+// one missing. Their ranges are checked when the element is made.
+runtime::ParameterValues parameters_from(std::string_view type, std::string_view function,
+                                         const py::args& args, const py::kwargs& kwargs) {
+  runtime::ParameterValues values(type);
+  const auto parameters = values.row().parameters;
+  std::vector<std::string_view> names;
+  for (const auto& p : parameters) names.push_back(p.name);
+  const auto set = [&](const runtime::Parameter& p, const py::handle& value) {
+    if (values.given(p.name))
+      throw py::type_error(fmt::format("{}: '{}' given twice", function, p.name));
+    if (p.shape == runtime::ParameterShape::number) {
+      values.set(p.name, py::cast<double>(value));
+    } else {
+      values.set(p.name, vec3_arg(value, fmt::format("{} {}", function, p.name)));
+    }
+  };
+  if (args.size() > parameters.size()) {
+    throw py::type_error(fmt::format("{}: {} constants given by position, at most {} ({})",
+                                     function, args.size(), parameters.size(),
+                                     fmt::join(names, ", ")));
+  }
+  for (std::size_t i = 0; i < args.size(); ++i) set(parameters[i], args[i]);
+  for (const auto& [key, value] : kwargs) {
+    const auto name = py::cast<std::string>(key);
+    const runtime::Parameter* p = values.row().find(name);
+    if (p == nullptr) {
+      const auto close = runtime::close_names(name, names);
+      throw py::type_error(fmt::format(
+          "{}: unknown property '{}' (properties: {}){}", function, name, fmt::join(names, ", "),
+          close.empty() ? "" : fmt::format("; did you mean {}?", fmt::join(close, " or "))));
+    }
+    set(*p, value);
+  }
+  if (const runtime::Parameter* p = values.missing()) {
+    throw py::type_error(fmt::format("{}: missing property '{}' ({}{}{}: {})", function, p->name,
+                                     runtime::requirement(*p), p->unit.empty() ? "" : ", ", p->unit,
+                                     p->meaning));
+  }
+  return values;
+}
+
+// `lead`, then the element's constants as the table describes them.
+const char* element_doc(std::string_view type, std::string_view lead) {
+  static std::deque<std::string> docs;  // pybind keeps the pointer
+  std::string doc = fmt::format("{}\n\nConstants:", lead);
+  for (const auto& p : runtime::element_parameters(type).parameters) {
+    const std::string fallback = p.required ? "required"
+                                 : p.shape == runtime::ParameterShape::number
+                                     ? fmt::format("default {:g}", p.fallback[0])
+                                     : fmt::format("default [{:g}, {:g}, {:g}]", p.fallback[0],
+                                                   p.fallback[1], p.fallback[2]);
+    doc += fmt::format("\n  {} ({}{}{}; {}): {}", p.name, runtime::requirement(p),
+                       p.unit.empty() ? "" : ", ", p.unit, fallback, p.meaning);
+  }
+  return docs.emplace_back(std::move(doc)).c_str();
 }
 
 runtime::Plane plane_from(py::kwargs& kwargs, std::string_view element) {
@@ -288,75 +312,32 @@ runtime::Plane plane_from(py::kwargs& kwargs, std::string_view element) {
   return plane;
 }
 
-const std::vector<Field<runtime::ContactProperties>>& contact_fields() {
-  using P = runtime::ContactProperties;
-  static const std::vector<Field<P>> fields{
-      {"stiffness", &P::stiffness}, {"stiffness_exponent", &P::stiffness_exponent},
-      {"damping", &P::damping},     {"damping_exponent", &P::damping_exponent},
-      {"friction", &P::friction},   {"slip_speed", &P::slip_speed}};
-  return fields;
+std::string name_from(py::kwargs& kwargs, const py::handle& fallback) {
+  return name_or(take(kwargs, "name", py::none()), fallback);
 }
 
-const std::vector<Field<runtime::SimpleTyreProperties>>& simple_tyre_fields() {
-  using P = runtime::SimpleTyreProperties;
-  static const std::vector<Field<P>> fields{
-      {"radius", &P::radius},         {"stiffness", &P::stiffness}, {"damping", &P::damping},
-      {"friction", &P::friction},     {"epsilon", &P::epsilon},     {"axis", nullptr, &P::axis},
-      {"centre", nullptr, &P::centre}};
-  return fields;
-}
-
-const std::vector<Field<runtime::GimTyreProperties>>& gim_tyre_fields() {
-  using P = runtime::GimTyreProperties;
-  static const std::vector<Field<P>> fields{{"r1", &P::r1},
-                                            {"r2", &P::r2},
-                                            {"Kz", &P::Kz},
-                                            {"Cz", &P::Cz},
-                                            {"Fznom", &P::Fznom},
-                                            {"Clongnom", &P::Clongnom},
-                                            {"nlong", &P::nlong},
-                                            {"Clatnom", &P::Clatnom},
-                                            {"nlat", &P::nlat},
-                                            {"Ccambernom", &P::Ccambernom},
-                                            {"ncamber", &P::ncamber},
-                                            {"mu_static", &P::mu_static},
-                                            {"mu_dynamic", &P::mu_dynamic},
-                                            {"axis", nullptr, &P::axis},
-                                            {"centre", nullptr, &P::centre}};
-  return fields;
-}
-
-const std::vector<Field<runtime::BushingProperties>>& bushing_fields() {
-  using P = runtime::BushingProperties;
-  static const std::vector<Field<P>> fields{
-      {"stiffness", nullptr, &P::stiffness},
-      {"damping", nullptr, &P::damping},
-      {"rotational_stiffness", nullptr, &P::rotational_stiffness},
-      {"rotational_damping", nullptr, &P::rotational_damping},
-      {"preload_force", nullptr, &P::preload_force},
-      {"preload_torque", nullptr, &P::preload_torque}};
-  return fields;
-}
-
-Force coordinate_spring_damper(const py::object& coordinate, double stiffness, double damping,
-                               double free_value, const py::object& name) {
-  const std::string n = name_or(name, coordinate);
+Force coordinate_spring_damper(const py::object& coordinate, const py::args& args,
+                               py::kwargs kwargs) {
+  const std::string n = name_from(kwargs, coordinate);
+  const auto v =
+      parameters_from("coordinate_spring_damper", "CoordinateSpringDamper", args, kwargs);
   return {fmt::format("CoordinateSpringDamper('{}')", n), [=](const Model& m) -> ElementPtr {
-            return std::make_shared<runtime::CoordinateSpringDamper>(
-                n, coordinate_arg(m, coordinate), stiffness, damping, free_value);
+            return runtime::make_coordinate_spring_damper(n, coordinate_arg(m, coordinate), v);
           }};
 }
 
-Force coordinate_tracking(const py::object& coordinate, double kp, double kd, double reference,
-                          double rate, const py::object& name) {
-  const std::string n = name_or(name, coordinate);
+Force coordinate_tracking(const py::object& coordinate, const py::args& args, py::kwargs kwargs) {
+  const std::string n = name_from(kwargs, coordinate);
+  const double reference = take(kwargs, "reference", py::float_(0.0)).cast<double>();
+  const double rate = take(kwargs, "rate", py::float_(0.0)).cast<double>();
+  const auto v = parameters_from("coordinate_tracking", "CoordinateTracking", args, kwargs);
   // The runtime's element takes functions of time: the constants are checked here.
   runtime::check_property(fmt::format("coordinate tracking '{}'", n), "reference", reference);
   runtime::check_property(fmt::format("coordinate tracking '{}'", n), "rate", rate);
   return {fmt::format("CoordinateTracking('{}')", n), [=](const Model& m) -> ElementPtr {
-            return std::make_shared<runtime::CoordinateTracking>(
-                n, coordinate_arg(m, coordinate), kp, kd, [reference](double) { return reference; },
-                [rate](double) { return rate; });
+            return runtime::make_coordinate_tracking(
+                n, coordinate_arg(m, coordinate), [reference](double) { return reference; },
+                [rate](double) { return rate; }, v);
           }};
 }
 
@@ -373,14 +354,15 @@ Force coordinate_force(const py::object& coordinate, const py::function& law,
 }
 
 Force point_spring_damper(const py::object& body_a, const py::object& point_a,
-                          const py::object& body_b, const py::object& point_b, double stiffness,
-                          double free_length, double damping, const py::object& name) {
-  const std::string n = name_or(name, body_b);
+                          const py::object& body_b, const py::object& point_b, const py::args& args,
+                          py::kwargs kwargs) {
+  const std::string n = name_from(kwargs, body_b);
   const Vec3 pa = vec3_arg(point_a, "point_a"), pb = vec3_arg(point_b, "point_b");
+  const auto v = parameters_from("point_spring_damper", "PointSpringDamper", args, kwargs);
   return {fmt::format("PointSpringDamper('{}')", n), [=](const Model& m) -> ElementPtr {
-            return std::make_shared<runtime::PointSpringDamper>(
-                n, runtime::BodyPoint{body_arg(m, body_a), pa},
-                runtime::BodyPoint{body_arg(m, body_b), pb}, stiffness, free_length, damping);
+            return runtime::make_point_spring_damper(n, runtime::BodyPoint{body_arg(m, body_a), pa},
+                                                     runtime::BodyPoint{body_arg(m, body_b), pb},
+                                                     v);
           }};
 }
 
@@ -395,40 +377,37 @@ Force point_load(const py::object& body, const py::object& point, const py::obje
           }};
 }
 
-Force plane_contact(const py::object& body, const py::object& point, double radius,
-                    const py::object& name, py::kwargs kwargs) {
-  const std::string n = name_or(name, body);
-  const Vec3 p = vec3_arg(point, "point");
+Force plane_contact(const py::object& body, const py::args& args, py::kwargs kwargs) {
+  const std::string n = name_from(kwargs, body);
   const runtime::Plane plane = plane_from(kwargs, "PlaneContact");
   const std::string reg = take(kwargs, "regularization", py::str("linear")).cast<std::string>();
-  auto props = properties_from(kwargs, contact_fields(), "PlaneContact");
-  if (reg == "smooth") {
-    props.regularization = runtime::FrictionRegularization::smooth;
-  } else if (reg != "linear") {
+  if (reg != "linear" && reg != "smooth") {
     throw py::value_error(fmt::format(
         "PlaneContact '{}': regularization '{}' is neither 'linear' nor 'smooth'", n, reg));
   }
+  const auto regularization = reg == "smooth" ? runtime::FrictionRegularization::smooth
+                                              : runtime::FrictionRegularization::linear;
+  const auto v = parameters_from("plane_contact", "PlaneContact", args, kwargs);
   return {fmt::format("PlaneContact('{}')", n), [=](const Model& m) -> ElementPtr {
-            return std::make_shared<runtime::PlaneContact>(n, body_arg(m, body), p, radius, plane,
-                                                           props);
+            return runtime::make_plane_contact(n, body_arg(m, body), plane, regularization, v);
           }};
 }
 
-Force simple_tyre(const py::object& body, const py::object& name, py::kwargs kwargs) {
-  const std::string n = name_or(name, body);
+Force simple_tyre(const py::object& body, py::kwargs kwargs) {
+  const std::string n = name_from(kwargs, body);
   const runtime::Plane plane = plane_from(kwargs, "SimpleTyre");
-  const auto props = properties_from(kwargs, simple_tyre_fields(), "SimpleTyre");
+  const auto v = parameters_from("simple_tyre", "SimpleTyre", py::args(), kwargs);
   return {fmt::format("SimpleTyre('{}')", n), [=](const Model& m) -> ElementPtr {
-            return std::make_shared<runtime::SimpleTyre>(n, body_arg(m, body), props, plane);
+            return runtime::make_simple_tyre(n, body_arg(m, body), plane, v);
           }};
 }
 
-Force gim_tyre(const py::object& body, const py::object& name, py::kwargs kwargs) {
-  const std::string n = name_or(name, body);
+Force gim_tyre(const py::object& body, py::kwargs kwargs) {
+  const std::string n = name_from(kwargs, body);
   const runtime::Plane plane = plane_from(kwargs, "GimTyre");
-  const auto props = properties_from(kwargs, gim_tyre_fields(), "GimTyre");
+  const auto v = parameters_from("gim_tyre", "GimTyre", py::args(), kwargs);
   return {fmt::format("GimTyre('{}')", n), [=](const Model& m) -> ElementPtr {
-            return std::make_shared<runtime::GimTyre>(n, body_arg(m, body), props, plane);
+            return runtime::make_gim_tyre(n, body_arg(m, body), plane, v);
           }};
 }
 
@@ -441,11 +420,10 @@ Force bushing(const py::object& body_a, const py::object& body_b, const py::obje
       axes_a.is_none() ? runtime::Mat3::Identity() : mat3_arg(axes_a, "axes_a");
   const runtime::Mat3 rb =
       axes_b.is_none() ? runtime::Mat3::Identity() : mat3_arg(axes_b, "axes_b");
-  const auto props = properties_from(kwargs, bushing_fields(), "Bushing");
+  const auto v = parameters_from("bushing", "Bushing", py::args(), kwargs);
   return {fmt::format("Bushing('{}')", n), [=](const Model& m) -> ElementPtr {
-            return std::make_shared<runtime::Bushing>(
-                n, runtime::BodyFrame{body_arg(m, body_a), oa, ra},
-                runtime::BodyFrame{body_arg(m, body_b), ob, rb}, props, order);
+            return runtime::make_bushing(n, runtime::BodyFrame{body_arg(m, body_a), oa, ra},
+                                         runtime::BodyFrame{body_arg(m, body_b), ob, rb}, order, v);
           }};
 }
 
@@ -457,42 +435,45 @@ void define_forces(py::module_& module) {
       .def("__repr__", [](const Force& f) { return f.description; });
   const py::object none = py::none();
   const auto origin = py::cast(std::vector<double>{0, 0, 0});
-  module.def("CoordinateSpringDamper", &coordinate_spring_damper, "coordinate"_a, "stiffness"_a,
-             "damping"_a = 0.0, "free_value"_a = 0.0, "name"_a = none,
-             "Q = -stiffness (q - free_value) - damping qd on a coordinate (name or index).");
-  module.def("CoordinateTracking", &coordinate_tracking, "coordinate"_a, "kp"_a, "kd"_a,
-             "reference"_a = 0.0, "rate"_a = 0.0, "name"_a = none,
-             "PD tracking of a constant reference: Q = -kp (q - reference) - kd (qd - rate).");
+  module.def("CoordinateSpringDamper", &coordinate_spring_damper, "coordinate"_a,
+             element_doc("coordinate_spring_damper",
+                         "Q = -stiffness (q - free_value) - damping qd on a coordinate (name or "
+                         "index); name=None."));
+  module.def("CoordinateTracking", &coordinate_tracking, "coordinate"_a,
+             element_doc("coordinate_tracking",
+                         "PD tracking of a constant reference: Q = -kp (q - reference) - kd (qd - "
+                         "rate); reference=0, rate=0, name=None."));
   module.def("CoordinateForce", &coordinate_force, "coordinate"_a, "law"_a, "name"_a = none,
              "Q = law(t, q, qd) on a coordinate, law a Python callable returning a float "
              "(called with the GIL held; its exceptions stop the call that evaluates it).");
   module.def("PointSpringDamper", &point_spring_damper, "body_a"_a, "point_a"_a, "body_b"_a,
-             "point_b"_a, "stiffness"_a, "free_length"_a, "damping"_a = 0.0, "name"_a = none,
-             "Spring and damper between two body points (body axes from G; None or 'ground' "
-             "for a fixed global point): T = stiffness (L - free_length) + damping dL/dt.");
+             "point_b"_a,
+             element_doc("point_spring_damper",
+                         "Spring and damper between two body points (body axes from G; None or "
+                         "'ground' for a fixed global point): T = stiffness (L - free_length) + "
+                         "damping dL/dt; name=None."));
   module.def("PointLoad", &point_load, "body"_a, "point"_a = origin, "force"_a = origin,
              "torque"_a = origin, "name"_a = none,
              "A constant force and torque (global axes) at a body point (body axes from G).");
-  module.def("PlaneContact", &plane_contact, "body"_a, "point"_a = origin, "radius"_a = 0.0,
-             "name"_a = none,
-             "Penalty contact of a sphere (radius, centre at a body point) with the plane "
-             "plane_point, plane_normal (default z = 0, normal +z). Properties: stiffness, "
-             "stiffness_exponent, damping, damping_exponent, friction, slip_speed, "
-             "regularization ('linear' or 'smooth').");
-  module.def("SimpleTyre", &simple_tyre, "body"_a, "name"_a = none,
-             "The simple rigid-ring tyre on the plane plane_point, plane_normal. Properties: "
-             "radius, stiffness, damping, friction, epsilon, axis, centre.");
-  module.def("GimTyre", &gim_tyre, "body"_a, "name"_a = none,
-             "Gim's brush tyre on the plane plane_point, plane_normal. Properties: r1, r2, Kz, "
-             "Cz, Fznom, Clongnom, nlong, Clatnom, nlat, Ccambernom, ncamber, mu_static, "
-             "mu_dynamic, axis, centre.");
+  module.def("PlaneContact", &plane_contact, "body"_a,
+             element_doc("plane_contact",
+                         "Penalty contact of a sphere (radius, centre at a body point) with the "
+                         "plane plane_point, plane_normal (default z = 0, normal +z); "
+                         "regularization 'linear' or 'smooth'; name=None."));
+  module.def("SimpleTyre", &simple_tyre, "body"_a,
+             element_doc("simple_tyre",
+                         "The simple rigid-ring tyre on the plane plane_point, plane_normal; "
+                         "name=None."));
+  module.def("GimTyre", &gim_tyre, "body"_a,
+             element_doc("gim_tyre",
+                         "Gim's brush tyre on the plane plane_point, plane_normal; name=None."));
   module.def("Bushing", &bushing, "body_a"_a, "body_b"_a, "origin_a"_a = origin,
              "origin_b"_a = origin, "axes_a"_a = none, "axes_b"_a = none, "order"_a = "xyz",
              "name"_a = none,
-             "Six-component linear bushing between two body frames (origin from G and axes "
-             "in body axes; None or 'ground' for the ground). Properties (3 values each): "
-             "stiffness, damping, rotational_stiffness, rotational_damping, preload_force, "
-             "preload_torque.");
+             element_doc("bushing",
+                         "Six-component linear bushing between two body frames (origin from G and "
+                         "axes in body axes; None or 'ground' for the ground); constants by "
+                         "keyword."));
 }
 
 // -------------------------------------------------------------------- system

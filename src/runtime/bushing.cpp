@@ -3,7 +3,7 @@
 #include <utility>
 
 #include <symdyn/runtime/bushing.hpp>
-#include <symdyn/runtime/element_properties.hpp>
+#include <symdyn/runtime/element_parameters.hpp>
 
 namespace symdyn::runtime {
 
@@ -15,12 +15,12 @@ Bushing::Bushing(std::string name, BodyFrame a, BodyFrame b, const BushingProper
   check_axes(me, "a/axes", a_.axes);
   check_property(me, "b/origin", b_.origin);
   check_axes(me, "b/axes", b_.axes);
-  check_property(me, "stiffness", p_.stiffness, Sign::non_negative);
-  check_property(me, "damping", p_.damping, Sign::non_negative);
-  check_property(me, "rotational_stiffness", p_.rotational_stiffness, Sign::non_negative);
-  check_property(me, "rotational_damping", p_.rotational_damping, Sign::non_negative);
-  check_property(me, "preload_force", p_.preload_force);
-  check_property(me, "preload_torque", p_.preload_torque);
+  check_parameter(me, "bushing", "stiffness", p_.stiffness);
+  check_parameter(me, "bushing", "damping", p_.damping);
+  check_parameter(me, "bushing", "rotational_stiffness", p_.rotational_stiffness);
+  check_parameter(me, "bushing", "rotational_damping", p_.rotational_damping);
+  check_parameter(me, "bushing", "preload_force", p_.preload_force);
+  check_parameter(me, "bushing", "preload_torque", p_.preload_torque);
 }
 
 template <class T>

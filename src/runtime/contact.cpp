@@ -3,7 +3,7 @@
 #include <utility>
 
 #include <symdyn/runtime/contact.hpp>
-#include <symdyn/runtime/element_properties.hpp>
+#include <symdyn/runtime/element_parameters.hpp>
 
 namespace symdyn::runtime {
 
@@ -16,16 +16,16 @@ PlaneContact::PlaneContact(std::string name, int body, const Vec3& point, double
                            const Plane& plane, const ContactProperties& p)
     : name_(std::move(name)), body_(body), point_(point), radius_(radius), plane_(plane), p_(p) {
   const std::string me = this->name();
-  check_property(me, "point", point_);
-  check_property(me, "radius", radius_, Sign::non_negative);
+  check_parameter(me, "plane_contact", "point", point_);
+  check_parameter(me, "plane_contact", "radius", radius_);
   check_plane(me, plane_);
   // N = Kn delta^pk + Cd delta^pd deltad: without Kn > 0 a body sinks through the plane.
-  check_property(me, "stiffness", p_.stiffness, Sign::positive);
-  check_property(me, "stiffness_exponent", p_.stiffness_exponent, Sign::positive);
-  check_property(me, "damping", p_.damping, Sign::non_negative);
-  check_property(me, "damping_exponent", p_.damping_exponent, Sign::non_negative);
-  check_property(me, "friction", p_.friction, Sign::non_negative);
-  check_property(me, "slip_speed", p_.slip_speed, Sign::positive);
+  check_parameter(me, "plane_contact", "stiffness", p_.stiffness);
+  check_parameter(me, "plane_contact", "stiffness_exponent", p_.stiffness_exponent);
+  check_parameter(me, "plane_contact", "damping", p_.damping);
+  check_parameter(me, "plane_contact", "damping_exponent", p_.damping_exponent);
+  check_parameter(me, "plane_contact", "friction", p_.friction);
+  check_parameter(me, "plane_contact", "slip_speed", p_.slip_speed);
   plane_.normal.normalize();
 }
 
@@ -77,13 +77,13 @@ SimpleTyre::SimpleTyre(std::string name, int body, const SimpleTyreProperties& p
                        const Plane& ground)
     : name_(std::move(name)), body_(body), p_(p), ground_(ground) {
   const std::string me = this->name();
-  check_property(me, "radius", p_.radius, Sign::positive);
-  check_property(me, "stiffness", p_.stiffness, Sign::positive);
-  check_property(me, "damping", p_.damping, Sign::non_negative);
-  check_property(me, "friction", p_.friction, Sign::non_negative);
-  check_property(me, "epsilon", p_.epsilon, Sign::positive);
-  check_direction(me, "axis", p_.axis);
-  check_property(me, "centre", p_.centre);
+  check_parameter(me, "simple_tyre", "radius", p_.radius);
+  check_parameter(me, "simple_tyre", "stiffness", p_.stiffness);
+  check_parameter(me, "simple_tyre", "damping", p_.damping);
+  check_parameter(me, "simple_tyre", "friction", p_.friction);
+  check_parameter(me, "simple_tyre", "epsilon", p_.epsilon);
+  check_parameter(me, "simple_tyre", "axis", p_.axis);
+  check_parameter(me, "simple_tyre", "centre", p_.centre);
   check_plane(me, ground_);
   ground_.normal.normalize();
   p_.axis.normalize();

@@ -12,8 +12,6 @@ PropertyError::PropertyError(const std::string& element, std::string property, s
       property_(std::move(property)),
       detail_(std::move(detail)) {}
 
-namespace {
-
 const char* requirement(Sign sign) {
   switch (sign) {
     case Sign::non_negative:
@@ -25,6 +23,8 @@ const char* requirement(Sign sign) {
   }
   return "";
 }
+
+namespace {
 
 bool satisfies(double v, Sign sign) {
   if (!std::isfinite(v)) return false;

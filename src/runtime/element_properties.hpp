@@ -1,8 +1,9 @@
 #pragma once
 // Checks of a force element's constants when it is made: every number
 // finite, and of the sign its law needs (a contact's stiffness > 0, a
-// damping >= 0). The runtime's elements call them in their constructors, so
-// scenario files and the Python module are refused alike. A PropertyError
+// damping >= 0). The runtime's elements call them in their constructors
+// (through check_parameter, element_parameters.hpp, for the constants of its
+// table), so scenario files and the Python module are refused alike. A PropertyError
 // names the element and the property and keeps what was expected apart, for
 // a scenario file to report it at the property's JSON path:
 //   contact 'foot': stiffness: expected a number > 0, found -5
@@ -28,6 +29,8 @@ class PropertyError : public ModelError {
 };
 
 enum class Sign { any, non_negative, positive };
+// " >= 0", " > 0" or "": what a sign asks of a number, for messages.
+const char* requirement(Sign sign);
 
 // Each throws PropertyError naming `element` and `property`.
 void check_property(const std::string& element, const char* property, double value,

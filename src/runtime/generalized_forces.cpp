@@ -1,6 +1,6 @@
 #include <utility>
 
-#include <symdyn/runtime/element_properties.hpp>
+#include <symdyn/runtime/element_parameters.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 
 namespace symdyn::runtime {
@@ -8,9 +8,9 @@ namespace symdyn::runtime {
 CoordinateSpringDamper::CoordinateSpringDamper(std::string name, int coordinate, double stiffness,
                                                double damping, double free_value)
     : name_(std::move(name)), j_(coordinate), k_(stiffness), c_(damping), q0_(free_value) {
-  check_property(this->name(), "stiffness", k_, Sign::non_negative);
-  check_property(this->name(), "damping", c_, Sign::non_negative);
-  check_property(this->name(), "free_value", q0_);
+  check_parameter(this->name(), "coordinate_spring_damper", "stiffness", k_);
+  check_parameter(this->name(), "coordinate_spring_damper", "damping", c_);
+  check_parameter(this->name(), "coordinate_spring_damper", "free_value", q0_);
 }
 
 void CoordinateSpringDamper::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {
@@ -44,8 +44,8 @@ CoordinateTracking::CoordinateTracking(std::string name, int coordinate, double 
       kd_(kd),
       r_(std::move(r)),
       rd_(std::move(rd)) {
-  check_property(this->name(), "kp", kp_, Sign::non_negative);
-  check_property(this->name(), "kd", kd_, Sign::non_negative);
+  check_parameter(this->name(), "coordinate_tracking", "kp", kp_);
+  check_parameter(this->name(), "coordinate_tracking", "kd", kd_);
 }
 
 void CoordinateTracking::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {

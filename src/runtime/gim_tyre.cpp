@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include <symdyn/runtime/element_properties.hpp>
+#include <symdyn/runtime/element_parameters.hpp>
 #include <symdyn/runtime/gim_tyre.hpp>
 
 namespace symdyn::runtime {
@@ -75,26 +75,26 @@ BrushOutput gim_brush(const BrushInput& in) {
 GimTyre::GimTyre(std::string name, int body, const GimTyreProperties& p, const Plane& ground)
     : name_(std::move(name)), body_(body), p_(p), ground_(ground) {
   const std::string me = this->name();
-  check_property(me, "r1", p_.r1, Sign::positive);
-  check_property(me, "r2", p_.r2, Sign::positive);
+  check_parameter(me, "gim_tyre", "r1", p_.r1);
+  check_parameter(me, "gim_tyre", "r2", p_.r2);
   if (!(p_.r2 <= p_.r1)) {
     throw PropertyError(
         me, "r2",
         fmt::format("expected the section radius <= r1 = {:.6g}, found {:.6g}", p_.r1, p_.r2));
   }
-  check_property(me, "Kz", p_.Kz, Sign::positive);
-  check_property(me, "Cz", p_.Cz, Sign::non_negative);
-  check_property(me, "Fznom", p_.Fznom, Sign::positive);
-  check_property(me, "Clongnom", p_.Clongnom, Sign::non_negative);
-  check_property(me, "nlong", p_.nlong);
-  check_property(me, "Clatnom", p_.Clatnom, Sign::non_negative);
-  check_property(me, "nlat", p_.nlat);
-  check_property(me, "Ccambernom", p_.Ccambernom);
-  check_property(me, "ncamber", p_.ncamber);
-  check_property(me, "mu_static", p_.mu_static, Sign::non_negative);
-  check_property(me, "mu_dynamic", p_.mu_dynamic, Sign::non_negative);
-  check_direction(me, "axis", p_.axis);
-  check_property(me, "centre", p_.centre);
+  check_parameter(me, "gim_tyre", "Kz", p_.Kz);
+  check_parameter(me, "gim_tyre", "Cz", p_.Cz);
+  check_parameter(me, "gim_tyre", "Fznom", p_.Fznom);
+  check_parameter(me, "gim_tyre", "Clongnom", p_.Clongnom);
+  check_parameter(me, "gim_tyre", "nlong", p_.nlong);
+  check_parameter(me, "gim_tyre", "Clatnom", p_.Clatnom);
+  check_parameter(me, "gim_tyre", "nlat", p_.nlat);
+  check_parameter(me, "gim_tyre", "Ccambernom", p_.Ccambernom);
+  check_parameter(me, "gim_tyre", "ncamber", p_.ncamber);
+  check_parameter(me, "gim_tyre", "mu_static", p_.mu_static);
+  check_parameter(me, "gim_tyre", "mu_dynamic", p_.mu_dynamic);
+  check_parameter(me, "gim_tyre", "axis", p_.axis);
+  check_parameter(me, "gim_tyre", "centre", p_.centre);
   check_plane(me, ground_);
   ground_.normal.normalize();
   p_.axis.normalize();

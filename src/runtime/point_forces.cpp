@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include <symdyn/runtime/element_properties.hpp>
+#include <symdyn/runtime/element_parameters.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/point_forces.hpp>
 
@@ -13,9 +13,9 @@ PointSpringDamper::PointSpringDamper(std::string name, BodyPoint a, BodyPoint b,
     : name_(std::move(name)), a_(a), b_(b), k_(stiffness), L0_(free_length), c_(damping) {
   check_property(this->name(), "point_a", a_.point);
   check_property(this->name(), "point_b", b_.point);
-  check_property(this->name(), "stiffness", k_, Sign::non_negative);
-  check_property(this->name(), "free_length", L0_, Sign::non_negative);
-  check_property(this->name(), "damping", c_, Sign::non_negative);
+  check_parameter(this->name(), "point_spring_damper", "stiffness", k_);
+  check_parameter(this->name(), "point_spring_damper", "free_length", L0_);
+  check_parameter(this->name(), "point_spring_damper", "damping", c_);
 }
 
 double PointSpringDamper::length(const Kinematics& k) const {

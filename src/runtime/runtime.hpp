@@ -11,6 +11,7 @@
 #include <symdyn/runtime/csv.hpp>
 #include <symdyn/runtime/dynamic_system.hpp>
 #include <symdyn/runtime/easyanim.hpp>
+#include <symdyn/runtime/element_parameters.hpp>
 #include <symdyn/runtime/element_properties.hpp>
 #include <symdyn/runtime/energy.hpp>
 #include <symdyn/runtime/errors.hpp>

@@ -151,8 +151,35 @@ class ArgumentErrors(unittest.TestCase):
             dp.System().simulate(1.0, q0=[math.nan, 0.0])
 
     def test_unknown_property(self):
-        with self.assertRaisesRegex(TypeError, "SimpleTyre: unknown property 'radious'"):
+        with self.assertRaisesRegex(TypeError, r"SimpleTyre: unknown property 'radious' \(properties: radius, "
+                                    r"stiffness, damping, friction, epsilon, axis, centre\); did you mean radius\?"):
             dp.SimpleTyre("rod2", radious=0.3)
+        with self.assertRaisesRegex(TypeError, r"GimTyre: unknown property 'kz' .*; did you mean Kz or Cz\?"):
+            dp.GimTyre("rod2", kz=2e5)
+        with self.assertRaisesRegex(TypeError, r"Bushing: unknown property 'elasticity' \([^)]*\)$"):
+            dp.Bushing(None, "rod1", elasticity=[1, 1, 1])
+
+    def test_missing_required_constant(self):
+        with self.assertRaisesRegex(TypeError, r"CoordinateSpringDamper: missing property 'stiffness' "
+                                    r"\(a number >= 0, N/m or N·m/rad: k in Q = -k \(q - free_value\) - c qd\)"):
+            dp.CoordinateSpringDamper("q0", damping=1.0)
+        with self.assertRaisesRegex(TypeError, r"PointSpringDamper: missing property 'free_length'"):
+            dp.PointSpringDamper(None, [0, 0, 0], "rod2", [0, 0, 0], 100.0)
+
+    def test_constant_given_twice_or_too_many(self):
+        with self.assertRaisesRegex(TypeError, r"CoordinateSpringDamper: 'stiffness' given twice"):
+            dp.CoordinateSpringDamper("q0", 10.0, stiffness=5.0)
+        with self.assertRaisesRegex(TypeError, r"CoordinateTracking: 3 constants given by position, at most 2 \(kp, kd\)"):
+            dp.CoordinateTracking("q0", 1.0, 2.0, 3.0)
+
+    def test_constant_out_of_its_range(self):
+        self.assertRaisesRegex(dp.ModelError, r"tyre 'rod2': epsilon: expected a finite number > 0, found 0",
+                               dp.System, [dp.SimpleTyre("rod2", epsilon=0.0)])
+
+    def test_constructors_document_their_constants(self):
+        self.assertIn("stiffness (a number >= 0, N/m or N·m/rad; required): k in Q", dp.CoordinateSpringDamper.__doc__)
+        self.assertIn("r2 (a number > 0, m; default 0.1): section radius (<= r1)", dp.GimTyre.__doc__)
+        self.assertIn("axis (a direction: 3 numbers not all 0; default [0, 1, 0]): the spin axis", dp.SimpleTyre.__doc__)
 
     def test_python_exception_in_a_force_propagates(self):
         def law(t, q, qd):

@@ -50,6 +50,11 @@ std::vector<runtime::State> states_of(const sim::Scenario& s, sim::RunOptions o,
   return states;
 }
 
+// What a double pendulum with the one force element `element` throws.
+std::string element_error(const std::string& element) {
+  return error_of(R"j({"model": "double_pendulum", "forces": [)j" + element + "]}");
+}
+
 // A stream that drops what it is given, without allocating.
 class NullBuffer : public std::streambuf {
  protected:
@@ -239,9 +244,51 @@ TEST_CASE(
   };
   for (const Case& c : cases) {
     CAPTURE(c.element);
-    CHECK_THAT(error_of(R"j({"model": "double_pendulum", "forces": [)j" + c.element + "]}"),
-               Contains(c.culprit));
+    CHECK_THAT(element_error(c.element), Contains(c.culprit));
   }
+}
+
+TEST_CASE(
+    "scenario files: an element's constants as the runtime's table has them: a required one "
+    "missing, one out of its range, an unknown key with the close ones named",
+    "[scenario][bad_input]") {
+  struct Case {
+    std::string element, culprit;
+  };
+  const Case cases[] = {
+      {R"j({"type": "point_spring_damper", "name": "s", "a": {"body": "ground"}, "b": {"body": "rod2"},
+           "stiffness": 100})j",
+       "test.json: /forces/0 (force element 's'): missing key 'free_length' (a number >= 0, m: the "
+       "length L where the spring is relaxed)"},
+      {R"j({"type": "plane_contact", "name": "foot", "body": "rod2"})j",
+       "/forces/0 (force element 'foot'): missing key 'stiffness' (a number > 0, N/m^pk: Kn in N = "
+       "Kn delta^pk + Cd delta^pd deltad)"},
+      {R"j({"type": "gim_tyre", "name": "wheel", "body": "rod2", "Fznom": 0})j",
+       "/forces/0/Fznom (force element 'wheel'): expected a finite number > 0, found 0"},
+      {R"j({"type": "simple_tyre", "name": "wheel", "body": "rod2", "epsilon": -0.05})j",
+       "/forces/0/epsilon (force element 'wheel'): expected a finite number > 0, found -0.05"},
+      {R"j({"type": "bushing", "name": "mount", "a": {"body": "ground"}, "b": {"body": "rod1"},
+           "stiffness": 1e4})j",
+       "/forces/0/stiffness (force element 'mount'): expected an array of 3 numbers, found a "
+       "number"},
+      {R"j({"type": "simple_tyre", "name": "wheel", "body": "rod2", "radious": 0.3})j",
+       "/forces/0/radious (force element 'wheel'): unknown key 'radious' for a simple_tyre "
+       "(expected: type, name, enabled, body, radius, stiffness, damping, friction, epsilon, "
+       "axis, centre, ground); did you mean radius?"},
+      {R"j({"type": "gim_tyre", "name": "wheel", "body": "rod2", "kz": 2e5})j",
+       "unknown key 'kz' for a gim_tyre (expected: type, name, enabled, body, r1, r2, Kz, Cz, "
+       "Fznom, Clongnom, nlong, Clatnom, nlat, Ccambernom, ncamber, mu_static, mu_dynamic, axis, "
+       "centre, ground); did you mean Kz or Cz?"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.element);
+    CHECK_THAT(element_error(c.element), Contains(c.culprit));
+  }
+  // A key far from every known one names none.
+  CHECK_THAT(
+      error_of(R"j({"model": "double_pendulum", "forces": [{"type": "coordinate_spring_damper",
+                 "name": "k", "coordinate": "q0", "stiffness": 1, "elasticity": 2}]})j"),
+      Contains("damping, free_value)") && !Contains("did you mean"));
 }
 
 TEST_CASE("scenario files: a check band that no value could pass is refused before the run",

@@ -45,6 +45,9 @@ bad = [
     dict(base, forces=[{"type": "bushing", "name": "b", "a": {"body": "ground"}, "b": {"body": "rod1"},
                         "stiffness": [1, -1, 1]}]),
     dict(base, forces=[{"type": "gim_tyre", "name": "w", "body": "rod2", "Kz": -1}]),
+    dict(base, forces=[{"type": "simple_tyre", "name": "w", "body": "rod2", "axis": [0, 0, 0]}]),
+    dict(base, forces=[{"type": "point_spring_damper", "name": "s", "a": {"body": "ground"}, "b": {"body": "rod2"},
+                        "stiffness": 1}]),
     # shapes
     dict(base, shapes={"rod1": {"type": "cone", "radius": 1}}),
     dict(base, shapes={"rod1": {"type": "cylinder", "radius": 0.1}}),
