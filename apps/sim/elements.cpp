@@ -53,8 +53,7 @@ runtime::ParameterValues read_parameters(const Node& node, std::string_view type
     }
   }
   if (const runtime::Parameter* p = values.missing()) {
-    node.fail(fmt::format("missing key '{}' ({}{}{}: {})", p->name, runtime::requirement(*p),
-                          p->unit.empty() ? "" : ", ", p->unit, p->meaning));
+    node.fail(fmt::format("missing key '{}' ({})", p->name, runtime::description(*p)));
   }
   return values;
 }

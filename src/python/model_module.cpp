@@ -280,9 +280,8 @@ runtime::ParameterValues parameters_from(std::string_view type, std::string_view
     set(*p, value);
   }
   if (const runtime::Parameter* p = values.missing()) {
-    throw py::type_error(fmt::format("{}: missing property '{}' ({}{}{}: {})", function, p->name,
-                                     runtime::requirement(*p), p->unit.empty() ? "" : ", ", p->unit,
-                                     p->meaning));
+    throw py::type_error(
+        fmt::format("{}: missing property '{}' ({})", function, p->name, runtime::description(*p)));
   }
   return values;
 }

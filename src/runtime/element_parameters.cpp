@@ -153,6 +153,10 @@ std::string requirement(const Parameter& p) {
                      requirement(p.sign));
 }
 
+std::string description(const Parameter& p) {
+  return fmt::format("{}{}{}: {}", requirement(p), p.unit.empty() ? "" : ", ", p.unit, p.meaning);
+}
+
 void check_parameter(const std::string& element, std::string_view type, std::string_view name,
                      double value) {
   const Parameter& p = parameter(type, name);

@@ -48,6 +48,8 @@ const ElementParameters& element_parameters(std::string_view type);
 
 // "a number >= 0", "3 numbers", "a non-zero direction": what a value must be.
 std::string requirement(const Parameter& p);
+// "a number >= 0, N/m: k in Q = ...": what it must be, its unit and meaning.
+std::string description(const Parameter& p);
 
 // Checks `value` against the table's row for `type` and `name` (PropertyError
 // naming `element` and the parameter, as check_property does).

@@ -30,7 +30,7 @@ std::string text_of(const std::string& path) {
 }
 
 // "N/m: k in ..." or the meaning alone.
-std::string description(const Parameter& p) {
+std::string schema_description(const Parameter& p) {
   return p.unit.empty() ? std::string(p.meaning) : fmt::format("{}: {}", p.unit, p.meaning);
 }
 
@@ -43,7 +43,7 @@ ordered_json number_schema(Sign sign) {
 
 // A parameter's property in the schema.
 ordered_json property_schema(const Parameter& p) {
-  ordered_json s{{"description", description(p)}};
+  ordered_json s{{"description", schema_description(p)}};
   if (p.shape == ParameterShape::number) {
     s.update(number_schema(p.sign));
     if (!p.required) s["default"] = p.fallback[0];
