@@ -1,12 +1,15 @@
 // The cost of closing loops at run time: MultibodySystem::accelerations() of
 // the slider-crank with its dependent parameters in closed form and with its
 // loop given implicitly (the same mechanics, docs/models.md), and of the
-// four-bar, along a slow trajectory (each solve starts near the last one).
+// four-bar, the double-wishbone quarter car and the Stewart platform, along a
+// slow trajectory (each solve starts near the last one).
 #include <benchmark/benchmark.h>
 
 #include "four_bar.hpp"
+#include "quarter_car.hpp"
 #include "slider_crank_dependent.hpp"
 #include "slider_crank_implicit.hpp"
+#include "stewart.hpp"
 #include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
@@ -26,9 +29,29 @@ void accelerations(benchmark::State& state) {
   }
 }
 
+// One coordinate swept through `range` from its initial value in 1000 calls,
+// the others at theirs.
+template <class G>
+void accelerations_about_initial(benchmark::State& state, int coordinate, double range) {
+  MultibodySystem system(Model::from<G>());
+  State s = system.initial_state();
+  const double start = s.q(coordinate);
+  Vector qdd, yd;
+  int k = 0;
+  for (auto _ : state) {
+    s.q(coordinate) = start + range * (k++ % 1000) / 1000;
+    system.accelerations(s, qdd, yd);
+    benchmark::DoNotOptimize(qdd.data());
+  }
+}
+
 BENCHMARK_TEMPLATE(accelerations, symdyn_generated::slider_crank_dependent);
 BENCHMARK_TEMPLATE(accelerations, symdyn_generated::slider_crank_implicit);
 BENCHMARK_TEMPLATE(accelerations, symdyn_generated::four_bar);
+// The lower wishbone through 0.1 rad (6 cm of wheel travel), a leg through 1 cm.
+BENCHMARK_CAPTURE(accelerations_about_initial<symdyn_generated::quarter_car>, lower_wishbone, 1,
+                  0.1);
+BENCHMARK_CAPTURE(accelerations_about_initial<symdyn_generated::stewart>, leg0, 0, 0.01);
 
 }  // namespace
 
