@@ -59,6 +59,35 @@ void stewart_accelerations(benchmark::State& state) {
 }
 BENCHMARK(stewart_accelerations);
 
+// Its parts: the emitted loop equations with their Jacobians (one Newton
+// iteration's evaluation), and the tree's M and h in the 24 extended
+// coordinates, at the initial state.
+void stewart_loop_equations(benchmark::State& state) {
+  MultibodySystem system(Model::from<symdyn_generated::stewart>());
+  const Model& model = system.model();
+  const State x = system.extended_state(system.initial_state());
+  const int n = model.nindependent(), m = model.ncon();
+  Vector g(m), g_t(m);
+  Matrix g_q(n, m), g_p(m, m);
+  for (auto _ : state) {
+    model.constraints(x.t, x.q.data(), g.data(), g_q.data(), g_p.data(), g_t.data());
+    benchmark::DoNotOptimize(g_p.data());
+  }
+}
+BENCHMARK(stewart_loop_equations);
+void stewart_tree_equations(benchmark::State& state) {
+  MultibodySystem system(Model::from<symdyn_generated::stewart>());
+  const State x = system.extended_state(system.initial_state());
+  Matrix M;
+  Vector h;
+  for (auto _ : state) {
+    system.mass_matrix(x, M);
+    system.bias_forces_emitted(x, h);
+    benchmark::DoNotOptimize(h.data());
+  }
+}
+BENCHMARK(stewart_tree_equations);
+
 }  // namespace
 
 BENCHMARK_MAIN();
