@@ -181,7 +181,7 @@ TEST_CASE("the quarter car's camber and track over the wheel travel are the plan
   REQUIRE(system.num_coordinates() == 3);
   CHECK(system.model().loop_names() == std::vector<std::string>{"upper_ball_joint"});
   const double design = angle_of(lower_outer - lower_inner);
-  // The wheel from 8 cm of rebound to 7 cm of bump, each solve from the last.
+  // The wheel from 8 cm of rebound to 6 cm of bump, each solve from the last.
   double camber_bump = 0, track_bump = 0;
   for (int k = -20; k <= 15; ++k) {
     const double q = design + 0.01 * k, zc = design_height + 0.002 * k;
