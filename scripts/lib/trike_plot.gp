@@ -5,9 +5,12 @@
 #   the steering and the roll (deg),
 #   the forward speed (m/s) and the yaw rate (deg/s).
 # Usage: gnuplot -e "csv='out/trike.csv'; png='out/trike.png'" scripts/lib/trike_plot.gp
+# (and optionally width=..., height=... in pixels, 1400 x 1000 by default).
 # The CSV is symdyn-sim's of models/scenarios/trike.json (its columns by name).
 
-set terminal pngcairo size 1400,1000 font ",11" noenhanced
+if (!exists("width")) width = 1400
+if (!exists("height")) height = 1000
+set terminal pngcairo size width,height font ",11" noenhanced
 set output png
 set datafile separator ','
 set key top left box opaque samplen 2
