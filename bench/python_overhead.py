@@ -40,9 +40,9 @@ def main():
     print()
     print("| run | wall s (best of 20) | steps | rhs evaluations | us per rhs evaluation |")
     print("|---|---:|---:|---:|---:|")
-    damper = dp.CoordinateSpringDamper("q1", 0.0, 0.05)
-    law = dp.CoordinateForce("q1", lambda t, q, qd: -0.05 * qd)
-    for label, forces in (("free", []), ("compiled damper on q1", [damper]), ("Python damper on q1", [law])):
+    damper = dp.CoordinateSpringDamper("theta2", 0.0, 0.05)
+    law = dp.CoordinateForce("theta2", lambda t, q, qd: -0.05 * qd)
+    for label, forces in (("free", []), ("compiled damper on theta2", [damper]), ("Python damper on theta2", [law])):
         seconds, r = run_seconds(system, forces=forces)
         n = r.statistics.rhs_evaluations
         print(f"| {label} | {seconds:.4f} | {r.statistics.steps} | {n} | {1e6 * seconds / n:.2f} |")

@@ -17,11 +17,13 @@ constexpr double a = 0.3, b = 0.25, am = 0.1, bn = 0.25, lf = 0.35;
 
 void build(Model& m, std::string_view variant) {
   m.inline_dependents(variant == "inline");
-  const auto q = m.coordinates(24);
-  symdyn::models::floating_main_body(m, q);
+  const Expr height = symdyn::models::floating_main_body(m);
   for (int k = 0; k < 6; ++k) {
     const auto& hip = hips[k];
-    const Expr yaw = q[6 + 3 * k], v = q[7 + 3 * k], h = q[8 + 3 * k];
+    // The hip's yaw and the vertical and horizontal sliders' positions.
+    const Expr yaw = m.coordinate(fmt::format("hip_yaw_{}", k)),
+               v = m.coordinate(fmt::format("vertical_{}", k)),
+               h = m.coordinate(fmt::format("horizontal_{}", k));
     // In the leg plane (x outwards, z up): P = (0.1, v) on the vertical slider,
     // Q = (h, -0.1) on the horizontal one, D = Q - P; the thigh from P at angle
     // alpha and the shank from Q at angle beta meet at the knee (law of cosines).
@@ -75,7 +77,7 @@ void build(Model& m, std::string_view variant) {
     m.initial(h, 0.35);
   }
   m.gravity(0, 0, -9.81);
-  m.initial(q[2], 0.62);
+  m.initial(height, 0.62);
 }
 
 const Registration registration({"amru5", {"inline", "dependent"}, build});

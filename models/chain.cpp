@@ -19,8 +19,8 @@ Transform joint(int k, Expr angle) {
 }
 
 void build(Model& m, std::string_view variant, int n) {
-  const auto q = m.coordinates(n);
-  Transform T0G;  // the product of the chain up to link k
+  const auto q = m.coordinates(n, "joint");  // joint0, joint1, ...
+  Transform T0G;                             // the product of the chain up to link k
   for (int k = 0; k < n; ++k) {
     const Transform local = k == 0 ? joint(0, q[0]) * Tdisp(L / 2, 0, 0)
                                    : Tdisp(L / 2, 0, 0) * joint(k, q[k]) * Tdisp(L / 2, 0, 0);

@@ -4,8 +4,8 @@
 // the rocker's psi are implicit dependent parameters (docs/builder.md,
 // docs/models.md).
 //
-//   crank   O = (0, 0)   -> A, length r1, angle q0
-//   coupler A            -> C, length r2, angle q0 + phi
+//   crank   O = (0, 0)   -> A, length r1, angle crank
+//   coupler A            -> C, length r2, angle crank + phi
 //   rocker  D = (d, 0)   -> C, length r3, angle psi
 #include <symdyn/model/model.hpp>
 
@@ -27,18 +27,18 @@ void build(Model& m, std::string_view variant) {
   const bool runtime = variant == "parametric";
   const Expr r1 = m.parameter("r1", 0.1, runtime), r2 = m.parameter("r2", 0.35, runtime),
              r3 = m.parameter("r3", 0.3, runtime), d = m.parameter("d", 0.4, runtime);
-  const Expr q0 = m.coordinate("q0");
-  // The assembly with C above the ground line at q0 = 0 (guesses near it).
+  const Expr crank = m.coordinate("crank");  // the crank's angle
+  // The assembly with C above the ground line at crank = 0 (guesses near it).
   const Expr phi = m.implicit_dependent("phi", 0.9);
   const Expr psi = m.implicit_dependent("psi", 1.9);
-  rod(m.body("crank"), 0.2, 0.1).motion(Trotz(q0) * Tdisp(r1 / 2, 0, 0));
+  rod(m.body("crank"), 0.2, 0.1).motion(Trotz(crank) * Tdisp(r1 / 2, 0, 0));
   rod(m.body("coupler"), 0.5, 0.35)
       .relative_to("crank")
       .motion(Tdisp(r1 / 2, 0, 0) * Trotz(phi) * Tdisp(r2 / 2, 0, 0));
   rod(m.body("rocker"), 0.4, 0.3).motion(Tdisp(d, 0, 0) * Trotz(psi) * Tdisp(r3 / 2, 0, 0));
   m.close_loop("C", "coupler", {r2 / 2, 0, 0}, "rocker", {r3 / 2, 0, 0});
   m.gravity(0, -9.81, 0);
-  m.initial(q0, 0.0, 5.0);
+  m.initial(crank, 0.0, 5.0);
 }
 
 const Registration registration({"four_bar", {"closed", "parametric"}, build});

@@ -3,7 +3,6 @@
 // floating base and the six hips.
 #include <array>
 #include <numbers>
-#include <vector>
 
 #include <symdyn/model/model.hpp>
 
@@ -19,13 +18,17 @@ struct Hip {
 inline constexpr std::array<Hip, 6> hips = {
     {{0.5, 0.3}, {0.5, -0.3}, {0.0, 0.3}, {0.0, -0.3}, {-0.5, 0.3}, {-0.5, -0.3}}};
 
-// The main body "body", floating: position q0..q2, yaw q3, pitch q4, roll q5.
-inline model::Body& floating_main_body(model::Model& m, const std::vector<model::Expr>& q) {
+// The main body "body", floating: its coordinates x, y, z, yaw, pitch, roll
+// (the first six; its height z is returned, to start from).
+inline model::Expr floating_main_body(model::Model& m) {
   using namespace symdyn::model;
-  return m.body("body")
+  const Expr x = m.coordinate("x"), y = m.coordinate("y"), z = m.coordinate("z");
+  const Expr yaw = m.coordinate("yaw"), pitch = m.coordinate("pitch"), roll = m.coordinate("roll");
+  m.body("body")
       .mass(60)
       .inertia(2.0, 7.4, 9.0)
-      .motion(Tdisp(q[0], q[1], q[2]) * Trotz(q[3]) * Troty(q[4]) * Trotx(q[5]));
+      .motion(Tdisp(x, y, z) * Trotz(yaw) * Troty(pitch) * Trotx(roll));
+  return z;
 }
 
 }  // namespace symdyn::models

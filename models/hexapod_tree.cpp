@@ -10,11 +10,12 @@ using namespace symdyn::model;
 using symdyn::models::hips;
 
 void build(Model& m, std::string_view) {
-  const auto q = m.coordinates(24);
-  symdyn::models::floating_main_body(m, q);
+  const Expr height = symdyn::models::floating_main_body(m);
   for (int k = 0; k < 6; ++k) {
     const auto& hip = hips[k];
-    const Expr yaw = q[6 + 3 * k], pitch = q[7 + 3 * k], knee = q[8 + 3 * k];
+    const Expr yaw = m.coordinate(fmt::format("hip_yaw_{}", k)),
+               pitch = m.coordinate(fmt::format("hip_pitch_{}", k)),
+               knee = m.coordinate(fmt::format("knee_{}", k));
     const std::string coxa = fmt::format("coxa_{}", k), femur = fmt::format("femur_{}", k);
     m.body(coxa)
         .mass(1.0)
@@ -35,7 +36,7 @@ void build(Model& m, std::string_view) {
     m.initial(knee, 1.2);
   }
   m.gravity(0, 0, -9.81);
-  m.initial(q[2], 0.5);
+  m.initial(height, 0.5);
 }
 
 const Registration registration({"hexapod_tree", {"default"}, build});

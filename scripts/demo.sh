@@ -5,7 +5,7 @@
 #   2. runs the model's generator with --stats (time, operation counts) and
 #      shows a few lines of the emitted C++;
 #   3. simulates 10 s with symdyn-sim on that code, CSV in out/double_pendulum.csv;
-#   4. prints the summary and plots q0 and q1 in the terminal (gnuplot, dumb);
+#   4. prints the summary and plots theta1 and theta2 in the terminal (gnuplot, dumb);
 #   5. runs the trike's scenario and writes its animation (HTML viewer, glTF)
 #      and a picture of what it does (PNG: its path seen from above, its height
 #      and tyre loads, steering and roll, speed and yaw rate; scripts/lib/trike_plot.gp)
@@ -38,11 +38,11 @@ echo "== simulate 10 s: $sim double_pendulum --out out/double_pendulum.csv"
 "$sim" double_pendulum --out out/double_pendulum.csv
 
 echo
-echo "== q0 and q1 (rad) over time (s)"
+echo "== theta1 and theta2 (rad) over time (s)"
 gnuplot -e "set terminal dumb size 100,24; set datafile separator ','; set key below;
   set xlabel 't (s)'; set ylabel 'rad';
-  plot 'out/double_pendulum.csv' using 1:2 with lines title 'q0',
-       '' using 1:3 with lines title 'q1'"
+  plot 'out/double_pendulum.csv' using 1:2 with lines title 'theta1',
+       '' using 1:3 with lines title 'theta2'"
 
 echo
 echo "== the trike settles on its tyres, then turns: animation and plot"

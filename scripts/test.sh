@@ -10,6 +10,7 @@ source scripts/lib/setup.sh
 symdyn_require_packages "${symdyn_base_packages[@]}"
 symdyn_require_command npm npm            # bundles the HTML viewer
 symdyn_require_command chromium chromium  # opens it in the viewer test
+symdyn_require_command gnuplot gnuplot-nox  # plots the pictures of the docs (tests/docs)
 
 # ccache serves the debug build and the package tests (which rebuild symdyn's
 # libraries as a consumer would) from the objects already compiled.

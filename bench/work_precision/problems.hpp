@@ -42,7 +42,7 @@ inline ProblemSystem slider_crank_problem() {
 }
 
 // models/scenarios/robot3d.json: thrown from q = (0, 0.3, 0.6, 0, 0) with the turret and
-// the wrist spinning, a spring-damper on the arm extension q2.
+// the wrist spinning, a spring-damper on the arm extension (arm_extension).
 inline ProblemSystem robot3d_problem() {
   ProblemSystem p = make_problem_system<symdyn_generated::robot3d_absolute>();
   p.system->add<runtime::CoordinateSpringDamper>("arm_extension", 2, 1000.0, 20.0, 0.6);

@@ -5,9 +5,12 @@
 #   the steering and the roll (deg),
 #   the forward speed (m/s) and the yaw rate (deg/s).
 # Usage: gnuplot -e "csv='out/trike.csv'; png='out/trike.png'" scripts/lib/trike_plot.gp
+# (and optionally width=..., height=... in pixels, 1400 x 1000 by default).
 # The CSV is symdyn-sim's of models/scenarios/trike.json (its columns by name).
 
-set terminal pngcairo size 1400,1000 font ",11" noenhanced
+if (!exists("width")) width = 1400
+if (!exists("height")) height = 1000
+set terminal pngcairo size width,height font ",11" noenhanced
 set output png
 set datafile separator ','
 set key top left box opaque samplen 2
@@ -29,8 +32,8 @@ set title 'path of the chassis seen from above (a dot each second)'
 set xlabel 'x (m)'
 set ylabel 'y (m)'
 set size ratio -1
-plot csv using 'q0':'q1' with lines ls 1 title 'chassis centre', \
-     '' every 100 using 'q0':'q1' with points ls 4 pt 7 ps 1.2 title 't = 0, 1, 2, ... s'
+plot csv using 'x':'y' with lines ls 1 title 'chassis centre', \
+     '' every 100 using 'x':'y' with points ls 4 pt 7 ps 1.2 title 't = 0, 1, 2, ... s'
 set size noratio
 
 set title 'settling on the tyres'
@@ -40,7 +43,7 @@ set ylabel 'chassis height (m)'
 set y2label 'normal force (kN)'
 set ytics nomirror
 set y2tics
-plot csv using 't':'q2' with lines ls 1 title 'chassis height (m, left)', \
+plot csv using 't':'z' with lines ls 1 title 'chassis height (m, left)', \
      '' using 't':(column('normal_force_front') / 1000) axes x1y2 with lines ls 2 title 'front tyre (kN, right)', \
      '' using 't':(column('normal_force_rear_left') / 1000) axes x1y2 with lines ls 3 title 'rear left tyre (kN, right)', \
      '' using 't':(column('normal_force_rear_right') / 1000) axes x1y2 with lines ls 5 title 'rear right tyre (kN, right)'
@@ -51,9 +54,9 @@ set ytics mirror
 set title 'steering and roll'
 set key center right
 set ylabel 'angle (deg)'
-plot csv using 't':(column('q10') * deg) with lines ls 1 title 'steering angle', \
+plot csv using 't':(column('steer') * deg) with lines ls 1 title 'steering angle', \
      '' using 't':(column('steering_reference') * deg) with lines ls 6 title 'steering reference', \
-     '' using 't':(column('q5') * deg) with lines ls 4 title 'chassis roll'
+     '' using 't':(column('roll') * deg) with lines ls 4 title 'chassis roll'
 
 set title 'speed and turning'
 set key bottom right
@@ -62,6 +65,6 @@ set y2label 'yaw rate (deg/s)'
 set ytics nomirror
 set y2tics
 plot csv using 't':'forward_speed' with lines ls 1 title 'forward speed (m/s, left)', \
-     '' using 't':(column('q3_dot') * deg) axes x1y2 with lines ls 4 title 'yaw rate (deg/s, right)'
+     '' using 't':(column('yaw_dot') * deg) axes x1y2 with lines ls 4 title 'yaw rate (deg/s, right)'
 
 unset multiplot

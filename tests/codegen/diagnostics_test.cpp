@@ -14,12 +14,12 @@
 using namespace symdyn;
 using Catch::Matchers::Contains;
 
-TEST_CASE("emitted slider-crank: its dependent parameters named, asin's argument l1·sin(q0)/l2",
+TEST_CASE("emitted slider-crank: its dependent parameters named, asin's argument l1·sin(crank)/l2",
           "[codegen][diagnostics]") {
   using G = symdyn_generated::slider_crank_dependent;
   STATIC_REQUIRE(G::ndomain == 1);
   CHECK(std::string(G::dependent_names[0]) == "alpha");
-  CHECK(std::string(G::dependent_names[1]) == "x");
+  CHECK(std::string(G::dependent_names[1]) == "slider_position");
   CHECK(std::string(G::domain_dependents[0]) == "alpha");
   CHECK(std::string(G::domain_functions[0]) == "asin");
   for (double q : {-2.0, 0.3, 1.4}) {
@@ -30,15 +30,15 @@ TEST_CASE("emitted slider-crank: its dependent parameters named, asin's argument
   STATIC_REQUIRE(G::nangle_sequences == 0);
 }
 
-// Inlined, x = l1·cos(q0) + l2·cos(alpha) holds cos(asin(u)) = sqrt(1 - u²)
-// (expr.hpp): x's square root is checked too, after alpha's asin.
+// Inlined, x = l1·cos(crank) + l2·cos(alpha) (slider_position) holds cos(asin(u)) =
+// sqrt(1 - u²) (expr.hpp): x's square root is checked too, after alpha's asin.
 TEST_CASE("inlined dependent parameters keep their names and checks", "[codegen][diagnostics]") {
   using G = symdyn_generated::slider_crank_inline;
   STATIC_REQUIRE(G::ndep == 0);
   STATIC_REQUIRE(G::ndomain == 2);
   CHECK(std::string(G::domain_dependents[0]) == "alpha");
   CHECK(std::string(G::domain_functions[0]) == "asin");
-  CHECK(std::string(G::domain_dependents[1]) == "x");
+  CHECK(std::string(G::domain_dependents[1]) == "slider_position");
   CHECK(std::string(G::domain_functions[1]) == "sqrt");
   const double q = 0.7;
   double arguments[4] = {};

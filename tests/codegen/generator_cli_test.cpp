@@ -243,21 +243,20 @@ TEST_CASE("cli: --describe prints the model as JSON and generates nothing", "[cl
   CHECK(r.exit_code == 0);
   CHECK(r.err.empty());
   CHECK_THAT(r.out, Contains(R"("model": "double_pendulum",)"));
-  CHECK_THAT(
-      r.out,
-      Contains(
-          R"("coordinates": [{"q": "q0", "qd": "qd0", "qdd": "qdd0"}, {"q": "q1", "qd": "qd1", "qdd": "qdd1"}],)"));
+  CHECK_THAT(r.out,
+             Contains(R"("coordinates": [{"q": "theta1", "qd": "theta1_d", "qdd": "theta1_dd"}, )"
+                      R"({"q": "theta2", "qd": "theta2_d", "qdd": "theta2_dd"}],)"));
   CHECK_THAT(r.out, Contains(R"("gravity": ["0", "-9.81", "0"],)"));
   CHECK_THAT(
       r.out,
       Contains(
-          R"({"name": "rod1", "reference": null, "motion": [{"rotation": ["0", "0", "1"], "angle": "q0"}, )"
+          R"({"name": "rod1", "reference": null, "motion": [{"rotation": ["0", "0", "1"], "angle": "theta1"}, )"
           R"({"translation": ["1/2", "0", "0"]}]})"));
   CHECK_THAT(
       r.out,
       Contains(
           R"({"name": "rod2", "reference": "rod1", "motion": [{"translation": ["1/2", "0", "0"]}, )"
-          R"({"rotation": ["0", "0", "1"], "angle": "q1"}, {"translation": ["1/2", "0", "0"]}]})"));
+          R"({"rotation": ["0", "0", "1"], "angle": "theta2"}, {"translation": ["1/2", "0", "0"]}]})"));
   // The same choices as a generation: several models need --model.
   CHECK(run_command({kChain, "--describe"}).exit_code == 2);
   CHECK_THAT(run_command({kChain, "--describe", "--model", "chain_2"}).out,

@@ -47,7 +47,7 @@ done
 
 # A built-in scenario, its CSV's columns named after the model's coordinates and bodies.
 symdyn-sim double_pendulum --t-end 0.5 --out pendulum.csv >run.txt || { cat run.txt; fail "symdyn-sim double_pendulum failed"; }
-head -1 pendulum.csv | grep -q "^t,q0,q1,q0_dot,q1_dot," || fail "pendulum.csv's header: $(head -1 pendulum.csv)"
+head -1 pendulum.csv | grep -q "^t,theta1,theta2,theta1_dot,theta2_dot," || fail "pendulum.csv's header: $(head -1 pendulum.csv)"
 [ "$(wc -l <pendulum.csv)" -eq 52 ] || fail "pendulum.csv has $(wc -l <pendulum.csv) lines, not 1 + 51"
 echo "ok: symdyn-sim double_pendulum: $(head -1 pendulum.csv | cut -c1-60)..."
 
@@ -56,8 +56,8 @@ cat >sweep.json <<'JSON'
 {
   "scenario": "double_pendulum",
   "factors": {"start": {"values": [0.1, 0.2]}},
-  "set": {"initial.q.q0": "start", "t_end": 0.2},
-  "keep": {"final": false, "values": {"q0_end": "end(q0)"}}
+  "set": {"initial.q.theta1": "start", "t_end": 0.2},
+  "keep": {"final": false, "values": {"theta1_end": "end(theta1)"}}
 }
 JSON
 symdyn-sim --sweep sweep.json --workers 1 --out sweep.csv >sweep.txt 2>&1 || { cat sweep.txt; fail "the sweep failed"; }

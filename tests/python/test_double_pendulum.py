@@ -1,11 +1,11 @@
 """The double pendulum's Python module against closed forms (docs/models.md 1).
 
 Rods of mass m_i and length l_i, centre of gravity at mid-length, inertia about
-z m_i l_i^2 / 12; q0 the angle of rod 1, q1 that of rod 2 relative to rod 1;
-gravity g along -y. With c1 = cos q1, a = m2 l1 l2 sin q1:
+z m_i l_i^2 / 12; theta1 the angle of rod 1, theta2 that of rod 2 relative to rod 1;
+gravity g along -y. With c1 = cos theta2, a = m2 l1 l2 sin theta2:
   M00 = m1 l1^2/3 + m2 (l1^2 + l2^2/3 + l1 l2 c1)
   M01 = m2 (l2^2/3 + l1 l2 c1/2),  M11 = m2 l2^2/3
-  V   = g (m1 l1/2 sin q0 + m2 (l1 sin q0 + l2/2 sin(q0 + q1)))
+  V   = g (m1 l1/2 sin theta1 + m2 (l1 sin theta1 + l2/2 sin(theta1 + theta2)))
   h   = dV/dq + (-a (q0d q1d + q1d^2/2), a q0d^2/2)   (Christoffel terms of M)
 """
 import math
@@ -45,7 +45,7 @@ def energy(q, qd, m1, m2, l1, l2):
 
 
 def small_oscillation_frequencies(m1, m2, l1, l2):
-    """Hanging down (q0 = -pi/2, q1 = 0): roots of det(K - w^2 M) = 0, in Hz."""
+    """Hanging down (theta1 = -pi/2, theta2 = 0): roots of det(K - w^2 M) = 0, in Hz."""
     M = mass_matrix([0.0, 0.0], m1, m2, l1, l2)
     k00 = G * (m1 * l1 / 2 + m2 * l1 + m2 * l2 / 2)
     k01 = k11 = G * m2 * l2 / 2
@@ -63,7 +63,7 @@ OTHER = dict(m1=1.5, m2=0.8, l1=1.2, l2=0.7)
 class ModelFacts(unittest.TestCase):
     def test_names_sizes_and_initial_state(self):
         dp = double_pendulum_absolute
-        self.assertEqual(dp.q_names, ("q0", "q1"))
+        self.assertEqual(dp.q_names, ("theta1", "theta2"))
         self.assertEqual(dp.body_names, ("rod1", "rod2"))
         self.assertEqual((dp.nq, dp.nbody, dp.ndep, dp.nparam), (2, 2, 0, 0))
         np.testing.assert_array_equal(dp.q_initial, [0.0, 0.0])
@@ -166,7 +166,7 @@ class Simulation(unittest.TestCase):
 
     def test_damping_dissipates(self):
         system = double_pendulum_absolute.System()
-        friction = double_pendulum_absolute.CoordinateSpringDamper("q1", stiffness=0.0, damping=0.5)
+        friction = double_pendulum_absolute.CoordinateSpringDamper("theta2", stiffness=0.0, damping=0.5)
         r = system.simulate(3.0, rtol=1e-9, atol=1e-9, interval=0.5, forces=[friction])
         self.assertTrue(np.all(np.diff(r.energies.total) < 0))
         self.assertEqual(system.forces, [])  # the call's forces were its own
@@ -175,7 +175,7 @@ class Simulation(unittest.TestCase):
 class StaticsAndModes(unittest.TestCase):
     def test_statics_of_the_pendulum_with_springs(self):
         dp = double_pendulum_parameters
-        system = dp.System([dp.CoordinateSpringDamper("q0", 30.0), dp.CoordinateSpringDamper("q1", 10.0)])
+        system = dp.System([dp.CoordinateSpringDamper("theta1", 30.0), dp.CoordinateSpringDamper("theta2", 10.0)])
         system.set_parameters(OTHER)
         result = system.solve_statics(q=[0.0, 0.0], tolerance=1e-12)
         q = result.q
@@ -185,10 +185,10 @@ class StaticsAndModes(unittest.TestCase):
 
     def test_locked_coordinate(self):
         dp = double_pendulum_absolute
-        system = dp.System([dp.CoordinateSpringDamper("q0", 50.0)])
-        q = system.solve_statics(locked=["q1"], tolerance=1e-12).q
+        system = dp.System([dp.CoordinateSpringDamper("theta1", 50.0)])
+        q = system.solve_statics(locked=["theta2"], tolerance=1e-12).q
         self.assertEqual(q[1], 0.0)
-        # One rigid bar: 50 q0 + g (1/2 + 3/2) cos q0 = 0.
+        # One rigid bar: 50 theta1 + g (1/2 + 3/2) cos theta1 = 0.
         self.assertAlmostEqual(50.0 * q[0] + 2.0 * G * math.cos(q[0]), 0.0, places=9)
 
     def test_hanging_frequencies_against_small_oscillations(self):
@@ -203,7 +203,7 @@ class StaticsAndModes(unittest.TestCase):
             lin = system.linearize(q=down)
             np.testing.assert_allclose(lin.M, mass_matrix([0.0, 0.0], **p), rtol=1e-13)
             self.assertEqual(lin.A.shape, (4, 4))
-            self.assertEqual(lin.coordinates, ["q0", "q1"])
+            self.assertEqual(lin.coordinates, ["theta1", "theta2"])
 
 
 class Derivatives(unittest.TestCase):

@@ -48,7 +48,7 @@ class RuntimeErrors(unittest.TestCase):
             dp.System().simulate(1.0, rtol=-1.0)
 
     def test_force_that_is_not_finite(self):
-        nan_torque = dp.CoordinateForce("q0", lambda t, q, qd: math.nan, name="broken motor")
+        nan_torque = dp.CoordinateForce("theta1", lambda t, q, qd: math.nan, name="broken motor")
         with self.assertRaisesRegex(dp.NumericError, "broken motor"):
             dp.System([nan_torque]).accelerations()
 
@@ -62,11 +62,11 @@ class ForceElementConstants(unittest.TestCase):
             dp.System([force])
 
     def test_negative_spring_stiffness(self):
-        self.refused(dp.CoordinateSpringDamper("q0", -10.0),
-                     r"coordinate spring 'q0': stiffness: expected a finite number >= 0, found -10")
+        self.refused(dp.CoordinateSpringDamper("theta1", -10.0),
+                     r"coordinate spring 'theta1': stiffness: expected a finite number >= 0, found -10")
 
     def test_nan_damping(self):
-        self.refused(dp.CoordinateSpringDamper("q1", 10.0, math.nan, name="hinge"),
+        self.refused(dp.CoordinateSpringDamper("theta2", 10.0, math.nan, name="hinge"),
                      r"coordinate spring 'hinge': damping: expected a finite number >= 0, found nan")
 
     def test_contact_without_stiffness(self):
@@ -107,8 +107,8 @@ class ForceElementConstants(unittest.TestCase):
                      r"spring 'rod2': free_length: expected a finite number >= 0, found -1")
 
     def test_tracking_reference_not_finite(self):
-        with self.assertRaisesRegex(dp.ModelError, r"coordinate tracking 'q0': reference: expected a finite number"):
-            dp.CoordinateTracking("q0", 100.0, 10.0, reference=math.nan)
+        with self.assertRaisesRegex(dp.ModelError, r"coordinate tracking 'theta1': reference: expected a finite number"):
+            dp.CoordinateTracking("theta1", 100.0, 10.0, reference=math.nan)
 
 
 class IntegratorOptions(unittest.TestCase):
@@ -137,17 +137,17 @@ class ArgumentErrors(unittest.TestCase):
 
     def test_state_not_finite(self):
         # positions() and the other kinematics returned NaN silently.
-        with self.assertRaisesRegex(ValueError, r"q: coordinate 'q1' is nan, not a finite number"):
+        with self.assertRaisesRegex(ValueError, r"q: coordinate 'theta2' is nan, not a finite number"):
             dp.System().positions([0.0, math.nan])
-        with self.assertRaisesRegex(ValueError, r"qd: coordinate 'q0' is inf, not a finite number"):
+        with self.assertRaisesRegex(ValueError, r"qd: coordinate 'theta1' is inf, not a finite number"):
             dp.System().velocities([0.0, 0.0], [math.inf, 0.0])
-        with self.assertRaisesRegex(ValueError, r"qdd: coordinate 'q0' is nan"):
+        with self.assertRaisesRegex(ValueError, r"qdd: coordinate 'theta1' is nan"):
             dp.System().body_accelerations([0.0, 0.0], [0.0, 0.0], [math.nan, 0.0])
         with self.assertRaisesRegex(ValueError, r"t = nan is not a finite time"):
             dp.System().mass_matrix(t=math.nan)
 
     def test_simulate_from_a_state_not_finite(self):
-        with self.assertRaisesRegex(ValueError, r"q: coordinate 'q0' is nan"):
+        with self.assertRaisesRegex(ValueError, r"q: coordinate 'theta1' is nan"):
             dp.System().simulate(1.0, q0=[math.nan, 0.0])
 
     def test_unknown_property(self):
@@ -186,13 +186,13 @@ class ArgumentErrors(unittest.TestCase):
             raise ZeroDivisionError("from the law")
 
         with self.assertRaisesRegex(ZeroDivisionError, "from the law"):
-            dp.System([dp.CoordinateForce("q1", law)]).simulate(0.1)
+            dp.System([dp.CoordinateForce("theta2", law)]).simulate(0.1)
 
 
 class PythonForce(unittest.TestCase):
     def test_callable_equals_the_spring_it_imitates(self):
-        spring = dp.System([dp.CoordinateSpringDamper("q1", 40.0, 0.3)])
-        law = dp.System([dp.CoordinateForce("q1", lambda t, q, qd: -40.0 * q - 0.3 * qd)])
+        spring = dp.System([dp.CoordinateSpringDamper("theta2", 40.0, 0.3)])
+        law = dp.System([dp.CoordinateForce("theta2", lambda t, q, qd: -40.0 * q - 0.3 * qd)])
         a = spring.simulate(1.0, rtol=1e-9, atol=1e-9, interval=0.1)
         b = law.simulate(1.0, rtol=1e-9, atol=1e-9, interval=0.1)
         self.assertEqual(a.q.tolist(), b.q.tolist())

@@ -33,7 +33,7 @@ def applied(force, q=Q):
 
 class Forces(unittest.TestCase):
     def test_coordinate_tracking(self):
-        f = dp.CoordinateTracking("q1", kp=100.0, kd=3.0, reference=0.2, rate=0.1)
+        f = dp.CoordinateTracking("theta2", kp=100.0, kd=3.0, reference=0.2, rate=0.1)
         Qa = dp.System([f]).applied_forces(Q, [0.0, 0.5])
         np.testing.assert_allclose(Qa, [0.0, -100.0 * (Q[1] - 0.2) - 3.0 * (0.5 - 0.1)], rtol=1e-14)
 
@@ -74,7 +74,7 @@ class Forces(unittest.TestCase):
 
     def test_bushing_at_the_hinge(self):
         # Frame A on the ground at the hinge, B on rod 1 at its end (G - l1/2 x):
-        # no translation, a rotation q0 about z, resisted by K_rz.
+        # no translation, a rotation theta1 about z, resisted by K_rz.
         f = dp.Bushing(None, "rod1", origin_b=[-0.5, 0.0, 0.0], rotational_stiffness=[0.0, 0.0, 40.0])
         np.testing.assert_allclose(applied(f), [-40.0 * Q[0], 0.0], rtol=1e-12, atol=1e-12)
 

@@ -3,7 +3,7 @@
 // integrator_accuracy_test.cpp and bench/integrator_accuracy.cpp:
 //
 //   slider_crank     the free slider-crank (dependent variant) spun at 50 rad/s from
-//                    q0 = 0, 100 s: about 620 turns, so q0 reaches ~3 900 rad;
+//                    crank = 0, 100 s: about 620 turns, so the crank reaches ~3 900 rad;
 //   double_pendulum  the double pendulum (absolute variant) released at rest from
 //                    q = (-pi/2 + 0.5, 0.5) (0.5 rad from hanging, both joints), 100 s.
 //                    A swing of this size is regular (quasi-periodic): errors grow

@@ -214,26 +214,27 @@ TEST_CASE("a loop at its toggle position or that cannot close is an error naming
   MultibodySystem system(Model::from<gen::four_bar_parametric>());
   Vector qdd, yd;
   SECTION("singular g_p: the coupler and rocker stretched in line") {
-    // |AD| = r2 + r3 at q0 = 0: C = (0.25, 0), phi = 0, psi = pi.
+    // |AD| = r2 + r3 at crank = 0: C = (0.25, 0), phi = 0, psi = pi.
     system.set_parameter("r2", 0.15);
     system.set_parameter("r3", 0.15);
     system.set_loop_guess(Eigen::Vector2d(0.0, pi));
     CHECK_THROWS_WITH(system.accelerations(state(0.5, 0.0, 1.0), qdd, yd),
                       Catch::Contains("t = 0.5: loop 'C' at a singular configuration") &&
-                          Catch::Contains("toggle") && Catch::Contains("q0 = 0, phi = 0"));
+                          Catch::Contains("toggle") && Catch::Contains("crank = 0, phi = 0"));
   }
   SECTION("no convergence: the coupler and rocker too short to reach") {
-    // |AD| = 0.7 > r2 + r3 = 0.65 at q0 = pi.
+    // |AD| = 0.7 > r2 + r3 = 0.65 at crank = pi.
     system.set_parameter("r1", 0.3);
     CHECK_THROWS_WITH(system.accelerations(state(2.0, pi, 0.0), qdd, yd),
                       Catch::Contains("t = 2: loop 'C' does not close") &&
-                          Catch::Contains("did not converge") && Catch::Contains("q0 = 3.14159"));
+                          Catch::Contains("did not converge") &&
+                          Catch::Contains("crank = 3.14159"));
   }
   SECTION("a state in the extended coordinates is refused") {
     State x = system.model().initial_state();
     CHECK_THROWS_AS(system.accelerations(x, qdd, yd), ModelError);
     CHECK_THROWS_WITH(system.accelerations(x, qdd, yd),
-                      Catch::Contains("the independent coordinates q0 of its closed loops"));
+                      Catch::Contains("the independent coordinates crank of its closed loops"));
   }
 }
 

@@ -265,9 +265,9 @@ TEST_CASE("the double pendulum's modes are omega² = g·(3 ∓ 6/√7) to roundi
 
 TEST_CASE("the damped double pendulum's poles are the roots of det(λ²M + λC + K)",
           "[models][derivatives]") {
-  // Dampers c0, c1 on the two joints (relative angles q0, q1): C = diag(c0, c1)
+  // Dampers c0, c1 on the two joints (relative angles theta1, theta2): C = diag(c0, c1)
   // in these coordinates; with M and K in closed form (relative angles from
-  // the horizontal, hanging at q0 = -π/2), det(λ²M + λC + K) is a quartic in λ
+  // the horizontal, hanging at theta1 = -π/2), det(λ²M + λC + K) is a quartic in λ
   // whose roots are the poles.
   MultibodySystem system(Model::from<symdyn_generated::double_pendulum_relative>());
   const double c0 = 0.3, c1 = 0.1, g = 9.81;

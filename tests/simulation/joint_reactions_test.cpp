@@ -264,7 +264,7 @@ class ElbowTorque : public ForceElement {
 
 TEST_CASE("joint reactions: a hinge's moment about its axis is the torque driving it",
           "[reactions]") {
-  // double_pendulum relative: rod2 hinged on rod1 about z by q1; free, it
+  // double_pendulum relative: rod2 hinged on rod1 about z by theta2; free, it
   // transmits no moment about z at the elbow, driven, exactly the torque.
   MultibodySystem system(Model::from<gen::double_pendulum_relative>());
   const int rod2 = system.model().body_index("rod2");

@@ -28,7 +28,7 @@ const std::string kSpring = R"j({
   "forces": [
     {"type": "point_spring_damper", "name": "spring", "a": {"body": "ground", "point": [0, -2, 0]},
      "b": {"body": "rod2", "point": [0.5, 0, 0]}, "stiffness": 20, "free_length": 1},
-    {"type": "coordinate_force", "name": "motor", "coordinates": "q0", "value": "torque"}
+    {"type": "coordinate_force", "name": "motor", "coordinates": "theta1", "value": "torque"}
   ],
   "integrator": "dopri5",
   "t_end": 0.5
@@ -58,14 +58,14 @@ std::string refusal(const std::string& path) {
 TEST_CASE("overrides: each path lands where the scenario's own value is", "[scenario][sweep]") {
   const sim::Scenario s = changed({{"forces.spring.stiffness", 35.0},
                                    {"forces.spring.b.point.1", 0.25},
-                                   {"initial.qd.q1", 2.0},
+                                   {"initial.qd.theta2", 2.0},
                                    {"variables.torque", 3.0},
                                    {"integrator.rtol", 1e-9},
                                    {"t_end", 0.25}});
   const json& d = s.document;
   CHECK(d["forces"][0]["stiffness"] == 35.0);
   CHECK(d["forces"][0]["b"]["point"] == json::array({0.5, 0.25, 0}));
-  CHECK(d["initial"]["qd"]["q1"] == 2.0);
+  CHECK(d["initial"]["qd"]["theta2"] == 2.0);
   CHECK(d["variables"]["torque"] == 3.0);
   CHECK(d["integrator"] == json{{"name", "dopri5"}, {"rtol", 1e-9}});  // a name becomes an object
   CHECK(s.rtol == 1e-9);
@@ -110,8 +110,8 @@ TEST_CASE("overrides: a path that names nothing is refused, naming it and the va
        "forces.spring.stiffness.x: forces.spring.stiffness is a single value"},
       {"parameters.m1",
        "parameters.m1: unknown parameter 'm1' (parameters of double_pendulum: none)"},
-      {"initial.q.q7", "initial.q.q7: unknown coordinate 'q7' (coordinates: q0, q1)"},
-      {"initial.qdd.q0", "initial.qdd.q0: unknown part 'qdd' (expected q or qd)"},
+      {"initial.q.q7", "initial.q.q7: unknown coordinate 'q7' (coordinates: theta1, theta2)"},
+      {"initial.qdd.theta1", "initial.qdd.theta1: unknown part 'qdd' (expected q or qd)"},
       {"initial.q", "initial.q: expected initial.q.<coordinate> or initial.qd.<coordinate>"},
       {"variables.speed",
        "variables.speed: the scenario declares no variable 'speed' (variables: torque)"},
@@ -134,8 +134,8 @@ TEST_CASE("overrides: a changed value is checked where the file's own would be",
   CHECK_THROWS_WITH(sim::Simulation(changed({{"forces.spring.stiffness", -3.0}})),
                     Contains("spring.json: /forces/0/stiffness (force element 'spring'): expected "
                              "a finite number >= 0, found -3"));
-  CHECK_THROWS_WITH(sim::Simulation(changed({{"initial.q.q0", "fast"}})),
-                    Contains("spring.json: /initial/q/q0: expected a number, found a string"));
+  CHECK_THROWS_WITH(sim::Simulation(changed({{"initial.q.theta1", "fast"}})),
+                    Contains("spring.json: /initial/q/theta1: expected a number, found a string"));
   CHECK_THROWS_WITH(changed({{"t_end", 0.0}}),
                     Contains("spring.json: /t_end: expected a number > 0, found 0"));
 }
@@ -196,9 +196,10 @@ TEST_CASE("serve: the engine's rows are the runs' own numbers, failures kept",
                               {{"run", 2}, {"values", {35.0}}}});
   REQUIRE(replies.size() == 4);
   const auto columns = replies[0]["loaded"]["columns"];
-  CHECK(columns == json::array({"end(q0)", "end(q1)", "minimum(rod2.y)", "maximum(rod2.y)", "steps",
-                                "rejected_steps", "rhs_evaluations", "residual_evaluations",
-                                "jacobian_evaluations", "newton_iterations"}));
+  CHECK(columns ==
+        json::array({"end(theta1)", "end(theta2)", "minimum(rod2.y)", "maximum(rod2.y)", "steps",
+                     "rejected_steps", "rhs_evaluations", "residual_evaluations",
+                     "jacobian_evaluations", "newton_iterations"}));
   // The same run as Simulation makes it, every number read back exactly.
   const sim::Scenario s = changed({{"forces.spring.stiffness", 35.0}});
   sim::Simulation simulation(s);
@@ -238,17 +239,17 @@ TEST_CASE("serve: a bad sweep is refused at load, naming the sweep's key",
       {load(json::object(), target("forces.sprng.stiffness", "/set/forces.sprng.stiffness")),
        "sweep.json: /set/forces.sprng.stiffness: no force element 'sprng' (elements: spring, "
        "motor)"},
-      {load({{"extremes", json::array({"q0"})}}),
+      {load({{"extremes", json::array({"theta1"})}}),
        "sweep.json: /keep/extremes: unknown key 'extremes'"},
       {load({{"extrema", json::array({"q9"})}}), "sweep.json: /keep/extrema/0: in 'minimum(q9)'"},
-      {load({{"values", {{"a", "q0"}}}}),
-       "sweep.json: /keep/values/a: in 'q0' at column 1: 'q0' varies during the run"},
+      {load({{"values", {{"a", "theta1"}}}}),
+       "sweep.json: /keep/values/a: in 'theta1' at column 1: 'theta1' varies during the run"},
       {load({{"final", json::array({"qdd"})}}),
        "sweep.json: /keep/final/0: unknown group 'qdd' (expected q or qd)"},
-      {load({{"values", {{"end(q0)", "end(q1)"}}}}),
-       "sweep.json: /keep/values/end(q0): a second column named 'end(q0)'"},
-      {load({{"at", {{"times", {9.0}}, {"of", {"q0"}}}}}),
-       "sweep.json: /keep/at/of/0: in 'at(q0, 9)'"},
+      {load({{"values", {{"end(theta1)", "end(theta2)"}}}}),
+       "sweep.json: /keep/values/end(theta1): a second column named 'end(theta1)'"},
+      {load({{"at", {{"times", {9.0}}, {"of", {"theta1"}}}}}),
+       "sweep.json: /keep/at/of/0: in 'at(theta1, 9)'"},
       {json{{"run", 0}, {"values", json::array()}}, "request: no sweep loaded"},
       {json{{"ask", 0}}, "request: expected \"load\", \"run\" or \"runs\""},
   };

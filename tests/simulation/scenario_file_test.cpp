@@ -87,7 +87,7 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path",
       {"{" + dp + R"j(, "parameters": {"m1": 2}})j",
        "test.json: /parameters/m1: unknown parameter 'm1' (the model has no run-time parameters)"},
       {"{" + dp + R"j(, "initial": {"q": {"q7": 1}}})j",
-       "test.json: /initial/q/q7: unknown coordinate 'q7' (coordinates: q0, q1)"},
+       "test.json: /initial/q/q7: unknown coordinate 'q7' (coordinates: theta1, theta2)"},
       {"{" + dp + R"j(, "forces": [{"type": "spring", "name": "s"}]})j",
        "test.json: /forces/0/type (force element 's'): unknown force element type 'spring' (types: "
        "coordinate_spring_damper, "
@@ -95,7 +95,7 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path",
        "plane_contact, simple_tyre, "
        "gim_tyre)"},
       {"{" + dp +
-           R"j(, "forces": [{"type": "coordinate_spring_damper", "name": "s", "coordinate": "q0", "stifness": 1}]})j",
+           R"j(, "forces": [{"type": "coordinate_spring_damper", "name": "s", "coordinate": "theta1", "stifness": 1}]})j",
        "test.json: /forces/0/stifness (force element 's'): unknown key 'stifness' for a "
        "coordinate_spring_damper (expected: type, name, "
        "enabled, coordinate, stiffness, damping, free_value)"},
@@ -104,16 +104,18 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path",
        "test.json: /forces/0/body (force element 'c'): unknown body 'rod3' (bodies: rod1, rod2, or "
        "ground)"},
       {"{" + dp +
-           R"j(, "forces": [{"type": "coordinate_force", "name": "rod1", "coordinates": "q0", "value": 1}]})j",
+           R"j(, "forces": [{"type": "coordinate_force", "name": "rod1", "coordinates": "theta1", "value": 1}]})j",
        "test.json: /forces/0/name (force element 'rod1'): 'rod1' is a body's name: name the "
        "element otherwise"},
       {"{" + dp +
-           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "2 * (q0"}]})j",
-       "test.json: /forces/0/value (force element 'm'): in '2 * (q0' at column 8: expected ')' at "
+           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "theta1", "value": "2 * (theta1"}]})j",
+       "test.json: /forces/0/value (force element 'm'): in '2 * (theta1' at column 12: expected "
+       "')' at "
        "the end"},
       {"{" + dp +
-           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "q0", "value": "q0_ddot"}]})j",
-       "test.json: /forces/0/value (force element 'm'): in 'q0_ddot' at column 1: 'q0_ddot': "
+           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": "theta1", "value": "theta1_ddot"}]})j",
+       "test.json: /forces/0/value (force element 'm'): in 'theta1_ddot' at column 1: "
+       "'theta1_ddot': "
        "accelerations are not known here"},
       {"{" + dp + R"j(, "outputs": [{"name": "tip", "value": "rod2.xx"}]})j",
        "test.json: /outputs/0/value: in 'rod2.xx' at column 1: unknown quantity 'xx' of body "
@@ -127,13 +129,15 @@ TEST_CASE("scenario files: each bad input names its culprit by JSON path",
        "test.json: /events/0/disable: unknown force element 'motor' (elements: none)"},
       {"{" + dp + R"j(, "t_end": 2, "events": [{"time": 1, "set": {"tau": 0}}]})j",
        "test.json: /events/0/set/tau: unknown variable 'tau' (variables: none)"},
-      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "q0", "band": [0, 1]}]})j",
-       "test.json: /checks/0/value (check 'c'): in 'q0' at column 1: 'q0' varies during the run: a "
+      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "theta1", "band": [0, 1]}]})j",
+       "test.json: /checks/0/value (check 'c'): in 'theta1' at column 1: 'theta1' varies during "
+       "the run: a "
        "check reads it through"},
-      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "mean(q0)", "band": [0, 1]}]})j",
-       "test.json: /checks/0/value (check 'c'): in 'mean(q0)' at column 1: unknown function 'mean' "
+      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "mean(theta1)", "band": [0, 1]}]})j",
+       "test.json: /checks/0/value (check 'c'): in 'mean(theta1)' at column 1: unknown function "
+       "'mean' "
        "(statistics: start, end,"},
-      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "end(q0)", "band": [0]}]})j",
+      {"{" + dp + R"j(, "checks": [{"name": "c", "value": "end(theta1)", "band": [0]}]})j",
        "test.json: /checks/0/band (check 'c'): expected [low, high], found 1 entries"},
       {R"j({"model": {"name": "double_pendulum", "module": "nowhere/double_pendulum.so"}})j",
        "model module 'nowhere/double_pendulum.so' not found"},
@@ -162,8 +166,8 @@ TEST_CASE(
           "damping": 10, "stiffness": 2e5}]})j",
        "test.json: /forces/0/stiffness (force element 'foot'): key 'stiffness' is given twice in "
        "this object"},
-      {"{" + dp + R"j(, "initial": {"q": {"q0": 0.1, "q0": 0.2}}})j",
-       "test.json: /initial/q/q0: key 'q0' is given twice"},
+      {"{" + dp + R"j(, "initial": {"q": {"theta1": 0.1, "theta1": 0.2}}})j",
+       "test.json: /initial/q/theta1: key 'theta1' is given twice"},
       // Numbers a double cannot hold, and NaN or Infinity as Python's json writes them.
       {"{" + dp + ", \"forces\": [" + contact + R"j(, "damping": 1e400}]})j",
        "test.json: /forces/0/damping (force element 'foot'): 1e400 is beyond the range of a "
@@ -172,11 +176,11 @@ TEST_CASE(
        "test.json: /forces/0/friction (force element 'foot'): NaN is not a number in JSON, and "
        "numbers here must be "
        "finite"},
-      {"{" + dp + R"j(, "initial": {"qd": {"q1": -Infinity}}})j",
-       "test.json: /initial/qd/q1: -Infinity is not a number in JSON"},
+      {"{" + dp + R"j(, "initial": {"qd": {"theta2": -Infinity}}})j",
+       "test.json: /initial/qd/theta2: -Infinity is not a number in JSON"},
       {"{" + dp + R"j(, "t_end": 1e-400})j",
        "test.json: /t_end: 1e-400 is too small for a double (it would read as 0)"},
-      {"{" + dp + R"j(, "checks": [{"name": "e", "value": "end(q0)", "band": [0, -1e999]}]})j",
+      {"{" + dp + R"j(, "checks": [{"name": "e", "value": "end(theta1)", "band": [0, -1e999]}]})j",
        "test.json: /checks/0/band/1 (check 'e'): -1e999 is beyond the range of a double"},
       // Other parse errors say where in the document they are.
       {"{" + dp + R"j(, "forces": [{"type": "plane_contact" "name": "foot"}]})j",
@@ -211,11 +215,11 @@ TEST_CASE(
        "0"},
       {R"j({"type": "plane_contact", "name": "foot", "body": "rod2", "stiffness": 1e5, "radius": -0.1})j",
        "/forces/0/radius (force element 'foot'): expected a finite number >= 0, found -0.1"},
-      {R"j({"type": "coordinate_spring_damper", "name": "k", "coordinate": "q0", "stiffness": 10, "damping": -1})j",
+      {R"j({"type": "coordinate_spring_damper", "name": "k", "coordinate": "theta1", "stiffness": 10, "damping": -1})j",
        "/forces/0/damping (force element 'k'): expected a finite number >= 0, found -1"},
-      {R"j({"type": "coordinate_spring_damper", "name": "k", "coordinate": "q0", "stiffness": -10})j",
+      {R"j({"type": "coordinate_spring_damper", "name": "k", "coordinate": "theta1", "stiffness": -10})j",
        "/forces/0/stiffness (force element 'k'): expected a finite number >= 0, found -10"},
-      {R"j({"type": "coordinate_tracking", "name": "servo", "coordinate": "q0", "kp": 100, "kd": -2})j",
+      {R"j({"type": "coordinate_tracking", "name": "servo", "coordinate": "theta1", "kp": 100, "kd": -2})j",
        "/forces/0/kd (force element 'servo'): expected a finite number >= 0, found -2"},
       {R"j({"type": "point_spring_damper", "name": "s", "a": {"body": "ground"}, "b": {"body": "rod2"},
            "stiffness": 100, "free_length": -0.5})j",
@@ -335,16 +339,18 @@ TEST_CASE("scenario files: what would silently do nothing, do twice or read NaN 
        "nothing"},
       // A coordinate listed twice would get the force twice.
       {"{" + dp +
-           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": ["q0", "q1", "q0"], "value": 1}]})j",
-       "/forces/0/coordinates/2 (force element 'm'): coordinate 'q0' is listed twice: its force "
+           R"j(, "forces": [{"type": "coordinate_force", "name": "m", "coordinates": ["theta1", "theta2", "theta1"], "value": 1}]})j",
+       "/forces/0/coordinates/2 (force element 'm'): coordinate 'theta1' is listed twice: its "
+       "force "
        "would be applied twice"},
       // Two CSV columns of one name.
-      {"{" + dp + R"j(, "outputs": ["q", {"name": "q0", "value": "2 * q0"}]})j",
-       "test.json: /outputs/1/value: the CSV already has a column 'q0': name this output "
+      {"{" + dp + R"j(, "outputs": ["q", {"name": "theta1", "value": "2 * theta1"}]})j",
+       "test.json: /outputs/1/value: the CSV already has a column 'theta1': name this output "
        "otherwise"},
-      {"{" + dp + R"j(, "outputs": [{"name": "t", "value": "q0"}]})j",
+      {"{" + dp + R"j(, "outputs": [{"name": "t", "value": "theta1"}]})j",
        "/outputs/0/value: the CSV already has a column 't'"},
-      {"{" + dp + R"j(, "outputs": [{"name": "a", "value": "q0"}, {"name": "a", "value": "q1"}]})j",
+      {"{" + dp +
+           R"j(, "outputs": [{"name": "a", "value": "theta1"}, {"name": "a", "value": "theta2"}]})j",
        "/outputs/1/value: the CSV already has a column 'a'"},
       {"{" + dp +
            R"j(, "outputs": [{"body": "rod2", "quantity": "position"}, {"body": "rod2", "quantity": "position"}]})j",
@@ -353,14 +359,16 @@ TEST_CASE("scenario files: what would silently do nothing, do twice or read NaN 
       {"{" + dp + R"j(, "variables": {"rod1": 2}})j",
        "test.json: /variables/rod1: 'rod1' is a body's name: name the variable otherwise"},
       {"{" + dp +
-           R"j(, "variables": {"k": 2}, "forces": [{"type": "coordinate_force", "name": "k", "coordinates": "q0", "value": 1}]})j",
+           R"j(, "variables": {"k": 2}, "forces": [{"type": "coordinate_force", "name": "k", "coordinates": "theta1", "value": 1}]})j",
        "/forces/0/name (force element 'k'): 'k' is a variable's name: name the element otherwise"},
       // at() outside the run is never set: its check would read NaN.
       {"{" + dp +
-           R"j(, "t_end": 2, "checks": [{"name": "late", "value": "at(q0, 5)", "band": [-1, 1]}]})j",
-       "/checks/0/value (check 'late'): in 'at(q0, 5)' at column 1: at(): the time 5 is outside "
+           R"j(, "t_end": 2, "checks": [{"name": "late", "value": "at(theta1, 5)", "band": [-1, 1]}]})j",
+       "/checks/0/value (check 'late'): in 'at(theta1, 5)' at column 1: at(): the time 5 is "
+       "outside "
        "the run [0, t_end = 2]"},
-      {"{" + dp + R"j(, "checks": [{"name": "early", "value": "at(q0, -1)", "band": [-1, 1]}]})j",
+      {"{" + dp +
+           R"j(, "checks": [{"name": "early", "value": "at(theta1, -1)", "band": [-1, 1]}]})j",
        "at(): the time -1 is outside the run"},
   };
   for (const Case& c : cases) {
@@ -370,8 +378,8 @@ TEST_CASE("scenario files: what would silently do nothing, do twice or read NaN 
 }
 
 TEST_CASE("events: a torque switched off stops the integration exactly there", "[scenario]") {
-  // A constant torque tau on q0 from rest until t = 1, then free motion. Its
-  // work is tau (q0(1) - q0(0)), so E(1) = E(0) + tau Δq0; after it, E is constant.
+  // A constant torque tau on theta1 from rest until t = 1, then free motion. Its
+  // work is tau (theta1(1) - theta1(0)), so E(1) = E(0) + tau Δtheta1; after it, E is constant.
   const double tau = 3.0;
   for (const char* how : {R"j("disable": "motor")j", R"j("set": {"tau": 0})j"}) {
     CAPTURE(how);
@@ -379,7 +387,7 @@ TEST_CASE("events: a torque switched off stops the integration exactly there", "
       "model": "double_pendulum", "t_end": 2, "output_interval": 0.01,
       "integrator": {{"name": "dopri5", "tolerance": 1e-11}},
       "variables": {{"tau": {}}},
-      "forces": [{{"type": "coordinate_force", "name": "motor", "coordinates": "q0", "value": "tau"}}],
+      "forces": [{{"type": "coordinate_force", "name": "motor", "coordinates": "theta1", "value": "tau"}}],
       "events": [{{"time": 1, {}}}],
       "outputs": ["q", "qd", "qdd", "energies", {{"name": "torque", "value": "motor.Q"}}]
     }})j",
@@ -398,10 +406,10 @@ TEST_CASE("events: a torque switched off stops the integration exactly there", "
     std::istringstream lines(csv.str());
     std::string line;
     std::getline(lines, line);
-    CHECK(
-        line ==
-        "t,q0,q1,q0_dot,q1_dot,q0_ddot,q1_ddot,kinetic_energy,gravitational_energy,elastic_energy,"
-        "total_energy,torque");
+    CHECK(line ==
+          "t,theta1,theta2,theta1_dot,theta2_dot,theta1_ddot,theta2_ddot,kinetic_energy,"
+          "gravitational_energy,elastic_energy,"
+          "total_energy,torque");
     std::vector<std::vector<double>> rows;
     while (std::getline(lines, line)) {
       std::vector<double> v;
@@ -511,14 +519,14 @@ TEST_CASE("symdyn-sim runs a scenario file, a module relative to it", "[scenario
   std::filesystem::copy_file(MODULE_DOUBLE_PENDULUM, dir / "pendulum.so");
   std::ofstream(dir / "swing.json") << R"j({
     "model": {"name": "double_pendulum", "module": "pendulum.so"},
-    "initial": {"q": {"q0": -0.5}},
+    "initial": {"q": {"theta1": -0.5}},
     "t_end": 2,
-    "checks": [{"name": "start q0", "value": "start(q0)", "unit": "rad", "band": [-0.6, -0.4]}]
+    "checks": [{"name": "start theta1", "value": "start(theta1)", "unit": "rad", "band": [-0.6, -0.4]}]
   })j";
   const auto r = testing::run_command({SYMDYN_SIM, "swing.json", "--out", "swing.csv"}, 120, dir);
   CHECK(r.exit_code == 0);
   CHECK_THAT(r.out, Contains("(201 rows of 9 columns"));
-  CHECK_THAT(r.out, Contains("start q0: -0.5 rad (expected -0.6 .. -0.4) ok"));
+  CHECK_THAT(r.out, Contains("start theta1: -0.5 rad (expected -0.6 .. -0.4) ok"));
   CHECK(std::filesystem::exists(dir / "swing.csv"));
   std::filesystem::remove_all(dir);
 }
@@ -535,10 +543,10 @@ TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks",
   const sim::RunResult r = sim::run_scenario(parse(text));
   CHECK(r.segments == 3);
   CHECK(r.rows == 501);
-  CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "q0_ddot",
-                                              "q1_ddot", "kinetic_energy", "gravitational_energy",
-                                              "elastic_energy", "total_energy", "rod2.x", "rod2.y",
-                                              "rod2.z", "spring.length", "tip_x"});
+  CHECK(r.columns == std::vector<std::string>{
+                         "t", "theta1", "theta2", "theta1_dot", "theta2_dot", "theta1_ddot",
+                         "theta2_ddot", "kinetic_energy", "gravitational_energy", "elastic_energy",
+                         "total_energy", "rod2.x", "rod2.y", "rod2.z", "spring.length", "tip_x"});
   REQUIRE(r.checks.size() == 2);
   for (const auto& c : r.checks) {
     INFO(c.name << " = " << c.value);

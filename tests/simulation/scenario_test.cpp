@@ -30,8 +30,8 @@ std::vector<runtime::State> states_of(const sim::Scenario& s, sim::RunOptions o 
   return states;
 }
 
-// qd0 where q0 passes target (mod 2 pi), from the parabola through the three
-// samples around each passage (q0 increasing; samples 0.05 rad apart).
+// The crank's speed where its angle passes target (mod 2 pi), from the parabola
+// through the three samples around each passage (increasing; samples 0.05 rad apart).
 std::vector<double> speeds_at(const std::vector<runtime::State>& samples, double target) {
   std::vector<double> out;
   for (std::size_t k = 1; k + 1 < samples.size(); ++k) {
@@ -102,9 +102,9 @@ TEST_CASE("double pendulum scenario: CSV columns, rows, and the tip from the coo
   o.csv = &csv;
   o.t_end = 2.0;
   const sim::RunResult r = sim::run_scenario(sim::find_builtin("double_pendulum"), o);
-  CHECK(r.columns == std::vector<std::string>{"t", "q0", "q1", "q0_dot", "q1_dot", "kinetic_energy",
-                                              "gravitational_energy", "elastic_energy",
-                                              "total_energy", "tip_x", "tip_y"});
+  CHECK(r.columns == std::vector<std::string>{"t", "theta1", "theta2", "theta1_dot", "theta2_dot",
+                                              "kinetic_energy", "gravitational_energy",
+                                              "elastic_energy", "total_energy", "tip_x", "tip_y"});
   REQUIRE(r.rows == 201);
   std::istringstream in(csv.str());
   std::string line, last;
@@ -114,7 +114,8 @@ TEST_CASE("double pendulum scenario: CSV columns, rows, and the tip from the coo
     last = line;
   }
   CHECK(lines == 202);  // header and 201 instants
-  // The tip of rod 2: (cos q0 + cos(q0 + q1), sin q0 + sin(q0 + q1)) for l1 = l2 = 1.
+  // The tip of rod 2: (cos theta1 + cos(theta1 + theta2), sin theta1 + sin(theta1 + theta2)) for l1
+  // = l2 = 1.
   const auto& q = r.final.q;
   std::vector<double> values;
   std::istringstream fields(last);
@@ -128,10 +129,10 @@ TEST_CASE("double pendulum scenario: CSV columns, rows, and the tip from the coo
 
 TEST_CASE("slider-crank scenario: crank speed where energy conservation gives it in closed form",
           "[models][scenario]") {
-  // E = 1/2 M(q0) qd0^2 + V(q0) with, by hand (l1 = 0.1, l2 = 0.3, models.md):
-  //   q0 = 0 (dead centre, alpha = 0, alpha' = qd0 / 3, slider at rest):
+  // E = 1/2 M(crank) crank_dot^2 + V(crank) with, by hand (l1 = 0.1, l2 = 0.3, models.md):
+  //   crank = 0 (dead centre, alpha = 0, alpha' = crank_dot / 3, slider at rest):
   //     M = (8.333e-4 + 1 * 0.05^2) + 0.5 * 0.05^2 + 3.75e-3 / 9 = 5e-3, V = 0
-  //   q0 = pi/2 and 3 pi/2 (alpha' = 0, rod and slider translate at l1 qd0):
+  //   crank = pi/2 and 3 pi/2 (alpha' = 0, rod and slider translate at l1 crank_dot):
   //     M = 3.333e-3 + (0.5 + 0.3) * 0.1^2 = 1.1333e-2,
   //     V = +-9.81 (1 * 0.05 + 0.5 * 0.05) = +-0.73575 J
   const double M0 = 8.3333333333333333e-4 + 0.0025 + 0.5 * 0.0025 + 3.75e-3 / 9.0;
@@ -232,7 +233,7 @@ TEST_CASE("a scenario outputs and checks joint reactions by name", "[models][sce
   // holds its weight, up, which is -x in its axes (docs/emitted_interface.md).
   const sim::Scenario s = sim::parse_scenario(R"json({
     "model": "double_pendulum",
-    "initial": {"q": {"q0": -1.5707963267948966, "q1": 0}},
+    "initial": {"q": {"theta1": -1.5707963267948966, "theta2": 0}},
     "t_end": 0.1,
     "output_interval": 0.05,
     "outputs": [{"body": "rod2", "quantity": "reaction"}],

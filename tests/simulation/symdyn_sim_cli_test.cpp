@@ -81,7 +81,7 @@ TEST_CASE(
                    "2e4", "--out", (dir / "results.csv").string()});
   CHECK(r.exit_code == 0);
   CHECK_THAT(r.out, Contains("(10001 rows of 11 columns"));
-  CHECK(read(dir / "results.csv").rfind("t,q0,q1,", 0) == 0);
+  CHECK(read(dir / "results.csv").rfind("t,theta1,theta2,", 0) == 0);
   CHECK_FALSE(std::filesystem::exists(dir / "results.csv.partial"));
   std::filesystem::remove_all(dir);
 }
@@ -94,7 +94,7 @@ TEST_CASE("symdyn-sim: a run that fails keeps its rows and says how far it got",
   const CommandResult r = run_command({kSim, "double_pendulum", "--integrator", "rk4", "--step",
                                        "0.9", "--t-end", "200", "--out", csv.string()});
   CHECK(r.exit_code == 1);
-  CHECK_THAT(r.err, Contains("error: t = 2.7: bias force on coordinate 'q0' is not finite"));
+  CHECK_THAT(r.err, Contains("error: t = 2.7: bias force on coordinate 'theta1' is not finite"));
   CHECK_THAT(r.err,
              Contains(fmt::format("the run stopped; CSV: {} keeps its 181 rows up to t = 1.8",
                                   csv.string())));
@@ -121,7 +121,7 @@ TEST_CASE("symdyn-sim: a bad scenario file is refused with its culprit, the earl
       {R"j({"model": {"name": "double_pendulum", "module": "pendulum.so"}})j",
        "error: model module 'pendulum.so' not found", 2},
       // A check out of its band: the run is complete, its CSV written, the exit code says so.
-      {R"j({"model": "double_pendulum", "checks": [{"name": "still", "value": "drift(q0)", "band": [0, 0.1]}]})j",
+      {R"j({"model": "double_pendulum", "checks": [{"name": "still", "value": "drift(theta1)", "band": [0, 0.1]}]})j",
        "still: 2.77851 (expected 0 .. 0.1) OUT OF RANGE", 1},
   };
   for (const Case& c : cases) {
@@ -152,12 +152,12 @@ TEST_CASE("symdyn-sim: --glb, --html and --plot write the run's pictures", "[sim
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(read(dir / "run.glb").substr(0, 4) == "glTF");  // the binary glTF header
-  CHECK_THAT(read(dir / "run.svg"),
-             Contains("<svg") && Contains("q0") && Contains("q1") && Contains("total_energy"));
+  CHECK_THAT(read(dir / "run.svg"), Contains("<svg") && Contains("theta1") && Contains("theta2") &&
+                                        Contains("total_energy"));
   if (viewer) {
     const std::string html = read(dir / "run.html");
     CHECK_THAT(html, Contains("<script id=\"symdyn-data\""));
-    CHECK_THAT(html, Contains("\"names\":[\"t\",\"q0\",\"q1\"]"));
+    CHECK_THAT(html, Contains("\"names\":[\"t\",\"theta1\",\"theta2\"]"));
   }
 }
 
@@ -345,7 +345,7 @@ TEST_CASE("symdyn-sim: outputs through a link, in new folders, with a quote in t
       {kSim, "double_pendulum", "--t-end", "0.1", "--out", (dir / "link.csv").string()});
   CHECK(linked.exit_code == 0);
   CHECK(std::filesystem::is_symlink(dir / "link.csv"));  // the link kept, the file it names written
-  CHECK(read(dir / "target.csv").rfind("t,q0,q1,", 0) == 0);
+  CHECK(read(dir / "target.csv").rfind("t,theta1,theta2,", 0) == 0);
   // Missing folders are made when the run starts; gnuplot reads a name with a quote.
   const auto nested = dir / "a" / "b";
   std::vector<std::string> args{kSim,  "double_pendulum", "--t-end",

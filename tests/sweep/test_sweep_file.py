@@ -14,7 +14,7 @@ from sweep_support import SWEEPS, run_cli, scratch, write_json
 TRIKE = {
     "scenario": "trike",
     "factors": {"k": {"values": [1e5, 2e5]}, "speed": {"from": 3, "to": 7, "count": 3}},
-    "set": {"forces.front.stiffness": "k", "variables.speed": "speed", "initial.qd.q0": "speed"},
+    "set": {"forces.front.stiffness": "k", "variables.speed": "speed", "initial.qd.x": "speed"},
 }
 
 
@@ -97,14 +97,14 @@ class BadSweepFiles(unittest.TestCase):
 
     def test_set(self):
         s = ["set"]
-        self.refused(changed(TRIKE, s + ["initial.qd.q0"], "sped"),
-                     "/set/initial.qd.q0: in 'sped': unknown name 'sped' (factors: k, speed; and pi)")
-        self.refused(changed(TRIKE, s + ["initial.qd.q0"], "speed +"), "/set/initial.qd.q0: 'speed +' is not an expression")
-        self.refused(changed(TRIKE, s + ["initial.qd.q0"], "__import__('os')"),
-                     "/set/initial.qd.q0: in '__import__('os')': '__import__('os')' is not allowed")
-        self.refused(changed(TRIKE, s + ["initial.qd.q0"], "speed.real"), "'speed.real' is not allowed")
-        self.refused(changed(TRIKE, ["factors", "speed", "set"], "initial.qd.q0"),
-                     "/set/initial.qd.q0: initial.qd.q0 is set twice (also at /factors/speed/set)")
+        self.refused(changed(TRIKE, s + ["initial.qd.x"], "sped"),
+                     "/set/initial.qd.x: in 'sped': unknown name 'sped' (factors: k, speed; and pi)")
+        self.refused(changed(TRIKE, s + ["initial.qd.x"], "speed +"), "/set/initial.qd.x: 'speed +' is not an expression")
+        self.refused(changed(TRIKE, s + ["initial.qd.x"], "__import__('os')"),
+                     "/set/initial.qd.x: in '__import__('os')': '__import__('os')' is not allowed")
+        self.refused(changed(TRIKE, s + ["initial.qd.x"], "speed.real"), "'speed.real' is not allowed")
+        self.refused(changed(TRIKE, ["factors", "speed", "set"], "initial.qd.x"),
+                     "/set/initial.qd.x: initial.qd.x is set twice (also at /factors/speed/set)")
         self.refused(changed(TRIKE, ["factors", "speed", "set"], []), "/factors/speed/set: expected a path")
         texts = changed(TRIKE, ["factors", "integrator"], {"values": ["cvode", "dop853"]})
         self.refused(changed(texts, s + ["integrator.name"], "integrator + 1"),
@@ -119,12 +119,12 @@ class BadSweepFiles(unittest.TestCase):
         self.refused(changed(TRIKE, ["factors", "k", "set"], ["parameters.k"]),
                      "/factors/k/set/0: unknown parameter 'k' (parameters of trike: none)")
         self.refused(changed(TRIKE, ["set", "initial.qd.q99"], 1), "/set/initial.qd.q99: unknown coordinate 'q99'")
-        self.refused(changed(TRIKE, ["keep"], {"extremes": ["q2"]}),
+        self.refused(changed(TRIKE, ["keep"], {"extremes": ["z"]}),
                      "/keep/extremes: unknown key 'extremes' (expected: final, values, extrema, at, checks, counters, series)")
         self.refused(changed(TRIKE, ["keep"], {"extrema": ["chassis.height"]}), "/keep/extrema/0: in 'minimum(chassis.height)'")
-        self.refused(changed(TRIKE, ["keep"], {"at": {"times": [9], "of": ["q3"]}}),
-                     "/keep/at/of/0: in 'at(q3, 9)' at column 1: at(): the time 9 is outside the run [0, t_end = 5]")
-        self.refused(changed(TRIKE, ["keep"], {"values": {"speed": "end(q0_dot)"}}),
+        self.refused(changed(TRIKE, ["keep"], {"at": {"times": [9], "of": ["yaw"]}}),
+                     "/keep/at/of/0: in 'at(yaw, 9)' at column 1: at(): the time 9 is outside the run [0, t_end = 5]")
+        self.refused(changed(TRIKE, ["keep"], {"values": {"speed": "end(x_dot)"}}),
                      "/keep: the column 'speed' is also a factor's or the table's own")
 
     def test_command_line(self):
@@ -158,17 +158,17 @@ class Runs(unittest.TestCase):
         self.assertEqual([s.inputs(r)[1] for r in range(3)], [0.1, 0.2, 0.3])
 
     def test_expressions_of_set(self):
-        s = Sweep(changed(TRIKE, ["set", "initial.qd.q8"], "speed / 0.3 + 2^2 - sqrt(4)"))
+        s = Sweep(changed(TRIKE, ["set", "initial.qd.left_spin"], "speed / 0.3 + 2^2 - sqrt(4)"))
         self.assertEqual(s.values(1)[-1], 5.0 / 0.3 + 4.0 - 2.0)
-        s = Sweep(changed(TRIKE, ["set", "initial.qd.q8"], "1 / (speed - 5)"))
-        with self.assertRaisesRegex(symdyn.sweep_file.RunInputError, "/set/initial.qd.q8: '1 / \\(speed - 5\\)' fails "
+        s = Sweep(changed(TRIKE, ["set", "initial.qd.left_spin"], "1 / (speed - 5)"))
+        with self.assertRaisesRegex(symdyn.sweep_file.RunInputError, "/set/initial.qd.left_spin: '1 / \\(speed - 5\\)' fails "
                                                                      "for this run: float division by zero"):
             s.values(1)
 
     def monte_carlo(self, **change):
         document = {"scenario": "slider_crank", "samples": 400, "seed": 11,
-                    "factors": {"w": {"distribution": "normal", "mean": 50, "sd": 2, "set": "initial.qd.q0"},
-                                "c": {"distribution": "lognormal", "mean": 0.5, "sd": 0.1, "set": "initial.q.q0"},
+                    "factors": {"w": {"distribution": "normal", "mean": 50, "sd": 2, "set": "initial.qd.crank"},
+                                "c": {"distribution": "lognormal", "mean": 0.5, "sd": 0.1, "set": "initial.q.crank"},
                                 "u": {"distribution": "uniform", "low": -1, "high": 1, "set": "t_end"}}}
         document.update(change)
         return Sweep(document)

@@ -41,7 +41,7 @@ class SameTableEverywhere(unittest.TestCase):
             r = dict(zip(header, row))
             # The drive holds each speed; a stiffer tyre rides higher on its smaller deflection.
             self.assertAlmostEqual(float(r["final_speed"]), float(r["speed"]), delta=0.05 * float(r["speed"]))
-        heights = {float(r[3]): float(r[header.index("minimum(q2)")]) for r in rows[1:] if r[4] == "5.0"}
+        heights = {float(r[3]): float(r[header.index("minimum(z)")]) for r in rows[1:] if r[4] == "5.0"}
         self.assertLess(heights[1e5], heights[2e5])
         self.assertLess(heights[2e5], heights[4e5])
 
@@ -63,12 +63,12 @@ class SameTableEverywhere(unittest.TestCase):
         done = run_cli(os.path.join(folder, "slider_crank_bearing.json"), "--out", csv_path,
                        "--set", f"forces.bearing.damping={row['bearing_damping']!r}",
                        "--set", f"forces.return_spring.stiffness={row['spring_stiffness']!r}",
-                       "--set", f"initial.qd.q0={row['launch_speed']!r}")
+                       "--set", f"initial.qd.crank={row['launch_speed']!r}")
         self.assertEqual(done.returncode, 0, done.stderr)
         single = read_csv(csv_path)
         last = dict(zip(single[0], single[-1]))
-        self.assertEqual(float(last["q0"]), row["end(q0)"])
-        self.assertEqual(float(last["q0_dot"]), row["end(q0_dot)"])
+        self.assertEqual(float(last["crank"]), row["end(crank)"])
+        self.assertEqual(float(last["crank_dot"]), row["end(crank_dot)"])
         values, columns_of_series = series["5"]
         self.assertEqual(columns_of_series, single[0])
         self.assertEqual(values.tolist(), [[float(x) for x in line] for line in single[1:]])
@@ -91,7 +91,7 @@ class SameTableEverywhere(unittest.TestCase):
                            "--set", f"parameters.l2={r['l2']!r}")
             self.assertEqual(done.returncode, 0, done.stderr)
             last = read_csv(os.path.join(folder, "one.csv"))[-1]
-            self.assertEqual([float(last[1]), float(last[2])], [r["end(q0)"], r["end(q1)"]])
+            self.assertEqual([float(last[1]), float(last[2])], [r["end(theta1)"], r["end(theta2)"]])
 
 
 class NothingLostNothingSilent(unittest.TestCase):
@@ -101,7 +101,7 @@ class NothingLostNothingSilent(unittest.TestCase):
         def change(d):
             d["factors"]["tyre_stiffness"]["values"] = [-1e5, 2e5]
             d["factors"]["speed"]["values"] = [0, 5, 12]
-            d["set"]["initial.qd.q8"] = "speed / 0.3 + 1 / speed"
+            d["set"]["initial.qd.left_spin"] = "speed / 0.3 + 1 / speed"
 
         sweep = copy_sweep(folder, "trike_tyres.json", change)
         result = symdyn.sweep(sweep, workers=2, keep_rows=True)
@@ -110,7 +110,7 @@ class NothingLostNothingSilent(unittest.TestCase):
         self.assertIn("models/scenarios/trike.json: /forces/5/stiffness (force element 'rear_left'): expected a finite "
                       "number > 0, found -100000", status[(-1e5, 5.0)][1])
         self.assertEqual(status[(2e5, 0.0)][0], "failed")
-        self.assertIn("/set/initial.qd.q8: 'speed / 0.3 + 1 / speed' fails for this run: float division by zero",
+        self.assertIn("/set/initial.qd.left_spin: 'speed / 0.3 + 1 / speed' fails for this run: float division by zero",
                       status[(2e5, 0.0)][1])
         self.assertEqual(status[(2e5, 5.0)], ("ok", ""))
         self.assertEqual(status[(2e5, 12.0)][0], "out_of_band")
@@ -246,7 +246,7 @@ class Documentation(unittest.TestCase):
         with contextlib.redirect_stdout(printed):
             exec(compile(block, "docs/sweeps.md", "exec"), {})
         lines = printed.getvalue().splitlines()
-        self.assertEqual(lines[0], "['run', 'status', 'error', 'tolerance', 'end(q0)', 'steps']")
+        self.assertEqual(lines[0], "['run', 'status', 'error', 'tolerance', 'end(crank)', 'steps']")
         self.assertEqual(len(lines), 6)
         rows = [line.split() for line in lines[1:]]
         self.assertEqual([r[0] for r in rows], ["ok"] * 5)

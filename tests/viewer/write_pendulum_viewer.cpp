@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
                    .with({0.85f, 0.3f, 0.1f, 1.0f}));
 
   Animation motion(system.model());
-  TimeSeries series{{"t", "q0", "q1", "total_energy"}, {{}, {}, {}, {}}, {"s", "rad", "rad", "J"}};
+  TimeSeries series{
+      {"t", "theta1", "theta2", "total_energy"}, {{}, {}, {}, {}}, {"s", "rad", "rad", "J"}};
   IntegratorOptions options;
   options.relative_tolerance = options.absolute_tolerance = 1e-9;
   options.output_interval = 0.02;

@@ -6,7 +6,7 @@ to run, what each run changes in the scenario, and what to keep of it.
                  "mass": {"distribution": "normal", "mean": 1.0, "sd": 0.05, "set": "parameters.m1"}},
      "samples": 20, "seed": 7,
      "set": {"forces.front.stiffness": "stiffness", "forces.rear.stiffness": "0.8 * stiffness"},
-     "keep": {"extrema": ["q2"]}}
+     "keep": {"extrema": ["z"]}}
 
 Runs: every combination of the grid factors (those with values, or from, to
 and count; the first factor varies slowest), each with `samples` draws of
