@@ -50,10 +50,11 @@ std::string numbered(std::string name, int i) {
 void build(Model& m, std::string_view) {
   std::array<Expr, 6> length;
   for (int i = 0; i < 6; ++i) length[i] = m.coordinate(numbered("l", i));
-  const Expr x = m.implicit_dependent("x", 0), y = m.implicit_dependent("y", 0),
-             z = m.implicit_dependent("z", home_height);
-  const Expr yaw = m.implicit_dependent("yaw", 0), pitch = m.implicit_dependent("pitch", 0),
-             roll = m.implicit_dependent("roll", 0);
+  const Expr x = m.implicit_dependent("platform_x", 0), y = m.implicit_dependent("platform_y", 0),
+             z = m.implicit_dependent("platform_z", home_height);
+  const Expr yaw = m.implicit_dependent("platform_yaw", 0),
+             pitch = m.implicit_dependent("platform_pitch", 0),
+             roll = m.implicit_dependent("platform_roll", 0);
   m.body("platform")
       .mass(40)
       .inertia(1.3, 1.3, 2.4)
