@@ -154,7 +154,8 @@ struct Statistics {
   // With global_tolerance: the runs made (their work summed above), the local
   // tolerance of the run returned (and its step, at a fixed step; when it throws, of
   // the run whose estimate is given) and the estimated error of its result, whether
-  // below global_tolerance (a run that returns has met it; one that throws has not). Without: one run, the estimate NaN (none).
+  // below global_tolerance (a run that returns has met it; one that throws has not). Without: one
+  // run, the estimate NaN (none).
   int runs = 1;
   double last_relative_tolerance = 0.0;
   double last_step = 0.0;  // fixed-step runs only

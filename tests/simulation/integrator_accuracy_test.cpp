@@ -77,7 +77,8 @@ TEST_CASE(
   const Expectation expectations[] = {
       {"dop853", {1e-8, 1e-10}, 1e-3},
       {"dopri5", {1e-8, 1e-10}, 1e-4},
-      {"cvode", {1e-10, 1e-12}, 1e-2},
+      // Its tolerance transformed (cvode_integrator.hpp): 1e-8 is CVODE's 2e-11.
+      {"cvode", {1e-6, 1e-8}, 5e-2},
       {"arkode", {1e-8, 1e-10}, 1e-3},
   };
   for (const auto& e : expectations) check_convergence(p, ref, e);
