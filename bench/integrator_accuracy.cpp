@@ -169,11 +169,12 @@ void energy(benchmark::State& bench, const std::string& name, double h, double t
 int main(int argc, char** argv) {
   // The tolerances each integrator is measured at: the second-order implicit methods, whose
   // error falls in proportion to the tolerance, need 19 million steps at 1e-8 on the
-  // slider-crank, so they stop there.
+  // slider-crank, so they stop there; cvode's 1e-9 is CVODE's 1e-12 (cvode_integrator.hpp),
+  // and CVODE refuses the slider-crank's 100 s from 1e-10 (CVODE's 4.6e-14) on.
   const std::map<std::string, std::vector<double>> settings = {
       {"dop853", {1e-6, 1e-8, 1e-10, 1e-12}},
       {"dopri5", {1e-6, 1e-8, 1e-10, 1e-12}},
-      {"cvode", {1e-6, 1e-8, 1e-10, 1e-12}},
+      {"cvode", {1e-6, 1e-7, 1e-8, 1e-9}},
       {"arkode", {1e-6, 1e-8, 1e-10}},
       {"newmark", {1e-4, 1e-6, 1e-8}},
       {"generalized-alpha", {1e-4, 1e-6, 1e-8}},
