@@ -161,8 +161,8 @@ void replay(const std::vector<Output>& outputs, const IntegratorOptions& user) {
 }
 
 constexpr double kTightening = 100.0;  // between two runs: two decades
-// The error of every adaptive integrator falls about as its tolerance (0.87 to 1.0 power
-// over seven decades on the reference problems, bench/results/global_tolerance.md): a
+// The error of every adaptive integrator falls about as its tolerance (a power of 0.79 to
+// 1.2 over seven decades on the reference problems, bench/results/global_tolerance.md): a
 // tightening by F divides it by about F. An observed fall d_k/d_(k-1) within this factor of
 // 1/F is that regime; outside it the error is erratic there, and extrapolating from it fails.
 constexpr double kConsistent = 2.0;
@@ -203,7 +203,7 @@ double difference(const State& a, const State& b, const std::vector<Output>& oa,
 //   the fall observed over the tightening before, d_k/d_(k-1), is within a factor 2 of
 //   1/F_(k-1) (the error falls as the tolerance); r = F_k^-a, a the smaller of the observed
 //   power and 1 (the larger estimate). Where the fall is erratic (dop853 and cvode over
-//   short runs fall 1.5 to 10 000 times per two decades) this extrapolation is 100 times
+//   short runs fall 2 to 12 000 times per two decades) this extrapolation is 100 times
 //   off either way, and only the first estimate is taken.
 // The tighter run is returned when its estimate meets the tolerance, else the looser one
 // when its estimate does, else the tolerance is tightened again.
