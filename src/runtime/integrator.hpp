@@ -85,7 +85,9 @@ using ProgressCallback = std::function<void(double t, double t_begin, double t_e
 
 struct IntegratorOptions {
   // The error test (see ErrorWeights): |e_i| <= absolute + relative·s_i, as a root
-  // mean square over the components of x = (q, qd, y).
+  // mean square over the components of x = (q, qd, y); newmark, generalized-alpha and
+  // cvode hold each step within a power of the relative tolerance of it (sqrt, cube
+  // root: their errors add up over a run, newmark.hpp, cvode_integrator.hpp).
   double relative_tolerance = 1e-6;
   double absolute_tolerance = 1e-8;
   // (n or empty) the scale s_i of coordinate q_i in the error test, each > 0 (a
