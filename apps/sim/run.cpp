@@ -666,7 +666,8 @@ std::string summary(const RunResult& run) {
                                  ? fmt::format("step {:g} s", st.last_step)
                                  : fmt::format("tolerance {:g}", st.last_relative_tolerance);
     out += fmt::format(
-        "  global error: estimated {:.3g}, global tolerance {:g} {} ({} runs, the last at {})\n",
+        "  global error: estimated {:.3g}, global tolerance {:g} {} ({} runs, the result's at "
+        "{})\n",
         st.global_error_estimate, run.global_tolerance, st.global_tolerance_met ? "met" : "NOT MET",
         st.runs, last);
   } else {

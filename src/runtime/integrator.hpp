@@ -85,7 +85,9 @@ using ProgressCallback = std::function<void(double t, double t_begin, double t_e
 
 struct IntegratorOptions {
   // The error test (see ErrorWeights): |e_i| <= absolute + relative·s_i, as a root
-  // mean square over the components of x = (q, qd, y).
+  // mean square over the components of x = (q, qd, y); newmark, generalized-alpha and
+  // cvode hold each step within a power of the relative tolerance of it (sqrt, cube
+  // root: their errors add up over a run, newmark.hpp, cvode_integrator.hpp).
   double relative_tolerance = 1e-6;
   double absolute_tolerance = 1e-8;
   // (n or empty) the scale s_i of coordinate q_i in the error test, each > 0 (a
@@ -98,13 +100,16 @@ struct IntegratorOptions {
   // > 0: a bound on the error of the result in every component (|Δq_i| and |Δqd_i|
   // divided by q_scale[i], |Δy_j|; at t_end and at each fixed output instant),
   // estimated by solving again (docs/integrators.md, "The error at t_end"):
-  // - adaptive runs are repeated with both tolerances divided by 100,
+  // - adaptive runs are repeated with both tolerances divided by 100, a run's error
+  //   estimated against the next, tighter one (or, where the error is seen to fall as
+  //   the tolerance, extrapolated for the last run), and the looser run of the last
+  //   two returned when only its estimate meets the tolerance,
   // - fixed-step runs (rk4, midpoint, fixed_step) with the step halved, the error
   //   of the finer run estimated by Richardson, |x_h - x_h/2| / (2^p - 1) for a
   //   method of order p (or the fall observed between runs when slower), from the
   //   third run on,
-  // until the estimated error of the last run is below it. Costs 2 or more runs (3
-  // or more at a fixed step); outputs are held and only the last run's are
+  // until the estimated error of a run is below it. Costs 2 or more runs (3
+  // or more at a fixed step); outputs are held and only the returned run's are
   // delivered. A NumericError naming the estimate reached when a local tolerance
   // of 1e-14, 12 halvings, min_step or max_steps do not get there or a run fails;
   // an OptionError before the run for a fixed step of unknown order (arkode).
@@ -149,9 +154,10 @@ struct Statistics {
   long jacobian_evaluations = 0;  // iteration matrices evaluated (jacobians, or CVODE's)
   long newton_iterations = 0;     // linear solves with the iteration matrix
   // With global_tolerance: the runs made (their work summed above), the local
-  // tolerance of the last one (and its step, at a fixed step) and the estimated
-  // error of its result, whether below global_tolerance (a run that returns has met
-  // it; one that throws has not). Without: one run, the estimate NaN (none).
+  // tolerance of the run returned (and its step, at a fixed step; when it throws, of
+  // the run whose estimate is given) and the estimated error of its result, whether
+  // below global_tolerance (a run that returns has met it; one that throws has not). Without: one
+  // run, the estimate NaN (none).
   int runs = 1;
   double last_relative_tolerance = 0.0;
   double last_step = 0.0;  // fixed-step runs only

@@ -40,6 +40,7 @@ const detail::SundialsSolver cvode{
     .jacobian_evaluations = CVodeGetNumJacEvals,
     .newton_iterations = CVodeGetNumNonlinSolvIters,
     .prefix = "CVode",
+    .step_power = 1.0 / 3.0,
 };
 
 }  // namespace

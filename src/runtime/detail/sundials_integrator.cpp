@@ -3,6 +3,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <exception>
@@ -39,6 +40,10 @@ struct Sundials {
   void* mem = nullptr;
 };
 
+// The tightest tolerance the solver is given, where rounding takes over (CVODE may refuse
+// a long run before: "too much accuracy requested", a failed run for global_tolerance).
+constexpr double kTightestSolverTolerance = 1e-14;
+
 class SundialsIntegrator final : public Integrator {
  public:
   SundialsIntegrator(IntegratorOptions options, const SundialsSolver& solver)
@@ -46,6 +51,20 @@ class SundialsIntegrator final : public Integrator {
   std::string_view name() const override { return solver_.name; }
 
  private:
+  // The factor of both tolerances the solver is given: rtol^step_power, at most 1, the
+  // solver's relative tolerance not below kTightestSolverTolerance.
+  double tolerance_factor() const {
+    const double rtol = options_.relative_tolerance;
+    if (!(solver_.step_power > 0.0)) return 1.0;
+    return std::min(1.0,
+                    std::max(std::pow(rtol, solver_.step_power), kTightestSolverTolerance / rtol));
+  }
+  // Below it the factor stops at kTightestSolverTolerance: nothing changes.
+  double tightest_tolerance() const override {
+    return solver_.step_power > 0.0
+               ? std::pow(kTightestSolverTolerance, 1.0 / (1.0 + solver_.step_power))
+               : Integrator::tightest_tolerance();
+  }
   State run(DynamicSystem& system, const State& initial, double t_end) override;
   void setup(Sundials& sun, CallbackData& data, const State& initial, double t_end);
   void deliver(CallbackData& data, double t, N_Vector x);
@@ -146,7 +165,10 @@ State SundialsIntegrator::run(DynamicSystem& system, const State& initial, doubl
   data.m = system.num_extra_states();
   if (2 * data.n + data.m == 0)
     throw ModelError(fmt::format("integrator '{}': the system has no state", name()));
-  ErrorWeights weights(options_, name(), data.n, data.m);
+  IntegratorOptions transformed = options_;
+  transformed.relative_tolerance *= tolerance_factor();
+  transformed.absolute_tolerance *= tolerance_factor();
+  ErrorWeights weights(transformed, name(), data.n, data.m);
   data.weights = &weights;
   data.scale = Vector::Ones(2 * data.n + data.m);
   for (std::size_t i = 0; i < options_.q_scale.size(); ++i)

@@ -55,6 +55,10 @@ struct SundialsSolver {
   int (*jacobian_evaluations)(void* mem, long* n);
   int (*newton_iterations)(void* mem, long* n);
   const char* prefix;  // of the calls' names in messages: "CVode"
+  // > 0: each step's error is held within rtol^step_power of the error weights (the
+  // tolerance transformed, as newmark.hpp's), but the solver's tolerance not below
+  // kTightestSolverTolerance (sundials_integrator.cpp). 0: the weights as they are.
+  double step_power = 0.0;
 };
 
 std::unique_ptr<Integrator> make_sundials_integrator(IntegratorOptions options,
