@@ -26,7 +26,17 @@ LoopClosure::LoopClosure(const Model& model)
       lu_(m_),
       P_(m_, n_),
       T_(Matrix::Zero(n_ + m_, n_)),
-      c_(Vector::Zero(n_ + m_)) {
+      c_(Vector::Zero(n_ + m_)),
+      mu_(m_),
+      a_x_rows_(n_ + m_, m_),
+      a_xd_rows_(n_ + m_, m_),
+      hessian_(n_ + m_, n_ + m_),
+      aT_(m_, n_),
+      HT_(n_ + m_, n_),
+      dxd_dq_(Matrix::Zero(n_ + m_, n_)),
+      dxdd_dq_(Matrix::Zero(n_ + m_, n_)),
+      dxdd_dqd_(Matrix::Zero(n_ + m_, n_)),
+      curvature_(n_, n_) {
   T_.topRows(n_).setIdentity();
 }
 
@@ -100,6 +110,29 @@ void LoopClosure::close(const Model& model, double t, const Vector& q, const Vec
   if (!(gamma_.allFinite() && xd.allFinite())) not_closed(model, t, x, Failure::not_finite);
   step_ = lu_.solve(gamma_);
   c_.tail(m_) = -step_;
+}
+
+void LoopClosure::derivatives(const Model& model, double t, const Vector& x, const Vector& xd,
+                              const Vector& xdd, const Vector& F) {
+  // mu = g_p⁻ᵀ·F_p, by lu_ (g_p at the solution, close()).
+  mu_ = lu_.transpose().solve(F.tail(m_));
+  model.constraint_derivatives(t, x.data(), xd.data(), xdd.data(), mu_.data(), a_x_rows_.data(),
+                               a_xd_rows_.data(), hessian_.data());
+  // The row-major arrays read column-major are the transposes: a_x_rows_ = a_xᵀ; H is symmetric.
+  const auto a_x = a_x_rows_.transpose(), a_xd = a_xd_rows_.transpose();
+  // dxdd/dqd = [0; -g_p⁻¹·a_xd·T]
+  aT_.noalias() = a_xd * T_;
+  dxdd_dqd_.bottomRows(m_) = -lu_.solve(aT_);
+  // dxd/dq = [0; -g_p⁻¹·(a_xd/2)·T], half of it
+  dxd_dq_.bottomRows(m_) = 0.5 * dxdd_dqd_.bottomRows(m_);
+  // dxdd/dq = [0; -g_p⁻¹·(a_x·T + a_xd·dxd/dq)]
+  aT_.noalias() = a_x * T_;
+  aT_.noalias() += a_xd * dxd_dq_;
+  dxdd_dq_.bottomRows(m_) = -lu_.solve(aT_);
+  HT_.noalias() = hessian_ * T_;
+  curvature_.noalias() = T_.transpose() * HT_;
+  if (!(dxdd_dq_.allFinite() && dxdd_dqd_.allFinite() && curvature_.allFinite()))
+    not_closed(model, t, x, Failure::not_finite);
 }
 
 void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Failure why) const {

@@ -13,6 +13,19 @@
 //
 // The tree's M_x·xdd + h_x = Q_x + g_xᵀ·λ then reduces (Tᵀ·g_xᵀ = 0) to
 //   (Tᵀ·M_x·T)·qdd = Tᵀ·(Q_x - h_x - M_x·c).
+// The exact Jacobians of the reduced residual f = Tᵀ·F(x, xd, xdd), F the
+// tree's, differentiate T, xd and xdd too. With a = g_x·xdd + gamma (a = 0
+// is the loops' equations twice differentiated in time) and its emitted
+// a_x = ∂a/∂x, a_xd = ∂a/∂xd = 2·∂(g_x·xd + g_t)/∂x:
+//   dx/dq = dxd/dqd = dxdd/dqdd = T,
+//   dxd/dq   = [0; -g_p⁻¹·(a_xd/2)·T],
+//   dxdd/dqd = [0; -g_p⁻¹·a_xd·T],
+//   dxdd/dq  = [0; -g_p⁻¹·(a_x·T + a_xd·dxd/dq)],
+//   (dT/dq_j)ᵀ·F = -Tᵀ·H·T·e_j,  H = ∂²(mu·g)/∂x², mu = g_p⁻ᵀ·F_p
+// (dP/dq_j = -g_p⁻¹·∂(g_x·T·e_j)/∂x·T, and H is symmetric), so that
+//   K = Tᵀ·(K_x·T + C_x·dxd/dq + M_x·dxdd/dq) - Tᵀ·H·T,
+//   C = Tᵀ·(C_x·T + M_x·dxdd/dqd),   M = Tᵀ·M_x·T.
+//
 // A loop that does not close (no convergence in kMaxIterations, a value not
 // finite) or a singular g_p (a toggle or dead-centre position: p not
 // determined by q) is a NumericError naming the loop, the time and the state.
@@ -44,6 +57,16 @@ class LoopClosure {
   const Matrix& T() const { return T_; }  // (nq x n)
   const Vector& c() const { return c_; }  // (nq)
 
+  // After close() at (t, q, qd), giving x and xd: the derivatives above at
+  // xdd (nq) with F the tree's residual there (nq), from the emitted
+  // constraint_derivatives (the model must have them).
+  void derivatives(const Model& model, double t, const Vector& x, const Vector& xd,
+                   const Vector& xdd, const Vector& F);
+  const Matrix& dxd_dq() const { return dxd_dq_; }        // (nq x n)
+  const Matrix& dxdd_dq() const { return dxdd_dq_; }      // (nq x n)
+  const Matrix& dxdd_dqd() const { return dxdd_dqd_; }    // (nq x n)
+  const Matrix& curvature() const { return curvature_; }  // Tᵀ·H·T (n x n)
+
   // The next close() starts from the guesses: the model's, or those given
   // (ncon, to choose an assembly: the solution Newton's iteration reaches).
   void reset() { solved_ = false; }
@@ -72,6 +95,10 @@ class LoopClosure {
   bool solved_ = false;
   Vector last_q_, last_p_;  // the last solution, the start of the next
   Matrix last_P_;
+  // derivatives(): the emitted arrays (row-major, so held transposed) and results
+  Vector mu_;
+  Matrix a_x_rows_, a_xd_rows_, hessian_, aT_, HT_;
+  Matrix dxd_dq_, dxdd_dq_, dxdd_dqd_, curvature_;
 };
 
 }  // namespace symdyn::runtime
