@@ -31,10 +31,31 @@
 // determined by q) is a NumericError naming the loop, the time and the state.
 
 #include <Eigen/LU>
+#include <vector>
 
 #include <symdyn/runtime/model.hpp>
 
 namespace symdyn::runtime {
+
+// LU factorization with partial pivoting of a small square matrix (g_p: a
+// few rows per loop), by plain loops: Eigen's PartialPivLU dispatches to
+// blocked kernels whose set-up costs more than the arithmetic at this size.
+// P·A = L·U, L unit lower triangular; no allocation after the first factor().
+class SmallLu {
+ public:
+  void factor(const Eigen::Ref<const Matrix>& A);
+  // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
+  double smallest_pivot_ratio() const { return ratio_; }
+  // b := A⁻¹·b, column by column (rows of b: those of A; a Vector binds too).
+  void solve_in_place(Eigen::Ref<Matrix> b) const;
+  // b := A⁻ᵀ·b
+  void solve_transposed_in_place(Eigen::Ref<Vector> b) const;
+
+ private:
+  Matrix lu_;
+  std::vector<int> swap_;  // row k was swapped with row swap_[k] at step k
+  double ratio_ = 0.0;
+};
 
 class LoopClosure {
  public:
@@ -79,7 +100,7 @@ class LoopClosure {
   void solve(const Model& model, double t, const Vector& q, Vector& x);
   // Factors g_p_, a NumericError naming the loops when singular.
   void factor(const Model& model, double t, const Vector& x);
-  double smallest_pivot() const;  // of lu_, as a share of g_p's largest entry
+  double smallest_pivot() const { return lu_.smallest_pivot_ratio(); }
   void evaluate(const Model& model, double t, const Vector& x);
   enum class Failure { singular, not_finite, no_convergence };
   [[noreturn, gnu::cold]] void not_closed(const Model& model, double t, const Vector& x,
@@ -87,9 +108,9 @@ class LoopClosure {
 
   int n_ = 0, m_ = 0;
   Vector g_, g_t_, gamma_, guess_, step_, dq_;
-  Matrix g_q_, g_p_;  // column-major copies of the emitted row-major arrays
-  Matrix g_q_rows_, g_p_rows_;
-  Eigen::PartialPivLU<Matrix> lu_;
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajorMatrix g_q_, g_p_;  // as emitted
+  SmallLu lu_;
   Matrix P_, T_;
   Vector c_;
   bool solved_ = false;
