@@ -37,56 +37,59 @@ LoopClosure::LoopClosure(const Model& model)
   T_.topRows(n_).setIdentity();
 }
 
-void SmallLu::factor(const Eigen::Ref<const Matrix>& A) {
-  const Eigen::Index n = A.rows();
-  lu_ = A;
+void SmallLu::factor(const double* A, int n) {
+  n_ = n;
+  lu_.assign(A, A + static_cast<std::ptrdiff_t>(n) * n);
   swap_.resize(static_cast<std::size_t>(n));
-  const double largest = n > 0 ? A.cwiseAbs().maxCoeff() : 0.0;
+  double largest = 0.0;
+  for (double v : lu_) largest = std::max(largest, std::abs(v));
   double smallest = largest;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    Eigen::Index p = k;
-    for (Eigen::Index i = k + 1; i < n; ++i) {
-      if (std::abs(lu_(i, k)) > std::abs(lu_(p, k))) p = i;
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i) {
+      if (std::abs(at(i, k)) > std::abs(at(p, k))) p = i;
     }
-    swap_[static_cast<std::size_t>(k)] = static_cast<int>(p);
-    if (p != k) lu_.row(k).swap(lu_.row(p));
-    const double pivot = lu_(k, k);
+    swap_[static_cast<std::size_t>(k)] = p;
+    if (p != k) {
+      for (int j = 0; j < n; ++j) std::swap(at(k, j), at(p, j));
+    }
+    const double pivot = at(k, k);
     smallest = std::min(smallest, std::abs(pivot));
     if (pivot == 0.0) continue;  // singular: the ratio says so, solves are not to be used
-    for (Eigen::Index i = k + 1; i < n; ++i) {
-      const double l = lu_(i, k) /= pivot;
-      for (Eigen::Index j = k + 1; j < n; ++j) lu_(i, j) -= l * lu_(k, j);
+    for (int i = k + 1; i < n; ++i) {
+      const double l = at(i, k) /= pivot;
+      for (int j = k + 1; j < n; ++j) at(i, j) -= l * at(k, j);
     }
   }
   ratio_ = largest > 0 ? smallest / largest : 0.0;
 }
 
-void SmallLu::solve_in_place(Eigen::Ref<Matrix> b) const {
-  const Eigen::Index n = lu_.rows();
-  for (Eigen::Index c = 0; c < b.cols(); ++c) {
-    for (Eigen::Index k = 0; k < n; ++k)
-      std::swap(b(k, c), b(swap_[static_cast<std::size_t>(k)], c));
-    for (Eigen::Index i = 1; i < n; ++i) {
-      for (Eigen::Index j = 0; j < i; ++j) b(i, c) -= lu_(i, j) * b(j, c);
-    }
-    for (Eigen::Index i = n - 1; i >= 0; --i) {
-      for (Eigen::Index j = i + 1; j < n; ++j) b(i, c) -= lu_(i, j) * b(j, c);
-      b(i, c) /= lu_(i, i);
-    }
+// P·b, then L·y = P·b forward, U·x = y backward.
+void SmallLu::solve_column(double* b) const {
+  for (int k = 0; k < n_; ++k) std::swap(b[k], b[swap_[static_cast<std::size_t>(k)]]);
+  for (int i = 1; i < n_; ++i) {
+    for (int j = 0; j < i; ++j) b[i] -= at(i, j) * b[j];
+  }
+  for (int i = n_ - 1; i >= 0; --i) {
+    for (int j = i + 1; j < n_; ++j) b[i] -= at(i, j) * b[j];
+    b[i] /= at(i, i);
   }
 }
 
+void SmallLu::solve_in_place(Matrix& b) const {
+  for (Eigen::Index c = 0; c < b.cols(); ++c) solve_column(b.col(c).data());
+}
+
 // Aᵀ = Uᵀ·Lᵀ·P: Uᵀ·y = b forward, Lᵀ·w = y backward, then b = Pᵀ·w.
-void SmallLu::solve_transposed_in_place(Eigen::Ref<Vector> b) const {
-  const Eigen::Index n = lu_.rows();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index j = 0; j < i; ++j) b(i) -= lu_(j, i) * b(j);
-    b(i) /= lu_(i, i);
+void SmallLu::solve_transposed_in_place(Vector& b) const {
+  for (int i = 0; i < n_; ++i) {
+    for (int j = 0; j < i; ++j) b(i) -= at(j, i) * b(j);
+    b(i) /= at(i, i);
   }
-  for (Eigen::Index i = n - 1; i >= 0; --i) {
-    for (Eigen::Index j = i + 1; j < n; ++j) b(i) -= lu_(j, i) * b(j);
+  for (int i = n_ - 1; i >= 0; --i) {
+    for (int j = i + 1; j < n_; ++j) b(i) -= at(j, i) * b(j);
   }
-  for (Eigen::Index k = n - 1; k >= 0; --k) std::swap(b(k), b(swap_[static_cast<std::size_t>(k)]));
+  for (int k = n_ - 1; k >= 0; --k) std::swap(b(k), b(swap_[static_cast<std::size_t>(k)]));
 }
 
 void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
@@ -94,7 +97,7 @@ void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
 }
 
 void LoopClosure::factor(const Model& model, double t, const Vector& x) {
-  lu_.factor(g_p_);
+  lu_.factor(g_p_.data(), m_);
   if (!(smallest_pivot() >= kSingularPivot)) not_closed(model, t, x, Failure::singular);
 }
 

@@ -43,17 +43,24 @@ namespace symdyn::runtime {
 // P·A = L·U, L unit lower triangular; no allocation after the first factor().
 class SmallLu {
  public:
-  void factor(const Eigen::Ref<const Matrix>& A);
+  // A (n x n) row-major, as the emitted arrays are.
+  void factor(const double* A, int n);
   // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
   double smallest_pivot_ratio() const { return ratio_; }
-  // b := A⁻¹·b, column by column (rows of b: those of A; a Vector binds too).
-  void solve_in_place(Eigen::Ref<Matrix> b) const;
+  // b := A⁻¹·b (each column of b).
+  void solve_in_place(Vector& b) const { solve_column(b.data()); }
+  void solve_in_place(Matrix& b) const;
   // b := A⁻ᵀ·b
-  void solve_transposed_in_place(Eigen::Ref<Vector> b) const;
+  void solve_transposed_in_place(Vector& b) const;
 
  private:
-  Matrix lu_;
-  std::vector<int> swap_;  // row k was swapped with row swap_[k] at step k
+  void solve_column(double* b) const;
+  double& at(int i, int j) { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
+  double at(int i, int j) const { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
+
+  int n_ = 0;
+  std::vector<double> lu_;  // L below the diagonal, U on and above it (n x n) row-major
+  std::vector<int> swap_;   // row k was swapped with row swap_[k] at step k
   double ratio_ = 0.0;
 };
 
