@@ -41,6 +41,7 @@ void SmallLu::factor(const double* A, int n) {
   n_ = n;
   lu_.assign(A, A + static_cast<std::ptrdiff_t>(n) * n);
   swap_.resize(static_cast<std::size_t>(n));
+  inverse_pivot_.resize(static_cast<std::size_t>(n));
   double largest = 0.0;
   for (double v : lu_) largest = std::max(largest, std::abs(v));
   double smallest = largest;
@@ -55,9 +56,10 @@ void SmallLu::factor(const double* A, int n) {
     }
     const double pivot = at(k, k);
     smallest = std::min(smallest, std::abs(pivot));
+    inverse_pivot_[static_cast<std::size_t>(k)] = 1.0 / pivot;
     if (pivot == 0.0) continue;  // singular: the ratio says so, solves are not to be used
     for (int i = k + 1; i < n; ++i) {
-      const double l = at(i, k) /= pivot;
+      const double l = at(i, k) *= inverse_pivot_[static_cast<std::size_t>(k)];
       for (int j = k + 1; j < n; ++j) at(i, j) -= l * at(k, j);
     }
   }
@@ -72,7 +74,7 @@ void SmallLu::solve_column(double* b) const {
   }
   for (int i = n_ - 1; i >= 0; --i) {
     for (int j = i + 1; j < n_; ++j) b[i] -= at(i, j) * b[j];
-    b[i] /= at(i, i);
+    b[i] *= inverse_pivot_[static_cast<std::size_t>(i)];
   }
 }
 
@@ -84,7 +86,7 @@ void SmallLu::solve_in_place(Matrix& b) const {
 void SmallLu::solve_transposed_in_place(Vector& b) const {
   for (int i = 0; i < n_; ++i) {
     for (int j = 0; j < i; ++j) b(i) -= at(j, i) * b(j);
-    b(i) /= at(i, i);
+    b(i) *= inverse_pivot_[static_cast<std::size_t>(i)];
   }
   for (int i = n_ - 1; i >= 0; --i) {
     for (int j = i + 1; j < n_; ++j) b(i) -= at(j, i) * b(j);
@@ -120,7 +122,10 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     const double scale = std::max({1.0, g_q_.cwiseAbs().maxCoeff(), g_p_.cwiseAbs().maxCoeff()});
     const double residual = g_.cwiseAbs().maxCoeff();
     const double rounding = 64 * std::numeric_limits<double>::epsilon() * scale;
-    if (residual <= rounding || (polished && residual <= kTolerance * scale)) break;
+    // A predicted start within the tolerance is kept as it is (no evaluation
+    // more); an iterate of Newton's gets one more step.
+    const bool predicted = iteration == 0 && solved_;
+    if (residual <= rounding || ((polished || predicted) && residual <= kTolerance * scale)) break;
     if (iteration == kMaxIterations) not_closed(model, t, x, Failure::no_convergence);
     polished = residual <= kTolerance * scale;
     factor(model, t, x);

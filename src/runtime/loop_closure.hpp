@@ -7,7 +7,8 @@
 //
 //   p:   Newton's iteration g_p·Δp = -g from the last solution (moved along
 //        dp/dq from its q) or the model's guesses, to |g| <= 1e-12·s, s the
-//        largest entry of [g_q g_p] (at least 1), with one more step after it;
+//        largest entry of [g_q g_p] (at least 1), with one more step after it
+//        (none where the start moved from the last solution is within it);
 //   pd = P·qd - g_p⁻¹·g_t,            P = -g_p⁻¹·g_q   (ncon x n);
 //   xdd = T·qdd + c,  T = [I; P],     c = [0; -g_p⁻¹·gamma].
 //
@@ -59,8 +60,9 @@ class SmallLu {
   double at(int i, int j) const { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
 
   int n_ = 0;
-  std::vector<double> lu_;  // L below the diagonal, U on and above it (n x n) row-major
-  std::vector<int> swap_;   // row k was swapped with row swap_[k] at step k
+  std::vector<double> lu_;             // L below the diagonal, U on and above it (n x n) row-major
+  std::vector<int> swap_;              // row k was swapped with row swap_[k] at step k
+  std::vector<double> inverse_pivot_;  // 1/U_kk: the solves multiply
   double ratio_ = 0.0;
 };
 
