@@ -125,10 +125,14 @@ int main() {
   const State start = system.initial_state();  // q0 = 0, qd0 = 5 rad/s
   const State x0 = system.extended_state(start);
   const Assembly a{x0.q(1), x0.q(2)};
-  // Soft constraints: MuJoCo's default impedance, and one close to rigid.
+  // Soft constraints: MuJoCo's default impedance and time constant, one
+  // impedance close to rigid, and with it the shortest time constant a step
+  // of 1 ms allows (2 steps).
   const std::vector<std::pair<const char*, std::string>> settings{
-      {"default (solimp 0.9 0.95)", ""},
-      {"stiff (solimp 0.9999 0.9999)", R"(solimp="0.9999 0.9999 0.001")"}};
+      {"default (solimp 0.9 0.95, solref 0.02)", ""},
+      {"stiff (solimp 0.9999 0.9999)", R"(solimp="0.9999 0.9999 0.001")"},
+      {"stiffest (solimp 0.9999 0.9999, solref 0.002)",
+       R"(solimp="0.9999 0.9999 0.001" solref="0.002 1")"}};
 
   // 1. The accelerations at the same states, q0 around the circle, at rest
   // (gravity alone) and moving (qd0 from 5 to -1.3 rad/s).
