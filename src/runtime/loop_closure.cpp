@@ -56,8 +56,8 @@ void SmallLu::factor(const double* A, int n) {
     }
     const double pivot = at(k, k);
     smallest = std::min(smallest, std::abs(pivot));
-    inverse_pivot_[static_cast<std::size_t>(k)] = 1.0 / pivot;
     if (pivot == 0.0) continue;  // singular: the ratio says so, solves are not to be used
+    inverse_pivot_[static_cast<std::size_t>(k)] = 1.0 / pivot;
     for (int i = k + 1; i < n; ++i) {
       const double l = at(i, k) *= inverse_pivot_[static_cast<std::size_t>(k)];
       for (int j = k + 1; j < n; ++j) at(i, j) -= l * at(k, j);
@@ -122,8 +122,8 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     const double scale = std::max({1.0, g_q_.cwiseAbs().maxCoeff(), g_p_.cwiseAbs().maxCoeff()});
     const double residual = g_.cwiseAbs().maxCoeff();
     const double rounding = 64 * std::numeric_limits<double>::epsilon() * scale;
-    // A predicted start within the tolerance is kept as it is (no evaluation
-    // more); an iterate of Newton's gets one more step.
+    // A predicted start within the tolerance is kept as it is (no step, no
+    // second evaluation); an iterate of Newton's gets one more step.
     const bool predicted = iteration == 0 && solved_;
     if (residual <= rounding || ((polished || predicted) && residual <= kTolerance * scale)) break;
     if (iteration == kMaxIterations) not_closed(model, t, x, Failure::no_convergence);

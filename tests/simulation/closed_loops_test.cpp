@@ -340,3 +340,31 @@ TEST_CASE("the implicit slider-crank's exact Jacobians equal the explicit one's"
     CHECK(relative(Ke, Ki) <= 1e-12);
   }
 }
+
+TEST_CASE("SmallLu solves as a direct product checks, transposed too, and flags a singular g_p",
+          "[loops]") {
+  std::mt19937 rng(43u);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  for (int n = 1; n <= 6; ++n) {
+    CAPTURE(n);
+    // Row-major, as the emitted g_p.
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> A(n, n);
+    for (int i = 0; i < n * n; ++i) A.data()[i] = entry(rng);
+    SmallLu lu;
+    lu.factor(A.data(), n);
+    CHECK(lu.smallest_pivot_ratio() > 0);
+    Matrix B(n, 3);
+    for (int i = 0; i < 3 * n; ++i) B.data()[i] = entry(rng);
+    Matrix X = B;
+    lu.solve_in_place(X);
+    CHECK(max_abs(A * X - B) <= 1e-12 * (1 + max_abs(A) * max_abs(X)));
+    Vector b = B.col(0), y = b;
+    lu.solve_transposed_in_place(y);
+    CHECK(max_abs(A.transpose() * y - b) <= 1e-12 * (1 + max_abs(A) * max_abs(y)));
+  }
+  // Two equal rows.
+  const double singular[4] = {1.0, 2.0, 1.0, 2.0};
+  SmallLu lu;
+  lu.factor(singular, 2);
+  CHECK(lu.smallest_pivot_ratio() == 0.0);
+}
