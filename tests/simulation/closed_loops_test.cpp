@@ -318,8 +318,9 @@ TEST_CASE("the loops' exact Jacobians agree with extrapolated differences of the
   }
 }
 
-TEST_CASE("the implicit slider-crank's exact Jacobians equal the explicit one's",
-          "[models][loops]") {
+TEST_CASE(
+    "the implicit slider-crank's exact Jacobians and dynamics derivatives equal the explicit one's",
+    "[models][loops]") {
   MultibodySystem explicit_(Model::from<gen::slider_crank_dependent>());
   MultibodySystem implicit(Model::from<gen::slider_crank_implicit>());
   REQUIRE(explicit_.exact_jacobians());
@@ -338,6 +339,14 @@ TEST_CASE("the implicit slider-crank's exact Jacobians equal the explicit one's"
     CHECK(relative(Me, Mi) <= 1e-12);
     CHECK(relative(Ce, Ci) <= 1e-12);
     CHECK(relative(Ke, Ki) <= 1e-12);
+    // The forward dynamics' derivatives, and M⁻¹, through them.
+    DynamicsDerivatives de, di;
+    explicit_.dynamics_derivatives(s, de, true);
+    implicit.dynamics_derivatives(s, di, true);
+    CHECK(relative(de.qdd, di.qdd) <= 1e-12);
+    CHECK(relative(de.dqdd_dq, di.dqdd_dq) <= 1e-11);
+    CHECK(relative(de.dqdd_dqd, di.dqdd_dqd) <= 1e-11);
+    CHECK(relative(de.dqdd_dtau, di.dqdd_dtau) <= 1e-12);
   }
 }
 
