@@ -2,7 +2,8 @@
 // the slider-crank with its dependent parameters in closed form and with its
 // loop given implicitly (the same mechanics, docs/models.md), and of the
 // four-bar, the double-wishbone quarter car and the Stewart platform, along a
-// slow trajectory (each solve starts near the last one).
+// slow trajectory (each solve starts near the last one); and their Jacobians
+// (M, C, K), exact and by differences.
 #include <benchmark/benchmark.h>
 
 #include "four_bar.hpp"
@@ -43,6 +44,26 @@ void accelerations_about_initial(benchmark::State& state, int coordinate, double
     system.accelerations(s, qdd, yd);
     benchmark::DoNotOptimize(qdd.data());
   }
+}
+
+// M, C, K of the residual at the accelerations, along the same trajectory:
+// exact (emitted derivatives, the loops' included) or central differences of
+// the reduced residual (what loop models had before constraint_derivatives).
+template <class G>
+void jacobians(benchmark::State& state) {
+  MultibodySystem system(Model::from<G>());
+  system.set_exact_jacobians(state.range(0) != 0);
+  State s = system.initial_state();
+  Vector qdd, yd;
+  Matrix M, C, K;
+  int k = 0;
+  for (auto _ : state) {
+    s.q(0) = 1e-4 * (k++ % 100000);
+    system.accelerations(s, qdd, yd);
+    system.jacobians(s, qdd, M, C, K);
+    benchmark::DoNotOptimize(K.data());
+  }
+  state.SetLabel(state.range(0) ? "exact" : "central differences");
 }
 
 BENCHMARK_TEMPLATE(accelerations, symdyn_generated::slider_crank_dependent);
@@ -87,6 +108,9 @@ void stewart_tree_equations(benchmark::State& state) {
   }
 }
 BENCHMARK(stewart_tree_equations);
+BENCHMARK_TEMPLATE(jacobians, symdyn_generated::slider_crank_dependent)->Arg(1)->Arg(0);
+BENCHMARK_TEMPLATE(jacobians, symdyn_generated::slider_crank_implicit)->Arg(1)->Arg(0);
+BENCHMARK_TEMPLATE(jacobians, symdyn_generated::four_bar)->Arg(1)->Arg(0);
 
 }  // namespace
 

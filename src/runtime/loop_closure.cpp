@@ -21,30 +21,85 @@ LoopClosure::LoopClosure(const Model& model)
       dq_(n_),
       g_q_(m_, n_),
       g_p_(m_, m_),
-      g_q_rows_(n_, m_),
-      g_p_rows_(m_, m_),
-      lu_(m_),
       P_(m_, n_),
       T_(Matrix::Zero(n_ + m_, n_)),
-      c_(Vector::Zero(n_ + m_)) {
+      c_(Vector::Zero(n_ + m_)),
+      mu_(m_),
+      a_x_rows_(n_ + m_, m_),
+      a_xd_rows_(n_ + m_, m_),
+      hessian_(n_ + m_, n_ + m_),
+      aT_(m_, n_),
+      HT_(n_ + m_, n_),
+      dxd_dq_(Matrix::Zero(n_ + m_, n_)),
+      dxdd_dq_(Matrix::Zero(n_ + m_, n_)),
+      dxdd_dqd_(Matrix::Zero(n_ + m_, n_)),
+      curvature_(n_, n_) {
   T_.topRows(n_).setIdentity();
 }
 
-// The emitted arrays are row-major: a column-major (n x m) buffer holds the
-// transpose.
-void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
-  model.constraints(t, x.data(), g_.data(), g_q_rows_.data(), g_p_rows_.data(), g_t_.data());
-  g_q_ = g_q_rows_.transpose();
-  g_p_ = g_p_rows_.transpose();
+void SmallLu::factor(const double* A, int n) {
+  n_ = n;
+  lu_.assign(A, A + static_cast<std::ptrdiff_t>(n) * n);
+  swap_.resize(static_cast<std::size_t>(n));
+  inverse_pivot_.resize(static_cast<std::size_t>(n));
+  double largest = 0.0;
+  for (double v : lu_) largest = std::max(largest, std::abs(v));
+  double smallest = largest;
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i) {
+      if (std::abs(at(i, k)) > std::abs(at(p, k))) p = i;
+    }
+    swap_[static_cast<std::size_t>(k)] = p;
+    if (p != k) {
+      for (int j = 0; j < n; ++j) std::swap(at(k, j), at(p, j));
+    }
+    const double pivot = at(k, k);
+    smallest = std::min(smallest, std::abs(pivot));
+    if (pivot == 0.0) continue;  // singular: the ratio says so, solves are not to be used
+    inverse_pivot_[static_cast<std::size_t>(k)] = 1.0 / pivot;
+    for (int i = k + 1; i < n; ++i) {
+      const double l = at(i, k) *= inverse_pivot_[static_cast<std::size_t>(k)];
+      for (int j = k + 1; j < n; ++j) at(i, j) -= l * at(k, j);
+    }
+  }
+  ratio_ = largest > 0 ? smallest / largest : 0.0;
 }
 
-double LoopClosure::smallest_pivot() const {
-  const double largest = g_p_.cwiseAbs().maxCoeff();
-  return largest > 0 ? lu_.matrixLU().diagonal().cwiseAbs().minCoeff() / largest : 0.0;
+// P·b, then L·y = P·b forward, U·x = y backward.
+void SmallLu::solve_column(double* b) const {
+  for (int k = 0; k < n_; ++k) std::swap(b[k], b[swap_[static_cast<std::size_t>(k)]]);
+  for (int i = 1; i < n_; ++i) {
+    for (int j = 0; j < i; ++j) b[i] -= at(i, j) * b[j];
+  }
+  for (int i = n_ - 1; i >= 0; --i) {
+    for (int j = i + 1; j < n_; ++j) b[i] -= at(i, j) * b[j];
+    b[i] *= inverse_pivot_[static_cast<std::size_t>(i)];
+  }
+}
+
+void SmallLu::solve_in_place(Matrix& b) const {
+  for (Eigen::Index c = 0; c < b.cols(); ++c) solve_column(b.col(c).data());
+}
+
+// Aᵀ = Uᵀ·Lᵀ·P: Uᵀ·y = b forward, Lᵀ·w = y backward, then b = Pᵀ·w.
+void SmallLu::solve_transposed_in_place(Vector& b) const {
+  for (int i = 0; i < n_; ++i) {
+    for (int j = 0; j < i; ++j) b(i) -= at(j, i) * b(j);
+    b(i) *= inverse_pivot_[static_cast<std::size_t>(i)];
+  }
+  for (int i = n_ - 1; i >= 0; --i) {
+    for (int j = i + 1; j < n_; ++j) b(i) -= at(j, i) * b(j);
+  }
+  for (int k = n_ - 1; k >= 0; --k) std::swap(b(k), b(swap_[static_cast<std::size_t>(k)]));
+}
+
+void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
+  model.constraints(t, x.data(), g_.data(), g_q_.data(), g_p_.data(), g_t_.data());
 }
 
 void LoopClosure::factor(const Model& model, double t, const Vector& x) {
-  lu_.compute(g_p_);
+  lu_.factor(g_p_.data(), m_);
   if (!(smallest_pivot() >= kSingularPivot)) not_closed(model, t, x, Failure::singular);
 }
 
@@ -55,7 +110,7 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   if (solved_) {
     dq_ = q - last_q_;
     x.tail(m_) = last_p_;
-    x.tail(m_).noalias() += last_P_ * dq_;
+    x.tail(m_).noalias() += last_P_.lazyProduct(dq_);
   } else {
     x.tail(m_) = guess_;
   }
@@ -67,16 +122,20 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     const double scale = std::max({1.0, g_q_.cwiseAbs().maxCoeff(), g_p_.cwiseAbs().maxCoeff()});
     const double residual = g_.cwiseAbs().maxCoeff();
     const double rounding = 64 * std::numeric_limits<double>::epsilon() * scale;
-    if (residual <= rounding || (polished && residual <= kTolerance * scale)) break;
+    // A predicted start within the tolerance is kept as it is (no step, no
+    // second evaluation); an iterate of Newton's gets one more step.
+    const bool predicted = iteration == 0 && solved_;
+    if (residual <= rounding || ((polished || predicted) && residual <= kTolerance * scale)) break;
     if (iteration == kMaxIterations) not_closed(model, t, x, Failure::no_convergence);
     polished = residual <= kTolerance * scale;
     factor(model, t, x);
-    step_ = lu_.solve(g_);
+    step_ = g_;
+    lu_.solve_in_place(step_);
     x.tail(m_) -= step_;
   }
   factor(model, t, x);
-  P_ = lu_.solve(g_q_);
-  P_ *= -1.0;
+  P_ = -g_q_;
+  lu_.solve_in_place(P_);
   T_.bottomRows(m_) = P_;
   solved_ = true;
   last_q_ = q;
@@ -93,13 +152,41 @@ void LoopClosure::close(const Model& model, double t, const Vector& q, const Vec
   solve(model, t, q, x);
   xd.resize(n_ + m_);
   xd.head(n_) = qd;
-  xd.tail(m_).noalias() = P_ * qd;
-  step_ = lu_.solve(g_t_);
+  xd.tail(m_).noalias() = P_.lazyProduct(qd);
+  step_ = g_t_;
+  lu_.solve_in_place(step_);
   xd.tail(m_) -= step_;
   model.constraint_bias(t, x.data(), xd.data(), gamma_.data());
   if (!(gamma_.allFinite() && xd.allFinite())) not_closed(model, t, x, Failure::not_finite);
-  step_ = lu_.solve(gamma_);
-  c_.tail(m_) = -step_;
+  step_ = -gamma_;
+  lu_.solve_in_place(step_);
+  c_.tail(m_) = step_;
+}
+
+void LoopClosure::derivatives(const Model& model, double t, const Vector& x, const Vector& xd,
+                              const Vector& xdd, const Vector& F) {
+  // mu = g_p⁻ᵀ·F_p, by lu_ (g_p at the solution, close()).
+  mu_ = F.tail(m_);
+  lu_.solve_transposed_in_place(mu_);
+  model.constraint_derivatives(t, x.data(), xd.data(), xdd.data(), mu_.data(), a_x_rows_.data(),
+                               a_xd_rows_.data(), hessian_.data());
+  // The row-major arrays read column-major are the transposes: a_x_rows_ = a_xᵀ; H is symmetric.
+  const auto a_x = a_x_rows_.transpose(), a_xd = a_xd_rows_.transpose();
+  // dxdd/dqd = [0; -g_p⁻¹·a_xd·T]
+  aT_.noalias() = -a_xd * T_;
+  lu_.solve_in_place(aT_);
+  dxdd_dqd_.bottomRows(m_) = aT_;
+  // dxd/dq = [0; -g_p⁻¹·(a_xd/2)·T], half of it
+  dxd_dq_.bottomRows(m_) = 0.5 * dxdd_dqd_.bottomRows(m_);
+  // dxdd/dq = [0; -g_p⁻¹·(a_x·T + a_xd·dxd/dq)]
+  aT_.noalias() = -a_x * T_;
+  aT_.noalias() -= a_xd * dxd_dq_;
+  lu_.solve_in_place(aT_);
+  dxdd_dq_.bottomRows(m_) = aT_;
+  HT_.noalias() = hessian_ * T_;
+  curvature_.noalias() = T_.transpose() * HT_;
+  if (!(dxdd_dq_.allFinite() && dxdd_dqd_.allFinite() && curvature_.allFinite()))
+    not_closed(model, t, x, Failure::not_finite);
 }
 
 void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Failure why) const {

@@ -7,21 +7,64 @@
 //
 //   p:   Newton's iteration g_p·Δp = -g from the last solution (moved along
 //        dp/dq from its q) or the model's guesses, to |g| <= 1e-12·s, s the
-//        largest entry of [g_q g_p] (at least 1), with one more step after it;
+//        largest entry of [g_q g_p] (at least 1), with one more step after it
+//        (none where the start moved from the last solution is within it);
 //   pd = P·qd - g_p⁻¹·g_t,            P = -g_p⁻¹·g_q   (ncon x n);
 //   xdd = T·qdd + c,  T = [I; P],     c = [0; -g_p⁻¹·gamma].
 //
 // The tree's M_x·xdd + h_x = Q_x + g_xᵀ·λ then reduces (Tᵀ·g_xᵀ = 0) to
 //   (Tᵀ·M_x·T)·qdd = Tᵀ·(Q_x - h_x - M_x·c).
+// The exact Jacobians of the reduced residual f = Tᵀ·F(x, xd, xdd), F the
+// tree's, differentiate T, xd and xdd too. With a = g_x·xdd + gamma (a = 0
+// is the loops' equations twice differentiated in time) and its emitted
+// a_x = ∂a/∂x, a_xd = ∂a/∂xd = 2·∂(g_x·xd + g_t)/∂x:
+//   dx/dq = dxd/dqd = dxdd/dqdd = T,
+//   dxd/dq   = [0; -g_p⁻¹·(a_xd/2)·T],
+//   dxdd/dqd = [0; -g_p⁻¹·a_xd·T],
+//   dxdd/dq  = [0; -g_p⁻¹·(a_x·T + a_xd·dxd/dq)],
+//   (dT/dq_j)ᵀ·F = -Tᵀ·H·T·e_j,  H = ∂²(mu·g)/∂x², mu = g_p⁻ᵀ·F_p
+// (dP/dq_j = -g_p⁻¹·∂(g_x·T·e_j)/∂x·T, and H is symmetric), so that
+//   K = Tᵀ·(K_x·T + C_x·dxd/dq + M_x·dxdd/dq) - Tᵀ·H·T,
+//   C = Tᵀ·(C_x·T + M_x·dxdd/dqd),   M = Tᵀ·M_x·T.
+//
 // A loop that does not close (no convergence in kMaxIterations, a value not
 // finite) or a singular g_p (a toggle or dead-centre position: p not
 // determined by q) is a NumericError naming the loop, the time and the state.
 
 #include <Eigen/LU>
+#include <vector>
 
 #include <symdyn/runtime/model.hpp>
 
 namespace symdyn::runtime {
+
+// LU factorization with partial pivoting of a small square matrix (g_p: a
+// few rows per loop), by plain loops: Eigen's PartialPivLU dispatches to
+// blocked kernels whose set-up costs more than the arithmetic at this size.
+// P·A = L·U, L unit lower triangular; no allocation after the first factor().
+class SmallLu {
+ public:
+  // A (n x n) row-major, as the emitted arrays are.
+  void factor(const double* A, int n);
+  // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
+  double smallest_pivot_ratio() const { return ratio_; }
+  // b := A⁻¹·b (each column of b).
+  void solve_in_place(Vector& b) const { solve_column(b.data()); }
+  void solve_in_place(Matrix& b) const;
+  // b := A⁻ᵀ·b
+  void solve_transposed_in_place(Vector& b) const;
+
+ private:
+  void solve_column(double* b) const;
+  double& at(int i, int j) { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
+  double at(int i, int j) const { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
+
+  int n_ = 0;
+  std::vector<double> lu_;             // L below the diagonal, U on and above it (n x n) row-major
+  std::vector<int> swap_;              // row k was swapped with row swap_[k] at step k
+  std::vector<double> inverse_pivot_;  // 1/U_kk: the solves multiply
+  double ratio_ = 0.0;
+};
 
 class LoopClosure {
  public:
@@ -44,6 +87,16 @@ class LoopClosure {
   const Matrix& T() const { return T_; }  // (nq x n)
   const Vector& c() const { return c_; }  // (nq)
 
+  // After close() at (t, q, qd), giving x and xd: the derivatives above at
+  // xdd (nq) with F the tree's residual there (nq), from the emitted
+  // constraint_derivatives (the model must have them).
+  void derivatives(const Model& model, double t, const Vector& x, const Vector& xd,
+                   const Vector& xdd, const Vector& F);
+  const Matrix& dxd_dq() const { return dxd_dq_; }        // (nq x n)
+  const Matrix& dxdd_dq() const { return dxdd_dq_; }      // (nq x n)
+  const Matrix& dxdd_dqd() const { return dxdd_dqd_; }    // (nq x n)
+  const Matrix& curvature() const { return curvature_; }  // Tᵀ·H·T (n x n)
+
   // The next close() starts from the guesses: the model's, or those given
   // (ncon, to choose an assembly: the solution Newton's iteration reaches).
   void reset() { solved_ = false; }
@@ -56,7 +109,7 @@ class LoopClosure {
   void solve(const Model& model, double t, const Vector& q, Vector& x);
   // Factors g_p_, a NumericError naming the loops when singular.
   void factor(const Model& model, double t, const Vector& x);
-  double smallest_pivot() const;  // of lu_, as a share of g_p's largest entry
+  double smallest_pivot() const { return lu_.smallest_pivot_ratio(); }
   void evaluate(const Model& model, double t, const Vector& x);
   enum class Failure { singular, not_finite, no_convergence };
   [[noreturn, gnu::cold]] void not_closed(const Model& model, double t, const Vector& x,
@@ -64,14 +117,18 @@ class LoopClosure {
 
   int n_ = 0, m_ = 0;
   Vector g_, g_t_, gamma_, guess_, step_, dq_;
-  Matrix g_q_, g_p_;  // column-major copies of the emitted row-major arrays
-  Matrix g_q_rows_, g_p_rows_;
-  Eigen::PartialPivLU<Matrix> lu_;
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajorMatrix g_q_, g_p_;  // as emitted
+  SmallLu lu_;
   Matrix P_, T_;
   Vector c_;
   bool solved_ = false;
   Vector last_q_, last_p_;  // the last solution, the start of the next
   Matrix last_P_;
+  // derivatives(): the emitted arrays (row-major, so held transposed) and results
+  Vector mu_;
+  Matrix a_x_rows_, a_xd_rows_, hessian_, aT_, HT_;
+  Matrix dxd_dq_, dxdd_dq_, dxdd_dqd_, curvature_;
 };
 
 }  // namespace symdyn::runtime

@@ -134,6 +134,13 @@ void Model::constraint_bias(double t, const double* x, const double* xd, double*
   d_.constraint_bias(t, x, xd, param_.data(), gamma);
 }
 
+void Model::constraint_derivatives(double t, const double* x, const double* xd, const double* xdd,
+                                   const double* mu, double* a_x, double* a_xd,
+                                   double* hessian) const {
+  if (d_.constraint_derivatives == nullptr) missing("constraint_derivatives");
+  d_.constraint_derivatives(t, x, xd, xdd, param_.data(), mu, a_x, a_xd, hessian);
+}
+
 void Model::validate_diagnostics() const {
   const auto fail = [&](const std::string& what) {
     throw ModelError(fmt::format("model '{}': {}", d_.model, what));

@@ -81,6 +81,11 @@ using ConstraintsFn = void (*)(double t, const double* q, const double* param, d
                                double* g_q, double* g_p, double* g_t);
 using ConstraintBiasFn = void (*)(double t, const double* q, const double* qd, const double* param,
                                   double* gamma);
+// With a = g_x·qdd + gamma: a_x = da/dx, a_xd = da/dxd (ncon x nq each) and the
+// Hessian d²(mu·g)/dx² (nq x nq) at x = q, xd = qd, xdd = qdd, weights mu (ncon).
+using ConstraintDerivativesFn = void (*)(double t, const double* q, const double* qd,
+                                         const double* qdd, const double* param, const double* mu,
+                                         double* a_x, double* a_xd, double* hessian);
 // qdd = M⁻¹·(tau - h) (nq) by the articulated-body algorithm; returns -1, or the
 // first coordinate whose pivot failed (then qdd is not to be used).
 using ForwardDynamicsFn = int (*)(double t, const double* q, const double* qd, const double* tau,
@@ -179,6 +184,10 @@ concept has_loops = requires(double t, const double* c, double* o) {
   G::constraint_bias(t, c, c, c, o);
 };
 template <class G>
+concept has_constraint_derivatives = requires(double t, const double* c, double* o) {
+  G::constraint_derivatives(t, c, c, c, c, c, o, o, o);
+};
+template <class G>
 concept has_angle_sequences = requires {
   { G::nangle_sequences } -> std::convertible_to<int>;
   G::angle_sequence_body[0];
@@ -258,6 +267,7 @@ struct ModelDescription {
   std::vector<int> constraint_loop;  // (nq - nindependent) the loop of each equation
   ConstraintsFn constraints = nullptr;
   ConstraintBiasFn constraint_bias = nullptr;
+  ConstraintDerivativesFn constraint_derivatives = nullptr;  // only where asked for
 };
 
 class Model {
@@ -293,6 +303,11 @@ class Model {
   void constraints(double t, const double* x, double* g, double* g_q, double* g_p,
                    double* g_t) const;
   void constraint_bias(double t, const double* x, const double* xd, double* gamma) const;
+  // a_x, a_xd (ncon x nq each) and the Hessian of mu·g (nq x nq), row-major, at
+  // x, xd, xdd (nq each) and mu (ncon): the exact Jacobians' part of the loops.
+  bool has_constraint_derivatives() const { return d_.constraint_derivatives != nullptr; }
+  void constraint_derivatives(double t, const double* x, const double* xd, const double* xdd,
+                              const double* mu, double* a_x, double* a_xd, double* hessian) const;
 
   const std::vector<std::string>& q_names() const { return d_.q_names; }
   const std::vector<std::string>& body_names() const { return d_.body_names; }
@@ -488,6 +503,8 @@ ModelDescription Model::describe() {
       d.constraint_loop.push_back(G::constraint_loop[k]);
     d.constraints = &G::constraints;
     d.constraint_bias = &G::constraint_bias;
+    if constexpr (detail::has_constraint_derivatives<G>)
+      d.constraint_derivatives = &G::constraint_derivatives;
   }
   if constexpr (detail::has_angle_sequences<G>) {
     for (int k = 0; k < G::nangle_sequences; ++k) {

@@ -664,6 +664,10 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
     jacobians_by_differences(s, qdd, M, C, K);
     return;
   }
+  if (model_.has_loops()) {
+    exact_loop_jacobians(s, qdd, M, C, K);
+    return;
+  }
   // f = tau(q, qd, qdd) - Q(q, qd): M = dtau/dqdd, C and K from the emitted
   // derivatives of tau, less those of the force elements' Q.
   exact_damping_stiffness(s, qdd, C, K);
@@ -683,13 +687,51 @@ void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd,
   if (!elements_.empty()) subtract_load_derivatives(s, C, K);
 }
 
+// K = Tᵀ·(K_x·T + C_x·dxd/dq + M_x·dxdd/dq) - Tᵀ·H·T, C = Tᵀ·(C_x·T +
+// M_x·dxdd/dqd), M = Tᵀ·M_x·T (loop_closure.hpp), the tree's at the extended
+// state and xdd = T·qdd + c.
+void MultibodySystem::exact_loop_jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C,
+                                           Matrix& K) {
+  check_independent(s);
+  if (qdd.size() != num_coordinates()) {
+    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
+                                 qdd.size(), num_coordinates()));
+  }
+  const State& x = close(s);
+  xdd_ = loops_.c();
+  xdd_.noalias() += loops_.T() * qdd;
+  jacobian_yd_.setZero(num_extra_states());
+  tree_residual(x, xdd_, jacobian_yd_, rhs_x_, jacobian_g_);
+  exact_damping_stiffness(x, xdd_, tree_C_, tree_K_);
+  mass_matrix_emitted(x, tree_M_);
+  loops_.derivatives(model_, x.t, x.q, x.qd, xdd_, rhs_x_);
+  const Matrix& T = loops_.T();
+  M.resize(T.cols(), T.cols());
+  C.resize(T.cols(), T.cols());
+  K.resize(T.cols(), T.cols());
+  // K
+  tree_KT_.noalias() = tree_K_ * T;
+  tree_KT_.noalias() += tree_C_ * loops_.dxd_dq();
+  tree_KT_.noalias() += tree_M_ * loops_.dxdd_dq();
+  K.noalias() = T.transpose() * tree_KT_;
+  K -= loops_.curvature();
+  // C
+  tree_KT_.noalias() = tree_C_ * T;
+  tree_KT_.noalias() += tree_M_ * loops_.dxdd_dqd();
+  C.noalias() = T.transpose() * tree_KT_;
+  // M
+  tree_KT_.noalias() = tree_M_ * T;
+  M.noalias() = T.transpose() * tree_KT_;
+}
+
 bool MultibodySystem::exact_jacobians() const {
-  return use_exact_jacobians_ && !model_.has_loops() && source_ == EquationsSource::emitted &&
-         model_.has_inverse_dynamics_derivatives();
+  return use_exact_jacobians_ && source_ == EquationsSource::emitted &&
+         model_.has_inverse_dynamics_derivatives() &&
+         (!model_.has_loops() || model_.has_constraint_derivatives());
 }
 
 std::string MultibodySystem::jacobian_method() const {
-  if (model_.has_loops())
+  if (model_.has_loops() && !model_.has_constraint_derivatives())
     return "central differences of the residual (closed loops: no exact derivatives)";
   if (!exact_jacobians()) return "central differences of the residual";
   std::string differenced;
@@ -868,7 +910,7 @@ bool MultibodySystem::exact_acceleration_derivatives(const State& s, const Vecto
 void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
                                                Matrix& dqdd_dqd, bool factored) {
   // M·dqdd = -(K·dq + C·dqd) + dtau
-  if (factored && exact_jacobians()) {
+  if (factored && exact_jacobians() && !model_.has_loops()) {
     exact_damping_stiffness(s, qdd, dqdd_dqd, dqdd_dq);
   } else {
     Matrix& M = derivative_M_;

@@ -134,7 +134,8 @@ class MultibodySystem : public DynamicSystem {
   void accelerations(const State& s, Vector& qdd, Vector& yd) override;
   void residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f, Vector& g) override;
   // M = df/dqdd, C = df/dqd, K = df/dq at (s, qdd). Exact where the model was
-  // emitted with inverse_dynamics_derivatives (and the source is emitted): C
+  // emitted with inverse_dynamics_derivatives (and, with closed loops,
+  // constraint_derivatives; the source is emitted): C
   // and K are dtau/dqd and dtau/dq less the force elements' dQ/dqd and dQ/dq,
   // exact from the elements that give them (ForceElement::load_derivatives),
   // the others' part by central differences of their Q alone; otherwise M exact (from the
@@ -263,6 +264,9 @@ class MultibodySystem : public DynamicSystem {
                                 Matrix& dqdd_dqd, bool factored = false);
   // The exact C and K of jacobians(), without M.
   void exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K);
+  // With closed loops: the reduced M, C, K from the tree's at the extended
+  // state and the loops' derivatives (loop_closure.hpp).
+  void exact_loop_jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);
   void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
   // Whether the element's part of jacobians() is exact (else differenced).
   bool exact_loads(const ForceElement& e) const;
@@ -308,7 +312,9 @@ class MultibodySystem : public DynamicSystem {
   State jacobian_state_;                                         // jacobians(): the shifted state,
   Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
   Matrix derivative_M_;                                          // dynamics_derivatives(): M
-  Matrix load_dq_, load_dqd_;            // the force elements' dQ/dq, dQ/dqd
+  Matrix load_dq_, load_dqd_;  // the force elements' dQ/dq, dQ/dqd
+  Matrix tree_K_, tree_C_,
+      tree_KT_;  // exact_loop_jacobians(): the tree's K_x, C_x (nq x nq), a product (nq x n)
   KinematicsDerivatives dk_;             // where the model has them
   std::vector<double> base_v_, base_w_;  // k_'s v, w at the state differenced (nbody x 3)
 };

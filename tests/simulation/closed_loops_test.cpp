@@ -238,9 +238,9 @@ TEST_CASE("a loop at its toggle position or that cannot close is an error naming
   }
 }
 
-TEST_CASE("loop models report differenced Jacobians, and those agree with the accelerations",
+TEST_CASE("loop models without constraint_derivatives report differenced Jacobians",
           "[models][loops]") {
-  MultibodySystem system(Model::from<gen::four_bar>());
+  MultibodySystem system(Model::from<gen::four_bar_parametric>());
   CHECK_FALSE(system.exact_jacobians());
   CHECK(system.jacobian_method() ==
         "central differences of the residual (closed loops: no exact derivatives)");
@@ -256,4 +256,125 @@ TEST_CASE("loop models report differenced Jacobians, and those agree with the ac
   Vector fe, e = Vector::Constant(1, 0.5);
   system.residual(s, qdd + e, yd, fe, g);
   CHECK(max_abs(fe - f - M * e) <= 1e-12 * (1 + max_abs(M)));
+}
+
+namespace {
+
+// df/dq and df/dqd of the reduced residual at (s, qdd) by central differences
+// extrapolated (Richardson) from steps h and h/2: error O(h^4).
+void richardson_jacobians(MultibodySystem& system, const State& s, const Vector& qdd, Matrix& C,
+                          Matrix& K) {
+  const Eigen::Index n = s.q.size();
+  C.resize(n, n);
+  K.resize(n, n);
+  Vector yd = Vector::Zero(0), fp, fm, g;
+  const auto central = [&](Vector State::*field, Eigen::Index j, double h) {
+    State p = s;
+    (p.*field)(j) += h;
+    system.residual(p, qdd, yd, fp, g);
+    p = s;
+    (p.*field)(j) -= h;
+    system.residual(p, qdd, yd, fm, g);
+    return Vector((fp - fm) / (2 * h));
+  };
+  const double h = 1e-3;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    K.col(j) = (4 * central(&State::q, j, h / 2) - central(&State::q, j, h)) / 3;
+    C.col(j) = (4 * central(&State::qd, j, h / 2) - central(&State::qd, j, h)) / 3;
+  }
+}
+
+template <class Generated>
+void check_exact_loop_jacobians(std::uint32_t seed) {
+  MultibodySystem system(Model::from<Generated>());
+  REQUIRE(system.exact_jacobians());
+  CHECK(system.jacobian_method() == "exact (emitted derivatives)");
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> angle(-1.0, 1.0), rate(-20.0, 20.0), time(0.0, 1.0),
+      acceleration(-500.0, 500.0);
+  Matrix M, C, K, C_fd, K_fd, M_reduced;
+  for (int k = 0; k < 50; ++k) {
+    // q0 in steps of about 0.4 rad from the assembly: each solve from the last (one branch).
+    const State s = state(time(rng), 0.4 * k + 0.1 * angle(rng), rate(rng));
+    const Vector qdd = Vector::Constant(1, acceleration(rng));
+    CAPTURE(k, s.t, s.q(0), s.qd(0), qdd(0));
+    system.jacobians(s, qdd, M, C, K);
+    richardson_jacobians(system, s, qdd, C_fd, K_fd);
+    CHECK(relative(K, K_fd) <= 1e-8);
+    CHECK(relative(C, C_fd) <= 1e-8);
+    system.mass_matrix(s, M_reduced);
+    CHECK(relative(M, M_reduced) <= 1e-14);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("the loops' exact Jacobians agree with extrapolated differences of the residual",
+          "[models][loops]") {
+  SECTION("four-bar") {
+    check_exact_loop_jacobians<gen::four_bar>(31u);
+  }
+  SECTION("implicit slider-crank") {
+    check_exact_loop_jacobians<gen::slider_crank_implicit>(37u);
+  }
+}
+
+TEST_CASE(
+    "the implicit slider-crank's exact Jacobians and dynamics derivatives equal the explicit one's",
+    "[models][loops]") {
+  MultibodySystem explicit_(Model::from<gen::slider_crank_dependent>());
+  MultibodySystem implicit(Model::from<gen::slider_crank_implicit>());
+  REQUIRE(explicit_.exact_jacobians());
+  REQUIRE(implicit.exact_jacobians());
+  std::mt19937 rng(41u);
+  std::uniform_real_distribution<double> angle(-pi, pi), rate(-50.0, 50.0), time(0.0, 1.0),
+      acceleration(-2000.0, 2000.0);
+  Matrix Me, Ce, Ke, Mi, Ci, Ki;
+  for (int k = 0; k < 200; ++k) {
+    const State s = state(time(rng), angle(rng), rate(rng));
+    const Vector qdd = Vector::Constant(1, acceleration(rng));
+    CAPTURE(k, s.t, s.q(0), s.qd(0), qdd(0));
+    implicit.reset_loops();  // the closed form's branch, as above
+    explicit_.jacobians(s, qdd, Me, Ce, Ke);
+    implicit.jacobians(s, qdd, Mi, Ci, Ki);
+    CHECK(relative(Me, Mi) <= 1e-12);
+    CHECK(relative(Ce, Ci) <= 1e-12);
+    CHECK(relative(Ke, Ki) <= 1e-12);
+    // The forward dynamics' derivatives, and M⁻¹, through them.
+    DynamicsDerivatives de, di;
+    explicit_.dynamics_derivatives(s, de, true);
+    implicit.dynamics_derivatives(s, di, true);
+    CHECK(relative(de.qdd, di.qdd) <= 1e-12);
+    CHECK(relative(de.dqdd_dq, di.dqdd_dq) <= 1e-11);
+    CHECK(relative(de.dqdd_dqd, di.dqdd_dqd) <= 1e-11);
+    CHECK(relative(de.dqdd_dtau, di.dqdd_dtau) <= 1e-12);
+  }
+}
+
+TEST_CASE("SmallLu solves as a direct product checks, transposed too, and flags a singular g_p",
+          "[loops]") {
+  std::mt19937 rng(43u);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  for (int n = 1; n <= 6; ++n) {
+    CAPTURE(n);
+    // Row-major, as the emitted g_p.
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> A(n, n);
+    for (int i = 0; i < n * n; ++i) A.data()[i] = entry(rng);
+    SmallLu lu;
+    lu.factor(A.data(), n);
+    CHECK(lu.smallest_pivot_ratio() > 0);
+    Matrix B(n, 3);
+    for (int i = 0; i < 3 * n; ++i) B.data()[i] = entry(rng);
+    Matrix X = B;
+    lu.solve_in_place(X);
+    CHECK(max_abs(A * X - B) <= 1e-12 * (1 + max_abs(A) * max_abs(X)));
+    Vector b = B.col(0), y = b;
+    lu.solve_transposed_in_place(y);
+    CHECK(max_abs(A.transpose() * y - b) <= 1e-12 * (1 + max_abs(A) * max_abs(y)));
+  }
+  // Two equal rows.
+  const double singular[4] = {1.0, 2.0, 1.0, 2.0};
+  SmallLu lu;
+  lu.factor(singular, 2);
+  CHECK(lu.smallest_pivot_ratio() == 0.0);
 }

@@ -242,9 +242,18 @@ Derivation Deriver::derive(bool simplify) {
   }
   std::optional<model::Constraints> constraints;
   if (!model_.loops().empty()) constraints = model::derive_constraints(model_, k, derive.simplify);
+  std::optional<ConstraintDerivatives> constraint_derivatives;
+  if (constraints && derivatives) {
+    constraint_derivatives =
+        derive_constraint_derivatives(*constraints, inputs_[Input::q], inputs_[Input::qd],
+                                      inputs_[Input::qdd], inputs_[Input::mu], d.definitions);
+    d.definitions.insert(d.definitions.end(), constraint_derivatives->definitions.begin(),
+                         constraint_derivatives->definitions.end());
+  }
   d.entries = build_entry_points({model_, k, dynamics ? &*dynamics : nullptr,
                                   derivatives ? &*derivatives : nullptr,
-                                  constraints ? &*constraints : nullptr});
+                                  constraints ? &*constraints : nullptr,
+                                  constraint_derivatives ? &*constraint_derivatives : nullptr});
   const DynamicsWays ways{.method = options_.dynamics,
                           .nq = sizes_.nq,
                           .why_not = dynamics ? dynamics->why_not : std::string(),
@@ -292,6 +301,8 @@ bool Deriver::derivable(const Needs& needs, const Quantities& quantities) const 
   return partials && (!needs.equations_of_motion || dynamics) &&
          (!needs.reactions || (dynamics && !dynamics->reactions.empty())) &&
          (!needs.loops || quantities.constraints) && (!needs.recursive_dynamics || recursive) &&
+         (!needs.loops || needs.derivatives == Derivatives::none ||
+          quantities.constraint_derivatives) &&
          (needs.derivatives == Derivatives::none ||
           (quantities.derivatives &&
            (needs.derivatives == Derivatives::dynamics || quantities.derivatives->kinematics)));

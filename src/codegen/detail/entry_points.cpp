@@ -29,6 +29,7 @@ std::vector<Expr> dependent_values(const Quantities& q);
 std::vector<Expr> dependent_rates(const Quantities& q);
 std::vector<Expr> dependent_accelerations(const Quantities& q);
 Source constraints(std::vector<Expr> model::Constraints::*field);
+Source constraint_derivatives(std::vector<Expr> ConstraintDerivatives::*field);
 std::string numeric_partials_body(const Sizes& sizes);
 std::string forward_dynamics_body(const Sizes& sizes);
 
@@ -172,6 +173,22 @@ std::vector<EntryPointSpec> make_catalogue() {
        .inputs = {t, q, qd, param},
        .outputs = {{"gamma", "ncon", constraints(&model::Constraints::gamma)}},
        .needs = {.loops = true}},
+      // The exact Jacobians of the dynamics reduced to the independent
+      // coordinates (runtime/loop_closure.hpp): with the tree's derivatives.
+      {.name = "constraint_derivatives",
+       .doc = "With a = g_x xdd + gamma (the loops' equations differentiated twice in time): "
+              "a_x = da/dx,\n"
+              "a_xd = da/dxd (ncon x nq each), and the Hessian of mu . g, hessian = d2(mu . "
+              "g)/dx2 (nq x nq),\n"
+              "at x = q, xd = qd, xdd = qdd; row-major.",
+       .inputs = {t, q, qd, qdd, param, mu},
+       .outputs = {{"a_x", "ncon x nq", constraint_derivatives(&ConstraintDerivatives::a_x)},
+                   {"a_xd", "ncon x nq", constraint_derivatives(&ConstraintDerivatives::a_xd)},
+                   {"hessian", "nq x nq", constraint_derivatives(&ConstraintDerivatives::hessian)}},
+       .needs = {.absolute_motion = true,
+                 .equations_of_motion = true,
+                 .derivatives = Derivatives::dynamics,
+                 .loops = true}},
       {.name = "mass_matrix",
        .doc = "Mass matrix M(q, t).",
        .inputs = {t, q, param},
@@ -325,6 +342,15 @@ Source constraints(std::vector<Expr> model::Constraints::*field) {
   };
 }
 
+Source constraint_derivatives(std::vector<Expr> ConstraintDerivatives::*field) {
+  return [field](const Quantities& q) {
+    if (q.constraint_derivatives == nullptr) {
+      throw std::logic_error("generate: an output of the loops' derivatives without them derived");
+    }
+    return q.constraint_derivatives->*field;
+  };
+}
+
 Source derivatives(std::vector<Expr> DynamicsDerivatives::*field) {
   return [field](const Quantities& q) {
     if (q.derivatives == nullptr)
@@ -435,8 +461,8 @@ std::vector<std::size_t> dimensions(std::string_view shape, const Sizes& sizes) 
 }  // namespace
 
 std::string_view input_name(Input input) {
-  constexpr std::string_view kNames[] = {"t",   "q",     "qd",        "qdd",
-                                         "tau", "param", "F_applied", "M_applied"};
+  constexpr std::string_view kNames[] = {"t",     "q",         "qd",        "qdd", "tau",
+                                         "param", "F_applied", "M_applied", "mu"};
   return kNames[static_cast<std::size_t>(input)];
 }
 

@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include <symdyn/codegen/detail/constraint_derivatives.hpp>
 #include <symdyn/codegen/detail/dynamics_derivatives.hpp>
 #include <symdyn/codegen/generate.hpp>
 #include <symdyn/model/constraints.hpp>
@@ -25,10 +26,12 @@ namespace symdyn::codegen::detail {
 
 // The input arrays of the emitted functions; an entry point takes some of
 // them, always in this order (t is a scalar). F_applied and M_applied are
-// the loads at every body's G in global axes (nbody x 3 each).
-enum class Input { t, q, qd, qdd, tau, param, F_applied, M_applied };
-inline constexpr Input kInputs[] = {Input::t,   Input::q,     Input::qd,        Input::qdd,
-                                    Input::tau, Input::param, Input::F_applied, Input::M_applied};
+// the loads at every body's G in global axes (nbody x 3 each); mu weighs the
+// loops' equations (ncon, empty without loops).
+enum class Input { t, q, qd, qdd, tau, param, F_applied, M_applied, mu };
+inline constexpr Input kInputs[] = {Input::t,         Input::q,         Input::qd,
+                                    Input::qdd,       Input::tau,       Input::param,
+                                    Input::F_applied, Input::M_applied, Input::mu};
 std::string_view input_name(Input input);  // "t", "q", ...
 
 // What one derivation made, from which the outputs are taken.
@@ -38,6 +41,8 @@ struct Quantities {
   const model::Dynamics* dynamics;  // null unless the equations of motion were derived
   const DynamicsDerivatives* derivatives = nullptr;  // null unless their derivatives were derived
   const model::Constraints* constraints = nullptr;   // null unless the model has closed loops
+  // null unless the model has closed loops and the derivatives were derived
+  const ConstraintDerivatives* constraint_derivatives = nullptr;
 };
 
 // The expressions of one output array, row-major.

@@ -17,6 +17,11 @@ InputSymbols::InputSymbols(const model::Model& model) {
     symbols_[index(Input::param)].push_back(p.symbol);
   symbols_[index(Input::F_applied)] = model::applied_force_symbols(model);
   symbols_[index(Input::M_applied)] = model::applied_moment_symbols(model);
+  // One weight per loop equation, named after the implicit parameter of its row.
+  for (std::size_t j = model.num_independent(); j < model.coordinates().size(); ++j) {
+    symbols_[index(Input::mu)].push_back(
+        symbolic::symbol("mu." + model.coordinates()[j].q.name(), symbolic::SymbolKind::Free));
+  }
 }
 
 std::vector<model::Expr> InputSymbols::of(const std::vector<Input>& inputs) const {
