@@ -43,6 +43,11 @@ class LoopClosure {
 
   const Matrix& T() const { return T_; }  // (nq x n)
   const Vector& c() const { return c_; }  // (nq)
+  // The multipliers λ = g_p⁻ᵀ·r_p (ncon) of M_x·xdd + h_x - Q_x = r_x = g_xᵀ·λ,
+  // from the p rows r_p (ncon) of the tree's residual at the last close().
+  void multipliers(const Vector& r_p, Vector& lambda) const {
+    lambda.noalias() = lu_.transpose().solve(r_p);
+  }
 
   // The next close() starts from the guesses: the model's, or those given
   // (ncon, to choose an assembly: the solution Newton's iteration reaches).
