@@ -377,17 +377,25 @@ int simulate(Arguments& args) {
   long rows = 0;
   double last_t = 0.0;
   std::optional<Pictures> pictures;
+  runtime::MultibodySystem* system = nullptr;
+  // Drawn in the tree's coordinates: with closed loops, q and the parameters p solved.
   args.run.on_sample = [&](const runtime::State& s, const runtime::Vector&) {
     ++rows;
     last_t = s.t;
-    if (pictures) pictures->record(s);
+    if (pictures) pictures->record(system->extended_state(s));
   };
   sim::Simulation simulation(scenario, args.run);
+  system = &simulation.system();
   runtime::Scene scene = sim::read_scene(scenario, simulation.system().model());
   check_rows(simulation, args.max_rows);
   check_pictures(args);
   // The modes first: a failed equilibrium touches no file.
   std::optional<ModeShapes> modes;
+  if (!args.modes.empty() && system->model().has_loops()) {
+    throw runtime::OptionError(
+        fmt::format("--modes: model '{}' has closed loops ({}), whose modes are not drawn yet",
+                    system->model().name(), fmt::join(system->model().loop_names(), ", ")));
+  }
   if (!args.modes.empty()) modes = find_modes(simulation.system(), args);
   if (!args.html.empty() || !args.glb.empty() || !args.easyanim.empty()) {
     pictures.emplace(std::move(scene), simulation.system().model());
