@@ -265,6 +265,28 @@ TEST_CASE("the four-bar's bodies balance with the closure forces at random state
   }
 }
 
+TEST_CASE("a loop given by its equations reports its multipliers, and no joint reactions",
+          "[models][loops]") {
+  // The four-bar described as if its loop were a constraint(): the same
+  // equations (point_a - point_b), so its multipliers are the closure's force
+  // on the coupler, the opposite of close_loop's reaction (on the rocker).
+  ModelDescription d = Model::describe<gen::four_bar>();
+  d.loop_bodies = {-1, -1};
+  d.constraint_axis = {-1, -1};
+  MultibodySystem as_equations{Model(d)}, closed(Model::from<gen::four_bar>());
+  CHECK(as_equations.model().loop_reaction_name(0) == "C.lambda0");
+  CHECK(as_equations.model().loop_reaction_name(1) == "C.lambda1");
+  const State s = state(0.0, 0.3, 2.0);
+  Vector lambda, reaction;
+  as_equations.loop_reactions(s, lambda);
+  closed.loop_reactions(s, reaction);
+  CHECK((lambda + reaction).norm() < 1e-12 * (1 + reaction.norm()));
+  Matrix joints;
+  CHECK_THROWS_WITH(as_equations.joint_reactions(s, joints),
+                    Catch::Contains("loop 'C' is given by its equations (constraint), whose "
+                                    "forces act on no known body"));
+}
+
 TEST_CASE("loop reactions: bad input is named", "[models][loops]") {
   MultibodySystem tree(Model::from<gen::slider_crank_dependent>());
   Vector reaction;
