@@ -10,6 +10,7 @@
 #include <random>
 
 #include "four_bar.hpp"
+#include "four_bar_parametric.hpp"
 #include "slider_crank_dependent.hpp"
 #include "slider_crank_implicit.hpp"
 #include <symdyn/runtime/errors.hpp>
@@ -262,6 +263,28 @@ TEST_CASE("the four-bar's bodies balance with the closure forces at random state
       CHECK((received[i].moment - rate).norm() < 1e-9 * scale);
       CHECK(std::abs(moment(k, joints, i).z()) < 1e-9 * scale);
     }
+  }
+}
+
+TEST_CASE("the parametric four-bar's closure point follows its lengths", "[models][loops]") {
+  // Other lengths move C (an emitted function of the run-time parameters):
+  // with the closure's force there, the free hinges still transmit no moment.
+  MultibodySystem system(Model::from<gen::four_bar_parametric>());
+  const double l2 = 0.38, l3 = 0.33;
+  system.set_parameter("r2", l2);
+  system.set_parameter("r3", l3);
+  for (double q0 : {0.1, 0.2, 0.3}) {
+    const State s = state(0.0, q0, 3.0);
+    Matrix joints;
+    system.joint_reactions(s, joints);
+    const double scale = 1 + joints.cwiseAbs().maxCoeff();
+    for (int i = 0; i < 3; ++i) CHECK(std::abs(joints(5, i)) < 1e-9 * scale);
+    // C is the rocker's end: r3 from D along the rocker.
+    const State x = system.extended_state(s);
+    Matrix points(3, 2);
+    system.model().closure_points(s.t, x.q.data(), points.data());
+    const double psi = x.q(2);
+    CHECK((points.col(0) - Vec3(d + l3 * std::cos(psi), l3 * std::sin(psi), 0)).norm() < 1e-12);
   }
 }
 
