@@ -21,6 +21,9 @@
 #if __has_include("slider_crank_dependent.hpp")
 #include "slider_crank_dependent.hpp"
 #endif
+#if __has_include("four_bar.hpp")
+#include "four_bar.hpp"
+#endif
 #if __has_include("robot3d_absolute.hpp")
 #include "robot3d_absolute.hpp"
 #endif
@@ -58,6 +61,9 @@ const std::vector<BuiltinModel>& builtin_models() {
 #if __has_include("slider_crank_dependent.hpp")
     m.push_back(
         {"slider_crank", "dependent", &Model::from<symdyn_generated::slider_crank_dependent>});
+#endif
+#if __has_include("four_bar.hpp")
+    m.push_back({"four_bar", "closed", &Model::from<symdyn_generated::four_bar>});
 #endif
 #if __has_include("robot3d_absolute.hpp")
     m.push_back({"robot3d", "absolute", &Model::from<symdyn_generated::robot3d_absolute>});

@@ -34,6 +34,13 @@ std::string joined(const auto& list) {
   return fmt::format("{}", fmt::join(list, ", "));
 }
 
+// reaction.<loop>.Fx ..: every loop equation's reaction.
+std::vector<std::string> loop_reaction_names(const runtime::Model& model) {
+  std::vector<std::string> out;
+  for (int k = 0; k < model.ncon(); ++k) out.push_back("reaction." + model.loop_reaction_name(k));
+  return out;
+}
+
 // The names valid in a scope, for the message of an unknown one.
 std::string valid_names(const Names& names, const Scope& scope) {
   std::vector<std::string> groups;
@@ -49,6 +56,8 @@ std::string valid_names(const Names& names, const Scope& scope) {
     if (scope.accelerations && names.model->has_joint_reactions())
       groups.push_back(
           fmt::format("reaction.<body>.<{}>", joined(runtime::Model::kReactionComponents)));
+    if (scope.accelerations && names.model->has_loops())
+      groups.push_back(fmt::format("loop reactions {}", joined(loop_reaction_names(*names.model))));
     std::vector<std::string> elements;
     for (const auto& e : *names.elements) elements.push_back(e->id());
     if (!elements.empty())
@@ -74,6 +83,10 @@ int resolve_reaction(std::string_view name, const Names& names, const Scope& sco
   if (!scope.system || !scope.accelerations) {
     throw ExpressionError(fmt::format(
         "'{}': joint reactions are not known here (outputs and checks read them)", name));
+  }
+  if (const int k = index_of(loop_reaction_names(*names.model), name);
+      k >= 0 && index_of(names.model->body_names(), body) < 0) {
+    return table.add({.source = Source::loop_reaction, .a = k});
   }
   if (!names.model->has_joint_reactions()) {
     throw ExpressionError(fmt::format(
@@ -230,7 +243,30 @@ SampleEnvironment::SampleEnvironment(runtime::MultibodySystem& system, const Sym
 void SampleEnvironment::set(const State& s, const runtime::Vector& qdd) {
   s_ = &s;
   qdd_ = &qdd;
-  have_kinematics_ = have_energies_ = have_momentum_ = have_reactions_ = false;
+  have_kinematics_ = have_energies_ = have_momentum_ = have_reactions_ = have_loop_reactions_ =
+      have_extended_ = false;
+}
+
+const State& SampleEnvironment::tree_state() const {
+  if (!system_.model().has_loops()) return *s_;
+  // The implicit dependent parameters solved, with their rates and accelerations.
+  if (!have_extended_) {
+    extended_ = system_.extended_state(*s_);
+    xdd_ = qdd_->size() == s_->q.size() ? system_.extended_accelerations(*s_, *qdd_)
+                                        : runtime::Vector::Zero(extended_.q.size());
+  }
+  have_extended_ = true;
+  return extended_;
+}
+
+double SampleEnvironment::coordinate(int j, int order) const {
+  if (j < s_->q.size()) {
+    if (order == 0) return s_->q(j);
+    if (order == 1) return s_->qd(j);
+    return qdd_->size() > j ? (*qdd_)(j) : 0.0;
+  }
+  const State& x = tree_state();
+  return order == 0 ? x.q(j) : order == 1 ? x.qd(j) : xdd_(j);
 }
 
 const Kinematics& SampleEnvironment::kinematics() const {
@@ -247,11 +283,11 @@ double SampleEnvironment::value(int symbol) const {
     case Source::time:
       return s_->t;
     case Source::q:
-      return s_->q(sym.a);
+      return coordinate(sym.a, 0);
     case Source::qd:
-      return s_->qd(sym.a);
+      return coordinate(sym.a, 1);
     case Source::qdd:
-      return qdd_->size() > sym.a ? (*qdd_)(sym.a) : 0.0;
+      return coordinate(sym.a, 2);
     case Source::body:
       return body_quantity(kinematics(), sym.a, sym.b);
     case Source::energy: {
@@ -280,8 +316,21 @@ double SampleEnvironment::value(int symbol) const {
       have_kinematics_ = false;
       return reactions_(sym.b, sym.a);
     }
+    case Source::loop_reaction: {
+      if (!have_loop_reactions_) {
+        if (qdd_->size() == s_->q.size()) {
+          system_.loop_reactions(*s_, *qdd_, loop_reactions_);
+        } else {
+          system_.loop_reactions(*s_, loop_reactions_);
+        }
+      }
+      have_loop_reactions_ = true;
+      have_kinematics_ = false;
+      return loop_reactions_(sym.a);
+    }
     case Source::element:
-      return elements_[static_cast<std::size_t>(sym.a)]->quantity(sym.b, *s_, kinematics());
+      return elements_[static_cast<std::size_t>(sym.a)]->quantity(sym.b, tree_state(),
+                                                                  kinematics());
     case Source::variable:
       return variables_[static_cast<std::size_t>(sym.a)];
     case Source::constant:

@@ -8,6 +8,10 @@
 //   momentum_x .. _z, angular_momentum_x .. _z (about the global origin);
 //   reaction.<body>.Fx .. .Mz, the body's joint reaction (body axes, about
 //   its joint point: runtime::MultibodySystem::joint_reactions);
+//   reaction.<loop>.Fx .. (or .lambda<j>), a closed loop's reaction
+//   (runtime::MultibodySystem::loop_reactions);
+// with closed loops the coordinates are the tree's (q, then the implicit
+// dependent parameters p): the state holds q, p and its rates are solved.
 //   <element>.<quantity> of a force element (elements.hpp lists them);
 //   the scenario's variables; rtol, atol, t_end.
 // Which of them an expression may read depends on where it is (a force law
@@ -33,6 +37,7 @@ enum class Source {
   energy,
   momentum,
   reaction,
+  loop_reaction,
   element,
   variable,
   constant,
@@ -135,10 +140,19 @@ class SampleEnvironment : public Environment {
   const runtime::State* s_ = nullptr;
   const runtime::Vector* qdd_ = nullptr;
   mutable bool have_kinematics_ = false, have_energies_ = false, have_momentum_ = false,
-               have_reactions_ = false;
+               have_reactions_ = false, have_loop_reactions_ = false;
   mutable runtime::Energies energies_;
   mutable runtime::Momentum momentum_;
-  mutable runtime::Matrix reactions_;  // (6 x nbody)
+  mutable runtime::Matrix reactions_;       // (6 x nbody)
+  mutable runtime::Vector loop_reactions_;  // (ncon)
+  // Closed loops: the tree's state and accelerations (q, p) at this instant.
+  mutable bool have_extended_ = false;
+  mutable runtime::State extended_;
+  mutable runtime::Vector xdd_;
+  // The state force elements see: with closed loops the tree's, x = (q, p).
+  const runtime::State& tree_state() const;
+  // A coordinate's value (0), rate (1) or acceleration (2), p's from the tree's.
+  double coordinate(int j, int order) const;
 };
 
 // Body quantity `attribute` (the order of the list in quantities.cpp) of body i.

@@ -239,12 +239,16 @@ struct Simulation::Impl {
   }
 
   // By coordinate name: {"q": {"q0": 0.1}, "qd": {...}}; the rest as the model's.
+  // With closed loops, an implicit dependent parameter's q is the guess its
+  // first solve starts from (the assembly branch); its rate follows from qd.
   void read_initial_state() {
     initial = system->initial_state();
     const auto init = root().optional("initial");
     if (!init) return;
     init->allow_only({"q", "qd"});
-    const auto& q = system->model().q_names();
+    const runtime::Model& model = system->model();
+    const auto& q = model.q_names();
+    runtime::Vector guess = model.initial_state().q.tail(model.ncon());
     for (const auto& [key, into] : {std::pair{"q", &initial.q}, {"qd", &initial.qd}}) {
       const auto values = init->optional(key);
       if (!values) continue;
@@ -253,9 +257,21 @@ struct Simulation::Impl {
         if (it == q.end())
           value.fail(
               fmt::format("unknown coordinate '{}' (coordinates: {})", name, fmt::join(q, ", ")));
-        (*into)(it - q.begin()) = value.number();
+        const auto j = it - q.begin();
+        if (j < into->size()) {
+          (*into)(j) = value.number();
+        } else if (into == &initial.q) {
+          guess(j - into->size()) = value.number();
+        } else {
+          value.fail(fmt::format(
+              "'{}' is an implicit dependent parameter of the closed loops ({}): its rate follows "
+              "from the independent coordinates' ({})",
+              name, fmt::join(model.loop_names(), ", "),
+              fmt::join(std::vector<std::string>(q.begin(), q.begin() + into->size()), ", ")));
+        }
       }
     }
+    if (model.has_loops()) system->set_loop_guess(guess);
   }
 
   ScenarioElement* element(const Node& n) const {
@@ -361,7 +377,10 @@ struct Simulation::Impl {
   // "q", "qd", "qdd", "energies"; {"body", "quantity"}; {"element", "quantity"}; {"name", "value"}.
   void read_outputs() {
     const auto list = root().optional("outputs");
-    if (!list) return;  // the default groups: q, qd, energies
+    if (!list) {  // the default groups: q, qd, energies
+      add_dependent_channels(root());
+      return;
+    }
     groups = {.coordinates = false,
               .rates = false,
               .accelerations = false,
@@ -386,6 +405,8 @@ struct Simulation::Impl {
         read_body_output(n);
       } else if (n.has("element")) {
         read_element_output(n);
+      } else if (n.has("loop")) {
+        read_loop_output(n);
       } else {
         n.allow_only({"name", "value"});
         const Node value = n["value"];
@@ -393,7 +414,38 @@ struct Simulation::Impl {
                     value.is_number() ? fmt::format("{}", value.number()) : value.string(), value);
       }
     }
+    add_dependent_channels(*list);
     check_columns();
+  }
+
+  // Closed loops: the groups q, qd, qdd hold the independent coordinates (the
+  // state); the implicit dependent parameters p follow them by name.
+  void add_dependent_channels(const Node& at) {
+    const runtime::Model& model = system->model();
+    for (int j = model.nindependent(); j < model.nq(); ++j) {
+      const std::string& p = model.q_names()[static_cast<std::size_t>(j)];
+      if (groups.coordinates) add_channel(p, p, at);
+      if (groups.rates) add_channel(p + "_dot", p + "_dot", at);
+      if (groups.accelerations) add_channel(p + "_ddot", p + "_ddot", at);
+    }
+  }
+
+  // {"loop": name}: its reactions, reaction.<loop>.Fx .. (docs/scenarios.md).
+  void read_loop_output(const Node& n) {
+    n.allow_only({"loop"});
+    const runtime::Model& model = system->model();
+    const std::string loop = n["loop"].string();
+    const auto& loops = model.loop_names();
+    if (std::find(loops.begin(), loops.end(), loop) == loops.end()) {
+      n["loop"].fail(
+          fmt::format("unknown loop '{}' (loops: {})", loop,
+                      loops.empty() ? "none" : fmt::format("{}", fmt::join(loops, ", "))));
+    }
+    for (int k = 0; k < model.ncon(); ++k) {
+      if (loops[static_cast<std::size_t>(model.constraint_loop(k))] != loop) continue;
+      const std::string column = "reaction." + model.loop_reaction_name(k);
+      add_channel(column, column, n["loop"]);
+    }
   }
 
   void read_body_output(const Node& n) {

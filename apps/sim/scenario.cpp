@@ -408,23 +408,6 @@ Scenario load_scenario(const std::filesystem::path& file) {
   return s;
 }
 
-namespace {
-
-// symdyn-sim names and reads the coordinates by the model's q_names: a model
-// with closed loops, whose state holds only its independent coordinates, is
-// not run yet (docs/scenarios.md).
-runtime::Model without_loops(runtime::Model m, const Scenario& scenario) {
-  if (m.has_loops()) {
-    throw ScenarioError(fmt::format(
-        "{}: /model: model '{}' has closed loops ({}), which symdyn-sim does not run yet: "
-        "simulate it with the runtime's MultibodySystem",
-        scenario.origin, m.name(), fmt::join(m.loop_names(), ", ")));
-  }
-  return m;
-}
-
-}  // namespace
-
 runtime::Model make_model(const Scenario& scenario, std::string_view variant) {
   const std::string wanted(variant.empty() ? scenario.variant : variant);
   if (!scenario.module.empty()) {
@@ -434,7 +417,7 @@ runtime::Model make_model(const Scenario& scenario, std::string_view variant) {
       scenario.root()["model"]["variant"].fail(fmt::format(
           "the module '{}' holds variant '{}', not '{}'", path.string(), m.variant(), wanted));
     }
-    return without_loops(std::move(m), scenario);
+    return m;
   }
   std::vector<std::string> variants, models;
   for (const auto& b : builtin_models()) {
@@ -443,7 +426,7 @@ runtime::Model make_model(const Scenario& scenario, std::string_view variant) {
         models.push_back(b.model);
       continue;
     }
-    if (wanted.empty() || b.variant == wanted) return without_loops(b.make(), scenario);
+    if (wanted.empty() || b.variant == wanted) return b.make();
     variants.push_back(b.variant);
   }
   if (variants.empty()) {

@@ -22,7 +22,8 @@
 // --html writes the HTML viewer of the run (the bodies as the scenario's shapes,
 // else as their inertia shapes; the coordinates plotted beside them), --glb the animation as glTF,
 // --plot the coordinates and the energies against time with gnuplot (PNG or SVG by the extension),
-// --easyanim EasyDyn's STEM.vol and STEM.van for EasyAnim.
+// --easyanim EasyDyn's STEM.vol and STEM.van for EasyAnim. --reaction-arrows
+// draws the closed loops' reaction forces in --html as arrows at their points.
 //
 // --modes linearizes the system (with its force elements at t = 0) about its
 // static equilibrium found from the initial state (or about the initial state
@@ -75,9 +76,10 @@ using namespace symdyn;
 struct Arguments {
   std::string scenario;
   std::string out;
-  std::string html, glb, plot;  // pictures of the run, if asked
-  std::string easyanim;         // stem of EasyAnim's files
-  std::string modes;            // CSV of the modes, if asked
+  std::string html, glb, plot;   // pictures of the run, if asked
+  bool reaction_arrows = false;  // the loops' reaction forces drawn in --html
+  std::string easyanim;          // stem of EasyAnim's files
+  std::string modes;             // CSV of the modes, if asked
   std::string modes_about = "equilibrium";
   double mode_amplitude = 0.2;   // rad or m: the largest coordinate's swing in a mode's clip
   double max_rows = 1e7;         // about 1 GB of CSV
@@ -172,6 +174,7 @@ struct Pictures {
   runtime::Scene scene;
   runtime::Animation animation;
   runtime::TimeSeries series;
+  runtime::Arrows arrows;  // --reaction-arrows
 
   Pictures(runtime::Scene shapes, const runtime::Model& model)
       : scene(std::move(shapes)), animation(model) {
@@ -185,6 +188,37 @@ struct Pictures {
     animation.record(s);
     series.columns[0].push_back(s.t);
     for (Eigen::Index j = 0; j < s.q.size(); ++j) series.columns[j + 1].push_back(s.q[j]);
+  }
+  // Each loop's reaction force (on its body b) at its point, at s (in the
+  // independent coordinates) and qdd.
+  void record_arrows(runtime::MultibodySystem& system, const runtime::State& s,
+                     const runtime::Vector& qdd) {
+    const runtime::Model& model = system.model();
+    if (arrows.names.empty()) {
+      arrows.names = model.loop_names();
+      arrows.points.resize(arrows.names.size());
+      arrows.vectors.resize(arrows.names.size());
+    }
+    runtime::Vector reaction;
+    if (qdd.size() == s.q.size()) {
+      system.loop_reactions(s, qdd, reaction);
+    } else {
+      system.loop_reactions(s, reaction);
+    }
+    const runtime::State x = system.extended_state(s);
+    runtime::Matrix points(3, model.ncon());
+    model.closure_points(s.t, x.q.data(), points.data());
+    std::vector<runtime::Vec3> force(arrows.names.size(), runtime::Vec3::Zero()),
+        at(arrows.names.size());
+    for (int k = 0; k < model.ncon(); ++k) {
+      const int l = model.constraint_loop(k);
+      if (model.constraint_axis(k) >= 0) force[l](model.constraint_axis(k)) = reaction(k);
+      at[l] = points.col(k);
+    }
+    for (std::size_t l = 0; l < force.size(); ++l) {
+      arrows.points[l].insert(arrows.points[l].end(), at[l].data(), at[l].data() + 3);
+      arrows.vectors[l].insert(arrows.vectors[l].end(), force[l].data(), force[l].data() + 3);
+    }
   }
   // The motion, then each mode named by its frequency and damping.
   std::vector<runtime::Clip> clips(const ModeShapes* modes) const {
@@ -201,7 +235,8 @@ struct Pictures {
   void write(const Arguments& args, const std::string& title, const ModeShapes* modes,
              const runtime::Model& model) const {
     if (!args.glb.empty()) runtime::write_glb(std::filesystem::path(args.glb), scene, clips(modes));
-    if (!args.html.empty()) runtime::write_html(args.html, title, scene, clips(modes), series);
+    if (!args.html.empty())
+      runtime::write_html(args.html, title, scene, clips(modes), series, arrows);
     if (args.easyanim.empty()) return;
     runtime::write_easyanim(args.easyanim, scene, animation, title);
     if (modes != nullptr) {
@@ -377,17 +412,33 @@ int simulate(Arguments& args) {
   long rows = 0;
   double last_t = 0.0;
   std::optional<Pictures> pictures;
-  args.run.on_sample = [&](const runtime::State& s, const runtime::Vector&) {
+  runtime::MultibodySystem* system = nullptr;
+  // Drawn in the tree's coordinates: with closed loops, q and the parameters p solved.
+  args.run.on_sample = [&](const runtime::State& s, const runtime::Vector& qdd) {
     ++rows;
     last_t = s.t;
-    if (pictures) pictures->record(s);
+    if (!pictures) return;
+    pictures->record(system->extended_state(s));
+    if (args.reaction_arrows) pictures->record_arrows(*system, s, qdd);
   };
   sim::Simulation simulation(scenario, args.run);
+  system = &simulation.system();
+  if (args.reaction_arrows && (args.html.empty() || !system->model().has_loops())) {
+    throw runtime::OptionError(fmt::format(
+        "--reaction-arrows: {}",
+        args.html.empty() ? "draws in --html, which is not asked"
+                          : fmt::format("model '{}' has no closed loops", system->model().name())));
+  }
   runtime::Scene scene = sim::read_scene(scenario, simulation.system().model());
   check_rows(simulation, args.max_rows);
   check_pictures(args);
   // The modes first: a failed equilibrium touches no file.
   std::optional<ModeShapes> modes;
+  if (!args.modes.empty() && system->model().has_loops()) {
+    throw runtime::OptionError(
+        fmt::format("--modes: model '{}' has closed loops ({}), whose modes are not drawn yet",
+                    system->model().name(), fmt::join(system->model().loop_names(), ", ")));
+  }
   if (!args.modes.empty()) modes = find_modes(simulation.system(), args);
   if (!args.html.empty() || !args.glb.empty() || !args.easyanim.empty()) {
     pictures.emplace(std::move(scene), simulation.system().model());
@@ -526,6 +577,8 @@ int main(int argc, char** argv) {
   app.add_option("--out", args.out, "CSV file (default: <scenario>.csv)")->check(kFileName);
   app.add_option("--html", args.html, "write the HTML viewer of the run (open it in a browser)")
       ->check(kFileName);
+  app.add_flag("--reaction-arrows", args.reaction_arrows,
+               "draw the closed loops' reaction forces in --html as arrows at their points");
   app.add_option("--glb", args.glb, "write the animation as glTF binary (Blender, glTF viewers)")
       ->check(kFileName);
   app.add_option("--plot", args.plot,

@@ -51,6 +51,7 @@ Constraints derive_constraints(const Model& model, const Kinematics& k,
       const Expr rate = d_dt(g);
       out.g_t.push_back(simplified(zero_rates(rate)));
       out.gamma.push_back(simplified(zero_accelerations(d_dt(rate))));
+      for (Expr c : loop.point) out.point.push_back(loop.body_a >= 0 ? simplified(c) : Expr(0));
     }
   }
   out.g_p = std::move(g_p);

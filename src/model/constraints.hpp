@@ -23,6 +23,9 @@ struct Constraints {
   std::vector<Expr> g_p;    // (nc x nc)
   std::vector<Expr> g_t;    // (nc)
   std::vector<Expr> gamma;  // (nc), in x, xd, t
+  // The point of each equation's loop closure in global axes (body a's point of
+  // close_loop), 0 for a loop given by its equations: where its force acts.
+  std::vector<Expr> point;  // (nc x 3)
 };
 
 // The equations of every loop, in order; empty for a model without loops.

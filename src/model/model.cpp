@@ -189,8 +189,13 @@ void Model::check_loop_name(std::string_view name) const {
 }
 
 void Model::constraint(std::string_view name, std::vector<Expr> equations) {
+  add_loop(name, std::move(equations));
+}
+
+Loop& Model::add_loop(std::string_view name, std::vector<Expr> equations, std::vector<int>* kept) {
   check_loop_name(name);
-  Loop loop{std::string(name), {}};
+  Loop loop;
+  loop.name = std::string(name);
   symbolic::Simplifier simplify;
   for (std::size_t k = 0; k < equations.size(); ++k) {
     const Expr g = equations[k];
@@ -203,10 +208,12 @@ void Model::constraint(std::string_view name, std::vector<Expr> equations) {
                                    simplified.str()));
     }
     loop.equations.push_back(g);
+    if (kept) kept->push_back(static_cast<int>(k));
   }
   if (loop.equations.empty())
     throw ModelError(fmt::format("loop '{}' has no equation that is not identically 0", name));
   loops_.push_back(std::move(loop));
+  return loops_.back();
 }
 
 Transform::Pose Model::absolute_pose(std::string_view name, std::string_view loop) const {
@@ -231,8 +238,14 @@ void Model::close_loop(std::string_view name, std::string_view body_a, const Vec
   check_loop_name(name);
   topological_order();  // unknown references and cycles, before following them
   const Transform::Pose a = absolute_pose(body_a, name), b = absolute_pose(body_b, name);
-  const Vec3 gap = (a.x + a.R * point_a) - (b.x + b.R * point_b);
-  constraint(name, {gap[0], gap[1], gap[2]});
+  const Vec3 point = a.x + a.R * point_a;
+  const Vec3 gap = point - (b.x + b.R * point_b);
+  std::vector<int> axes;
+  Loop& loop = add_loop(name, {gap[0], gap[1], gap[2]}, &axes);
+  loop.body_a = body_index(body_a);
+  loop.body_b = body_index(body_b);
+  loop.point = point;
+  loop.axes = std::move(axes);
 }
 
 std::vector<Expr> Model::coordinates(int n, std::string_view prefix) {

@@ -104,10 +104,16 @@ struct Coordinate {
 };
 
 // A closed kinematic loop: its name and its equations g(t, q, p) = 0, none
-// identically zero.
+// identically zero. A loop closed by close_loop has the bodies it joins, the
+// point in global axes (body a's, x_a + R_a·point_a) and the axis (0, 1, 2:
+// x, y, z) of the gap each equation is a component of; a loop given by its
+// equations has body_a = body_b = -1 and no axes.
 struct Loop {
   std::string name;
   std::vector<Expr> equations;
+  int body_a = -1, body_b = -1;
+  Vec3 point{};
+  std::vector<int> axes;  // (equations) with body_a >= 0
 };
 
 // A dependent parameter substituted where it is used (inline_dependents): its
@@ -212,6 +218,10 @@ class Model {
   // references have motions.
   Transform::Pose absolute_pose(std::string_view name, std::string_view loop) const;
   void check_loop_name(std::string_view name) const;
+  // A loop of the equations that are not identically 0 (the indices of those
+  // kept into `kept`).
+  Loop& add_loop(std::string_view name, std::vector<Expr> equations,
+                 std::vector<int>* kept = nullptr);
 
   std::string name_;
   std::vector<Coordinate> coordinates_;  // independent, then implicit

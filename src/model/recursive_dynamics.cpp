@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include <symdyn/model/detail/dynamics_terms.hpp>
+#include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::model::detail {
 namespace {
@@ -135,6 +136,20 @@ bool varies(const Step& s) {
   if (s.is_rotation) return !s.angle.is_number();
   return !(s.displacement[0].is_number() && s.displacement[1].is_number() &&
            s.displacement[2].is_number());
+}
+
+// Whether a step moves in time (a joint's): it depends on a symbol that is not
+// a run-time parameter (a step of those alone, Tdisp(r1/2, 0, 0), is constant).
+bool moves(const Step& s) {
+  std::vector<Expr> values;
+  if (s.is_rotation) {
+    values.push_back(s.angle);
+  } else {
+    values.assign(s.displacement.begin(), s.displacement.end());
+  }
+  const std::vector<Expr> symbols = symbolic::free_symbols(values);
+  return std::any_of(symbols.begin(), symbols.end(),
+                     [](Expr x) { return x.symbol_kind() != symbolic::SymbolKind::Parameter; });
 }
 
 Mat3 rotation(const Step& s) {
@@ -467,7 +482,7 @@ class Recursion {
     alpha[i] = total;
   }
 
-  // G from the joint point (after the last varying step), in the body's
+  // G from the joint point (after the last step that moves), in the body's
   // axes: the displacements of the constant steps after it, turned as in
   // dynamics.cpp's in_body_axes.
   Vec3 joint_to_G(int i) const {
@@ -475,7 +490,7 @@ class Recursion {
     const std::vector<Step>& steps = model_.bodies()[i].motion().steps();
     Mat3 R = identity3();
     Vec3 r = zero3();
-    for (auto s = steps.rbegin(); s != steps.rend() && !varies(*s); ++s) {
+    for (auto s = steps.rbegin(); s != steps.rend() && !moves(*s); ++s) {
       if (s->is_rotation) {
         R = rotation(*s) * R;
       } else {

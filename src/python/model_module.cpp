@@ -520,17 +520,6 @@ class System {
   std::unique_ptr<MultibodySystem> call_;  // the last call's system with extra forces
 };
 
-// An entry point that takes the tree's accelerations, not yet offered for a
-// model with closed loops (whose state holds only its independent coordinates).
-void refuse_loops(const Model& m, const char* what) {
-  if (m.has_loops()) {
-    throw py::value_error(
-        fmt::format("model '{}': {} is not available for a model with closed "
-                    "loops ({})",
-                    m.name(), what, fmt::join(m.loop_names(), ", ")));
-  }
-}
-
 py::tuple positions(System& self, const py::object& q, double t) {
   const Model& m = self.model();
   // With closed loops, in the tree's coordinates x = (q, p), the loops closed.
@@ -550,15 +539,29 @@ py::tuple velocities(System& self, const py::object& q, const py::object& qd, do
                         body_array(k.w_data(), m.nbody(), false));
 }
 
+// The tree's state and accelerations at (t, q, qd, qdd), qdd (n) in the independent
+// coordinates: with closed loops, x = (q, p) closing them and xdd = T·qdd + c.
+struct TreeState {
+  State s;
+  Vector qdd;
+};
+TreeState tree_state(System& self, const py::object& q, const py::object& qd, const py::object& qdd,
+                     double t) {
+  MultibodySystem& system = self.base();
+  const State s = state_arg(system, t, q, qd);
+  const int n = system.num_coordinates();
+  const Vector a = qdd.is_none() ? Vector::Zero(n) : vector_arg(qdd, n, "qdd");
+  check_finite(a, self.model(), "qdd");
+  if (!self.model().has_loops()) return {s, a};
+  return {system.extended_state(s), system.extended_accelerations(s, a)};
+}
+
 py::tuple body_accelerations(System& self, const py::object& q, const py::object& qd,
                              const py::object& qdd, double t) {
   const Model& m = self.model();
-  refuse_loops(m, "body_accelerations");
-  const State s = state_arg(self.base(), t, q, qd);
-  const Vector a = vector_arg(qdd, m.nq(), "qdd");
-  check_finite(a, m, "qdd");
+  const TreeState x = tree_state(self, q, qd, qdd, t);
   Kinematics k = m.make_kinematics();
-  m.accelerations(t, s.q.data(), s.qd.data(), a.data(), k);
+  m.accelerations(t, x.s.q.data(), x.s.qd.data(), x.qdd.data(), k);
   return py::make_tuple(body_array(k.a_data(), m.nbody(), false),
                         body_array(k.dw_data(), m.nbody(), false));
 }
@@ -566,16 +569,33 @@ py::tuple body_accelerations(System& self, const py::object& q, const py::object
 py::tuple dependent_parameters(System& self, const py::object& q, const py::object& qd,
                                const py::object& qdd, double t) {
   const Model& m = self.model();
-  refuse_loops(m, "dependent_parameters");
-  const State s = state_arg(self.base(), t, q, qd);
-  const Vector a = qdd.is_none() ? Vector::Zero(m.nq()) : vector_arg(qdd, m.nq(), "qdd");
+  const TreeState x = tree_state(self, q, qd, qdd, t);
   Kinematics k = m.make_kinematics();
-  m.dependent_parameters(t, s.q.data(), s.qd.data(), a.data(), k);
+  m.dependent_parameters(t, x.s.q.data(), x.s.qd.data(), x.qdd.data(), k);
   const auto first = [&](const std::vector<double>& v) {
     return std::vector<double>(v.begin(), v.begin() + m.ndep());
   };
   return py::make_tuple(py::array(py::cast(first(k.p()))), py::array(py::cast(first(k.pd()))),
                         py::array(py::cast(first(k.pdd()))));
+}
+
+// Closed loops: the implicit dependent parameters p, pd, pdd (ncon each) at
+// the state and qdd (n; None: the state's accelerations).
+py::tuple implicit_parameters(System& self, const py::object& q, const py::object& qd,
+                              const py::object& qdd, double t) {
+  MultibodySystem& system = self.base();
+  const int m = self.model().ncon();
+  const State s = state_arg(system, t, q, qd);
+  Vector a(system.num_coordinates()), yd(system.num_extra_states());
+  if (qdd.is_none()) {
+    system.accelerations(s, a, yd);
+  } else {
+    a = vector_arg(qdd, system.num_coordinates(), "qdd");
+    check_finite(a, self.model(), "qdd");
+  }
+  const State x = system.extended_state(s);
+  const Vector xdd = system.extended_accelerations(s, a);
+  return py::make_tuple(Vector(x.q.tail(m)), Vector(x.qd.tail(m)), Vector(xdd.tail(m)));
 }
 
 Matrix mass_matrix(System& self, const py::object& q, double t) {
@@ -619,6 +639,15 @@ runtime::Matrix joint_reactions(System& self, const py::object& q, const py::obj
   runtime::Matrix reaction;
   system.joint_reactions(state_arg(system, t, q, qd), reaction);
   return reaction.transpose();
+}
+
+// Each loop equation's reaction (ncon, named loop_reaction_names) at the state's accelerations.
+Vector loop_reactions(System& self, const py::object& q, const py::object& qd, double t,
+                      const std::vector<Force>& forces) {
+  MultibodySystem& system = self.with(forces);
+  Vector reaction;
+  system.loop_reactions(state_arg(system, t, q, qd), reaction);
+  return reaction;
 }
 
 py::dict energies(System& self, const py::object& q, const py::object& qd, double t,
@@ -834,6 +863,11 @@ void define_constants(Target& target, const Model& m) {
   target.attr("q_names") = py::tuple(py::cast(m.q_names()));
   target.attr("body_names") = py::tuple(py::cast(m.body_names()));
   target.attr("param_names") = py::tuple(py::cast(m.param_names()));
+  target.attr("nindependent") = m.nindependent();
+  target.attr("loop_names") = py::tuple(py::cast(m.loop_names()));
+  std::vector<std::string> reactions;
+  for (int k = 0; k < m.ncon(); ++k) reactions.push_back(m.loop_reaction_name(k));
+  target.attr("loop_reaction_names") = py::tuple(py::cast(reactions));
   const State s = m.initial_state();
   target.attr("q_initial") = Vector(s.q);
   target.attr("qd_initial") = Vector(s.qd);
@@ -881,7 +915,25 @@ void define_system(py::module_& module, ModelFactory make_model) {
       .def("velocities", &velocities, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
            "(v, w): every body's velocity of G and angular velocity (nbody x 3 each, global).")
       .def("body_accelerations", &body_accelerations, "q"_a, "qd"_a, "qdd"_a, "t"_a = 0.0,
-           "(a, dw): every body's acceleration of G and angular acceleration (nbody x 3 each).")
+           "(a, dw): every body's acceleration of G and angular acceleration (nbody x 3 each); "
+           "with closed loops at qdd of the independent coordinates, the loops closed.")
+      .def(
+          "set_loop_guess",
+          [](System& self, const py::object& p) {
+            self.base().set_loop_guess(vector_arg(p, self.model().ncon(), "p"));
+          },
+          "p"_a,
+          "Closed loops: the implicit dependent parameters' guesses (ncon) the next solve "
+          "starts from, the assembly branch (later solves start from the last solution).")
+      .def("implicit_parameters", &implicit_parameters, "q"_a = none, "qd"_a = none, "qdd"_a = none,
+           "t"_a = 0.0,
+           "Closed loops: (p, pd, pdd), the implicit dependent parameters solved at the state "
+           "and qdd (None: the state's accelerations), ncon each.")
+      .def("loop_reactions", &loop_reactions, "q"_a = none, "qd"_a = none, "t"_a = 0.0,
+           "forces"_a = no_forces,
+           "Closed loops: each loop equation's reaction at the state's accelerations (ncon, "
+           "named by loop_reaction_names): a close_loop's force on its body b from its body a "
+           "(N, global axes), a constraint's multiplier.")
       .def("dependent_parameters", &dependent_parameters, "q"_a = none, "qd"_a = none,
            "qdd"_a = none, "t"_a = 0.0,
            "(p, pd, pdd): the dependent parameters and their time derivatives (ndep each).")

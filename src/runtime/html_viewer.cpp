@@ -58,6 +58,22 @@ void check_series(const TimeSeries& series) {
   }
 }
 
+void check_arrows(const Arrows& arrows, const TimeSeries& series) {
+  const std::size_t n = arrows.names.size(),
+                    values = 3 * (series.columns.empty() ? 0 : series.columns[0].size());
+  if (arrows.points.size() != n || arrows.vectors.size() != n) {
+    throw OptionError(fmt::format("HTML viewer: {} arrow names for {} points and {} vectors", n,
+                                  arrows.points.size(), arrows.vectors.size()));
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (arrows.points[k].size() != values || arrows.vectors[k].size() != values) {
+      throw OptionError(
+          fmt::format("HTML viewer: arrow '{}' has {} point and {} vector values, 3 per time ({})",
+                      arrows.names[k], arrows.points[k].size(), arrows.vectors[k].size(), values));
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> coordinate_units(const Model& model) {
@@ -82,18 +98,21 @@ bool html_viewer_available() {
 }
 
 void write_html(const std::filesystem::path& file, const std::string& title, const Scene& scene,
-                const std::vector<Clip>& clips, const TimeSeries& series) {
+                const std::vector<Clip>& clips, const TimeSeries& series, const Arrows& arrows) {
   if (!html_viewer_available()) {
     throw OptionError(
         "HTML viewer: this runtime was built without it (npm was not found when it was built)");
   }
   check_series(series);
+  check_arrows(arrows, series);
   std::ostringstream glb;
   write_glb(glb, scene, clips);
   const nlohmann::json data = {
       {"title", title},
       {"glb", base64(glb.str())},
-      {"series", {{"names", series.names}, {"columns", series.columns}, {"units", series.units}}}};
+      {"series", {{"names", series.names}, {"columns", series.columns}, {"units", series.units}}},
+      {"arrows",
+       {{"names", arrows.names}, {"points", arrows.points}, {"vectors", arrows.vectors}}}};
   std::ofstream out(file, std::ios::binary);
   if (!out) throw OptionError(fmt::format("HTML viewer: cannot write '{}'", file.string()));
   out << "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"

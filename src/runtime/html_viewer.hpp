@@ -27,6 +27,16 @@ struct TimeSeries {
   std::vector<std::string> units;
 };
 
+// Arrows drawn in the scene (the loops' reaction forces; none unless given):
+// arrow k named names[k], at points[k] (m) along vectors[k] (N), each 3 values
+// (global axes) per time of the series; the viewer shows those of the last
+// output instant up to its time, scaled together (the longest a fifth of the
+// bodies' size).
+struct Arrows {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> points, vectors;
+};
+
 // The unit of each coordinate of a model: "rad" when it turns a body (about the
 // model's initial state), else "m"; empty when the model has no kinematics.
 std::vector<std::string> coordinate_units(const Model& model);
@@ -35,8 +45,10 @@ std::vector<std::string> coordinate_units(const Model& model);
 bool html_viewer_available();
 
 // Writes the viewer; OptionError if the runtime was built without it, or for
-// bad clips (write_glb) or series of unequal lengths.
+// bad clips (write_glb), series of unequal lengths or arrows not 3 values per
+// time of the series.
 void write_html(const std::filesystem::path& file, const std::string& title, const Scene& scene,
-                const std::vector<Clip>& clips, const TimeSeries& series = {});
+                const std::vector<Clip>& clips, const TimeSeries& series = {},
+                const Arrows& arrows = {});
 
 }  // namespace symdyn::runtime

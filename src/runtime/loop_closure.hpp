@@ -86,6 +86,11 @@ class LoopClosure {
 
   const Matrix& T() const { return T_; }  // (nq x n)
   const Vector& c() const { return c_; }  // (nq)
+  // The multipliers λ = g_p⁻ᵀ·r_p (ncon) of M_x·xdd + h_x - Q_x = r_x = g_xᵀ·λ,
+  // from the p rows r_p (ncon) of the tree's residual at the last close().
+  void multipliers(const Vector& r_p, Vector& lambda) const {
+    lambda.noalias() = lu_.transpose().solve(r_p);
+  }
 
   // After close() at (t, q, qd), giving x and xd: the derivatives above at
   // xdd (nq) with F the tree's residual there (nq), from the emitted

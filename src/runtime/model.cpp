@@ -121,6 +121,32 @@ void Model::validate_loops() const {
     if (l < 0 || l >= static_cast<int>(d_.loop_names.size()))
       fail(fmt::format("constraint_loop names loop {} of {}", l, d_.loop_names.size()));
   }
+  if (d_.loop_bodies.empty() && d_.constraint_axis.empty()) return;
+  if (d_.loop_bodies.size() != 2 * d_.loop_names.size() ||
+      d_.constraint_axis.size() != static_cast<std::size_t>(ncon()))
+    fail(fmt::format("loop_bodies has {} entries, constraint_axis {}; expected {}, {}",
+                     d_.loop_bodies.size(), d_.constraint_axis.size(), 2 * d_.loop_names.size(),
+                     ncon()));
+  for (int b : d_.loop_bodies) {
+    if (b < -1 || b >= d_.nbody) fail(fmt::format("loop_bodies names body {} of {}", b, d_.nbody));
+  }
+  for (int axis : d_.constraint_axis) {
+    if (axis < -1 || axis > 2) fail(fmt::format("constraint_axis {} is not -1, 0, 1 or 2", axis));
+  }
+}
+
+void Model::closure_points(double t, const double* x, double* point) const {
+  if (d_.closure_points == nullptr) missing("closure_points");
+  d_.closure_points(t, x, param_.data(), point);
+}
+
+std::string Model::loop_reaction_name(int k) const {
+  const int loop = constraint_loop(k);
+  const std::string& name = d_.loop_names[static_cast<std::size_t>(loop)];
+  if (constraint_axis(k) >= 0) return fmt::format("{}.F{}", name, "xyz"[constraint_axis(k)]);
+  int j = 0;  // the equation's rank in its loop
+  for (int e = 0; e < k; ++e) j += constraint_loop(e) == loop;
+  return fmt::format("{}.lambda{}", name, j);
 }
 
 void Model::constraints(double t, const double* x, double* g, double* g_q, double* g_p,

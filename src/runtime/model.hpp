@@ -86,6 +86,8 @@ using ConstraintBiasFn = void (*)(double t, const double* q, const double* qd, c
 using ConstraintDerivativesFn = void (*)(double t, const double* q, const double* qd,
                                          const double* qdd, const double* param, const double* mu,
                                          double* a_x, double* a_xd, double* hessian);
+// The point of each equation's loop closure in global axes (ncon x 3) at x = q.
+using ClosurePointsFn = void (*)(double t, const double* q, const double* param, double* point);
 // qdd = M⁻¹·(tau - h) (nq) by the articulated-body algorithm; returns -1, or the
 // first coordinate whose pivot failed (then qdd is not to be used).
 using ForwardDynamicsFn = int (*)(double t, const double* q, const double* qd, const double* tau,
@@ -188,6 +190,12 @@ concept has_constraint_derivatives = requires(double t, const double* c, double*
   G::constraint_derivatives(t, c, c, c, c, c, o, o, o);
 };
 template <class G>
+concept has_closure_points = requires(double t, const double* c, double* o) {
+  G::loop_bodies[0];
+  G::constraint_axis[0];
+  G::closure_points(t, c, c, o);
+};
+template <class G>
 concept has_angle_sequences = requires {
   { G::nangle_sequences } -> std::convertible_to<int>;
   G::angle_sequence_body[0];
@@ -268,6 +276,11 @@ struct ModelDescription {
   ConstraintsFn constraints = nullptr;
   ConstraintBiasFn constraint_bias = nullptr;
   ConstraintDerivativesFn constraint_derivatives = nullptr;  // only where asked for
+  // close_loop's bodies a, b of each loop ((nloop x 2), -1 for a loop given by
+  // its equations) and each equation's axis ((ncon), 0..2, or -1); where the
+  // closures' forces act. Empty (and null) for a model emitted without them.
+  std::vector<int> loop_bodies, constraint_axis;
+  ClosurePointsFn closure_points = nullptr;
 };
 
 class Model {
@@ -308,6 +321,21 @@ class Model {
   bool has_constraint_derivatives() const { return d_.constraint_derivatives != nullptr; }
   void constraint_derivatives(double t, const double* x, const double* xd, const double* xdd,
                               const double* mu, double* a_x, double* a_xd, double* hessian) const;
+  // Loop closures (close_loop): loop l's bodies a and b, -1 for a loop given
+  // by its equations (or a model emitted without closure_points); the axis
+  // (0, 1, 2) of the gap equation k is a component of, or -1.
+  int loop_body_a(int l) const { return d_.loop_bodies.empty() ? -1 : d_.loop_bodies[2 * l]; }
+  int loop_body_b(int l) const { return d_.loop_bodies.empty() ? -1 : d_.loop_bodies[2 * l + 1]; }
+  int constraint_axis(int k) const {
+    return d_.constraint_axis.empty() ? -1 : d_.constraint_axis[k];
+  }
+  bool has_closure_points() const { return d_.closure_points != nullptr; }
+  // The point of each equation's closure in global axes at x (ncon x 3, row-major).
+  void closure_points(double t, const double* x, double* point) const;
+  // The name of equation k's loop reaction: "<loop>.Fx" .. "<loop>.Fz" for a
+  // closure (the force, N), "<loop>.lambda<j>" (its j-th equation) for a loop
+  // given by its equations.
+  std::string loop_reaction_name(int k) const;
 
   const std::vector<std::string>& q_names() const { return d_.q_names; }
   const std::vector<std::string>& body_names() const { return d_.body_names; }
@@ -505,6 +533,11 @@ ModelDescription Model::describe() {
     d.constraint_bias = &G::constraint_bias;
     if constexpr (detail::has_constraint_derivatives<G>)
       d.constraint_derivatives = &G::constraint_derivatives;
+    if constexpr (detail::has_closure_points<G>) {
+      d.loop_bodies.assign(G::loop_bodies, G::loop_bodies + 2 * G::nloop);
+      d.constraint_axis.assign(G::constraint_axis, G::constraint_axis + G::nq - G::nindependent);
+      d.closure_points = &G::closure_points;
+    }
   }
   if constexpr (detail::has_angle_sequences<G>) {
     for (int k = 0; k < G::nangle_sequences; ++k) {

@@ -102,6 +102,18 @@ State MultibodySystem::extended_state(const State& s) {
   return extended(s);
 }
 
+Vector MultibodySystem::extended_accelerations(const State& s, const Vector& qdd) {
+  if (!model_.has_loops()) return qdd;
+  extended(s);
+  if (qdd.size() != num_coordinates()) {
+    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
+                                 qdd.size(), num_coordinates()));
+  }
+  Vector xdd = loops_.c();
+  xdd.noalias() += loops_.T() * qdd;
+  return xdd;
+}
+
 void MultibodySystem::set_loop_guess(const Vector& p) {
   if (p.size() != model_.ncon() || !p.allFinite()) {
     throw ModelError(fmt::format("model '{}': the loops' guess must be {} finite values ({} given)",
@@ -989,6 +1001,10 @@ void MultibodySystem::joint_reactions(const State& s, const Vector& qdd, Matrix&
         "REACTIONS in symdyn_add_model)",
         model_.name(), model_.variant()));
   }
+  if (reduces(s)) {
+    loop_joint_reactions(s, qdd, reaction);
+    return;
+  }
   if (qdd.size() != model_.nq()) {
     throw ModelError(fmt::format("joint reactions: qdd has {} entries, model '{}' {} coordinates",
                                  qdd.size(), model_.name(), model_.nq()));
@@ -998,11 +1014,89 @@ void MultibodySystem::joint_reactions(const State& s, const Vector& qdd, Matrix&
   reaction.resize(6, model_.nbody());
   model_.joint_reactions(s.t, s.q.data(), s.qd.data(), qdd.data(), loads_.F.data(), loads_.M.data(),
                          reaction.data());
+  check_reactions(s, reaction);
+}
+
+void MultibodySystem::check_reactions(const State& s, const Matrix& reaction) const {
   for (int i = 0; i < model_.nbody(); ++i) {
     if (!reaction.col(i).allFinite()) {
       throw NumericError(fmt::format("t = {}: the joint reaction of body '{}' is not finite at {}",
                                      s.t, model_.body_names()[i], describe(s)));
     }
+  }
+}
+
+// The tree's joints at x = (q, p) with the closures' forces as applied loads:
+// each body's Newton-Euler balance then holds with every force it receives.
+void MultibodySystem::loop_joint_reactions(const State& s, const Vector& qdd, Matrix& reaction) {
+  for (int k = 0; k < model_.ncon(); ++k) {
+    const int loop = model_.constraint_loop(k);
+    if (model_.loop_body_a(loop) < 0 || !model_.has_closure_points()) {
+      throw ModelError(fmt::format(
+          "joint reactions of model '{}': loop '{}' is given by its equations (constraint), "
+          "whose forces act on no known body; close it with close_loop for its joints' reactions",
+          model_.name(), model_.loop_names()[static_cast<std::size_t>(loop)]));
+    }
+  }
+  Vector lambda;
+  loop_multipliers(s, qdd, lambda);  // closed_ and xdd_ at s
+  const State& x = closed_;
+  evaluate_kinematics(x);
+  apply_elements(x);
+  add_closure_loads(x, lambda);
+  reaction.resize(6, model_.nbody());
+  model_.joint_reactions(x.t, x.q.data(), x.qd.data(), xdd_.data(), loads_.F.data(),
+                         loads_.M.data(), reaction.data());
+  check_reactions(x, reaction);
+}
+
+// The closure of equation k pulls body a with λ_k·e_axis at the point P and
+// body b with the opposite force: at each G a force and the moment (P - x)×F.
+void MultibodySystem::add_closure_loads(const State& x, const Vector& lambda) {
+  Matrix points(3, model_.ncon());  // column k: row k of the emitted (ncon x 3)
+  model_.closure_points(x.t, x.q.data(), points.data());
+  for (int k = 0; k < model_.ncon(); ++k) {
+    const int loop = model_.constraint_loop(k);
+    Vec3 force = Vec3::Zero();
+    force(model_.constraint_axis(k)) = lambda(k);
+    const Vec3 point = points.col(k);
+    const int a = model_.loop_body_a(loop), b = model_.loop_body_b(loop);
+    loads_.F.col(a) += force;
+    loads_.M.col(a) += (point - k_.x(a)).cross(force);
+    loads_.F.col(b) -= force;
+    loads_.M.col(b) -= (point - k_.x(b)).cross(force);
+  }
+}
+
+void MultibodySystem::loop_multipliers(const State& s, const Vector& qdd, Vector& lambda) {
+  if (!model_.has_loops())
+    throw ModelError(fmt::format("model '{}' has no closed loops", model_.name()));
+  check_independent(s);
+  if (qdd.size() != num_coordinates()) {
+    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
+                                 qdd.size(), num_coordinates()));
+  }
+  const State& x = close(s);
+  xdd_ = loops_.c();
+  xdd_.noalias() += loops_.T() * qdd;
+  Vector yd = Vector::Zero(num_extra_states()), g;
+  tree_residual(x, xdd_, yd, rhs_x_, g);
+  loops_.multipliers(rhs_x_.tail(model_.ncon()), lambda);
+  if (!lambda.allFinite())
+    throw NumericError(
+        fmt::format("t = {}: the loops' multipliers are not finite at {}", s.t, describe(x)));
+}
+
+void MultibodySystem::loop_reactions(const State& s, Vector& reaction) {
+  Vector qdd, yd(num_extra_states());
+  accelerations(s, qdd, yd);
+  loop_reactions(s, qdd, reaction);
+}
+
+void MultibodySystem::loop_reactions(const State& s, const Vector& qdd, Vector& reaction) {
+  loop_multipliers(s, qdd, reaction);
+  for (int k = 0; k < model_.ncon(); ++k) {
+    if (model_.constraint_axis(k) >= 0) reaction(k) = -reaction(k);
   }
 }
 

@@ -121,6 +121,8 @@ class MultibodySystem : public DynamicSystem {
   // solve starts from the model's guesses, later ones from the last solution,
   // reset_loops() starts again from the guesses). The state itself without loops.
   State extended_state(const State& s);
+  // The tree's accelerations xdd = T·qdd + c (nq) at s and qdd (n) in q; qdd itself without loops.
+  Vector extended_accelerations(const State& s, const Vector& qdd);
   void reset_loops() { loops_.reset(); }
   // The implicit dependent parameters' guesses (ncon) the next solve (and each
   // after reset_loops()) starts from: the assembly branch. ModelError for a wrong size.
@@ -185,8 +187,24 @@ class MultibodySystem : public DynamicSystem {
   // s and qdd its accelerations (computed by the first form). ModelError where
   // the model was emitted without joint_reactions; NumericError naming the
   // body whose reaction is not finite.
+  // With closed loops and s, qdd in the independent coordinates, the tree's
+  // joints of x = (q, p) at xdd = T·qdd + c, the closures' forces
+  // (loop_reactions) applied to their bodies with the force elements' loads;
+  // a ModelError for a loop given by its equations (its forces act on no
+  // known body).
   void joint_reactions(const State& s, Matrix& reaction);
   void joint_reactions(const State& s, const Vector& qdd, Matrix& reaction);
+  // Closed loops (docs/runtime.md): the multipliers λ (ncon) of the tree's
+  // M_x·xdd + h_x = Q_x + g_xᵀ·λ at s and qdd (n each, xdd = T·qdd + c),
+  // λ = g_p⁻ᵀ·(M_x·xdd + h_x - Q_x)_p; and each equation's loop reaction
+  // (names: Model::loop_reaction_name): for a close_loop, the force (N) on its
+  // body b from its body a at the closure point, along the global axis of the
+  // equation (-λ: the gap is point_a - point_b); for a loop given by its
+  // equations, λ. The first forms at the state's accelerations. ModelError
+  // for a model without loops or a state not in the independent coordinates.
+  void loop_multipliers(const State& s, const Vector& qdd, Vector& lambda);
+  void loop_reactions(const State& s, Vector& reaction);
+  void loop_reactions(const State& s, const Vector& qdd, Vector& reaction);
 
   // The kinematics and loads of the last evaluation.
   const Kinematics& kinematics() const { return k_; }
@@ -213,6 +231,11 @@ class MultibodySystem : public DynamicSystem {
   const State& extended(const State& s);  // checked, then closed
   void check_independent(const State& s) const;
   void loop_accelerations(const State& s, Vector& qdd, Vector& yd);
+  // joint_reactions() of a state in the independent coordinates.
+  void loop_joint_reactions(const State& s, const Vector& qdd, Matrix& reaction);
+  // The loads of the closures' forces λ at the closed state x onto its bodies (k_ at x).
+  void add_closure_loads(const State& x, const Vector& lambda);
+  void check_reactions(const State& s, const Matrix& reaction) const;
   // Tᵀ·A·T and Tᵀ·(b + A·c) of the tree's A and b.
   void reduce(const Matrix& A, Matrix& out);
   void reduce(const Vector& b, const Matrix& A, Vector& out);

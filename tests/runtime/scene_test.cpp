@@ -230,6 +230,21 @@ TEST_CASE("The viewer's units: rad for a coordinate that turns a body, m else",
                     Contains("1 series units for 2 names"));
 }
 
+TEST_CASE("The viewer's arrows: 3 values of point and vector per time, else refused",
+          "[runtime][scene]") {
+  // (Drawn: tests/viewer/check_four_bar_viewer.py.)
+  if (!html_viewer_available()) return;
+  const Model pendulum = Model::from<symdyn_fixtures::double_pendulum_absolute>();
+  const TimeSeries series{{"t", "q0"}, {{0.0, 0.1}, {1.0, 1.1}}, {"s", "rad"}};
+  const auto html = [&](const Arrows& arrows) {
+    write_html(temp_file("arrows.html"), "arrows", Scene(pendulum), {}, series, arrows);
+  };
+  CHECK_THROWS_WITH(html({{"C"}, {{0, 0, 0, 1, 0, 0}}, {}}),
+                    Contains("1 arrow names for 1 points and 0 vectors"));
+  CHECK_THROWS_WITH(html({{"C"}, {{0, 0, 0}}, {{1, 2, 0, 1, 2, 0}}}),
+                    Contains("arrow 'C' has 3 point and 6 vector values, 3 per time (6)"));
+}
+
 TEST_CASE("Bad shapes are refused naming the dimension", "[runtime][scene]") {
   CHECK_THROWS_WITH(Shape::sphere(-1), Contains("sphere radius") && Contains("-1"));
   CHECK_THROWS_WITH(Shape::box(1, std::nan(""), 1), Contains("box edge y"));

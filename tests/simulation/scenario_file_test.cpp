@@ -6,10 +6,12 @@
 // wrong ones are refused.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <streambuf>
 #include <string>
@@ -501,17 +503,53 @@ TEST_CASE("model modules: a module runs as the built-in model, the wrong ones ar
              Contains(fmt::format(
                  "model module '{}' was built for module interface {}, this symdyn-sim reads {}",
                  MODULE_OTHER_ABI, runtime::model_module_abi + 1, runtime::model_module_abi)));
-  // A model with closed loops: refused until symdyn-sim tells its coordinates apart.
-  CHECK_THAT(error_of(fmt::format(R"j({{"model": {{"name": "four_bar", "module": "{}"}}}})j",
+  // A model with closed loops: a p's rate is not the state's.
+  CHECK_THAT(error_of(fmt::format(R"j({{"model": {{"name": "four_bar", "module": "{}"}},
+                                        "initial": {{"qd": {{"phi": 1}}}}}})j",
                                   MODULE_FOUR_BAR)),
-             Contains("/model: model 'four_bar' has closed loops (C), which symdyn-sim does not "
-                      "run yet"));
+             Contains("/initial/qd/phi: 'phi' is an implicit dependent parameter of the closed "
+                      "loops (C): its rate follows from the independent coordinates' (q0)"));
   const auto dir = testing::scratch_directory("module");
   std::ofstream(dir / "text.so") << "not a library\n";
   CHECK_THAT(
       module_error((dir / "text.so").string()),
       Contains(fmt::format("model module '{}' cannot be loaded", (dir / "text.so").string())));
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("scenario files: a model with closed loops runs in its independent coordinates",
+          "[scenario][module][loops]") {
+  // The four-bar's coupler angle phi read by name (against the two-circle
+  // intersection at the final q0), its loop's reactions as columns, and the
+  // rocker's free hinge transmitting no moment once the closure's force is in.
+  const std::string text = fmt::format(R"j({{
+    "model": {{"name": "four_bar", "module": "{}"}},
+    "initial": {{"q": {{"q0": 0.3, "phi": 0.8}}, "qd": {{"q0": 4}}}},
+    "t_end": 0.5,
+    "integrator": {{"name": "dopri5", "tolerance": 1e-10}},
+    "outputs": ["q", "qd", {{"loop": "C"}}],
+    "checks": [
+      {{"name": "end phi", "value": "end(phi)", "band": [-10, 10]}},
+      {{"name": "rocker hinge", "value": "maximum(abs(reaction.rocker.Mz))", "band": [0, 1e-9]}}
+    ]}})j",
+                                       MODULE_FOUR_BAR);
+  sim::RunResult r;
+  states_of(parse(text), {}, &r);
+  REQUIRE(r.final.q.size() == 1);
+  for (const char* column :
+       {"q0", "phi", "psi", "phi_dot", "psi_dot", "reaction.C.Fx", "reaction.C.Fy"}) {
+    INFO(column);
+    CHECK(std::find(r.columns.begin(), r.columns.end(), column) != r.columns.end());
+  }
+  const double r1 = 0.1, r2 = 0.35, r3 = 0.3, d = 0.4, q0 = r.final.q(0);
+  const double ax = r1 * std::cos(q0), ay = r1 * std::sin(q0);
+  const double ux = d - ax, uy = -ay, e = std::hypot(ux, uy);
+  const double a = (r2 * r2 - r3 * r3 + e * e) / (2 * e), h = std::sqrt(r2 * r2 - a * a);
+  const double cx = ax + (a * ux - h * uy) / e, cy = ay + (a * uy + h * ux) / e;
+  const double phi = std::atan2(cy - ay, cx - ax) - q0;
+  REQUIRE(r.checks.size() == 2);
+  CHECK(std::abs(std::remainder(r.checks[0].value - phi, 2 * std::numbers::pi)) < 1e-9);
+  CHECK(r.checks[1].ok());
 }
 
 TEST_CASE("symdyn-sim runs a scenario file, a module relative to it", "[scenario][module][sim]") {

@@ -2,7 +2,8 @@
 // its clips (the motion, then each mode), and the time histories plotted
 // beside it with a cursor at the current time (plot.js). Everything it shows
 // comes from the JSON in <script id="symdyn-data">: { title, glb (base64),
-// series: { names, columns, units } }. The camera frames the bodies and, for a
+// series: { names, columns, units }, arrows: { names, points, vectors } (forces
+// drawn at points, optional) }. The camera frames the bodies and, for a
 // motion that goes well beyond them, follows them (a toggle); the path is drawn
 // on the ground. The URL's hash sets the start: #t=1.5&clip=0&paused&follow=0.
 import * as THREE from 'three';
@@ -235,6 +236,45 @@ async function main() {
   });
   showSwatches();
 
+  // Arrows (the loops' reaction forces): arrow k at points[k], along vectors[k]
+  // (3 per time of the series, model axes, turned as the bodies' "world"), at
+  // the last output instant up to the time, scaled together: the longest a
+  // fifth of the bodies' size.
+  const arrows = data.arrows || { names: [], points: [], vectors: [] };
+  const times = series.columns[0] || [];
+  let longest = 0;
+  for (const v of arrows.vectors) {
+    for (let k = 0; k + 2 < v.length; k += 3) longest = Math.max(longest, Math.hypot(v[k], v[k + 1], v[k + 2]));
+  }
+  const arrowScale = longest > 0 ? bodySize / 5 / longest : 0;
+  const arrowRoot = new THREE.Group();
+  const world = gltf.scene.getObjectByName('world');
+  if (world) arrowRoot.quaternion.copy(world.quaternion);
+  scene.add(arrowRoot);
+  const helpers = arrows.names.map((name) => {
+    const a = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), new THREE.Vector3(), 1, 0xd62728);
+    a.name = name;
+    arrowRoot.add(a);
+    return a;
+  });
+  function placeArrows(t, shown) {
+    let lo = 0, hi = times.length - 1;
+    while (lo < hi) {
+      const mid = (lo + hi + 1) >> 1;
+      if (times[mid] <= t) lo = mid; else hi = mid - 1;
+    }
+    helpers.forEach((a, k) => {
+      const p = arrows.points[k], v = arrows.vectors[k], i = 3 * lo;
+      const force = new THREE.Vector3(v[i], v[i + 1], v[i + 2]);
+      const length = force.length() * arrowScale;
+      a.visible = shown && length > 0;
+      if (!a.visible) return;
+      a.position.set(p[i], p[i + 1], p[i + 2]);
+      a.setDirection(force.normalize());
+      a.setLength(length, 0.25 * length, 0.12 * length);
+    });
+  }
+
   let paused = options.paused === true || options.t !== undefined;
   let time = Number(options.t) || 0;
   selectClip(Number(options.clip) || 0);
@@ -270,6 +310,8 @@ async function main() {
     const duration = action ? action.getClip().duration : 0;
     time = duration > 0 ? ((t % duration) + duration) % duration : 0;
     if (action) { action.time = time; mixer.update(0); }
+    placeArrows(time, clipSelect.value === '0');
+    document.body.dataset.arrows = String(helpers.filter((a) => a.visible).length);
     track();
     slider.value = time;
     clock.textContent = `t = ${time.toFixed(3)} s`;
@@ -290,7 +332,8 @@ async function main() {
   document.body.dataset.ready = 'true';
   // For scripts and tests: the state of the viewer, and a way to move it.
   window.symdynViewer = { ready: true, clips: clips.map((c) => c.name), bodies: gltf.scene.children[0]?.children.map((c) => c.name) ?? [],
-                          setTime: (t) => { paused = true; show(t); }, time: () => time, following: () => follow.checked };
+                          setTime: (t) => { paused = true; show(t); }, time: () => time, following: () => follow.checked,
+                          arrows: () => helpers.map((a) => ({ name: a.name, visible: a.visible, position: a.position.toArray() })) };
   document.body.dataset.follow = String(follow.checked);
 }
 

@@ -43,11 +43,15 @@ std::string declarations(const TextContext& c, const std::vector<EntryPoint>& en
 // The closed loops' facts the runtime reads (runtime/model.hpp), for a model that has them.
 std::string loops_declarations(const model::Model& model) {
   if (model.loops().empty()) return "";
-  std::vector<std::string> names, of_equation;
+  std::vector<std::string> names, of_equation, bodies, axes;
   for (std::size_t l = 0; l < model.loops().size(); ++l) {
-    names.push_back(model.loops()[l].name);
-    for (std::size_t k = 0; k < model.loops()[l].equations.size(); ++k)
+    const model::Loop& loop = model.loops()[l];
+    names.push_back(loop.name);
+    bodies.push_back(fmt::format("{}, {}", loop.body_a, loop.body_b));
+    for (std::size_t k = 0; k < loop.equations.size(); ++k) {
       of_equation.push_back(fmt::format("{}", l));
+      axes.push_back(fmt::format("{}", loop.body_a >= 0 ? loop.axes[k] : -1));
+    }
   }
   return fmt::format(
       "  // Closed loops: q holds the {0} independent coordinates, then the {1} implicit "
@@ -57,9 +61,14 @@ std::string loops_declarations(const model::Model& model) {
       "  static constexpr int nindependent = {0};\n"
       "  static constexpr int nloop = {2};\n"
       "  static constexpr const char* loop_names[{2}] = {3};\n"
-      "  static constexpr int constraint_loop[{1}] = {{{4}}};  // the loop of each equation\n\n",
+      "  static constexpr int constraint_loop[{1}] = {{{4}}};  // the loop of each equation\n"
+      "  // close_loop's bodies a, b of each loop (-1, -1: a loop given by its equations), and\n"
+      "  // the axis (0, 1, 2: x, y, z) of the gap each equation is a component of (or -1).\n"
+      "  static constexpr int loop_bodies[{5}] = {{{6}}};\n"
+      "  static constexpr int constraint_axis[{1}] = {{{7}}};\n\n",
       model.num_independent(), model.num_implicit(), names.size(), string_array_literal(names),
-      fmt::join(of_equation, ", "));
+      fmt::join(of_equation, ", "), 2 * names.size(), fmt::join(bodies, ", "),
+      fmt::join(axes, ", "));
 }
 
 }  // namespace

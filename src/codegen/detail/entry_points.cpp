@@ -189,6 +189,15 @@ std::vector<EntryPointSpec> make_catalogue() {
                  .equations_of_motion = true,
                  .derivatives = Derivatives::dynamics,
                  .loops = true}},
+      {.name = "closure_points",
+       .doc = "The point of each equation's loop closure (close_loop: body a's point) in global "
+              "axes, at x = q;\n"
+              "0 for a loop given by its equations. Where the closure's force acts (the "
+              "runtime's loop reactions).",
+       .inputs = {t, q, param},
+       .outputs = {{"point", "ncon x 3", constraints(&model::Constraints::point)}},
+       .needs = {.loops = true},
+       .cold = true},
       {.name = "mass_matrix",
        .doc = "Mass matrix M(q, t).",
        .inputs = {t, q, param},
