@@ -89,7 +89,8 @@ class LoopClosure {
   // The multipliers λ = g_p⁻ᵀ·r_p (ncon) of M_x·xdd + h_x - Q_x = r_x = g_xᵀ·λ,
   // from the p rows r_p (ncon) of the tree's residual at the last close().
   void multipliers(const Vector& r_p, Vector& lambda) const {
-    lambda.noalias() = lu_.transpose().solve(r_p);
+    lambda = r_p;
+    lu_.solve_transposed_in_place(lambda);
   }
 
   // After close() at (t, q, qd), giving x and xd: the derivatives above at
