@@ -649,6 +649,7 @@ RunResult Simulation::Impl::run() {
 
   std::vector<double> breakpoints;
   for (const auto& e : events) breakpoints.push_back(e.time);
+  system->clear_warnings();
   const auto start = std::chrono::steady_clock::now();
   const runtime::SegmentedRun run =
       runtime::integrate_with_breakpoints(*integ, *system, initial, breakpoints, t_end,
@@ -657,6 +658,7 @@ RunResult Simulation::Impl::run() {
   bar.finish();
   r.statistics = run.statistics;
   r.segments = run.segments;
+  r.warnings = system->warnings();
   r.jacobians = system->jacobian_method();
 
   for (std::size_t k = 0; k < statistics.size(); ++k) statistic_values[k] = statistics[k].value;
@@ -739,6 +741,7 @@ std::string summary(const RunResult& run) {
       "  energy: initial {:.9g} J, final {:.9g} J, max |E - E0| = {:.3g} J ({:.3g} of {:.4g} J)\n",
       run.energy.initial, run.energy.final, run.energy.absolute, run.energy.relative(),
       run.energy.scale);
+  for (const auto& w : run.warnings) out += fmt::format("  WARNING: {}\n", w);
   for (const auto& c : run.checks) {
     out += fmt::format("  {}: {:.6g}{} (expected {:g} .. {:g}) {}\n", c.name, c.value,
                        c.unit.empty() ? "" : " " + c.unit, c.low, c.high,

@@ -79,6 +79,9 @@ struct RunResult {
   double wall_seconds = 0.0;
   std::vector<Check> checks;
   std::vector<double> values;  // of Simulation::keep, in the order asked
+  // The system's warnings (MultibodySystem::warnings: a mass matrix that lost
+  // half its digits), each once, with its time.
+  std::vector<std::string> warnings;
 };
 
 class Simulation {

@@ -66,6 +66,22 @@ class DynamicSystem {
                                                       const Matrix& /*M*/) const {
     return std::nullopt;
   }
+
+  // Called by the one-step integrators, cvode and arkode after each accepted step,
+  // from `from` to `to` (t, q, qd, y at both ends), before its outputs: throws
+  // NumericError (naming the time and the state) where the motion within the step
+  // reaches a place the system cannot pass, which no evaluation of the step may
+  // have met (a dependent parameter touching the edge of its domain between two
+  // evaluations). The default does nothing.
+  virtual void check_step(const State& /*from*/, const State& /*to*/) {}
+
+  // Cold: why the equations are nearly singular at s, where the system knows a
+  // reason (a multibody model: an angle sequence near its singular
+  // configuration), for the message of an iteration that failed there; nullopt
+  // (the default) where it does not.
+  virtual std::optional<std::string> explain_near_singular(const State& /*s*/) const {
+    return std::nullopt;
+  }
 };
 
 }  // namespace symdyn::runtime

@@ -43,6 +43,7 @@ struct RestrictedDomain {
   std::string_view domain;  // as a message says it
   bool (*inside)(double x, double e);
   bool (*edge)(double x, double e);
+  bool has_margin;  // asin, acos: 1 - |x|, of a scale of its own
 };
 
 bool is_integer(double e) {
@@ -51,18 +52,18 @@ bool is_integer(double e) {
 
 constexpr RestrictedDomain kRestrictedDomains[] = {
     {"asin", "[-1, 1]", [](double x, double) { return std::abs(x) <= 1.0; },
-     [](double x, double) { return std::abs(x) == 1.0; }},
+     [](double x, double) { return std::abs(x) == 1.0; }, true},
     {"acos", "[-1, 1]", [](double x, double) { return std::abs(x) <= 1.0; },
-     [](double x, double) { return std::abs(x) == 1.0; }},
+     [](double x, double) { return std::abs(x) == 1.0; }, true},
     {"sqrt", "[0, inf)", [](double x, double) { return x >= 0.0; },
-     [](double x, double) { return x == 0.0; }},
+     [](double x, double) { return x == 0.0; }, false},
     {"log", "(0, inf)", [](double x, double) { return x > 0.0; },
-     [](double, double) { return false; }},
+     [](double, double) { return false; }, false},
     {"pow", "a base > 0, or 0 with an exponent > 0, or < 0 with an integer exponent",
      [](double x, double e) {
        return x > 0.0 || (x == 0.0 && e > 0.0) || (x < 0.0 && is_integer(e));
      },
-     [](double x, double e) { return x == 0.0 && e > 0.0 && e < 1.0; }},
+     [](double x, double e) { return x == 0.0 && e > 0.0 && e < 1.0; }, false},
 };
 
 const RestrictedDomain* restricted_domain(std::string_view function) {
@@ -100,6 +101,10 @@ Model::Model(ModelDescription d) : d_(std::move(d)) {
   if (d_.nindependent < 0) d_.nindependent = d_.nq;
   validate_loops();
   validate_diagnostics();
+  for (std::size_t k = 0; k < d_.domain_checks.size(); ++k) {
+    if (restricted_domain(d_.domain_checks[k].function)->has_margin)
+      margin_checks_.push_back(static_cast<int>(k));
+  }
   zeros_.assign(std::max(d_.nq, 1), 0.0);
   param_ = d_.param_defaults;
   if (param_.empty()) param_.push_back(0.0);
@@ -215,6 +220,55 @@ std::optional<std::string> Model::domain_error(double t, const double* q) const 
     if (restricted_domain(d_.domain_checks[k].function)->edge(args[2 * k], args[2 * k + 1])) {
       return describe(k, "at the edge of its function's domain, where its derivative is infinite");
     }
+  }
+  return std::nullopt;
+}
+
+Model::DomainMargin Model::smallest_domain_margin(double t, const double* q,
+                                                  double* arguments) const {
+  DomainMargin smallest;
+  if (margin_checks_.empty()) return smallest;
+  d_.domain_arguments(t, q, param_.data(), arguments);
+  for (int k : margin_checks_) {
+    // 1 - |x|: negative outside [-1, 1]; a NaN argument (an inner check failed) is skipped.
+    const double margin = 1.0 - std::abs(arguments[2 * k]);
+    if (margin < smallest.margin) smallest = {margin, k};
+  }
+  return smallest;
+}
+
+std::string Model::describe_domain_margin(double t, const double* q, const DomainMargin& m) const {
+  std::vector<double> args(2 * d_.domain_checks.size());
+  d_.domain_arguments(t, q, param_.data(), args.data());
+  const DomainCheck& c = d_.domain_checks.at(static_cast<std::size_t>(m.check));
+  const double x = args[2 * static_cast<std::size_t>(m.check)];
+  return fmt::format(
+      "dependent parameter '{}': {} is {:.3g} from the edge of its function's domain, where its "
+      "derivative is infinite and has lost more than half its digits within {:g} of it [domain "
+      "of {}: {}]",
+      c.dependent, call(c.function, x, 0.0), 1.0 - std::abs(x), kDomainMargin, c.function,
+      restricted_domain(c.function)->domain);
+}
+
+std::optional<std::string> Model::angle_sequence_near_singular(const double* q,
+                                                               double within) const {
+  const double pi = std::numbers::pi;
+  for (const AngleSequence& a : d_.angle_sequences) {
+    const int j = a.coordinates[1];
+    // Singular at b = offset + k·pi: pi/2 + k·pi (Tait-Bryan), k·pi (proper Euler).
+    const double offset = a.axes.front() == a.axes.back() ? 0.0 : pi / 2;
+    const double distance = std::abs(std::remainder(q[j] - offset, pi));
+    if (!(distance < within)) continue;
+    const double singular = offset + pi * std::nearbyint((q[j] - offset) / pi);
+    std::string axes;
+    for (char c : a.axes)
+      axes += fmt::format("{}{}", axes.empty() ? "" : "-", static_cast<char>(std::toupper(c)));
+    const auto& names = d_.q_names;
+    return fmt::format(
+        "coordinates '{}', '{}', '{}' of body '{}' form a {} angle sequence {:.3g} rad from its "
+        "singular configuration {} = {} deg ({} = {} rad)",
+        names[a.coordinates[0]], names[j], names[a.coordinates[2]], d_.body_names[a.body], axes,
+        distance, names[j], std::round(singular * 180.0 / pi), names[j], q[j]);
   }
   return std::nullopt;
 }

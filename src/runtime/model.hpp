@@ -15,6 +15,7 @@
 
 #include <array>
 #include <concepts>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -450,12 +451,35 @@ class Model {
   // infinite: "dependent parameter 'alpha': asin(1.2) is outside its domain
   // [-1, 1]". Nothing when all are inside, or the model was emitted without checks.
   std::optional<std::string> domain_error(double t, const double* q) const;
+  // Edges: asin and acos lose their derivative's digits near |x| = 1, where
+  // 1 - x² carries the rounding of x: within a margin 1 - |x| < kDomainMargin,
+  // the rate 1/sqrt(1 - x²) has lost half its digits (sqrt, log and pow have no
+  // scale of their own for such a margin: only leaving their domain is seen).
+  static constexpr double kDomainMargin = 1e-8;
+  // Whether any domain check has such a margin (the checks below do nothing otherwise).
+  bool has_domain_margins() const { return !margin_checks_.empty(); }
+  // The smallest margin at (t, q) (negative outside the domain, +inf without
+  // margins) and its check; arguments (2·ndomain) is scratch. Allocates nothing.
+  struct DomainMargin {
+    double margin = std::numeric_limits<double>::infinity();
+    int check = -1;
+  };
+  DomainMargin smallest_domain_margin(double t, const double* q, double* arguments) const;
+  int num_domain_checks() const { return static_cast<int>(d_.domain_checks.size()); }
+  // Cold: "dependent parameter 'alpha': asin(0.99999999999) is 1e-11 from the edge
+  // of its function's domain [domain of asin: [-1, 1]]" for the check of that margin.
+  std::string describe_domain_margin(double t, const double* q, const DomainMargin& m) const;
   // The angle sequence at its singular configuration (|cos b| or |sin b| of
   // its middle angle below 1e-4) that carries most of the null direction of M
   // (n x n, singular), if that is at least half of it: "coordinates 'yaw',
   // 'pitch', 'roll' of body 'frame' form a Z-Y-X angle sequence singular at
   // pitch = 90 deg (pitch = 1.5707963 rad)".
   std::optional<std::string> singular_angle_sequence(const double* q, const Matrix& M) const;
+  // The first angle sequence whose middle angle is within `within` rad of its
+  // singular value, if any: "coordinates 'yaw', 'pitch', 'roll' of body 'frame'
+  // form a Z-Y-X angle sequence 1e-06 rad from its singular configuration pitch =
+  // 90 deg (pitch = 1.5707953 rad)". Allocates only when it finds one.
+  std::optional<std::string> angle_sequence_near_singular(const double* q, double within) const;
   const std::vector<std::string>& dependent_names() const { return d_.dependent_names; }
   const std::vector<AngleSequence>& angle_sequences() const { return d_.angle_sequences; }
 
@@ -471,10 +495,11 @@ class Model {
                                              Kinematics& k) const;
 
   ModelDescription d_;
-  std::vector<double> zeros_;  // (max(nq, 1)) qd = 0 for positions from velocities
-  std::vector<double> param_;  // (max(nparam, 1))
-  std::vector<double> mass_;   // (nbody)
-  std::vector<Mat3> inertia_;  // (nbody)
+  std::vector<double> zeros_;       // (max(nq, 1)) qd = 0 for positions from velocities
+  std::vector<double> param_;       // (max(nparam, 1))
+  std::vector<int> margin_checks_;  // the domain checks with a margin (asin, acos)
+  std::vector<double> mass_;        // (nbody)
+  std::vector<Mat3> inertia_;       // (nbody)
 };
 
 template <detail::generated_model G>

@@ -42,6 +42,8 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   if (model_.has_kinematics_derivatives()) dk_ = model_.make_kinematics_derivatives();
   base_v_.resize(static_cast<std::size_t>(3 * model_.nbody()));
   base_w_.resize(static_cast<std::size_t>(3 * model_.nbody()));
+  domain_arguments_.resize(static_cast<std::size_t>(2 * model_.num_domain_checks()));
+  edge_state_ = initial_state();  // sized: check_step allocates nothing
 }
 
 void MultibodySystem::set_source(EquationsSource source) {
@@ -86,6 +88,7 @@ void MultibodySystem::set_extra_states(std::vector<std::string> names, const Vec
   extra_initial_ = initial;
   extra_ = std::move(e);
   extra_reads_ = extra_ ? reads : KinematicsLevel::none;
+  edge_state_.y.resize(extra_initial_.size());
   update_level();
 }
 
@@ -473,12 +476,147 @@ std::optional<std::string> MultibodySystem::explain_singular(const State& s,
   return model_.singular_angle_sequence(s.q.data(), M);
 }
 
+std::optional<std::string> MultibodySystem::explain_near_singular(const State& s) const {
+  if (s.q.size() != model_.nq()) return std::nullopt;
+  return model_.angle_sequence_near_singular(s.q.data(), kAngleSequenceWarning);
+}
+
 // A dependent parameter out of its domain is the first suspect: it makes
 // everything after it NaN (rotations, M, h), which would otherwise be named.
 void MultibodySystem::throw_domain_error(const State& s) const {
   if (const auto what = model_.domain_error(s.t, s.q.data())) {
     throw NumericError(fmt::format("t = {}: {} at {}", s.t, *what, describe(s)));
   }
+}
+
+void MultibodySystem::check_domain_margin_cold(const State& s) {
+  const Model::DomainMargin m =
+      model_.smallest_domain_margin(s.t, s.q.data(), domain_arguments_.data());
+  if (m.margin < Model::kDomainMargin) domain_margin_refused(s, m);
+}
+
+void MultibodySystem::domain_margin_refused(const State& s, const Model::DomainMargin& m,
+                                            const char* where) const {
+  if (!(m.margin > 0.0)) throw_domain_error(s);  // outside, or at the edge: its own words
+  throw NumericError(fmt::format("t = {}: {}{} at {}", s.t,
+                                 model_.describe_domain_margin(s.t, s.q.data(), m), where,
+                                 describe(s)));
+}
+
+// Cubic Hermite of q from (q, qd) at both ends (its derivative gives qd), y linear.
+void MultibodySystem::interpolate_step(const State& from, const State& to, double th,
+                                       State& out) const {
+  const double h = to.t - from.t, th2 = th * th, th3 = th2 * th;
+  out.t = from.t + th * h;
+  out.q = (2 * th3 - 3 * th2 + 1) * from.q + (h * (th3 - 2 * th2 + th)) * from.qd +
+          (3 * th2 - 2 * th3) * to.q + (h * (th3 - th2)) * to.qd;
+  out.qd = ((6 * th2 - 6 * th) / h) * (from.q - to.q) + (3 * th2 - 4 * th + 1) * from.qd +
+           (3 * th2 - 2 * th) * to.qd;
+  out.y = (1 - th) * from.y + th * to.y;
+}
+
+namespace {
+
+// The smallest margin(th) over [a, b], where it has one minimum, by golden section
+// to 1e-12 of the step: (th, its margin).
+template <class Margin>
+std::pair<double, Model::DomainMargin> smallest_margin_between(const Margin& margin, double a,
+                                                               double b) {
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double c = b - g * (b - a), d = a + g * (b - a);
+  Model::DomainMargin mc = margin(c), md = margin(d);
+  while (b - a > 1e-12) {
+    if (mc.margin < md.margin) {  // the minimum is in [a, d]
+      b = d;
+      d = c;
+      md = mc;
+      c = b - g * (b - a);
+      mc = margin(c);
+    } else {  // in [c, b]
+      a = c;
+      c = d;
+      mc = md;
+      d = a + g * (b - a);
+      md = margin(d);
+    }
+  }
+  return mc.margin < md.margin ? std::pair{c, mc} : std::pair{d, md};
+}
+
+}  // namespace
+
+Model::DomainMargin MultibodySystem::closest_approach(const State& from, const State& to) {
+  const auto margin_at = [&](double th) {
+    interpolate_step(from, to, th, edge_state_);
+    return model_.smallest_domain_margin(edge_state_.t, edge_state_.q.data(),
+                                         domain_arguments_.data());
+  };
+  // Five samples; a minimum inside that comes near the edge is then located by golden section.
+  constexpr int kSamples = 5;  // th = 0, 1/4, .. 1
+  Model::DomainMargin best;
+  int best_sample = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    const Model::DomainMargin m = margin_at(i / 4.0);
+    if (m.margin < best.margin) {
+      best = m;
+      best_sample = i;
+    }
+  }
+  double th_best = best_sample / 4.0;
+  constexpr double kLocate = 1e-2;  // a margin this small between steps is looked into
+  if (best.margin < kLocate) {
+    // The closest point is within a sample of the closest sample (an end's: inside the step).
+    const auto [th, m] = smallest_margin_between(margin_at, std::max(best_sample - 1, 0) / 4.0,
+                                                 std::min(best_sample + 1, kSamples - 1) / 4.0);
+    if (m.margin < best.margin) {
+      best = m;
+      th_best = th;
+    }
+  }
+  interpolate_step(from, to, th_best, edge_state_);
+  return best;
+}
+
+void MultibodySystem::check_step(const State& from, const State& to) {
+  // Closed loops: the interpolated state would need the loops closed at every sample.
+  if (!model_.has_domain_margins() || model_.has_loops() || !(to.t > from.t)) return;
+  const Eigen::Index nq = model_.nq();
+  if (from.q.size() != nq || to.q.size() != nq || from.qd.size() != nq || to.qd.size() != nq ||
+      from.y.size() != to.y.size())
+    return;
+  const Model::DomainMargin m = closest_approach(from, to);
+  if (m.margin < Model::kDomainMargin) {
+    domain_margin_refused(edge_state_, m,
+                          fmt::format(" (between the evaluations of the step from t = {} to {}, on "
+                                      "its interpolant)",
+                                      from.t, to.t)
+                              .c_str());
+  }
+}
+
+void MultibodySystem::clear_warnings() {
+  warnings_.clear();
+  conditioning_warned_ = false;
+}
+
+void MultibodySystem::watch_angle_sequences(const State& s, bool ill) {
+  if (s.q.size() != model_.nq()) return;
+  std::optional<std::string> cause =
+      model_.angle_sequence_near_singular(s.q.data(), kAngleSequenceWarning);
+  if (!cause && !ill) return;
+  if (!cause) {
+    const auto name = [this](int j) { return model_.q_names()[j]; };
+    cause = fmt::format("the smallest pivot of its factorization is {:.3g} of its diagonal{}",
+                        solver_.smallest_pivot_ratio(),
+                        M_.rows() == model_.nq() && !model_.has_loops()
+                            ? fmt::format(", its weakest direction {}", null_direction(M_, name))
+                            : "");
+  }
+  warnings_.push_back(fmt::format(
+      "t = {}: the mass matrix is nearly singular, the accelerations have lost more than half "
+      "their digits: {} at {}",
+      s.t, *cause, describe(s)));
+  conditioning_warned_ = true;
 }
 
 void MultibodySystem::explain_non_finite(const State& s, const char* result) const {
@@ -522,6 +660,7 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   }
   const Eigen::Index nq = h_.size();
   if (s.q.size() != nq || s.qd.size() != nq || s.y.size() != extra_initial_.size()) state_error(s);
+  check_domain_margin(s);
   mass_factored_ = false;
   bool recursive = false;
   if (forward_ != nullptr) {  // the way of M tests nothing more
@@ -540,6 +679,7 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   // Done: qdd = M⁻¹·(Q - h) by the articulated-body algorithm, state and qdd checked. A
   // failed pivot or a non-finite qdd goes the way of M, whose checks name why.
   if (!recursive) mass_matrix_accelerations(s, qdd);
+  watch_conditioning(s, mass_factored_);
   yd.resize(extra_initial_.size());
   if (extra_) extra_(s, k_, yd);
 }
@@ -576,6 +716,7 @@ void MultibodySystem::loop_accelerations(const State& s, Vector& qdd, Vector& yd
   check_independent(s);
   mass_factored_ = false;
   const State& x = close(s);
+  check_domain_margin(x);
   accelerations_rhs(x, rhs_x_);
   rhs_x_.noalias() -= M_ * loops_.c();
   Matrix& reduced = derivative_M_;
@@ -591,6 +732,7 @@ void MultibodySystem::loop_accelerations(const State& s, Vector& qdd, Vector& yd
   solver_.solve_in_place(qdd);
   mass_factored_ = true;
   if (!all_finite(qdd.data(), qdd.size())) accelerations_not_finite(x);
+  watch_conditioning(x, true);
   yd.resize(extra_initial_.size());
   if (extra_) extra_(x, k_, yd);
 }
@@ -636,6 +778,8 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
 void MultibodySystem::tree_residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
                                     Vector& g) {
   check_state(s);
+  check_domain_margin(s);
+  watch_conditioning(s, false);
   if (qdd.size() != model_.nq()) {
     throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
                                  qdd.size(), model_.nq()));

@@ -215,10 +215,33 @@ class MultibodySystem : public DynamicSystem {
   // singular configuration (Model::singular_angle_sequence). For statics and
   // linearization, which meet M through DynamicSystem.
   std::optional<std::string> explain_singular(const State& s, const Matrix& M) const override;
+  // Cold: an angle sequence within kAngleSequenceWarning of its singular configuration at s.
+  std::optional<std::string> explain_near_singular(const State& s) const override;
 
   // Evaluates velocity-level kinematics and partial velocities at s into
   // kinematics() (checked for finite values).
   const Kinematics& evaluate_kinematics(const State& s);
+
+  // Domain edges (Model::kDomainMargin): an evaluation at a state where an asin or
+  // acos argument of a dependent parameter is within the margin of ±1 is a
+  // NumericError naming the parameter, the time and the state; check_step looks
+  // for such a touch between the step's ends, along the cubic Hermite
+  // interpolant of q from (q, qd) at both (sampled, then the closest point by
+  // golden section), and names the time and state it found.
+  void check_step(const State& from, const State& to) override;
+
+  // Warnings of the evaluations since construction or clear_warnings(), each
+  // cause once, with the time: the accelerations (or the residual's iteration
+  // matrix) have lost more than half their digits to M's conditioning, where
+  // the smallest pivot of its factorization is below kConditionWarning of its
+  // diagonal, or an angle sequence's middle angle is within
+  // kAngleSequenceWarning rad of its singular value (its pivot falls as the
+  // square of that distance; this check is also made where the accelerations
+  // come from the recursive forward dynamics, without M).
+  static constexpr double kConditionWarning = 1e-8;
+  static constexpr double kAngleSequenceWarning = 1e-4;
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  void clear_warnings();
 
  private:
   void check_state(const State& s) const;
@@ -300,6 +323,25 @@ class MultibodySystem : public DynamicSystem {
   // k_'s v_i, w_i at qd + h·e_j: base_v_, base_w_ (at qd) + h·dv_i/dqd_j, h·dw_i/dqd_j.
   void shift_velocities(int j, double h);
   [[noreturn, gnu::cold, gnu::noinline]] void derivatives_not_finite(const State& s) const;
+  // Refuses s (a full state, checked) within Model::kDomainMargin of a domain edge.
+  void check_domain_margin(const State& s) {
+    if (model_.has_domain_margins()) check_domain_margin_cold(s);
+  }
+  void check_domain_margin_cold(const State& s);
+  [[noreturn, gnu::cold, gnu::noinline]] void domain_margin_refused(const State& s,
+                                                                    const Model::DomainMargin& m,
+                                                                    const char* where = "") const;
+  // The smallest margin along the step's interpolant, its time and state in edge_state_.
+  Model::DomainMargin closest_approach(const State& from, const State& to);
+  void interpolate_step(const State& from, const State& to, double th, State& out) const;
+  // Conditioning warnings (see warnings()), after an evaluation at s; M_ factored
+  // in solver_ when `factored`.
+  void watch_conditioning(const State& s, bool factored) {
+    if (conditioning_warned_) return;
+    const bool ill = factored && solver_.smallest_pivot_ratio() < kConditionWarning;
+    if (ill || !model_.angle_sequences().empty()) watch_angle_sequences(s, ill);
+  }
+  void watch_angle_sequences(const State& s, bool ill);
 
   Model model_;
   LoopClosure loops_;   // with closed loops
@@ -338,8 +380,12 @@ class MultibodySystem : public DynamicSystem {
   Matrix load_dq_, load_dqd_;  // the force elements' dQ/dq, dQ/dqd
   Matrix tree_K_, tree_C_,
       tree_KT_;  // exact_loop_jacobians(): the tree's K_x, C_x (nq x nq), a product (nq x n)
-  KinematicsDerivatives dk_;             // where the model has them
-  std::vector<double> base_v_, base_w_;  // k_'s v, w at the state differenced (nbody x 3)
+  KinematicsDerivatives dk_;              // where the model has them
+  std::vector<double> base_v_, base_w_;   // k_'s v, w at the state differenced (nbody x 3)
+  std::vector<double> domain_arguments_;  // (2·ndomain) Model::smallest_domain_margin's
+  State edge_state_;                      // check_step(): a state within the step
+  std::vector<std::string> warnings_;
+  bool conditioning_warned_ = false;  // the conditioning warning is given once
 };
 
 // Largest absolute differences between the assembled and the emitted mass

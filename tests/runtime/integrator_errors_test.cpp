@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <optional>
 #include <regex>
 #include <string>
@@ -394,4 +395,108 @@ TEST_CASE("boundary touch sweep", "[.boundary_sweep]") {
       std::printf("| %s | %g | %d | %d | %d |\n", name, rtol, resolved, stopped, silent);
     }
   }
+}
+
+namespace {
+
+// The crank as long as its rod (l1 = l2 = 0.1; models/error_models.cpp): asin's
+// argument sin(q0) touches 1 at q0 = pi/2 without crossing it. Beyond the touch
+// (cos q0 < 0) alpha = pi - q0 and x = l1·cos q0 + l2·|cos q0| = 0: the slider
+// stands still and the rest turns about fixed axes, so the mass matrix is
+// constant and qdd = 0 exactly (gravity is normal to the plane).
+MultibodySystem crank_as_long_as_its_rod() {
+  Model model = Model::from<symdyn_generated::long_crank_asin>();
+  model.set_parameters({0.1, 0.1, 0.5, 0.3});
+  return MultibodySystem(std::move(model));
+}
+
+}  // namespace
+
+TEST_CASE(
+    "a crank as long as its rod: qdd beyond the touch is the closed form, and refused naming alpha "
+    "within 1e-8 of asin's edge",
+    "[integrator][errors][domain]") {
+  MultibodySystem sys = crank_as_long_as_its_rod();
+  State s = sys.initial_state();
+  Vector qdd, yd;
+  const double half_pi = std::numbers::pi / 2;
+  for (double d : {0.5, 0.1, 1e-2}) {  // margins 0.12, 5e-3, 5e-5: an accurate qdd
+    s.q[0] = half_pi + d;
+    sys.accelerations(s, qdd, yd);
+    CHECK(std::abs(qdd[0]) < 1e-8);
+  }
+  // Margins 5e-9 and 5e-13 (qdd came out -2.7e3 at 1e-6 beyond, +4.0e3 before):
+  // refused with the parameter, the time and the state.
+  for (double d : {1e-4, 1e-6, -1e-6}) {
+    CAPTURE(d);
+    s.q[0] = half_pi + d;
+    s.t = 0.25;
+    const std::string m = message_of<NumericError>([&] { sys.accelerations(s, qdd, yd); });
+    CHECK(m.rfind("t = 0.25: dependent parameter 'alpha': asin(0.99999", 0) == 0);
+    CHECK(m.find("from the edge of its function's domain") != std::string::npos);
+    CHECK(m.find(fmt::format("q0 = {}", half_pi + d)) != std::string::npos);
+    // The residual (the implicit integrators' form) refuses it too.
+    Vector f, g;
+    CHECK(message_of<NumericError>([&] { sys.residual(s, Vector::Zero(1), yd, f, g); }) == m);
+  }
+}
+
+TEST_CASE(
+    "a crank as long as its rod, run through the touch: every integrator stops there naming alpha, "
+    "the time and the state",
+    "[integrator][errors][domain]") {
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    MultibodySystem sys = crank_as_long_as_its_rod();
+    IntegratorOptions o = tight_options(name);
+    if (name == "rk4" || name == "midpoint") o.initial_step = 1e-4;
+    double last_output = 0.0;
+    o.output_interval = 0.01;
+    o.on_output = [&](const State& s, const Vector&, const Vector&) { last_output = s.t; };
+    const std::string m = message_of<NumericError>(
+        [&] { make_integrator(name, o)->integrate(sys, sys.initial_state(), 1.0); });
+    CAPTURE(m);
+    CHECK(m.find("dependent parameter 'alpha': asin(") != std::string::npos);
+    // From q0 = 0 at 10 rad/s the crank slows to 5.2 rad/s as the slider's share of
+    // the inertia grows, and reaches pi/2 at t = 0.234 (the runs agree to 1e-7).
+    const std::vector<double> t = times_named(m);
+    REQUIRE(!t.empty());
+    CHECK(t.front() == Approx(0.234).margin(2e-3));
+    CHECK(last_output > 0.2);
+    CHECK(last_output < 0.235);
+    static const std::regex state(R"(at q = \(q0 = 1\.570[0-9]+\), qd = )");
+    CHECK(std::regex_search(m, state));
+  }
+}
+
+TEST_CASE("a fixed step that diverges is blamed on the step, not on the force that fails first",
+          "[integrator][errors]") {
+  // x'' = -1e4·x (w = 100 rad/s) at a step of 0.05 s (w·h = 5, beyond rk4's
+  // stability): the motion grows tenfold or more a step until its "tyre" fails.
+  class TyreOnAStiffSpring : public Oscillator {
+   public:
+    TyreOnAStiffSpring() : Oscillator(100.0) {}
+    void accelerations(const State& s, Vector& qdd, Vector& yd) override {
+      if (std::abs(s.q[0]) > 1e6)
+        throw NumericError(fmt::format("t = {}: tyre 'front': force is not finite", s.t));
+      Oscillator::accelerations(s, qdd, yd);
+    }
+  } sys;
+  IntegratorOptions o;
+  o.initial_step = 0.05;
+  const std::string m = message_of<NumericError>(
+      [&] { make_integrator("rk4", o)->integrate(sys, initial_state(1e-3, 0.0), 10.0); });
+  CAPTURE(m);
+  CHECK(m.rfind("t = ", 0) == 0);
+  CHECK(m.find("the run diverged at its fixed step of 0.05 s: the rate of coordinate 'x' grew "
+               "to ") != std::string::npos);
+  CHECK(m.find("take a smaller step, or an adaptive integrator (then: t = ") != std::string::npos);
+  CHECK(m.find("tyre 'front'") > m.find("diverged"));
+  // The same step where the motion stays small: the failure is the model's, with the step.
+  BreaksAtHalf breaks;
+  const std::string b = message_of<NumericError>(
+      [&] { make_integrator("rk4", o)->integrate(breaks, initial_state(1.0, 0.0), 2.0); });
+  CAPTURE(b);
+  CHECK(b.rfind("t = 0.52", 0) == 0);
+  CHECK(b.find("qdd of coordinate 'x' is nan (fixed step 0.05 from t = 0.4") != std::string::npos);
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <regex>
 
 #include "fixtures/double_pendulum.hpp"
 #include "fixtures/pendulum.hpp"
@@ -207,6 +208,21 @@ TEST_CASE("Singular mass matrix is a NumericError naming time and state",
   q(4) = std::numbers::pi / 2 - 1e-6;
   REQUIRE_NOTHROW(rb.accelerations(make_state(0.5, q, Vector::Zero(6)), qdd, yd));
   CHECK(qdd.allFinite());
+  // But its pivot, 1e-12 of its diagonal, cost qdd more than half its digits: a
+  // warning, in coordinate names (this model names no angle sequence).
+  REQUIRE(rb.warnings().size() == 1);
+  const std::string& w = rb.warnings().front();
+  CAPTURE(w);
+  CHECK(w.rfind("t = 0.5: the mass matrix is nearly singular, the accelerations have lost more "
+                "than half their digits: the smallest pivot of its factorization is ",
+                0) == 0);
+  CHECK(std::regex_search(
+      w, std::regex(R"(weakest direction '(yaw|roll)' \(-?0\.71\), '(yaw|roll)' \(-?0\.71\))")));
+  // Away from the lock: no warning.
+  MultibodySystem upright(Model::from<fx::rigid_body>());
+  q(4) = 0.3;
+  upright.accelerations(make_state(0.5, q, Vector::Zero(6)), qdd, yd);
+  CHECK(upright.warnings().empty());
 }
 
 TEST_CASE("Non-finite values are NumericErrors naming time, quantity and culprit",

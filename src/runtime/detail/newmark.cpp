@@ -73,6 +73,7 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   std::string consistent_accelerations();
   std::string bad_values();
   bool newton_correction(double h);
+  std::string near_singular(const State& s) const;
   double correct(double h);
   void evaluate_jacobian();
   bool factor(double h);
@@ -424,14 +425,20 @@ std::string NewmarkFamily::consistent_accelerations() {
       const double rate = norm / previous;
       if (rate < 1.0 && rate / (1.0 - rate) * norm <= kappa) return {};
       if (rate >= 1.0) {
-        return detail::at_time(trial_.t,
-                               fmt::format("Newton iteration diverges (rate {:.3g})", rate));
+        return detail::at_time(trial_.t, fmt::format("Newton iteration diverges (rate {:.3g}){}",
+                                                     rate, near_singular(trial_)));
       }
     }
     previous = norm;
   }
   return detail::at_time(trial_.t, fmt::format("Newton iteration did not converge in {} iterations",
                                                options_.max_newton_iterations));
+}
+
+// ": <the system's reason>" where the equations are nearly singular at s, else "".
+std::string NewmarkFamily::near_singular(const State& s) const {
+  const auto why = system_->explain_near_singular(s);
+  return why ? ", near a singular configuration: " + *why : std::string();
 }
 
 // delta_ = S⁻¹·(f, g), S the iteration matrix for h (refactored when h changed). False
@@ -461,7 +468,7 @@ std::string NewmarkFamily::iterate(double h, bool fixed) {
       hopeless_ = true;  // a fresh Jacobian would not make it finite
       return bad_values();
     }
-    if (!newton_correction(h)) return "singular iteration matrix";
+    if (!newton_correction(h)) return "singular iteration matrix" + near_singular(trial_);
     const double norm = correct(h);
     if (k == 1) floor_ = rounding_norm();
     if (norm <= floor_) return {};
@@ -473,7 +480,8 @@ std::string NewmarkFamily::iterate(double h, bool fixed) {
       const double rate = norm / previous;
       rate_ = std::max(rate_, rate);
       if (rate >= 1.0) {
-        return jacobian_fresh_ ? fmt::format("Newton iteration diverges (rate {:.3g})", rate)
+        return jacobian_fresh_ ? fmt::format("Newton iteration diverges (rate {:.3g}){}", rate,
+                                             near_singular(trial_))
                                : "slow";
       }
       if (rate > kSlowRate && !jacobian_fresh_) return "slow";

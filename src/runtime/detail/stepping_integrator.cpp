@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include <symdyn/runtime/detail/stepping_integrator.hpp>
 #include <symdyn/runtime/errors.hpp>
@@ -32,6 +33,16 @@ std::array<double, 3> evaluate(const double (&c)[6], double th) {
 
 std::string limited_by(const std::string& limit) {
   return limit.empty() ? limit : "; the step is set by " + limit;
+}
+
+// The largest rate |qd_i| or extra state |y_j| of s, and its index (qd first, then y).
+std::pair<double, Eigen::Index> largest_rate(const State& s) {
+  std::pair<double, Eigen::Index> largest{0.0, -1};
+  for (Eigen::Index i = 0; i < s.qd.size() + s.y.size(); ++i) {
+    const double v = std::abs(i < s.qd.size() ? s.qd[i] : s.y[i - s.qd.size()]);
+    if (v > largest.first) largest = {v, i};
+  }
+  return largest;
 }
 
 }  // namespace
@@ -110,6 +121,33 @@ void SteppingIntegrator::deliver(double t_previous, std::size_t& next_output) {
   }
 }
 
+// A fixed step has no error test: a step too large for the motion amplifies it
+// step after step until a value is not finite, wherever that shows first (a
+// tyre's force, a kinematic quantity). Rates grown a thousandfold since the
+// start, to a size the start did not have, blame the step; otherwise the failure
+// is reported as met, with the step.
+void SteppingIntegrator::fixed_step_failed(const std::string& failure, double step,
+                                           const State& initial) const {
+  const auto [before, index] = largest_rate(previous_);
+  const double start = largest_rate(initial).first;
+  if (before > 1e3 * std::max(start, 1.0) && index >= 0) {
+    const int n = static_cast<int>(previous_.qd.size());
+    const std::string what =
+        index < n ? fmt::format("the rate of coordinate '{}'",
+                                system_->coordinate_name(static_cast<int>(index)))
+                  : fmt::format("extra state '{}'",
+                                system_->extra_state_name(static_cast<int>(index) - n));
+    throw NumericError(fmt::format(
+        "t = {}: the run diverged at its fixed step of {:g} s: {} grew to {:.3g} (the largest at "
+        "t = {} was {:.3g}); take a smaller step, or an adaptive integrator (then: {})",
+        previous_.t, step, what, before, initial.t, start, failure));
+  }
+  throw NumericError(
+      fmt::format("{} (fixed step {:g} from t = {}: if a smaller step passes, the "
+                  "step was too large for the motion)",
+                  failure, step, previous_.t));
+}
+
 State SteppingIntegrator::run(DynamicSystem& system, const State& initial, double t_end) {
   system_ = &system;
   const bool fixed = options_.fixed_step || fixed_step_only();
@@ -147,16 +185,12 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
         last_failure = outcome.failure;
         if (streak.failed(step)) {
           throw NumericError(fmt::format(
-              "{} (integrator '{}': {} failed steps from {:g} s down to {:g} s without recovering; "
-              "the solution "
-              "runs into values it cannot take, such as a dependent parameter out of its domain)",
+              "{} (integrator '{}': {} failed steps from {:g} s down to {:g} s without recovering: "
+              "the solution runs into a place it cannot pass)",
               outcome.failure, name(), streak.count(), streak.first_step(), step));
         }
       }
-      if (fixed) {
-        throw NumericError(
-            fmt::format("{} (fixed step {} from t = {})", outcome.failure, step, t_previous));
-      }
+      if (fixed) fixed_step_failed(outcome.failure, step, initial);
       h = std::min(outcome.next_step, options_.max_step);
       if (h < options_.min_step) {
         throw NumericError(
@@ -172,6 +206,7 @@ State SteppingIntegrator::run(DynamicSystem& system, const State& initial, doubl
     if (shortened) current_.t = limit;  // exactly, whatever the rounding of t + step
     const std::string bad = non_finite_value(system, current_, qdd_, yd_);
     if (!bad.empty()) throw NumericError(at_time(current_.t, bad));
+    system.check_step(previous_, current_);
     deliver(t_previous, next_output);
     progress(current_.t);
     if (fixed) continue;

@@ -101,6 +101,9 @@ class SteppingIntegrator : public Integrator {
   State run(DynamicSystem& system, const State& initial, double t_end) final;
   void deliver(double t_previous, std::size_t& next_output);
   double initial_step(double t_end);
+  // Throws the NumericError of a failed fixed step from previous_ (see the .cpp).
+  [[noreturn]] void fixed_step_failed(const std::string& failure, double step,
+                                      const State& initial) const;
 
   State dense_;  // an interpolated output instant, kept: outputs allocate nothing
   Vector dense_qdd_, dense_yd_;

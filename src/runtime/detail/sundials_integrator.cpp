@@ -9,6 +9,7 @@
 #include <exception>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include <symdyn/runtime/detail/non_finite.hpp>
 #include <symdyn/runtime/detail/sundials_integrator.hpp>
@@ -204,8 +205,17 @@ State SundialsIntegrator::run(DynamicSystem& system, const State& initial, doubl
   const std::unique_ptr<std::remove_pointer_t<N_Vector>, void (*)(N_Vector)> owner(at, N_VDestroy);
   std::size_t next_output = 0;
   double t = initial.t;
+  // Each step's ends, for DynamicSystem::check_step.
+  State from = initial, to = initial;
+  const auto state_at = [&](double ts, State& s) {
+    unpack(data, ts, sun.x);
+    s = data.s;
+  };
   while (t < t_end) {
     t = advance(t_end, solver_.one_step);
+    std::swap(from, to);
+    state_at(t, to);
+    system.check_step(from, to);
     if (output_every_step()) {
       deliver(data, t, sun.x);
       continue;
