@@ -61,10 +61,11 @@ TEST_CASE(
     REQUIRE(sys.warnings().size() == 1);
     const std::string& w = sys.warnings().front();
     CAPTURE(w);
-    CHECK(w.rfind("t = 0.75: the mass matrix is nearly singular, the accelerations have lost more "
-                  "than half their digits: coordinates 'yaw', 'pitch', 'roll' of body 'chassis' form a "
-                  "Z-Y-X angle sequence 1e-06 rad from its singular configuration pitch = 90 deg",
-                  0) == 0);
+    CHECK(w.rfind(
+              "t = 0.75: the mass matrix is nearly singular, the accelerations have lost more "
+              "than half their digits: coordinates 'yaw', 'pitch', 'roll' of body 'chassis' form a "
+              "Z-Y-X angle sequence 1e-06 rad from its singular configuration pitch = 90 deg",
+              0) == 0);
     // Once: further evaluations add nothing, until cleared.
     sys.accelerations(s, qdd, yd);
     Vector f, g;
@@ -108,7 +109,8 @@ TEST_CASE(
   REQUIRE_FALSE(m.empty());
   CHECK(m.find("dependent parameter") == std::string::npos);
   CHECK(m.find("Newton iteration diverges") != std::string::npos);
-  CHECK(m.find("near a singular configuration: coordinates 'yaw', 'pitch', 'roll' of body 'chassis' "
-               "form a Z-Y-X angle sequence") != std::string::npos);
+  CHECK(
+      m.find("near a singular configuration: coordinates 'yaw', 'pitch', 'roll' of body 'chassis' "
+             "form a Z-Y-X angle sequence") != std::string::npos);
   CHECK(sys.warnings().size() == 1);
 }
