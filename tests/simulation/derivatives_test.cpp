@@ -192,7 +192,7 @@ TEMPLATE_LIST_TEST_CASE("dynamics_derivatives equal Richardson differences of th
   const State s = random_state(system, rng);
   DynamicsDerivatives d;
   system.dynamics_derivatives(s, d, true);
-  const int n = model.nq();
+  const int n = system.num_coordinates();  // the independent ones of closed loops
   Matrix dq(n, n), dqd(n, n);
   for (int j = 0; j < n; ++j) {
     const auto qdd_of = [&](Vector State::*member) {

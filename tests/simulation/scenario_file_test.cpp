@@ -508,7 +508,7 @@ TEST_CASE("model modules: a module runs as the built-in model, the wrong ones ar
                                         "initial": {{"qd": {{"phi": 1}}}}}})j",
                                   MODULE_FOUR_BAR)),
              Contains("/initial/qd/phi: 'phi' is an implicit dependent parameter of the closed "
-                      "loops (C): its rate follows from the independent coordinates' (q0)"));
+                      "loops (C): its rate follows from the independent coordinates' (crank)"));
   const auto dir = testing::scratch_directory("module");
   std::ofstream(dir / "text.so") << "not a library\n";
   CHECK_THAT(
@@ -520,11 +520,11 @@ TEST_CASE("model modules: a module runs as the built-in model, the wrong ones ar
 TEST_CASE("scenario files: a model with closed loops runs in its independent coordinates",
           "[scenario][module][loops]") {
   // The four-bar's coupler angle phi read by name (against the two-circle
-  // intersection at the final q0), its loop's reactions as columns, and the
+  // intersection at the final crank angle), its loop's reactions as columns, and the
   // rocker's free hinge transmitting no moment once the closure's force is in.
   const std::string text = fmt::format(R"j({{
     "model": {{"name": "four_bar", "module": "{}"}},
-    "initial": {{"q": {{"q0": 0.3, "phi": 0.8}}, "qd": {{"q0": 4}}}},
+    "initial": {{"q": {{"crank": 0.3, "phi": 0.8}}, "qd": {{"crank": 4}}}},
     "t_end": 0.5,
     "integrator": {{"name": "dopri5", "tolerance": 1e-10}},
     "outputs": ["q", "qd", {{"loop": "C"}}],
@@ -537,7 +537,7 @@ TEST_CASE("scenario files: a model with closed loops runs in its independent coo
   states_of(parse(text), {}, &r);
   REQUIRE(r.final.q.size() == 1);
   for (const char* column :
-       {"q0", "phi", "psi", "phi_dot", "psi_dot", "reaction.C.Fx", "reaction.C.Fy"}) {
+       {"crank", "phi", "psi", "phi_dot", "psi_dot", "reaction.C.Fx", "reaction.C.Fy"}) {
     INFO(column);
     CHECK(std::find(r.columns.begin(), r.columns.end(), column) != r.columns.end());
   }
