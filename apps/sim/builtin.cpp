@@ -24,6 +24,9 @@
 #if __has_include("four_bar.hpp")
 #include "four_bar.hpp"
 #endif
+#if __has_include("quarter_car.hpp")
+#include "quarter_car.hpp"
+#endif
 #if __has_include("robot3d_absolute.hpp")
 #include "robot3d_absolute.hpp"
 #endif
@@ -64,6 +67,9 @@ const std::vector<BuiltinModel>& builtin_models() {
 #endif
 #if __has_include("four_bar.hpp")
     m.push_back({"four_bar", "closed", &Model::from<symdyn_generated::four_bar>});
+#endif
+#if __has_include("quarter_car.hpp")
+    m.push_back({"quarter_car", "default", &Model::from<symdyn_generated::quarter_car>});
 #endif
 #if __has_include("robot3d_absolute.hpp")
     m.push_back({"robot3d", "absolute", &Model::from<symdyn_generated::robot3d_absolute>});
