@@ -27,6 +27,9 @@
 #if __has_include("quarter_car.hpp")
 #include "quarter_car.hpp"
 #endif
+#if __has_include("stewart.hpp")
+#include "stewart.hpp"
+#endif
 #if __has_include("robot3d_absolute.hpp")
 #include "robot3d_absolute.hpp"
 #endif
@@ -70,6 +73,9 @@ const std::vector<BuiltinModel>& builtin_models() {
 #endif
 #if __has_include("quarter_car.hpp")
     m.push_back({"quarter_car", "default", &Model::from<symdyn_generated::quarter_car>});
+#endif
+#if __has_include("stewart.hpp")
+    m.push_back({"stewart", "default", &Model::from<symdyn_generated::stewart>});
 #endif
 #if __has_include("robot3d_absolute.hpp")
     m.push_back({"robot3d", "absolute", &Model::from<symdyn_generated::robot3d_absolute>});
