@@ -680,7 +680,8 @@ py::object statistics_of(const runtime::Statistics& s) {
 }
 
 py::object result_of(const Recording& r, Eigen::Index nq, const Model& m,
-                     std::string_view integrator, const runtime::Statistics& stats) {
+                     std::string_view integrator, const runtime::Statistics& stats,
+                     const std::vector<std::string>& warnings) {
   std::vector<double> total(r.kinetic.size());
   for (std::size_t i = 0; i < total.size(); ++i)
     total[i] = r.kinetic[i] + r.gravitational[i] + r.elastic[i];
@@ -698,7 +699,16 @@ py::object result_of(const Recording& r, Eigen::Index nq, const Model& m,
   d["q_names"] = m.q_names();
   d["integrator"] = std::string(integrator);
   d["statistics"] = statistics_of(stats);
+  d["warnings"] = warnings;
   return namespace_of(d);
+}
+
+// The run's warnings (MultibodySystem::warnings) also as Python RuntimeWarnings,
+// which a user sees without reading the result.
+void warn_python(const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return;
+  const py::object warn = py::module_::import("warnings").attr("warn");
+  for (const auto& w : warnings) warn(w, py::handle(PyExc_RuntimeWarning));
 }
 
 py::object simulate(System& self, double t_end, const std::string& integrator, double rtol,
@@ -728,8 +738,11 @@ py::object simulate(System& self, double t_end, const std::string& integrator, d
     r.elastic.push_back(e.elastic);
   };
   auto integ = runtime::make_integrator(integrator, o);
+  system.clear_warnings();
   integ->integrate(system, initial, t_end);
-  return result_of(r, system.num_coordinates(), system.model(), integ->name(), integ->statistics());
+  warn_python(system.warnings());
+  return result_of(r, system.num_coordinates(), system.model(), integ->name(), integ->statistics(),
+                   system.warnings());
 }
 
 // ------------------------------------------------ statics and linearization
