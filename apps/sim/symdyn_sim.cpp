@@ -156,8 +156,8 @@ ModeShapes find_modes(runtime::MultibodySystem& system, const Arguments& args) {
   m.modes = runtime::modes(m.linearization);
   m.clips.reserve(m.modes.size());
   for (const runtime::Mode& mode : m.modes) {
-    m.clips.push_back(runtime::mode_animation(system.model(), m.reference, m.linearization, mode,
-                                              args.mode_amplitude));
+    m.clips.push_back(
+        runtime::mode_animation(system, m.reference, m.linearization, mode, args.mode_amplitude));
   }
   return m;
 }
@@ -434,11 +434,6 @@ int simulate(Arguments& args) {
   check_pictures(args);
   // The modes first: a failed equilibrium touches no file.
   std::optional<ModeShapes> modes;
-  if (!args.modes.empty() && system->model().has_loops()) {
-    throw runtime::OptionError(
-        fmt::format("--modes: model '{}' has closed loops ({}), whose modes are not drawn yet",
-                    system->model().name(), fmt::join(system->model().loop_names(), ", ")));
-  }
   if (!args.modes.empty()) modes = find_modes(simulation.system(), args);
   if (!args.html.empty() || !args.glb.empty() || !args.easyanim.empty()) {
     pictures.emplace(std::move(scene), simulation.system().model());

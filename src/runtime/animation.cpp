@@ -7,6 +7,7 @@
 #include <symdyn/runtime/animation.hpp>
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/model.hpp>
+#include <symdyn/runtime/multibody_system.hpp>
 
 namespace symdyn::runtime {
 
@@ -51,13 +52,14 @@ Vec3 Animation::translation(std::size_t frame, int body) const {
   return Vec3(p[4], p[5], p[6]);
 }
 
-Animation mode_animation(const Model& model, const State& reference, const Linearization& lin,
+Animation mode_animation(MultibodySystem& system, const State& reference, const Linearization& lin,
                          const Mode& mode, double amplitude, int frames) {
   const double omega = std::abs(mode.pole.imag());
   const double period = omega > 0 ? 2 * std::numbers::pi / omega : 1.0;
   const double largest = mode.shape.cwiseAbs().maxCoeff();
   const double scale = largest > 0 ? amplitude / largest : 0.0;
-  Animation animation(model);
+  const bool loops = system.model().has_loops();
+  Animation animation(system.model());
   for (int k = 0; k <= frames; ++k) {
     const double t = period * k / frames;
     const std::complex<double> phase = std::polar(1.0, 2 * std::numbers::pi * k / frames);
@@ -66,7 +68,7 @@ Animation mode_animation(const Model& model, const State& reference, const Linea
     for (std::size_t j = 0; j < lin.kept.size(); ++j) {
       s.q[lin.kept[j]] += scale * (mode.shape[static_cast<Eigen::Index>(j)] * phase).real();
     }
-    animation.record(s);
+    animation.record(loops ? system.extended_state(s) : s);
   }
   return animation;
 }

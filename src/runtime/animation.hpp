@@ -12,6 +12,8 @@
 
 namespace symdyn::runtime {
 
+class MultibodySystem;
+
 class Model;
 
 class Animation {
@@ -47,8 +49,9 @@ class Animation {
 // One period of a mode of a linearization about `reference`, as EasyDyn's .vmo
 // files showed it: q(t) = q_ref + a·Re(psi·e^(i·omega·t)), damping left out, the
 // shape scaled so that its largest coordinate moves by `amplitude`; a mode
-// that does not oscillate (omega = 0) swings as cos over one second.
-Animation mode_animation(const Model& model, const State& reference, const Linearization& lin,
+// that does not oscillate (omega = 0) swings as cos over one second. With
+// closed loops, each frame's loops closed (q the independent coordinates).
+Animation mode_animation(MultibodySystem& system, const State& reference, const Linearization& lin,
                          const Mode& mode, double amplitude, int frames = 48);
 
 }  // namespace symdyn::runtime

@@ -476,7 +476,7 @@ TEST_CASE("A mode's animation swings about the reference by its shape over one p
   hanging.q << -std::numbers::pi / 2, 0;
   const Linearization lin = linearize(system, hanging);
   const Mode mode = modes(lin).front();
-  const Animation a = mode_animation(system.model(), hanging, lin, mode, 0.1, 8);
+  const Animation a = mode_animation(system, hanging, lin, mode, 0.1, 8);
   REQUIRE(a.frames() == 9);
   CHECK(a.time(8) - a.time(0) == Approx(2 * std::numbers::pi / mode.pole.imag()));
   // Frame 2 is a quarter period: q = q_ref + a·Re(psi·i), psi scaled to 0.1 at its largest.

@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
   const std::vector<Mode> m = modes(lin);
   shapes.reserve(m.size());
   for (const Mode& mode : m) {
-    shapes.push_back(mode_animation(system.model(), hanging, lin, mode, 0.4));
+    shapes.push_back(mode_animation(system, hanging, lin, mode, 0.4));
     clips.push_back({fmt::format("mode {}: {:.3f} Hz, damping {:.3f}", clips.size(),
                                  mode.natural_frequency_hz, mode.damping_ratio),
                      &shapes.back()});
