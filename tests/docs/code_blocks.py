@@ -5,6 +5,8 @@
       of every page in COVERED) is one of:
       ```<lang> file=<path>   the text of <path>, which the build compiles and the
                               tests run: it must be that file, byte for byte;
+      ```<lang> in=<path>     lines of <path> (a line of a CMakeLists.txt the
+                              build reads): each must be a line of it;
       ```sh run               commands the tutorial test runs (see `script`);
       ```sh ci                commands .ci/run runs: each line must be in it;
       ```text                 output shown, not code.
@@ -17,21 +19,22 @@
 The pages covered: README.md, docs/tutorial.md, docs/runtime.md (its programs are
 tests/docs/fixtures/runtime_*.cpp), docs/builder.md (its model file is
 tests/docs/fixtures/builder_slider_crank.cpp, its --describe output
-tests/docs/fixtures/double_pendulum_relative.json), and docs/design.md, docs/errors.md,
-docs/integrators.md, docs/models.md (output and diagrams only, or no block).
+tests/docs/fixtures/double_pendulum_relative.json), docs/python.md (its example is
+tests/python/documented_example.py, which test_example.py runs), and docs/design.md,
+docs/errors.md, docs/integrators.md, docs/models.md (output and diagrams only, or no block).
 Not covered yet (blocks that are fragments or commands no test runs):
-docs/emitted_interface.md, docs/install.md, docs/python.md, docs/scenarios.md,
-docs/sweeps.md, docs/urdf.md.
+docs/emitted_interface.md, docs/install.md, docs/scenarios.md, docs/sweeps.md,
+docs/urdf.md.
 """
 import re
 import sys
 from pathlib import Path
 
 FENCE = re.compile(r"^```(\S*)(.*)$")
-COVERED = ["README.md", "docs/tutorial.md", "docs/runtime.md", "docs/builder.md", "docs/design.md",
-           "docs/errors.md", "docs/integrators.md", "docs/models.md"]
-NOT_COVERED = ["docs/emitted_interface.md", "docs/install.md", "docs/python.md",
-               "docs/scenarios.md", "docs/sweeps.md", "docs/urdf.md"]
+COVERED = ["README.md", "docs/tutorial.md", "docs/runtime.md", "docs/builder.md", "docs/python.md",
+           "docs/design.md", "docs/errors.md", "docs/integrators.md", "docs/models.md"]
+NOT_COVERED = ["docs/emitted_interface.md", "docs/install.md", "docs/scenarios.md", "docs/sweeps.md",
+               "docs/urdf.md"]
 
 
 def blocks(page):
@@ -76,6 +79,12 @@ def check(repo, pages):
                     errors.append(f"{where}: {attributes['file']} does not exist")
                 elif source.read_text() != text:
                     errors.append(f"{where}: differs from {attributes['file']}: copy the file into the page again")
+            elif "in" in attributes:
+                source = repo / attributes["in"]
+                known = set(source.read_text().splitlines()) if source.is_file() else set()
+                for quoted in filter(None, text.splitlines()):
+                    if quoted not in known:
+                        errors.append(f"{where}: '{quoted}' is not a line of {attributes['in']}")
             elif lang == "sh" and attributes.get("ci"):
                 for command in filter(None, (c.split("#")[0].strip() for c in text.splitlines())):
                     if command not in ci:
