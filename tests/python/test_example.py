@@ -14,12 +14,9 @@ from test_double_pendulum import (UNIT, bias_forces, mass_matrix, potential_grad
 
 
 def example_source():
-    docs = os.environ.get("SYMDYN_DOCS", os.path.join(os.path.dirname(__file__), "..", "..", "docs"))
-    with open(os.path.join(docs, "python.md"), encoding="utf-8") as f:
-        blocks = re.findall(r"```python\n(.*?)```", f.read(), re.DOTALL)
-    if len(blocks) != 1:
-        raise AssertionError(f"docs/python.md: one python block expected, found {len(blocks)}")
-    return blocks[0]
+    """The block of docs/python.md, which is this file (tests/docs/code_blocks.py)."""
+    with open(os.path.join(os.path.dirname(__file__), "documented_example.py"), encoding="utf-8") as f:
+        return f.read()
 
 
 class DocumentedExample(unittest.TestCase):
@@ -28,7 +25,7 @@ class DocumentedExample(unittest.TestCase):
         cls.out = io.StringIO()
         cls.ns = {}
         with contextlib.redirect_stdout(cls.out):
-            exec(compile(example_source(), "docs/python.md", "exec"), cls.ns)
+            exec(compile(example_source(), "documented_example.py", "exec"), cls.ns)
 
     def test_equations_at_the_state(self):
         q, qd = self.ns["q"], self.ns["qd"]
