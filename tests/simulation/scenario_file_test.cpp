@@ -571,11 +571,9 @@ TEST_CASE("symdyn-sim runs a scenario file, a module relative to it", "[scenario
 
 TEST_CASE("docs/scenarios.md: the complete example runs and passes its checks",
           "[scenario][module]") {
-  const std::string doc = testing::read_text(SYMDYN_DOCS "/scenarios.md");
-  const auto begin = doc.find("```json\n{"), end = doc.find("\n```", begin + 8);
-  REQUIRE(begin != std::string::npos);
-  std::string text = doc.substr(begin + 8, end - begin - 8);
-  const std::string module = "build/double_pendulum_absolute_module.so";
+  // The page quotes this file (tests/docs/code_blocks.py checks it, byte for byte).
+  std::string text = testing::read_text(SYMDYN_DOCS "/../tests/docs/fixtures/swing.json");
+  const std::string module = "build/swing_module.so";
   REQUIRE(text.find(module) != std::string::npos);
   text.replace(text.find(module), module.size(), MODULE_DOUBLE_PENDULUM);
   const sim::RunResult r = sim::run_scenario(parse(text));

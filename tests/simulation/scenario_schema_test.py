@@ -18,7 +18,7 @@ validator = jsonschema.Draft202012Validator(schema)
 
 good = {path: json.load(open(path)) for path in glob.glob(os.path.join(root, "models", "scenarios", "*.json"))}
 doc = open(os.path.join(root, "docs", "scenarios.md")).read()
-good["docs/scenarios.md"] = json.loads(re.search(r"```json\n(\{.*?\n\})\n```", doc, re.S).group(1))
+good["docs/scenarios.md"] = json.loads(re.search(r"```json[^\n]*\n(\{.*?\n\})\n```", doc, re.S).group(1))
 assert len(good) >= 6, sorted(good)
 for name, scenario in good.items():
     errors = [e.message for e in validator.iter_errors(scenario)]
