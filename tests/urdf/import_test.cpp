@@ -227,31 +227,23 @@ TEST_CASE("URDF gravity is (0, 0, -9.81) unless set", "[urdf]") {
 }
 
 TEST_CASE("URDF: the pendulum of docs/urdf.md is the builder model the page says", "[urdf]") {
-  const std::string xml = R"(<?xml version="1.0"?>
-<robot name="pendulum">
-  <link name="world"/>
-  <joint name="hinge" type="continuous">
-    <parent link="world"/>
-    <child link="rod"/>
-    <origin xyz="0 0 1" rpy="0 0 0"/>
-    <axis xyz="0 1 0"/>
-  </joint>
-  <link name="rod">
-    <inertial>
-      <origin xyz="0 0 -0.5"/>
-      <mass value="1"/>
-      <inertia ixx="0.0833" ixy="0" ixz="0" iyy="0.0833" iyz="0" izz="0.001"/>
-    </inertial>
-  </link>
-</robot>)";
-  model::Model by_hand("pendulum");
-  const Expr q = by_hand.coordinate("hinge");
-  by_hand.body("rod")
+  using model::Tdisp, model::Troty;
+  model::Model m("pendulum");
+  const Expr q = m.coordinate("hinge");
+  m.body("rod")
       .mass(1)
       .inertia(0.0833, 0.0833, 0.001)
-      .motion(model::Tdisp(0, 0, 1) * model::Troty(q) * model::Tdisp(0, 0, -0.5));
-  by_hand.gravity(0, 0, -9.81);
-  check_against_hand_written(model::import_urdf(xml).model, by_hand);
+      .motion(Tdisp(0, 0, 1) * Troty(q) * Tdisp(0, 0, -0.5));
+  m.gravity(0, 0, -9.81);
+  // The page's import, of its robots/pendulum.urdf (tests/docs/urdf_pendulum).
+  // options: floating_base = false, gravity = {0, 0, -9.81}, name = the robot's
+  symdyn::model::UrdfOptions options;
+  const symdyn::model::UrdfRobot robot = symdyn::model::import_urdf_file(PENDULUM_URDF, options);
+  // robot.model: a symdyn::model::Model; robot.joints: the joints' types, coordinates and limits
+  check_against_hand_written(robot.model, m);
+  REQUIRE(robot.joints.size() == 1);
+  CHECK(robot.joints[0].type == "continuous");
+  CHECK(robot.joints[0].coordinates == std::vector<std::string>{"hinge"});
 }
 
 TEST_CASE("URDF: a floating joint gives six coordinates named after it", "[urdf]") {
