@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 source scripts/lib/setup.sh
 symdyn_require_command clang-format-14 clang-format-14
 
-mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h')
+# Left out: the docs' quotation of an emitted header, laid out as the generator writes it.
+mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h' ':!tests/docs/fixtures/emitted_interface.hpp')
 if [ "${1:-}" = "--fix" ]; then
   clang-format-14 -i "${files[@]}"
   exit 0
