@@ -756,13 +756,9 @@ void MultibodySystem::accelerations_rhs(const State& s, Vector& qdd) {
   }
 }
 
-void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
-                               Vector& g) {
-  if (!model_.has_loops()) {
-    tree_residual(s, qdd, yd, f, g);
-    return;
-  }
-  // f = Tᵀ·f_x(xdd = T·qdd + c)
+// x closing the loops at s (in the independent coordinates), and xdd_ =
+// T·qdd + c, the tree's accelerations that qdd (checked) gives there.
+const State& MultibodySystem::close_with_accelerations(const State& s, const Vector& qdd) {
   check_independent(s);
   if (qdd.size() != num_coordinates()) {
     throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
@@ -771,6 +767,17 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
   const State& x = close(s);
   xdd_ = loops_.c();
   xdd_.noalias() += loops_.T() * qdd;
+  return x;
+}
+
+void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,
+                               Vector& g) {
+  if (!model_.has_loops()) {
+    tree_residual(s, qdd, yd, f, g);
+    return;
+  }
+  // f = Tᵀ·f_x(xdd = T·qdd + c)
+  const State& x = close_with_accelerations(s, qdd);
   tree_residual(x, xdd_, yd, rhs_x_, g);
   f.noalias() = loops_.T().transpose() * rhs_x_;
 }
@@ -848,14 +855,7 @@ void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd,
 // state and xdd = T·qdd + c.
 void MultibodySystem::exact_loop_jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C,
                                            Matrix& K) {
-  check_independent(s);
-  if (qdd.size() != num_coordinates()) {
-    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
-                                 qdd.size(), num_coordinates()));
-  }
-  const State& x = close(s);
-  xdd_ = loops_.c();
-  xdd_.noalias() += loops_.T() * qdd;
+  const State& x = close_with_accelerations(s, qdd);
   jacobian_yd_.setZero(num_extra_states());
   tree_residual(x, xdd_, jacobian_yd_, rhs_x_, jacobian_g_);
   exact_damping_stiffness(x, xdd_, tree_C_, tree_K_);
@@ -1215,14 +1215,7 @@ void MultibodySystem::add_closure_loads(const State& x, const Vector& lambda) {
 void MultibodySystem::loop_multipliers(const State& s, const Vector& qdd, Vector& lambda) {
   if (!model_.has_loops())
     throw ModelError(fmt::format("model '{}' has no closed loops", model_.name()));
-  check_independent(s);
-  if (qdd.size() != num_coordinates()) {
-    throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
-                                 qdd.size(), num_coordinates()));
-  }
-  const State& x = close(s);
-  xdd_ = loops_.c();
-  xdd_.noalias() += loops_.T() * qdd;
+  const State& x = close_with_accelerations(s, qdd);
   Vector yd = Vector::Zero(num_extra_states()), g;
   tree_residual(x, xdd_, yd, rhs_x_, g);
   loops_.multipliers(rhs_x_.tail(model_.ncon()), lambda);

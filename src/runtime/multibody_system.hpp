@@ -251,7 +251,8 @@ class MultibodySystem : public DynamicSystem {
     return model_.has_loops() && s.q.size() == model_.nindependent();
   }
   const State& close(const State& s);
-  const State& extended(const State& s);  // checked, then closed
+  const State& close_with_accelerations(const State& s, const Vector& qdd);  // and xdd_
+  const State& extended(const State& s);                                     // checked, then closed
   void check_independent(const State& s) const;
   void loop_accelerations(const State& s, Vector& qdd, Vector& yd);
   // joint_reactions() of a state in the independent coordinates.
