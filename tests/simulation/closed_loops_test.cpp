@@ -11,6 +11,7 @@
 
 #include "four_bar.hpp"
 #include "four_bar_parametric.hpp"
+#include "random_state.hpp"
 #include "slider_crank_dependent.hpp"
 #include "slider_crank_implicit.hpp"
 #include <symdyn/runtime/errors.hpp>
@@ -21,11 +22,9 @@ namespace {
 
 using namespace symdyn::runtime;
 namespace gen = symdyn_generated;
+using symdyn::testing::max_abs;
+using symdyn::testing::one_coordinate_state;
 constexpr double pi = std::numbers::pi;
-
-double max_abs(const Matrix& a) {
-  return a.size() ? a.cwiseAbs().maxCoeff() : 0.0;
-}
 
 // |a - b| relative to the larger of them (and 1).
 double relative(const Matrix& a, const Matrix& b) {
@@ -35,14 +34,6 @@ double relative(const Matrix& a, const Matrix& b) {
 // An angle in (-pi, pi].
 double wrapped(double a) {
   return std::remainder(a, 2 * pi);
-}
-
-State state(double t, double q0, double qd0) {
-  State s;
-  s.t = t;
-  s.q = Vector::Constant(1, q0);
-  s.qd = Vector::Constant(1, qd0);
-  return s;
 }
 
 // The loops' equations g at x (ncon), and their Jacobians (ncon x n, ncon x ncon).
@@ -90,7 +81,7 @@ TEST_CASE("the implicit slider-crank equals the explicit one at random states", 
   Vector he, hi, qdde, qddi, yd;
   Kinematics dep = explicit_.model().make_kinematics();
   for (int k = 0; k < 200; ++k) {
-    const State s = state(time(rng), angle(rng), rate(rng));
+    const State s = one_coordinate_state(time(rng), angle(rng), rate(rng));
     CAPTURE(k, s.t, s.q(0), s.qd(0));
     // States far apart: each assembled from the model's guesses, as the closed
     // form's branch (|alpha| < pi/2), not from the last state's solution.
@@ -134,7 +125,7 @@ TEST_CASE(
   for (int k = 0; k <= 360; ++k) {
     const double q0 = 2 * pi * k / 360, qd0 = 3.0;
     CAPTURE(q0);
-    const State x = system.extended_state(state(0.0, q0, qd0));
+    const State x = system.extended_state(one_coordinate_state(0.0, q0, qd0));
     const FourBarPose expected = four_bar_closed_form(q0);
     CHECK(std::abs(wrapped(x.q(1) - expected.phi)) <= 1e-12);
     CHECK(std::abs(wrapped(x.q(2) - expected.psi)) <= 1e-12);
@@ -218,14 +209,14 @@ TEST_CASE("a loop at its toggle position or that cannot close is an error naming
     system.set_parameter("r2", 0.15);
     system.set_parameter("r3", 0.15);
     system.set_loop_guess(Eigen::Vector2d(0.0, pi));
-    CHECK_THROWS_WITH(system.accelerations(state(0.5, 0.0, 1.0), qdd, yd),
+    CHECK_THROWS_WITH(system.accelerations(one_coordinate_state(0.5, 0.0, 1.0), qdd, yd),
                       Catch::Contains("t = 0.5: loop 'C' at a singular configuration") &&
                           Catch::Contains("toggle") && Catch::Contains("crank = 0, phi = 0"));
   }
   SECTION("no convergence: the coupler and rocker too short to reach") {
     // |AD| = 0.7 > r2 + r3 = 0.65 at crank = pi.
     system.set_parameter("r1", 0.3);
-    CHECK_THROWS_WITH(system.accelerations(state(2.0, pi, 0.0), qdd, yd),
+    CHECK_THROWS_WITH(system.accelerations(one_coordinate_state(2.0, pi, 0.0), qdd, yd),
                       Catch::Contains("t = 2: loop 'C' does not close") &&
                           Catch::Contains("did not converge") &&
                           Catch::Contains("crank = 3.14159"));
@@ -245,7 +236,7 @@ TEST_CASE("loop models without constraint_derivatives report differenced Jacobia
   CHECK(system.jacobian_method() ==
         "central differences of the residual (closed loops: no exact derivatives)");
   // The residual vanishes at the accelerations, and df/dqdd is the reduced M.
-  const State s = state(0.3, 0.7, 2.0);
+  const State s = one_coordinate_state(0.3, 0.7, 2.0);
   Vector qdd, yd, f, g;
   system.accelerations(s, qdd, yd);
   system.residual(s, qdd, yd, f, g);
@@ -295,7 +286,7 @@ void check_exact_loop_jacobians(std::uint32_t seed) {
   Matrix M, C, K, C_fd, K_fd, M_reduced;
   for (int k = 0; k < 50; ++k) {
     // q0 in steps of about 0.4 rad from the assembly: each solve from the last (one branch).
-    const State s = state(time(rng), 0.4 * k + 0.1 * angle(rng), rate(rng));
+    const State s = one_coordinate_state(time(rng), 0.4 * k + 0.1 * angle(rng), rate(rng));
     const Vector qdd = Vector::Constant(1, acceleration(rng));
     CAPTURE(k, s.t, s.q(0), s.qd(0), qdd(0));
     system.jacobians(s, qdd, M, C, K);
@@ -331,7 +322,7 @@ TEST_CASE(
       acceleration(-2000.0, 2000.0);
   Matrix Me, Ce, Ke, Mi, Ci, Ki;
   for (int k = 0; k < 200; ++k) {
-    const State s = state(time(rng), angle(rng), rate(rng));
+    const State s = one_coordinate_state(time(rng), angle(rng), rate(rng));
     const Vector qdd = Vector::Constant(1, acceleration(rng));
     CAPTURE(k, s.t, s.q(0), s.qd(0), qdd(0));
     implicit.reset_loops();  // the closed form's branch, as above

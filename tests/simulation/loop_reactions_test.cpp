@@ -11,6 +11,7 @@
 
 #include "four_bar.hpp"
 #include "four_bar_parametric.hpp"
+#include "random_state.hpp"
 #include "slider_crank_dependent.hpp"
 #include "slider_crank_implicit.hpp"
 #include <symdyn/runtime/errors.hpp>
@@ -23,20 +24,13 @@ namespace {
 
 using namespace symdyn::runtime;
 namespace gen = symdyn_generated;
+using symdyn::testing::one_coordinate_state;
 
 // The four-bar's geometry and masses (models/four_bar.cpp, variant closed).
 constexpr double r1 = 0.1, r2 = 0.35, r3 = 0.3, d = 0.4;
 constexpr double m1 = 0.2, m2 = 0.5, m3 = 0.4;
 const Vec3 gravity(0, -9.81, 0);
 constexpr int crank = 0, coupler = 1, rocker = 2;
-
-State state(double t, double q0, double qd0) {
-  State s;
-  s.t = t;
-  s.q = Vector::Constant(1, q0);
-  s.qd = Vector::Constant(1, qd0);
-  return s;
-}
 
 double cross2(const Vec3& r, const Vec3& f) {
   return r.x() * f.y() - r.y() * f.x();
@@ -95,7 +89,7 @@ TEST_CASE("a loaded four-bar held static: its reactions solved by hand", "[model
     MultibodySystem system(Model::from<gen::four_bar>());
     const Model& model = system.model();
     system.add<PointLoad>("load", BodyPoint{coupler, Vec3(0.1, 0, 0)}, load);
-    const State s = state(0.0, q0, 0.0);
+    const State s = one_coordinate_state(0.0, q0, 0.0);
     system.set_loop_guess(four_bar_guess(q0));
     const State x = system.extended_state(s);
     const FourBarPoints p = four_bar_points(model, x);
@@ -171,7 +165,7 @@ TEST_CASE("the implicit slider-crank's pin reactions equal the explicit variant'
   std::uniform_real_distribution<double> angle(-3.0, 3.0), rate(-40.0, 40.0), acc(-500.0, 500.0);
   const double l1 = 0.1;
   for (int trial = 0; trial < 20; ++trial) {
-    const State s = state(0.1 * trial, angle(rng), rate(rng));
+    const State s = one_coordinate_state(0.1 * trial, angle(rng), rate(rng));
     const Vector qdd = Vector::Constant(1, acc(rng));
     INFO("q0 = " << s.q(0) << ", qd0 = " << s.qd(0) << ", qdd0 = " << qdd(0));
     // On the explicit variant's branch (the slider right of the crank).
@@ -212,7 +206,7 @@ TEST_CASE("the four-bar's bodies balance with the closure forces at random state
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> angle(-3.0, 3.0), rate(-20.0, 20.0);
   for (int trial = 0; trial < 20; ++trial) {
-    const State s = state(0.05 * trial, angle(rng), rate(rng));
+    const State s = one_coordinate_state(0.05 * trial, angle(rng), rate(rng));
     INFO("q0 = " << s.q(0) << ", qd0 = " << s.qd(0));
     system.set_loop_guess(four_bar_guess(s.q(0)));
     loops.set_guess(four_bar_guess(s.q(0)));
@@ -274,7 +268,7 @@ TEST_CASE("the parametric four-bar's closure point follows its lengths", "[model
   system.set_parameter("r2", l2);
   system.set_parameter("r3", l3);
   for (double q0 : {0.1, 0.2, 0.3}) {
-    const State s = state(0.0, q0, 3.0);
+    const State s = one_coordinate_state(0.0, q0, 3.0);
     Matrix joints;
     system.joint_reactions(s, joints);
     const double scale = 1 + joints.cwiseAbs().maxCoeff();
@@ -299,7 +293,7 @@ TEST_CASE("a loop given by its equations reports its multipliers, and no joint r
   MultibodySystem as_equations{Model(d)}, closed(Model::from<gen::four_bar>());
   CHECK(as_equations.model().loop_reaction_name(0) == "C.lambda0");
   CHECK(as_equations.model().loop_reaction_name(1) == "C.lambda1");
-  const State s = state(0.0, 0.3, 2.0);
+  const State s = one_coordinate_state(0.0, 0.3, 2.0);
   Vector lambda, reaction;
   as_equations.loop_reactions(s, lambda);
   closed.loop_reactions(s, reaction);
@@ -313,9 +307,10 @@ TEST_CASE("a loop given by its equations reports its multipliers, and no joint r
 TEST_CASE("loop reactions: bad input is named", "[models][loops]") {
   MultibodySystem tree(Model::from<gen::slider_crank_dependent>());
   Vector reaction;
-  CHECK_THROWS_WITH(tree.loop_reactions(state(0, 0.1, 0), reaction),
+  CHECK_THROWS_WITH(tree.loop_reactions(one_coordinate_state(0, 0.1, 0), reaction),
                     Catch::Contains("has no closed loops"));
   MultibodySystem loops(Model::from<gen::four_bar>());
-  CHECK_THROWS_WITH(loops.loop_reactions(state(0, 0.1, 0), Vector::Zero(3), reaction),
-                    Catch::Contains("3 accelerations given; expected 1"));
+  CHECK_THROWS_WITH(
+      loops.loop_reactions(one_coordinate_state(0, 0.1, 0), Vector::Zero(3), reaction),
+      Catch::Contains("3 accelerations given; expected 1"));
 }

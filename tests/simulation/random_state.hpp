@@ -1,5 +1,6 @@
 #pragma once
-// Random states of a generated model for the simulation tests, and a matrix norm.
+// States of a generated model for the simulation tests (random ones, and those of
+// a one-coordinate mechanism), and a matrix norm.
 
 #include <catch2/catch.hpp>
 #include <random>
@@ -32,6 +33,15 @@ inline runtime::State random_state(runtime::MultibodySystem& system, std::mt1993
   FAIL("model " << system.model().name()
                 << ": no state with finite kinematics near the initial one");
   return {};
+}
+
+// The state of a mechanism of one independent coordinate (a closed loop's crank).
+inline runtime::State one_coordinate_state(double t, double q, double qd) {
+  runtime::State s;
+  s.t = t;
+  s.q = runtime::Vector::Constant(1, q);
+  s.qd = runtime::Vector::Constant(1, qd);
+  return s;
 }
 
 inline double max_abs(const runtime::Matrix& a) {
