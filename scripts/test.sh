@@ -36,7 +36,7 @@ if [ "${SYMDYN_SKIP_DEB_TEST:-}" = "1" ]; then
   echo "== symdyn: Debian package test skipped (SYMDYN_SKIP_DEB_TEST=1)"
 else
   echo "== symdyn: Debian package (install, build the example against /usr, remove)"
-  tests/package/deb_test.sh build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DSYMDYN_WERROR=ON "${launcher[@]}"
+  tests/package/deb_test.sh -G Ninja -DCMAKE_BUILD_TYPE=Release -DSYMDYN_WERROR=ON "${launcher[@]}"
 fi
 if [ "${CI:-}" = "true" ]; then
   run_preset debug

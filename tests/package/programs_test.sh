@@ -3,7 +3,8 @@
 # alone (no build tree on PATH or in the environment), each with --help, --version
 # and its man page; symdyn-sim on a built-in scenario and a sweep through the
 # installed Python package; symdyn-urdf on a URDF file; symdyn-generate on a
-# model file. The CSV's and the emitted header's coordinates carry their names.
+# model file (docs/install.md's commands, as written). The CSV's and the emitted
+# header's coordinates carry their names.
 #   programs_test.sh <repo> <symdyn> <work dir>
 # <symdyn>: install:<symdyn build> (`cmake --install` it into <work dir>/prefix)
 # or prefix:<dir> (installed there: /usr for the .deb).
@@ -45,10 +46,21 @@ for program in symdyn-sim symdyn-urdf symdyn-generate; do
   echo "ok: $program --help, --version, man page ($(wc -l <man.txt) lines)"
 done
 
-# A built-in scenario, its CSV's columns named after the model's coordinates and bodies.
-symdyn-sim double_pendulum --t-end 0.5 --out pendulum.csv >run.txt || { cat run.txt; fail "symdyn-sim double_pendulum failed"; }
+# docs/install.md's commands (The programs), as written: arm.urdf is the two-link arm.
+cp "$repo/tests/urdf/robots/two_link_arm.urdf" arm.urdf
+cp "$repo"/examples/spinning_top/spinning_top*.?pp .
+{
+symdyn-sim --list                                   # the built-in scenarios
+symdyn-sim double_pendulum --out pendulum.csv       # one of them: a CSV and a summary with its checks
+symdyn-urdf --urdf arm.urdf --out generated         # generated/<robot>_default.hpp and .cpp
+symdyn-generate spinning_top.cpp --out generated    # generated/spinning_top_default.hpp and .cpp
+} >programs.txt 2>&1 || { cat programs.txt; fail "docs/install.md's commands failed"; }
+grep -q "^double_pendulum  *variants: absolute, relative" programs.txt || fail "symdyn-sim --list: $(head -3 programs.txt)"
+
+# The built-in scenario, its CSV's columns named after the model's coordinates and bodies.
 head -1 pendulum.csv | grep -q "^t,theta1,theta2,theta1_dot,theta2_dot," || fail "pendulum.csv's header: $(head -1 pendulum.csv)"
-[ "$(wc -l <pendulum.csv)" -eq 52 ] || fail "pendulum.csv has $(wc -l <pendulum.csv) lines, not 1 + 51"
+[ "$(wc -l <pendulum.csv)" -eq 1002 ] || fail "pendulum.csv has $(wc -l <pendulum.csv) lines, not 1 + 1001"
+grep -q "energy drift .* ok$" programs.txt || fail "symdyn-sim double_pendulum's checks: $(grep -i drift programs.txt)"
 echo "ok: symdyn-sim double_pendulum: $(head -1 pendulum.csv | cut -c1-60)..."
 
 # A sweep: symdyn-sim runs the installed Python package, which runs the installed symdyn-sim.
@@ -69,9 +81,8 @@ found=$(PYTHONPATH=$python_dir /usr/bin/python3 -c 'from symdyn.engine import fi
 echo "ok: a sweep of 2 runs; the Python package finds $found"
 
 # symdyn-urdf: each coordinate is named after its joint.
-symdyn-urdf --urdf "$repo/tests/urdf/robots/two_link_arm.urdf" --out urdf >urdf.txt ||
-  { cat urdf.txt; fail "symdyn-urdf failed"; }
-header=$(ls urdf/*.hpp)
+header=generated/two_link_arm_default.hpp
+[ -f generated/two_link_arm_default.cpp ] || fail "symdyn-urdf wrote $(ls generated)"
 grep -q 'q_names\[2\] = {"shoulder", "elbow"}' "$header" || fail "$header: $(grep q_names "$header")"
 echo "ok: symdyn-urdf: $(basename "$header"), $(grep -o 'q_names.*' "$header")"
 
@@ -102,9 +113,7 @@ CPP
 echo "ok: symdyn_add_urdf_model of the installed package"
 
 # symdyn-generate: a model file's generator built against the installation and run.
-cp "$repo"/examples/spinning_top/spinning_top*.?pp .
 symdyn-generate spinning_top.cpp --list | grep -q "spinning_top" || fail "symdyn-generate --list"
-symdyn-generate spinning_top.cpp --out generated >generate.txt || { cat generate.txt; fail "symdyn-generate failed"; }
 grep -q 'q_names\[3\] = {"psi", "theta", "phi"}' generated/spinning_top_default.hpp ||
   fail "generated/spinning_top_default.hpp: $(grep q_names generated/spinning_top_default.hpp)"
 set +e
