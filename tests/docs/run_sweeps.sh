@@ -2,7 +2,7 @@
 # Runs docs/sweeps.md's commands as written (the page quotes these lines and
 # fixtures/sweep_trike.py, fixtures/slurm_sweep.sh): the trike's sweep on every
 # core, on one worker, from Python, on a Dask cluster started by hand on this
-# machine (HOME a scratch folder holding symdyn's build as ~/symdyn/build/release),
+# machine (HOME a scratch folder, its ~/symdyn/build/release/python this build's),
 # and on one started by the Slurm script, srun running its command once here.
 # Each makes the same table, byte for byte.
 #   run_sweeps.sh <repo> <symdyn-sim> <python dir of the build> <python> <scratch dir>
@@ -62,12 +62,13 @@ for group in $(jobs -p); do kill -KILL -- -$group; done
 set +m
 trap - EXIT
 
-# The Slurm script on one node: srun runs its command once, here; the script's
-# process group (the scheduler and the worker left behind) ends with it, as a job's does.
+# The Slurm script on one node: srun runs its command once, here. timeout leads the
+# script's process group, which ends with the script (the scheduler and the worker
+# it left behind), as a job's does, or after two minutes.
 printf '#!/bin/sh\nexec "$@"\n' >"$scratch/bin/srun"
 chmod +x "$scratch/bin/srun"
 rm tyres.csv
-PATH=$scratch/bin:$PATH SLURM_JOB_ID=7 setsid sh "$repo/tests/docs/fixtures/slurm_sweep.sh" >slurm.log 2>&1 &
+PATH=$scratch/bin:$PATH SLURM_JOB_ID=7 timeout -s KILL 120 sh "$repo/tests/docs/fixtures/slurm_sweep.sh" >slurm.log 2>&1 &
 job=$!
 trap 'kill -KILL -- -$job 2>/dev/null || true' EXIT
 wait $job || { cat slurm.log; fail "the Slurm script failed"; }
