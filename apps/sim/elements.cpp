@@ -148,6 +148,10 @@ KinematicsLevel level_of(const std::vector<const Expression*>& laws, const Symbo
 }
 
 // A generalized force given by an expression, on one or more coordinates.
+// Its derivatives are exact when every symbol it reads has its own
+// (LawEnvironment::differentiable): ∂Q/∂q_k = Σ_s ∂law/∂s·∂s/∂q_k, the law's
+// gradient by forward mode (Expression::evaluate), the symbols' from the state
+// and the kinematics' derivatives.
 class ExpressionForce : public runtime::ForceElement {
  public:
   ExpressionForce(std::string name, std::vector<int> coordinates, Expression law,
@@ -156,13 +160,39 @@ class ExpressionForce : public runtime::ForceElement {
         coordinates_(std::move(coordinates)),
         law_(std::move(law)),
         env_(table, variables),
-        level_(level_of({&law_}, table)) {}
+        level_(level_of({&law_}, table)),
+        gradient_(law_.symbols().size()) {}
   std::string name() const override { return "coordinate force '" + name_ + "'"; }
   KinematicsLevel reads() const override { return level_; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override {
     env_.set(s, k);
     const double Q = law_.evaluate(env_);
     for (int j : coordinates_) loads.add_generalized(j, Q);
+  }
+  runtime::LoadDerivatives load_derivatives() const override {
+    using enum runtime::LoadDerivatives;
+    const auto& symbols = law_.symbols();
+    if (!std::all_of(symbols.begin(), symbols.end(), [&](int s) { return env_.differentiable(s); }))
+      return differenced;
+    return level_ == KinematicsLevel::none ? exact : exact_with_kinematics_derivatives;
+  }
+  void add_load_derivatives(const State& s, const Kinematics& k,
+                            const runtime::KinematicsDerivatives& dk, runtime::Matrix& dQ_dq,
+                            runtime::Matrix& dQ_dqd) const override {
+    env_.set(s, k);
+    law_.evaluate(env_, gradient_.data());
+    const auto& symbols = law_.symbols();
+    for (std::size_t i = 0; i < symbols.size(); ++i) {
+      if (gradient_[i] == 0.0) continue;
+      for (int kk = 0; kk < s.q.size(); ++kk) {
+        double d_dq = 0.0, d_dqd = 0.0;
+        env_.derivatives(symbols[i], dk, kk, d_dq, d_dqd);
+        for (int j : coordinates_) {
+          dQ_dq(j, kk) += gradient_[i] * d_dq;
+          dQ_dqd(j, kk) += gradient_[i] * d_dqd;
+        }
+      }
+    }
   }
 
  private:
@@ -171,6 +201,7 @@ class ExpressionForce : public runtime::ForceElement {
   Expression law_;
   mutable LawEnvironment env_;
   KinematicsLevel level_;
+  mutable std::vector<double> gradient_;  // of the law, with respect to its symbols
 };
 
 // The loads an element applies at a state, into a buffer of its own.
