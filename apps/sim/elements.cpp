@@ -147,11 +147,37 @@ KinematicsLevel level_of(const std::vector<const Expression*>& laws, const Symbo
   return KinematicsLevel::none;
 }
 
-// A generalized force given by an expression, on one or more coordinates.
-// Its derivatives are exact when every symbol it reads has its own
-// (LawEnvironment::differentiable): ∂Q/∂q_k = Σ_s ∂law/∂s·∂s/∂q_k, the law's
-// gradient by forward mode (Expression::evaluate), the symbols' from the state
-// and the kinematics' derivatives.
+// Whether each symbol the laws read has its derivatives with respect to q and qd.
+bool differentiable(const std::vector<const Expression*>& laws, const LawEnvironment& env) {
+  return std::all_of(laws.begin(), laws.end(), [&](const Expression* e) {
+    return std::all_of(e->symbols().begin(), e->symbols().end(),
+                       [&](int s) { return env.differentiable(s); });
+  });
+}
+
+// A law's value, and added to row `row` of dq and dqd its derivatives with respect to q
+// and qd: ∂law/∂q_k = Σ_s ∂law/∂s·∂s/∂q_k, the law's gradient by forward mode
+// (Expression::evaluate, into `gradient`, as long as its symbols), the symbols' from
+// the state and the kinematics' derivatives dk (env set at the state).
+double add_law_derivatives(const Expression& law, const LawEnvironment& env,
+                           const runtime::KinematicsDerivatives& dk, std::vector<double>& gradient,
+                           runtime::Matrix& dq, runtime::Matrix& dqd, int row) {
+  const double value = law.evaluate(env, gradient.data());
+  const auto& symbols = law.symbols();
+  for (std::size_t i = 0; i < symbols.size(); ++i) {
+    if (gradient[i] == 0.0) continue;
+    for (int kk = 0; kk < dq.cols(); ++kk) {
+      double d_dq = 0.0, d_dqd = 0.0;
+      env.derivatives(symbols[i], dk, kk, d_dq, d_dqd);
+      dq(row, kk) += gradient[i] * d_dq;
+      dqd(row, kk) += gradient[i] * d_dqd;
+    }
+  }
+  return value;
+}
+
+// A generalized force given by an expression, on one or more coordinates;
+// exact derivatives where each symbol it reads has its own.
 class ExpressionForce : public runtime::ForceElement {
  public:
   ExpressionForce(std::string name, std::vector<int> coordinates, Expression law,
@@ -171,27 +197,20 @@ class ExpressionForce : public runtime::ForceElement {
   }
   runtime::LoadDerivatives load_derivatives() const override {
     using enum runtime::LoadDerivatives;
-    const auto& symbols = law_.symbols();
-    if (!std::all_of(symbols.begin(), symbols.end(), [&](int s) { return env_.differentiable(s); }))
-      return differenced;
+    if (!differentiable({&law_}, env_)) return differenced;
     return level_ == KinematicsLevel::none ? exact : exact_with_kinematics_derivatives;
   }
   void add_load_derivatives(const State& s, const Kinematics& k,
                             const runtime::KinematicsDerivatives& dk, runtime::Matrix& dQ_dq,
                             runtime::Matrix& dQ_dqd) const override {
     env_.set(s, k);
-    law_.evaluate(env_, gradient_.data());
-    const auto& symbols = law_.symbols();
-    for (std::size_t i = 0; i < symbols.size(); ++i) {
-      if (gradient_[i] == 0.0) continue;
-      for (int kk = 0; kk < s.q.size(); ++kk) {
-        double d_dq = 0.0, d_dqd = 0.0;
-        env_.derivatives(symbols[i], dk, kk, d_dq, d_dqd);
-        for (int j : coordinates_) {
-          dQ_dq(j, kk) += gradient_[i] * d_dq;
-          dQ_dqd(j, kk) += gradient_[i] * d_dqd;
-        }
-      }
+    const auto nq = s.q.size();
+    dq_.setZero(1, nq);
+    dqd_.setZero(1, nq);
+    add_law_derivatives(law_, env_, dk, gradient_, dq_, dqd_, 0);
+    for (int j : coordinates_) {
+      dQ_dq.row(j) += dq_;
+      dQ_dqd.row(j) += dqd_;
     }
   }
 
@@ -202,6 +221,7 @@ class ExpressionForce : public runtime::ForceElement {
   mutable LawEnvironment env_;
   KinematicsLevel level_;
   mutable std::vector<double> gradient_;  // of the law, with respect to its symbols
+  mutable runtime::Matrix dq_, dqd_;      // its derivatives (1 x nq)
 };
 
 // The loads an element applies at a state, into a buffer of its own.
@@ -333,15 +353,37 @@ std::shared_ptr<ScenarioElement> point_load(const Reader& r) {
     }
   }
   auto env = std::make_shared<LawEnvironment>(r.context().table, r.context().variables);
-  auto load = std::make_shared<runtime::PointLoad>(
-      r.node()["name"].string(), at,
-      [parts, env](const State& s, const Kinematics& k, Vec3& force, Vec3& torque) {
-        env->set(s, k);
-        for (int i = 0; i < 3; ++i) {
-          force(i) = parts[static_cast<std::size_t>(i)]->evaluate(*env);
-          torque(i) = parts[static_cast<std::size_t>(3 + i)]->evaluate(*env);
-        }
-      });
+  runtime::PointLoad::Law law = [parts, env](const State& s, const Kinematics& k, Vec3& force,
+                                             Vec3& torque) {
+    env->set(s, k);
+    for (int i = 0; i < 3; ++i) {
+      force(i) = parts[static_cast<std::size_t>(i)]->evaluate(*env);
+      torque(i) = parts[static_cast<std::size_t>(3 + i)]->evaluate(*env);
+    }
+  };
+  // Its derivatives where each symbol its parts read has its own.
+  std::vector<const Expression*> laws;
+  std::size_t symbols = 0;
+  for (const auto& p : parts) {
+    laws.push_back(p.get());
+    symbols = std::max(symbols, p->symbols().size());
+  }
+  runtime::PointLoad::LawDerivatives derivatives;
+  if (differentiable(laws, *env)) {
+    auto gradient = std::make_shared<std::vector<double>>(symbols);
+    derivatives = [parts, env, gradient](
+                      const State& s, const Kinematics& k, const runtime::KinematicsDerivatives& dk,
+                      Vec3& force, Vec3& torque, runtime::Matrix& dW_dq, runtime::Matrix& dW_dqd) {
+      env->set(s, k);
+      for (int i = 0; i < 6; ++i) {
+        const double w = add_law_derivatives(*parts[static_cast<std::size_t>(i)], *env, dk,
+                                             *gradient, dW_dq, dW_dqd, i);
+        (i < 3 ? force(i) : torque(i - 3)) = w;
+      }
+    };
+  }
+  auto load = std::make_shared<runtime::PointLoad>(r.node()["name"].string(), at, std::move(law),
+                                                   std::move(derivatives));
   auto e = wrap(r, load);
   add_force_quantities(*e, at.body, runtime::ground, *r.context().names.model);
   return e;

@@ -179,78 +179,114 @@ State random_trike_state(runtime::MultibodySystem& system, std::mt19937& rng) {
   return s;
 }
 
-// The generalized forces of the system's one force element at s.
+// The kinematics of the system's model at s, with their derivatives.
+struct KinematicsAt {
+  runtime::Kinematics k;
+  runtime::KinematicsDerivatives dk;
+  KinematicsAt(const runtime::Model& m, const State& s)
+      : k(m.nq(), m.nbody(), m.ndep()), dk(m.nq(), m.nbody()) {
+    m.velocities(s.t, s.q.data(), s.qd.data(), k);
+    m.partial_velocities(s.t, s.q.data(), k);
+    m.kinematics_derivatives(s.t, s.q.data(), s.qd.data(), dk);
+  }
+};
+
+// The generalized forces of the system's one force element at s: its loads projected,
+// Q_j = Σ_i F_i·dv_ij + M_i·dw_ij + Q_j.
 Vector element_Q(runtime::MultibodySystem& system, const State& s) {
   const runtime::Model& m = system.model();
-  runtime::Kinematics k(m.nq(), m.nbody(), m.ndep());
-  m.velocities(s.t, s.q.data(), s.qd.data(), k);
-  m.partial_velocities(s.t, s.q.data(), k);
+  const KinematicsAt at(m, s);
   runtime::Loads loads(m.nq(), m.nbody());
-  system.force_elements().front()->apply(s, k, loads);
-  return loads.Q;
+  system.force_elements().front()->apply(s, at.k, loads);
+  Vector Q = loads.Q;
+  for (int j = 0; j < m.nq(); ++j) {
+    for (int i = 0; i < m.nbody(); ++i) {
+      Q(j) += loads.F.col(i).dot(at.k.dv_dqd(i, j)) + loads.M.col(i).dot(at.k.dw_dqd(i, j));
+    }
+  }
+  return Q;
 }
+
+// The trike with one force element (JSON): its exact ∂Q/∂q and ∂Q/∂qd against Richardson
+// differences of its Q at random states; `check` sees the exact ones.
+template <class Check>
+void check_element_derivatives(const std::string& element, std::mt19937& rng, Check check) {
+  CAPTURE(element);
+  sim::Simulation sim(trike_with(element));
+  runtime::MultibodySystem& system = sim.system();
+  CHECK(system.jacobian_method() == "exact (emitted derivatives)");
+  const runtime::ForceElement& e = *system.force_elements().front();
+  REQUIRE(e.load_derivatives() != runtime::LoadDerivatives::differenced);
+  const int n = system.model().nq();
+  for (int round = 0; round < 4; ++round) {
+    const State s = random_trike_state(system, rng);
+    const KinematicsAt at(system.model(), s);
+    Matrix dQ_dq = Matrix::Zero(n, n), dQ_dqd = Matrix::Zero(n, n);
+    e.add_load_derivatives(s, at.k, at.dk, dQ_dq, dQ_dqd);
+    Matrix Kd(n, n), Cd(n, n);
+    for (int j = 0; j < n; ++j) {
+      const auto along = [&](Vector State::*member) {
+        return [&, member](double x) {
+          State p = s;
+          (p.*member)(j) = x;
+          return element_Q(system, p);
+        };
+      };
+      Kd.col(j) = richardson(along(&State::q), s.q(j), 1e-4);
+      Cd.col(j) = richardson(along(&State::qd), s.qd(j), 1e-4);
+    }
+    const double scale = std::max({1.0, Kd.cwiseAbs().maxCoeff(), Cd.cwiseAbs().maxCoeff()});
+    CHECK((dQ_dq - Kd).cwiseAbs().maxCoeff() < 1e-7 * scale);
+    CHECK((dQ_dqd - Cd).cwiseAbs().maxCoeff() < 1e-7 * scale);
+    check(dQ_dq, dQ_dqd);
+  }
+}
+
+// Each kind of quantity a force law reads: coordinates and rates by name, time,
+// variables, and every kind of body quantity (G, its velocity, the angular velocity,
+// the velocity in body axes, the rotation), through every function.
+const char* const laws[] = {
+    "clamp(50 * (speed - chassis.ux), -100, 100)",
+    "3 * yaw * steer_dot + sin(t) * x - 2 * roll ^ 2",
+    "chassis.x * chassis.y - exp(chassis.z) + front_wheel.z",
+    "chassis.vx * chassis.vy + 2 * left_rear_wheel.vz",
+    "chassis.wx - chassis.wy * front_wheel.wz + abs(left_rear_wheel.wy)",
+    "chassis.ux + chassis.uy ^ 2 + front_wheel.uz * rear_axle.ux",
+    "chassis.R00 + chassis.R01 * chassis.R12 - front_wheel.R20 + rear_axle.R21 * chassis.R22",
+    "atan2(chassis.vy, chassis.vx) + sqrt(1 + chassis.wz ^ 2) / (2 + cos(steer))",
+    "max(-5, min(chassis.uy, 5)) * tan(0.2 * pitch) + log(2 + sign(yaw)) * step(t - 0.5)",
+    "asin(0.5 * sin(roll)) - acos(0.5 * cos(front_travel)) + atan(chassis.R10)",
+};
 
 }  // namespace
 
 TEST_CASE("a coordinate force's exact derivatives equal Richardson differences of its Q",
           "[scenario][derivatives]") {
-  // Each kind of quantity a force law reads: coordinates and rates by name, time,
-  // variables, and every kind of body quantity (G, its velocity, the angular velocity,
-  // the velocity in body axes, the rotation), through every function.
-  const char* laws[] = {
-      "clamp(50 * (speed - chassis.ux), -100, 100)",
-      "3 * yaw * steer_dot + sin(t) * x - 2 * roll ^ 2",
-      "chassis.x * chassis.y - exp(chassis.z) + front_wheel.z",
-      "chassis.vx * chassis.vy + 2 * left_rear_wheel.vz",
-      "chassis.wx - chassis.wy * front_wheel.wz + abs(left_rear_wheel.wy)",
-      "chassis.ux + chassis.uy ^ 2 + front_wheel.uz * rear_axle.ux",
-      "chassis.R00 + chassis.R01 * chassis.R12 - front_wheel.R20 + rear_axle.R21 * chassis.R22",
-      "atan2(chassis.vy, chassis.vx) + sqrt(1 + chassis.wz ^ 2) / (2 + cos(steer))",
-      "max(-5, min(chassis.uy, 5)) * tan(0.2 * pitch) + log(2 + sign(yaw)) * step(t - 0.5)",
-      "asin(0.5 * sin(roll)) - acos(0.5 * cos(front_travel)) + atan(chassis.R10)",
-  };
   std::mt19937 rng(3);
   for (const char* law : laws) {
-    CAPTURE(law);
-    sim::Simulation sim(trike_with(fmt::format(
-        R"j({{"type": "coordinate_force", "name": "f", "coordinates": ["left_spin", "steer"],
-             "value": "{}"}})j",
-        law)));
-    runtime::MultibodySystem& system = sim.system();
-    CHECK(system.jacobian_method() == "exact (emitted derivatives)");
-    const runtime::ForceElement& element = *system.force_elements().front();
-    REQUIRE(element.load_derivatives() != runtime::LoadDerivatives::differenced);
-    const runtime::Model& m = system.model();
-    const int n = m.nq();
-    for (int round = 0; round < 4; ++round) {
-      const State s = random_trike_state(system, rng);
-      runtime::Kinematics k(n, m.nbody(), m.ndep());
-      m.velocities(s.t, s.q.data(), s.qd.data(), k);
-      m.partial_velocities(s.t, s.q.data(), k);
-      runtime::KinematicsDerivatives dk(n, m.nbody());
-      m.kinematics_derivatives(s.t, s.q.data(), s.qd.data(), dk);
-      Matrix dQ_dq = Matrix::Zero(n, n), dQ_dqd = Matrix::Zero(n, n);
-      element.add_load_derivatives(s, k, dk, dQ_dq, dQ_dqd);
-      Matrix Kd(n, n), Cd(n, n);
-      for (int j = 0; j < n; ++j) {
-        const auto along = [&](Vector State::*member) {
-          return [&, member](double x) {
-            State p = s;
-            (p.*member)(j) = x;
-            return Vector(element_Q(system, p));
-          };
-        };
-        Kd.col(j) = richardson(along(&State::q), s.q(j), 1e-4);
-        Cd.col(j) = richardson(along(&State::qd), s.qd(j), 1e-4);
-      }
-      const double scale = std::max({1.0, Kd.cwiseAbs().maxCoeff(), Cd.cwiseAbs().maxCoeff()});
-      CHECK((dQ_dq - Kd).cwiseAbs().maxCoeff() < 1e-7 * scale);
-      CHECK((dQ_dqd - Cd).cwiseAbs().maxCoeff() < 1e-7 * scale);
-      // Its two coordinates alone receive it, equally.
-      CHECK(dQ_dq.row(8) == dQ_dq.row(10));
-      CHECK(dQ_dqd.row(8) == dQ_dqd.row(10));
-      CHECK(dQ_dq.row(0).isZero());
-    }
+    check_element_derivatives(fmt::format(R"j({{"type": "coordinate_force", "name": "f",
+                          "coordinates": ["left_spin", "steer"], "value": "{}"}})j",
+                                          law),
+                              rng, [](const Matrix& dQ_dq, const Matrix& dQ_dqd) {
+                                // Its two coordinates alone receive it, equally.
+                                CHECK(dQ_dq.row(8) == dQ_dq.row(10));
+                                CHECK(dQ_dqd.row(8) == dQ_dqd.row(10));
+                                CHECK(dQ_dq.row(0).isZero());
+                              });
+  }
+}
+
+TEST_CASE("a point load's exact derivatives equal Richardson differences of its Q",
+          "[scenario][derivatives]") {
+  // Its force and torque laws read the state: their derivatives and the point's motion.
+  std::mt19937 rng(5);
+  for (const char* law : laws) {
+    check_element_derivatives(fmt::format(R"j({{"type": "point_load", "name": "f",
+                          "at": {{"body": "front_wheel", "point": [0.1, -0.05, 0.2]}},
+                          "force": ["{}", "2 * chassis.vz - steer", 30],
+                          "torque": [0, "{}", "yaw_dot"]}})j",
+                                          law, law),
+                              rng, [](const Matrix&, const Matrix&) {});
   }
 }
 
