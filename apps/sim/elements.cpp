@@ -3,12 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <ranges>
 #include <string_view>
 
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/contact.hpp>
 #include <symdyn/runtime/element_parameters.hpp>
+#include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/gim_tyre.hpp>
 #include <symdyn/runtime/point_forces.hpp>
@@ -158,12 +160,20 @@ bool differentiable(const std::vector<const Expression*>& laws, const LawEnviron
 // A law's value, and added to row `row` of dq and dqd its derivatives with respect to q
 // and qd: ∂law/∂q_k = Σ_s ∂law/∂s·∂s/∂q_k, the law's gradient by forward mode
 // (Expression::evaluate, into `gradient`, as long as its symbols), the symbols' from
-// the state and the kinematics' derivatives dk (env set at the state).
-double add_law_derivatives(const Expression& law, const LawEnvironment& env,
-                           const runtime::KinematicsDerivatives& dk, std::vector<double>& gradient,
-                           runtime::Matrix& dq, runtime::Matrix& dqd, int row) {
+// the state and the kinematics' derivatives dk (env set at the state). A gradient
+// that is not finite (sqrt at 0) is refused, naming the element and its law.
+double add_law_derivatives(const std::string& element, const Expression& law,
+                           const LawEnvironment& env, const runtime::KinematicsDerivatives& dk,
+                           std::vector<double>& gradient, runtime::Matrix& dq, runtime::Matrix& dqd,
+                           int row) {
   const double value = law.evaluate(env, gradient.data());
   const auto& symbols = law.symbols();
+  if (!std::all_of(gradient.begin(), gradient.begin() + static_cast<long>(symbols.size()),
+                   [](double d) { return std::isfinite(d); })) {
+    throw runtime::NumericError(
+        fmt::format("{}: the derivative of '{}' is not finite here (its value: {})", element,
+                    law.text(), value));
+  }
   for (std::size_t i = 0; i < symbols.size(); ++i) {
     if (gradient[i] == 0.0) continue;
     for (int kk = 0; kk < dq.cols(); ++kk) {
@@ -182,13 +192,13 @@ class ExpressionForce : public runtime::ForceElement {
  public:
   ExpressionForce(std::string name, std::vector<int> coordinates, Expression law,
                   const SymbolTable& table, const std::vector<double>& variables)
-      : name_(std::move(name)),
+      : label_("coordinate force '" + name + "'"),
         coordinates_(std::move(coordinates)),
         law_(std::move(law)),
         env_(table, variables),
         level_(level_of({&law_}, table)),
         gradient_(law_.symbols().size()) {}
-  std::string name() const override { return "coordinate force '" + name_ + "'"; }
+  std::string name() const override { return label_; }
   KinematicsLevel reads() const override { return level_; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override {
     env_.set(s, k);
@@ -207,7 +217,7 @@ class ExpressionForce : public runtime::ForceElement {
     const auto nq = s.q.size();
     dq_.setZero(1, nq);
     dqd_.setZero(1, nq);
-    add_law_derivatives(law_, env_, dk, gradient_, dq_, dqd_, 0);
+    add_law_derivatives(label_, law_, env_, dk, gradient_, dq_, dqd_, 0);
     for (int j : coordinates_) {
       dQ_dq.row(j) += dq_;
       dQ_dqd.row(j) += dqd_;
@@ -215,7 +225,7 @@ class ExpressionForce : public runtime::ForceElement {
   }
 
  private:
-  std::string name_;
+  std::string label_;
   std::vector<int> coordinates_;
   Expression law_;
   mutable LawEnvironment env_;
@@ -371,12 +381,12 @@ std::shared_ptr<ScenarioElement> point_load(const Reader& r) {
   runtime::PointLoad::LawDerivatives derivatives;
   if (differentiable(laws, *env)) {
     auto gradient = std::make_shared<std::vector<double>>(symbols);
-    derivatives = [parts, env, gradient](
+    derivatives = [label = "load '" + r.name() + "'", parts, env, gradient](
                       const State& s, const Kinematics& k, const runtime::KinematicsDerivatives& dk,
                       Vec3& force, Vec3& torque, runtime::Matrix& dW_dq, runtime::Matrix& dW_dqd) {
       env->set(s, k);
       for (int i = 0; i < 6; ++i) {
-        const double w = add_law_derivatives(*parts[static_cast<std::size_t>(i)], *env, dk,
+        const double w = add_law_derivatives(label, *parts[static_cast<std::size_t>(i)], *env, dk,
                                              *gradient, dW_dq, dW_dqd, i);
         (i < 3 ? force(i) : torque(i - 3)) = w;
       }

@@ -400,7 +400,9 @@ double Expression::evaluate(const Environment& env) const {
 // Forward mode: each entry of the stack carries its gradient with respect to
 // the symbols (row `top` of g) and whether it varies at all, so that a
 // constant argument's partial derivative, possibly not finite (the exponent's
-// log of a negative base), is never read.
+// log of a negative base), is never read. A partial derivative multiplies only
+// the gradient's non-zero entries: sqrt(vx^2 + vy^2) at rest has a gradient of
+// 0, not 0·∞.
 double Expression::evaluate(const Environment& env, double* gradient) const {
   const std::size_t n = symbols_.size();
   if (ops_.empty()) {
@@ -431,14 +433,16 @@ double Expression::evaluate(const Environment& env, double* gradient) const {
         double* out = g + top * n;
         bool any = varies[top] != 0;
         if (any) {
-          for (std::size_t c = 0; c < n; ++c) out[c] *= partials[0];
+          for (std::size_t c = 0; c < n; ++c) out[c] = out[c] != 0.0 ? out[c] * partials[0] : 0.0;
         }
         for (int i = 1; i < op.arity; ++i) {
           const std::size_t slot = top + static_cast<std::size_t>(i);
           if (!varies[slot]) continue;
           if (!any) std::fill(out, out + n, 0.0);
           any = true;
-          for (std::size_t c = 0; c < n; ++c) out[c] += partials[i] * g[slot * n + c];
+          for (std::size_t c = 0; c < n; ++c) {
+            if (g[slot * n + c] != 0.0) out[c] += partials[i] * g[slot * n + c];
+          }
         }
         varies[top] = any ? 1 : 0;
         stack[top] = op.function(stack + top);

@@ -152,6 +152,10 @@ TEST_CASE("where a function switches, the gradient is that of the branch its val
   // its own.
   CHECK(exact_gradient(parse_xyz("x ^ 2"), at(-3, 0, 0)) == std::vector<double>{-6, 0, 0});
   check_gradient("(-2) ^ 3 * x", at(0.3, 1, 1));
+  // A partial derivative that is infinite multiplies only the non-zero entries of its
+  // argument's gradient: x·|(x, y)| at the origin, whose derivatives are 0.
+  CHECK(exact_gradient(parse_xyz("x * sqrt(x ^ 2 + y ^ 2) + z"), at(0, 0, 1)) ==
+        std::vector<double>{0, 0, 1});
   // Constants alone: a gradient of nothing, a value.
   const sim::Expression c = sim::Expression::constant(4.0);
   CHECK(c.symbols().empty());
@@ -298,6 +302,28 @@ TEST_CASE("a coordinate force of the state alone needs no kinematics' derivative
   const runtime::ForceElement& element = *sim.system().force_elements().front();
   CHECK(element.load_derivatives() == runtime::LoadDerivatives::exact);
   CHECK(element.reads() == runtime::KinematicsLevel::none);
+}
+
+TEST_CASE("a law whose derivative is not finite is refused, naming its element and its law",
+          "[scenario][derivatives]") {
+  sim::Simulation sim(trike_with(
+      R"j({"type": "coordinate_force", "name": "f", "coordinates": "steer",
+           "value": "-sqrt(abs(steer))"})j"));
+  runtime::MultibodySystem& system = sim.system();
+  State s = system.initial_state();
+  s.q(10) = 0.0;  // steer: sqrt's derivative at 0
+  Vector qdd, yd;
+  system.accelerations(s, qdd, yd);
+  Matrix M, C, K;
+  CHECK_THROWS_WITH(system.jacobians(s, qdd, M, C, K),
+                    Catch::Matchers::Contains("coordinate force 'f'") &&
+                        Catch::Matchers::Contains("'-sqrt(abs(steer))' is not finite"));
+  // Beside 0, its derivative.
+  s.q(10) = 0.01;
+  const KinematicsAt at(system.model(), s);
+  Matrix dQ_dq = Matrix::Zero(13, 13), dQ_dqd = Matrix::Zero(13, 13);
+  system.force_elements().front()->add_load_derivatives(s, at.k, at.dk, dQ_dq, dQ_dqd);
+  CHECK(dQ_dq(10, 10) == Approx(-0.5 / std::sqrt(0.01)));
 }
 
 TEST_CASE("the trike scenario's Jacobians are exact, its drive included",
