@@ -3,12 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <ranges>
 #include <string_view>
 
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/contact.hpp>
 #include <symdyn/runtime/element_parameters.hpp>
+#include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/generalized_forces.hpp>
 #include <symdyn/runtime/gim_tyre.hpp>
 #include <symdyn/runtime/point_forces.hpp>
@@ -147,30 +149,89 @@ KinematicsLevel level_of(const std::vector<const Expression*>& laws, const Symbo
   return KinematicsLevel::none;
 }
 
-// A generalized force given by an expression, on one or more coordinates.
+// Whether each symbol the laws read has its derivatives with respect to q and qd.
+bool differentiable(const std::vector<const Expression*>& laws, const LawEnvironment& env) {
+  return std::all_of(laws.begin(), laws.end(), [&](const Expression* e) {
+    return std::all_of(e->symbols().begin(), e->symbols().end(),
+                       [&](int s) { return env.differentiable(s); });
+  });
+}
+
+// A law's value, and added to row `row` of dq and dqd its derivatives with respect to q
+// and qd: ∂law/∂q_k = Σ_s ∂law/∂s·∂s/∂q_k, the law's gradient by forward mode
+// (Expression::evaluate, into `gradient`, as long as its symbols), the symbols' from
+// the state and the kinematics' derivatives dk (env set at the state). A gradient
+// that is not finite (sqrt at 0) is refused, naming the element and its law.
+double add_law_derivatives(const std::string& element, const Expression& law,
+                           const LawEnvironment& env, const runtime::KinematicsDerivatives& dk,
+                           std::vector<double>& gradient, runtime::Matrix& dq, runtime::Matrix& dqd,
+                           int row) {
+  const double value = law.evaluate(env, gradient.data());
+  const auto& symbols = law.symbols();
+  if (!std::all_of(gradient.begin(), gradient.begin() + static_cast<long>(symbols.size()),
+                   [](double d) { return std::isfinite(d); })) {
+    throw runtime::NumericError(
+        fmt::format("{}: the derivative of '{}' is not finite here (its value: {})", element,
+                    law.text(), value));
+  }
+  for (std::size_t i = 0; i < symbols.size(); ++i) {
+    if (gradient[i] == 0.0) continue;
+    for (int kk = 0; kk < dq.cols(); ++kk) {
+      double d_dq = 0.0, d_dqd = 0.0;
+      env.derivatives(symbols[i], dk, kk, d_dq, d_dqd);
+      dq(row, kk) += gradient[i] * d_dq;
+      dqd(row, kk) += gradient[i] * d_dqd;
+    }
+  }
+  return value;
+}
+
+// A generalized force given by an expression, on one or more coordinates;
+// exact derivatives where each symbol it reads has its own.
 class ExpressionForce : public runtime::ForceElement {
  public:
   ExpressionForce(std::string name, std::vector<int> coordinates, Expression law,
                   const SymbolTable& table, const std::vector<double>& variables)
-      : name_(std::move(name)),
+      : label_("coordinate force '" + name + "'"),
         coordinates_(std::move(coordinates)),
         law_(std::move(law)),
         env_(table, variables),
-        level_(level_of({&law_}, table)) {}
-  std::string name() const override { return "coordinate force '" + name_ + "'"; }
+        level_(level_of({&law_}, table)),
+        gradient_(law_.symbols().size()) {}
+  std::string name() const override { return label_; }
   KinematicsLevel reads() const override { return level_; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override {
     env_.set(s, k);
     const double Q = law_.evaluate(env_);
     for (int j : coordinates_) loads.add_generalized(j, Q);
   }
+  runtime::LoadDerivatives load_derivatives() const override {
+    using enum runtime::LoadDerivatives;
+    if (!differentiable({&law_}, env_)) return differenced;
+    return level_ == KinematicsLevel::none ? exact : exact_with_kinematics_derivatives;
+  }
+  void add_load_derivatives(const State& s, const Kinematics& k,
+                            const runtime::KinematicsDerivatives& dk, runtime::Matrix& dQ_dq,
+                            runtime::Matrix& dQ_dqd) const override {
+    env_.set(s, k);
+    const auto nq = s.q.size();
+    dq_.setZero(1, nq);
+    dqd_.setZero(1, nq);
+    add_law_derivatives(label_, law_, env_, dk, gradient_, dq_, dqd_, 0);
+    for (int j : coordinates_) {
+      dQ_dq.row(j) += dq_;
+      dQ_dqd.row(j) += dqd_;
+    }
+  }
 
  private:
-  std::string name_;
+  std::string label_;
   std::vector<int> coordinates_;
   Expression law_;
   mutable LawEnvironment env_;
   KinematicsLevel level_;
+  mutable std::vector<double> gradient_;  // of the law, with respect to its symbols
+  mutable runtime::Matrix dq_, dqd_;      // its derivatives (1 x nq)
 };
 
 // The loads an element applies at a state, into a buffer of its own.
@@ -302,15 +363,37 @@ std::shared_ptr<ScenarioElement> point_load(const Reader& r) {
     }
   }
   auto env = std::make_shared<LawEnvironment>(r.context().table, r.context().variables);
-  auto load = std::make_shared<runtime::PointLoad>(
-      r.node()["name"].string(), at,
-      [parts, env](const State& s, const Kinematics& k, Vec3& force, Vec3& torque) {
-        env->set(s, k);
-        for (int i = 0; i < 3; ++i) {
-          force(i) = parts[static_cast<std::size_t>(i)]->evaluate(*env);
-          torque(i) = parts[static_cast<std::size_t>(3 + i)]->evaluate(*env);
-        }
-      });
+  runtime::PointLoad::Law law = [parts, env](const State& s, const Kinematics& k, Vec3& force,
+                                             Vec3& torque) {
+    env->set(s, k);
+    for (int i = 0; i < 3; ++i) {
+      force(i) = parts[static_cast<std::size_t>(i)]->evaluate(*env);
+      torque(i) = parts[static_cast<std::size_t>(3 + i)]->evaluate(*env);
+    }
+  };
+  // Its derivatives where each symbol its parts read has its own.
+  std::vector<const Expression*> laws;
+  std::size_t symbols = 0;
+  for (const auto& p : parts) {
+    laws.push_back(p.get());
+    symbols = std::max(symbols, p->symbols().size());
+  }
+  runtime::PointLoad::LawDerivatives derivatives;
+  if (differentiable(laws, *env)) {
+    auto gradient = std::make_shared<std::vector<double>>(symbols);
+    derivatives = [label = "load '" + r.name() + "'", parts, env, gradient](
+                      const State& s, const Kinematics& k, const runtime::KinematicsDerivatives& dk,
+                      Vec3& force, Vec3& torque, runtime::Matrix& dW_dq, runtime::Matrix& dW_dqd) {
+      env->set(s, k);
+      for (int i = 0; i < 6; ++i) {
+        const double w = add_law_derivatives(label, *parts[static_cast<std::size_t>(i)], *env, dk,
+                                             *gradient, dW_dq, dW_dqd, i);
+        (i < 3 ? force(i) : torque(i - 3)) = w;
+      }
+    };
+  }
+  auto load = std::make_shared<runtime::PointLoad>(r.node()["name"].string(), at, std::move(law),
+                                                   std::move(derivatives));
   auto e = wrap(r, load);
   add_force_quantities(*e, at.body, runtime::ground, *r.context().names.model);
   return e;

@@ -12,40 +12,100 @@ namespace symdyn::sim {
 
 namespace {
 
-// The built-in functions, one row each: name, arity, value.
+// The built-in functions, one row each: name, arity, value and its partial
+// derivatives d[i] = ∂f/∂a[i]. Where a law switches (abs, min, max, clamp) they
+// are those of the branch the value takes; sign and step are flat.
 struct Function {
   const char* name;
   int arity;
   double (*value)(const double* a);
+  void (*partials)(const double* a, double* d);
 };
 
+constexpr int kMaxArity = 3;
+
 constexpr Function kFunctions[] = {
-    {"neg", 1, [](const double* a) { return -a[0]; }},
-    {"+", 2, [](const double* a) { return a[0] + a[1]; }},
-    {"-", 2, [](const double* a) { return a[0] - a[1]; }},
-    {"*", 2, [](const double* a) { return a[0] * a[1]; }},
-    {"/", 2, [](const double* a) { return a[0] / a[1]; }},
-    {"^", 2, [](const double* a) { return std::pow(a[0], a[1]); }},
-    {"sin", 1, [](const double* a) { return std::sin(a[0]); }},
-    {"cos", 1, [](const double* a) { return std::cos(a[0]); }},
-    {"tan", 1, [](const double* a) { return std::tan(a[0]); }},
-    {"asin", 1, [](const double* a) { return std::asin(a[0]); }},
-    {"acos", 1, [](const double* a) { return std::acos(a[0]); }},
-    {"atan", 1, [](const double* a) { return std::atan(a[0]); }},
-    {"atan2", 2, [](const double* a) { return std::atan2(a[0], a[1]); }},
-    {"sqrt", 1, [](const double* a) { return std::sqrt(a[0]); }},
-    {"exp", 1, [](const double* a) { return std::exp(a[0]); }},
-    {"log", 1, [](const double* a) { return std::log(a[0]); }},
-    {"abs", 1, [](const double* a) { return std::abs(a[0]); }},
+    {"neg", 1, [](const double* a) { return -a[0]; },
+     [](const double*, double* d) { d[0] = -1.0; }},
+    {"+", 2, [](const double* a) { return a[0] + a[1]; },
+     [](const double*, double* d) { d[0] = d[1] = 1.0; }},
+    {"-", 2, [](const double* a) { return a[0] - a[1]; },
+     [](const double*, double* d) {
+       d[0] = 1.0;
+       d[1] = -1.0;
+     }},
+    {"*", 2, [](const double* a) { return a[0] * a[1]; },
+     [](const double* a, double* d) {
+       d[0] = a[1];
+       d[1] = a[0];
+     }},
+    {"/", 2, [](const double* a) { return a[0] / a[1]; },
+     [](const double* a, double* d) {
+       d[0] = 1.0 / a[1];
+       d[1] = -a[0] / (a[1] * a[1]);
+     }},
+    {"^", 2, [](const double* a) { return std::pow(a[0], a[1]); },
+     [](const double* a, double* d) {
+       d[0] = a[1] * std::pow(a[0], a[1] - 1.0);
+       d[1] = std::pow(a[0], a[1]) * std::log(a[0]);  // read only where the exponent varies
+     }},
+    {"sin", 1, [](const double* a) { return std::sin(a[0]); },
+     [](const double* a, double* d) { d[0] = std::cos(a[0]); }},
+    {"cos", 1, [](const double* a) { return std::cos(a[0]); },
+     [](const double* a, double* d) { d[0] = -std::sin(a[0]); }},
+    {"tan", 1, [](const double* a) { return std::tan(a[0]); },
+     [](const double* a, double* d) { d[0] = 1.0 + std::tan(a[0]) * std::tan(a[0]); }},
+    {"asin", 1, [](const double* a) { return std::asin(a[0]); },
+     [](const double* a, double* d) { d[0] = 1.0 / std::sqrt(1.0 - a[0] * a[0]); }},
+    {"acos", 1, [](const double* a) { return std::acos(a[0]); },
+     [](const double* a, double* d) { d[0] = -1.0 / std::sqrt(1.0 - a[0] * a[0]); }},
+    {"atan", 1, [](const double* a) { return std::atan(a[0]); },
+     [](const double* a, double* d) { d[0] = 1.0 / (1.0 + a[0] * a[0]); }},
+    {"atan2", 2, [](const double* a) { return std::atan2(a[0], a[1]); },
+     [](const double* a, double* d) {
+       const double r2 = a[0] * a[0] + a[1] * a[1];
+       d[0] = a[1] / r2;
+       d[1] = -a[0] / r2;
+     }},
+    {"sqrt", 1, [](const double* a) { return std::sqrt(a[0]); },
+     [](const double* a, double* d) { d[0] = 0.5 / std::sqrt(a[0]); }},
+    {"exp", 1, [](const double* a) { return std::exp(a[0]); },
+     [](const double* a, double* d) { d[0] = std::exp(a[0]); }},
+    {"log", 1, [](const double* a) { return std::log(a[0]); },
+     [](const double* a, double* d) { d[0] = 1.0 / a[0]; }},
+    // From x = 0 on, the right-hand derivative.
+    {"abs", 1, [](const double* a) { return std::abs(a[0]); },
+     [](const double* a, double* d) { d[0] = a[0] < 0.0 ? -1.0 : 1.0; }},
     {"sign", 1, [](const double* a) { return a[0] > 0.0   ? 1.0
                                              : a[0] < 0.0 ? -1.0
-                                                          : 0.0; }},
+                                                          : 0.0; },
+     [](const double*, double* d) { d[0] = 0.0; }},
     // Heaviside: 1 from x = 0 on.
-    {"step", 1, [](const double* a) { return a[0] >= 0.0 ? 1.0 : 0.0; }},
-    {"min", 2, [](const double* a) { return std::min(a[0], a[1]); }},
-    {"max", 2, [](const double* a) { return std::max(a[0], a[1]); }},
-    {"clamp", 3, [](const double* a) { return std::max(a[1], std::min(a[0], a[2])); }},
+    {"step", 1, [](const double* a) { return a[0] >= 0.0 ? 1.0 : 0.0; },
+     [](const double*, double* d) { d[0] = 0.0; }},
+    // std::min gives a[0] unless a[1] < a[0], std::max unless a[0] < a[1].
+    {"min", 2, [](const double* a) { return std::min(a[0], a[1]); },
+     [](const double* a, double* d) {
+       d[0] = a[1] < a[0] ? 0.0 : 1.0;
+       d[1] = 1.0 - d[0];
+     }},
+    {"max", 2, [](const double* a) { return std::max(a[0], a[1]); },
+     [](const double* a, double* d) {
+       d[0] = a[0] < a[1] ? 0.0 : 1.0;
+       d[1] = 1.0 - d[0];
+     }},
+    // clamp(x, lo, hi) = max(lo, min(x, hi)): the derivative of the argument it returns.
+    {"clamp", 3, [](const double* a) { return std::max(a[1], std::min(a[0], a[2])); },
+     [](const double* a, double* d) {
+       const bool upper = a[2] < a[0], lower = !(a[1] < (upper ? a[2] : a[0]));
+       d[0] = !lower && !upper ? 1.0 : 0.0;
+       d[1] = lower ? 1.0 : 0.0;
+       d[2] = !lower && upper ? 1.0 : 0.0;
+     }},
 };
+
+static_assert(std::ranges::all_of(kFunctions,
+                                  [](const Function& f) { return f.arity <= kMaxArity; }));
 
 const Function& function(std::string_view name) {
   for (const auto& f : kFunctions) {
@@ -115,7 +175,10 @@ class Parser {
                                : fmt::format("expected '{}' at the end", c));
   }
   void emit(const Function& f) {
-    ops_.push_back({.kind = Expression::Op::Kind::function, .function = f.value, .arity = f.arity});
+    ops_.push_back({.kind = Expression::Op::Kind::function,
+                    .function = f.value,
+                    .partials = f.partials,
+                    .arity = f.arity});
   }
 
   void expression() {
@@ -291,6 +354,14 @@ Expression Expression::parse(std::string_view text, const Resolver& resolver) {
     }
   }
   e.stack_ = std::make_shared<std::vector<double>>(stack_depth(e.ops_));
+  for (auto& op : e.ops_) {
+    if (op.kind != Op::Kind::symbol) continue;
+    op.slot = static_cast<int>(std::find(e.symbols_.begin(), e.symbols_.end(), op.symbol) -
+                               e.symbols_.begin());
+  }
+  e.gradients_ = std::make_shared<Gradients>(
+      Gradients{std::vector<double>(e.stack_->size() * e.symbols_.size()),
+                std::vector<char>(e.stack_->size())});
   return e;
 }
 
@@ -299,6 +370,7 @@ Expression Expression::constant(double value) {
   e.text_ = fmt::format("{}", value);
   e.ops_.push_back({.kind = Op::Kind::number, .number = value});
   e.stack_ = std::make_shared<std::vector<double>>(1);
+  e.gradients_ = std::make_shared<Gradients>(Gradients{{}, std::vector<char>(1)});
   return e;
 }
 
@@ -321,6 +393,68 @@ double Expression::evaluate(const Environment& env) const {
         break;
       }
     }
+  }
+  return stack[0];
+}
+
+// Forward mode: each entry of the stack carries its gradient with respect to
+// the symbols (row `top` of g) and whether it varies at all, so that a
+// constant argument's partial derivative, possibly not finite (the exponent's
+// log of a negative base), is never read. A partial derivative multiplies only
+// the gradient's non-zero entries: sqrt(vx^2 + vy^2) at rest has a gradient of
+// 0, not 0·∞.
+double Expression::evaluate(const Environment& env, double* gradient) const {
+  const std::size_t n = symbols_.size();
+  if (ops_.empty()) {
+    std::fill(gradient, gradient + n, 0.0);
+    return 0.0;
+  }
+  double* stack = stack_->data();
+  double* g = gradients_->rows.data();
+  char* varies = gradients_->varies.data();
+  double partials[kMaxArity];
+  std::size_t top = 0;
+  for (const auto& op : ops_) {
+    switch (op.kind) {
+      case Op::Kind::number:
+        varies[top] = 0;
+        stack[top++] = op.number;
+        break;
+      case Op::Kind::symbol:
+        std::fill(g + top * n, g + (top + 1) * n, 0.0);
+        g[top * n + static_cast<std::size_t>(op.slot)] = 1.0;
+        varies[top] = 1;
+        stack[top++] = env.value(op.symbol);
+        break;
+      case Op::Kind::function: {
+        top -= static_cast<std::size_t>(op.arity);
+        op.partials(stack + top, partials);
+        // The result overwrites the first argument: its own term first.
+        double* out = g + top * n;
+        bool any = varies[top] != 0;
+        if (any) {
+          for (std::size_t c = 0; c < n; ++c) out[c] = out[c] != 0.0 ? out[c] * partials[0] : 0.0;
+        }
+        for (int i = 1; i < op.arity; ++i) {
+          const std::size_t slot = top + static_cast<std::size_t>(i);
+          if (!varies[slot]) continue;
+          if (!any) std::fill(out, out + n, 0.0);
+          any = true;
+          for (std::size_t c = 0; c < n; ++c) {
+            if (g[slot * n + c] != 0.0) out[c] += partials[i] * g[slot * n + c];
+          }
+        }
+        varies[top] = any ? 1 : 0;
+        stack[top] = op.function(stack + top);
+        ++top;
+        break;
+      }
+    }
+  }
+  if (varies[0]) {
+    std::copy(g, g + n, gradient);
+  } else {
+    std::fill(gradient, gradient + n, 0.0);
   }
   return stack[0];
 }

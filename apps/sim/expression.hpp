@@ -56,6 +56,11 @@ class Expression {
   static Expression constant(double value);
 
   double evaluate(const Environment& env) const;
+  // The value, and in gradient (symbols().size()) its derivatives with respect
+  // to the symbols, in the order of symbols(): exact, by forward mode through
+  // the program; where a function switches (abs, min, max, clamp) those of the
+  // branch the value takes, sign and step flat.
+  double evaluate(const Environment& env, double* gradient) const;
   const std::string& text() const { return text_; }
   // The symbols it reads (each once), for the caller to know what to compute.
   const std::vector<int>& symbols() const { return symbols_; }
@@ -67,7 +72,9 @@ class Expression {
     enum class Kind { number, symbol, function } kind = Kind::number;
     double number = 0.0;
     int symbol = 0;
+    int slot = 0;  // a symbol's place in symbols()
     double (*function)(const double* arguments) = nullptr;
+    void (*partials)(const double* arguments, double* derivatives) = nullptr;
     int arity = 0;
   };
 
@@ -76,6 +83,13 @@ class Expression {
   std::vector<Op> ops_;
   std::vector<int> symbols_;
   std::shared_ptr<std::vector<double>> stack_;  // sized when parsed
+  // Forward mode's stack: each entry's gradient (a row of symbols().size()) and
+  // whether it varies.
+  struct Gradients {
+    std::vector<double> rows;
+    std::vector<char> varies;
+  };
+  std::shared_ptr<Gradients> gradients_;
 };
 
 }  // namespace symdyn::sim

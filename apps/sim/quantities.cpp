@@ -230,6 +230,31 @@ double body_quantity(const Kinematics& k, int body, int attribute) {
   return k.R(body)(r / 3, r % 3);
 }
 
+// x: ∂x/∂q = dv/dqd; v, w: the kinematics' derivatives; u = Rᵀv: ∂u/∂q_k =
+// Rᵀ(∂v/∂q_k + v × dw_k) since ∂R/∂q_k = skew(dw_k)·R, ∂u/∂qd_k = Rᵀ·dv_k; R:
+// the columns turn, ∂R.col(c)/∂q_k = dw_k × R.col(c).
+void body_quantity_derivatives(const Kinematics& k, const runtime::KinematicsDerivatives& dk,
+                               int body, int attribute, int kk, double& d_dq, double& d_dqd) {
+  const int c = attribute % 3;
+  d_dqd = 0.0;
+  if (attribute < 3) {
+    d_dq = k.dv_dqd(body, kk)(c);
+  } else if (attribute < 6) {
+    d_dq = dk.dv_dq(body, kk)(c);
+    d_dqd = k.dv_dqd(body, kk)(c);
+  } else if (attribute < 9) {
+    d_dq = dk.dw_dq(body, kk)(c);
+    d_dqd = k.dw_dqd(body, kk)(c);
+  } else if (attribute < 12) {
+    const auto axis = k.R(body).col(c);
+    d_dq = axis.dot(dk.dv_dq(body, kk) + k.v(body).cross(k.dw_dqd(body, kk)));
+    d_dqd = axis.dot(k.dv_dqd(body, kk));
+  } else {
+    const int r = (attribute - 12) / 3, col = (attribute - 12) % 3;
+    d_dq = k.dw_dqd(body, kk).cross(runtime::Vec3(k.R(body).col(col)))(r);
+  }
+}
+
 SampleEnvironment::SampleEnvironment(runtime::MultibodySystem& system, const SymbolTable& table,
                                      const std::vector<std::shared_ptr<ScenarioElement>>& elements,
                                      const std::vector<double>& variables,
@@ -359,6 +384,28 @@ double LawEnvironment::value(int symbol) const {
     default:
       return 0.0;  // refused by the law's scope when parsed
   }
+}
+
+bool LawEnvironment::differentiable(int symbol) const {
+  switch (table_[symbol].source) {
+    case Source::time:
+    case Source::q:
+    case Source::qd:
+    case Source::body:
+    case Source::variable:
+    case Source::constant:
+      return true;
+    default:
+      return false;
+  }
+}
+
+void LawEnvironment::derivatives(int symbol, const runtime::KinematicsDerivatives& dk, int kk,
+                                 double& d_dq, double& d_dqd) const {
+  const Symbol& sym = table_[symbol];
+  d_dq = sym.source == Source::q && sym.a == kk ? 1.0 : 0.0;
+  d_dqd = sym.source == Source::qd && sym.a == kk ? 1.0 : 0.0;
+  if (sym.source == Source::body) body_quantity_derivatives(*k_, dk, sym.a, sym.b, kk, d_dq, d_dqd);
 }
 
 }  // namespace symdyn::sim

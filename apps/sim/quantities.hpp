@@ -157,6 +157,11 @@ class SampleEnvironment : public Environment {
 
 // Body quantity `attribute` (the order of the list in quantities.cpp) of body i.
 double body_quantity(const runtime::Kinematics& k, int body, int attribute);
+// Its derivatives with respect to q_kk and qd_kk, from the kinematics k and their
+// derivatives dk at the same state (runtime/kinematics_derivatives.hpp).
+void body_quantity_derivatives(const runtime::Kinematics& k,
+                               const runtime::KinematicsDerivatives& dk, int body, int attribute,
+                               int kk, double& d_dq, double& d_dqd);
 
 // The values a force law reads: the state and the kinematics it is given.
 class LawEnvironment : public Environment {
@@ -168,6 +173,13 @@ class LawEnvironment : public Environment {
     k_ = &k;
   }
   double value(int symbol) const override;
+  // Whether a symbol's derivatives with respect to q and qd are known: those of
+  // the state, the bodies' kinematics, time, variables and constants.
+  bool differentiable(int symbol) const;
+  // A differentiable symbol's ∂/∂q_kk and ∂/∂qd_kk at the state and kinematics
+  // set, dk their derivatives (read for body quantities alone).
+  void derivatives(int symbol, const runtime::KinematicsDerivatives& dk, int kk, double& d_dq,
+                   double& d_dqd) const;
 
  private:
   const SymbolTable& table_;

@@ -170,11 +170,11 @@ def integrators_section(integ, measured=None):
              "different steps (forward differences are less accurate, and CVODE's step and Jacobian "
              "reuse follow its Newton convergence): compare the rows' steps before their times. With "
              "the force elements differenced (the trike's tyres, amru5's contacts), the exact Jacobian "
-             "evaluates the kinematics twice per coordinate in q for them. A coordinate force given as an "
-             "expression (the trike's drive) is differenced in every row, and differencing any element "
-             "evaluates the kinematics at every shifted q: with its drive, the trike's Jacobian costs the "
-             "same whether its tyres are exact or differenced, where amru5's, all of whose elements are "
-             "exact, is cheaper (\"Time per Jacobian\"). Midpoint's exact Newton matrix costs six "
+             "evaluates the kinematics twice per coordinate in q for them. Differencing any element "
+             "evaluates the kinematics at every shifted q: the trike's Jacobian and amru5's, all of whose "
+             "elements are exact (the trike's drive, a coordinate force given as an expression, "
+             "differentiated through its expression), are cheaper than with their elements differenced "
+             "(\"Time per Jacobian\"). Midpoint's exact Newton matrix costs six "
              "Jacobians (M, C and K at the midpoint and at q ± d·v, with qdd = 0 and qdd = v) where its "
              "differenced one costs 2·nq maps.\n")
     amru = [(cpu[(p, i, tol, 'differences')] / cpu[(p, i, tol, 'exact')], tol)

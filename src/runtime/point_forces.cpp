@@ -88,12 +88,13 @@ PointLoad::PointLoad(std::string name, BodyPoint at, const Vec3& force, const Ve
   check_property(this->name(), "torque", torque_);
 }
 
-PointLoad::PointLoad(std::string name, BodyPoint at, Law law)
+PointLoad::PointLoad(std::string name, BodyPoint at, Law law, LawDerivatives derivatives)
     : name_(std::move(name)),
       at_(at),
       force_(Vec3::Zero()),
       torque_(Vec3::Zero()),
-      law_(std::move(law)) {
+      law_(std::move(law)),
+      derivatives_(std::move(derivatives)) {
   check_property(this->name(), "point", at_.point);
 }
 
@@ -105,15 +106,26 @@ void PointLoad::apply(const State& s, const Kinematics& k, Loads& loads) const {
   loads.add_moment(at_.body, m);
 }
 
-void PointLoad::add_load_derivatives(const State& /*s*/, const Kinematics& k,
+void PointLoad::add_load_derivatives(const State& s, const Kinematics& k,
                                      const KinematicsDerivatives& dk, Matrix& dQ_dq,
-                                     Matrix& /*dQ_dqd*/) const {
+                                     Matrix& dQ_dqd) const {
   if (at_.body == ground) return;
+  Vec3 f = force_, m = torque_;
+  if (law_) {
+    dW_dq_.setZero(6, k.nq());
+    dW_dqd_.setZero(6, k.nq());
+    derivatives_(s, k, dk, f, m, dW_dq_, dW_dqd_);
+  }
   const Vec3 r = k.to_global(at_.body, at_.point);
   for (int j = 0; j < k.nq(); ++j) {
+    const Vec3 J = dk.point_partial(k, at_.body, r, j);
+    const Vec3 dw = k.dw_dqd(at_.body, j);
     for (int kk = 0; kk < k.nq(); ++kk) {
-      dQ_dq(j, kk) += force_.dot(dk.point_partial_derivative(k, at_.body, r, j, kk)) +
-                      torque_.dot(dk.ddw_dq(at_.body, j, kk));
+      dQ_dq(j, kk) += f.dot(dk.point_partial_derivative(k, at_.body, r, j, kk)) +
+                      m.dot(dk.ddw_dq(at_.body, j, kk));
+      if (!law_) continue;
+      dQ_dq(j, kk) += dW_dq_.col(kk).head<3>().dot(J) + dW_dq_.col(kk).tail<3>().dot(dw);
+      dQ_dqd(j, kk) += dW_dqd_.col(kk).head<3>().dot(J) + dW_dqd_.col(kk).tail<3>().dot(dw);
     }
   }
 }

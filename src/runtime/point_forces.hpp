@@ -53,20 +53,29 @@ class PointSpringDamper : public ForceElement {
 class PointLoad : public ForceElement {
  public:
   using Law = std::function<void(const State& s, const Kinematics& k, Vec3& force, Vec3& torque)>;
+  // The same law with its derivatives: force and torque, and in dW_dq, dW_dqd
+  // (6 x nq, sized by the caller: the force's rows, then the torque's) their
+  // derivatives with respect to q and qd, dk the kinematics' derivatives.
+  using LawDerivatives =
+      std::function<void(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                         Vec3& force, Vec3& torque, Matrix& dW_dq, Matrix& dW_dqd)>;
   // Constant force and torque.
   PointLoad(std::string name, BodyPoint at, const Vec3& force, const Vec3& torque = Vec3::Zero());
-  // Force and torque computed by law at each evaluation.
-  PointLoad(std::string name, BodyPoint at, Law law);
+  // Force and torque computed by law at each evaluation, differenced; exact
+  // where the law's derivatives are given.
+  PointLoad(std::string name, BodyPoint at, Law law, LawDerivatives derivatives = nullptr);
   std::string name() const override { return "load '" + name_ + "'"; }
   // A constant load only needs its point; a law may read anything.
   KinematicsLevel reads() const override {
     return law_ ? KinematicsLevel::velocities : KinematicsLevel::positions;
   }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
-  // A constant load: Q_j = F·J_j + T·dw_j, ∂Q_j/∂q_k = F·∂J_j/∂q_k + T·∂dw_j/∂q_k; a law is
+  // Q_j = F·J_j + T·dw_j, ∂Q_j/∂q_k = F·∂J_j/∂q_k + T·∂dw_j/∂q_k (+ ∂F/∂q_k·J_j + ∂T/∂q_k·dw_j
+  // for a law, and ∂Q_j/∂qd_k = ∂F/∂qd_k·J_j + ∂T/∂qd_k·dw_j); a law without its derivatives is
   // differenced.
   LoadDerivatives load_derivatives() const override {
-    return law_ ? LoadDerivatives::differenced : LoadDerivatives::exact_with_kinematics_derivatives;
+    return law_ && !derivatives_ ? LoadDerivatives::differenced
+                                 : LoadDerivatives::exact_with_kinematics_derivatives;
   }
   void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
                             Matrix& dQ_dq, Matrix& dQ_dqd) const override;
@@ -76,6 +85,8 @@ class PointLoad : public ForceElement {
   BodyPoint at_;
   Vec3 force_, torque_;
   Law law_;
+  LawDerivatives derivatives_;
+  mutable Matrix dW_dq_, dW_dqd_;  // the law's (6 x nq)
 };
 
 // Anything else: a callback that adds loads given (t, state, kinematics),

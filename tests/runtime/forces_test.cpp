@@ -7,6 +7,7 @@
 #include "fixtures/rigid_body.hpp"
 #include "fixtures/spring_mass.hpp"
 #include "test_util.hpp"
+#include "trike.hpp"
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/contact.hpp>
 #include <symdyn/runtime/errors.hpp>
@@ -81,6 +82,53 @@ TEST_CASE("Point loads and user forces as functions of time and state", "[runtim
   const State s = make_state(0.7, Vector::Constant(1, 2.0), Vector::Constant(1, 1.5));
   // u = (1, 2, 2)/3: the pulse projects with u_x, the drag gives -0.5 qd.
   CHECK(generalized(sys, s)(0) == Approx(3.0 * std::sin(0.7) * 2.0 / 3.0 - 0.5 * 1.5 + 0.7));
+}
+
+TEST_CASE("A point load's law with its derivatives makes its part of the Jacobians exact",
+          "[runtime][forces]") {
+  // On the trike's front wheel: F = (3 q_yaw + 2 v_x qd_steer, 5 sin(t) qd_travel, 0) and
+  // T = (0, 0, 2 q_steer), their derivatives by hand (v_x of the wheel's G).
+  constexpr int yaw = 3, travel = 6, steer = 10, wheel = 4;
+  const PointLoad::Law law = [](const State& s, const Kinematics& k, Vec3& f, Vec3& t) {
+    f = Vec3(3.0 * s.q(yaw) + 2.0 * k.v(wheel)(0) * s.qd(steer), 5.0 * std::sin(s.t) * s.qd(travel),
+             0.0);
+    t = Vec3(0.0, 0.0, 2.0 * s.q(steer));
+  };
+  const PointLoad::LawDerivatives derivatives = [law](const State& s, const Kinematics& k,
+                                                      const KinematicsDerivatives& dk, Vec3& f,
+                                                      Vec3& t, Matrix& dW_dq, Matrix& dW_dqd) {
+    law(s, k, f, t);
+    for (int c = 0; c < k.nq(); ++c) {
+      dW_dq(0, c) += 2.0 * dk.dv_dq(wheel, c)(0) * s.qd(steer);
+      dW_dqd(0, c) += 2.0 * k.dv_dqd(wheel, c)(0) * s.qd(steer);
+    }
+    dW_dq(0, yaw) += 3.0;
+    dW_dqd(0, steer) += 2.0 * k.v(wheel)(0);
+    dW_dqd(1, travel) += 5.0 * std::sin(s.t);
+    dW_dq(5, steer) += 2.0;
+  };
+  MultibodySystem exact(Model::from<symdyn_generated::trike>());
+  MultibodySystem differenced(Model::from<symdyn_generated::trike>());
+  const BodyPoint at{wheel, Vec3(0.1, -0.05, 0.2)};
+  exact.add<PointLoad>("push", at, law, derivatives);
+  differenced.add<PointLoad>("push", at, law);
+  CHECK(exact.jacobian_method() == "exact (emitted derivatives)");
+  CHECK(differenced.jacobian_method() ==
+        "exact (emitted derivatives), but by central differences for load 'push'");
+  for (int trial = 0; trial < 5; ++trial) {
+    State s = exact.initial_state();
+    s.t = uniform(0.0, 2.0);
+    s.q += random_vector(13, -0.3, 0.3);
+    s.qd = random_vector(13, -2.0, 2.0);
+    Vector qdd, yd;
+    exact.accelerations(s, qdd, yd);
+    Matrix M, C, K, Md, Cd, Kd;
+    exact.jacobians(s, qdd, M, C, K);
+    differenced.jacobians(s, qdd, Md, Cd, Kd);
+    const double scale = std::max({1.0, Kd.cwiseAbs().maxCoeff(), Cd.cwiseAbs().maxCoeff()});
+    CHECK((K - Kd).cwiseAbs().maxCoeff() < 1e-7 * scale);
+    CHECK((C - Cd).cwiseAbs().maxCoeff() < 1e-7 * scale);
+  }
 }
 
 TEST_CASE("Generalized spring-dampers, nonlinear laws and tracking", "[runtime][forces]") {

@@ -72,11 +72,10 @@ TEST_CASE("every built-in scenario runs with its defaults and its checks are in 
 
 TEST_CASE("a scenario's coordinate springs and actuators keep their exact derivatives",
           "[models][scenario]") {
-  // The trike's drive (an expression) has none: it alone is differenced; its tyres are exact.
+  // The trike's drive (an expression of chassis.ux) and its tyres: all exact.
   sim::Simulation sim(sim::find_builtin("trike"));
   runtime::MultibodySystem& system = sim.system();
-  CHECK(system.jacobian_method() ==
-        "exact (emitted derivatives), but by central differences for coordinate force 'drive'");
+  CHECK(system.jacobian_method() == "exact (emitted derivatives)");
   runtime::State s = system.initial_state();
   s.t = 1.1;  // steering
   s.q(10) = 0.05;
