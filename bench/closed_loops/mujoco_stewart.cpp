@@ -45,6 +45,14 @@ Vec3 platform_joint(int i) {
 constexpr double cylinder_g = 0.275, piston_g = 0.25;
 constexpr double spring_rate = 1e5;  // N/m, each leg
 
+// printf into a string (the MJCF's numbers to 17 digits).
+template <class... Args>
+std::string format(const char* pattern, Args... args) {
+  char text[2048];
+  std::snprintf(text, sizeof text, pattern, args...);
+  return text;
+}
+
 // Where symdyn's extended coordinates of the Stewart platform are, by name.
 struct Layout {
   int pose[6];  // platform_x, _y, _z, _yaw, _pitch, _roll
@@ -52,13 +60,15 @@ struct Layout {
   explicit Layout(const Model& model) {
     const auto& names = model.q_names();
     const auto at = [&](const std::string& name) {
-      return static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin());
+      const auto found = std::find(names.begin(), names.end(), name);
+      if (found == names.end()) throw std::runtime_error("not the model of models/stewart.cpp");
+      return static_cast<int>(found - names.begin());
     };
     const char* pose_names[6] = {"x", "y", "z", "yaw", "pitch", "roll"};
     for (int k = 0; k < 6; ++k) {
-      pose[k] = at(std::string("platform_") + pose_names[k]);
-      a[k] = at("a" + std::to_string(k));
-      b[k] = at("b" + std::to_string(k));
+      pose[k] = at(format("platform_%s", pose_names[k]));
+      a[k] = at(format("a%d", k));
+      b[k] = at(format("b%d", k));
     }
   }
 };
@@ -108,14 +118,6 @@ struct Home {
     }
   }
 };
-
-// printf into a string (the MJCF's numbers to 17 digits).
-template <class... Args>
-std::string format(const char* pattern, Args... args) {
-  char text[2048];
-  std::snprintf(text, sizeof text, pattern, args...);
-  return text;
-}
 
 std::string mjcf(const Home& home, const std::string& constraint) {
   const Quat p = platform_quat(home.pose[3], home.pose[4], home.pose[5]);
