@@ -10,24 +10,20 @@
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
-#include <filesystem>
-#include <fstream>
-#include <functional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "four_bar.hpp"
+#include "mujoco_bench.hpp"
 #include <symdyn/runtime/integrator.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
 
 using namespace symdyn::runtime;
+using namespace symdyn_bench;
 
 constexpr double r1 = 0.1, r2 = 0.35, r3 = 0.3, d = 0.4;  // models/four_bar.cpp
 
@@ -68,17 +64,6 @@ std::string mjcf(const Assembly& a, const std::string& solimp) {
   return text;
 }
 
-mjModel* load(const std::string& xml) {
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "symdyn_four_bar_mujoco.xml";
-  std::ofstream(path) << xml;
-  char error[1000] = "";
-  mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
-  std::filesystem::remove(path);
-  if (m == nullptr) throw std::runtime_error(std::string("MuJoCo: ") + error);
-  return m;
-}
-
 // MuJoCo's state from symdyn's extended one (x = q0, phi, psi).
 void set_state(const mjModel*, mjData* data, const State& x, const Assembly& a) {
   data->time = x.t;
@@ -101,23 +86,6 @@ double opening(const mjData* data) {
   return std::hypot(c[0][0] - c[1][0], c[0][1] - c[1][1], c[0][2] - c[1][2]);
 }
 
-double cpu_seconds() {
-  return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
-}
-
-// Median over 5 repetitions of the CPU time per call of `call(k)`.
-double per_call_ns(const std::function<void(int)>& call) {
-  constexpr int kCalls = 200000;
-  std::vector<double> times;
-  for (int r = 0; r < 5; ++r) {
-    const double start = cpu_seconds();
-    for (int k = 0; k < kCalls; ++k) call(k);
-    times.push_back((cpu_seconds() - start) / kCalls * 1e9);
-  }
-  std::sort(times.begin(), times.end());
-  return times[2];
-}
-
 }  // namespace
 
 int main() {
@@ -125,14 +93,7 @@ int main() {
   const State start = system.initial_state();  // q0 = 0, qd0 = 5 rad/s
   const State x0 = system.extended_state(start);
   const Assembly a{x0.q(1), x0.q(2)};
-  // Soft constraints: MuJoCo's default impedance and time constant, one
-  // impedance close to rigid, and with it the shortest time constant a step
-  // of 1 ms allows (2 steps).
-  const std::vector<std::pair<const char*, std::string>> settings{
-      {"default (solimp 0.9 0.95, solref 0.02)", ""},
-      {"stiff (solimp 0.9999 0.9999)", R"(solimp="0.9999 0.9999 0.001")"},
-      {"stiffest (solimp 0.9999 0.9999, solref 0.002)",
-       R"(solimp="0.9999 0.9999 0.001" solref="0.002 1")"}};
+  const std::vector<ConstraintSetting> settings = constraint_settings();
 
   // 1. The accelerations at the same states, q0 around the circle, at rest
   // (gravity alone) and moving (qd0 from 5 to -1.3 rad/s).
@@ -141,7 +102,7 @@ int main() {
       "| MuJoCo constraint | max rel. difference of qdd0, at rest | the same, moving |\n"
       "|---|---:|---:|\n");
   for (const auto& [name, solimp] : settings) {
-    mjModel* m = load(mjcf(a, solimp));
+    mjModel* m = load_mjcf(mjcf(a, solimp), "four_bar");
     mjData* data = mj_makeData(m);
     double worst[2] = {0, 0}, scale[2] = {0, 0};
     State s = start;
@@ -170,21 +131,25 @@ int main() {
     State s = start;
     Vector qdd, yd;
     system.reset_loops();
-    const double ns = per_call_ns([&](int k) {
-      s.q(0) = 1e-4 * (k % 100000);
-      system.accelerations(s, qdd, yd);
-    });
+    const double ns = per_call_ns(
+        [&](int k) {
+          s.q(0) = 1e-4 * (k % 100000);
+          system.accelerations(s, qdd, yd);
+        },
+        200000);
     std::printf("| symdyn accelerations() | %.0f |\n", ns);
   }
   for (const auto& [name, solimp] : settings) {
-    mjModel* m = load(mjcf(a, solimp));
+    mjModel* m = load_mjcf(mjcf(a, solimp), "four_bar");
     mjData* data = mj_makeData(m);
     system.reset_loops();
     set_state(m, data, x0, a);
-    const double ns = per_call_ns([&](int k) {
-      data->qpos[0] = 1e-4 * (k % 100000);
-      mj_forward(m, data);
-    });
+    const double ns = per_call_ns(
+        [&](int k) {
+          data->qpos[0] = 1e-4 * (k % 100000);
+          mj_forward(m, data);
+        },
+        200000);
     std::printf("| MuJoCo mj_forward, %s | %.0f |\n", name, ns);
     mj_deleteData(data);
     mj_deleteModel(m);
@@ -233,7 +198,7 @@ int main() {
   }
   for (const auto& [name, solimp] : settings) {
     for (double h : {1e-3, 5e-4, 2e-4, 1e-4}) {
-      mjModel* m = load(mjcf(a, solimp));
+      mjModel* m = load_mjcf(mjcf(a, solimp), "four_bar");
       m->opt.timestep = h;
       mjData* data = mj_makeData(m);
       set_state(m, data, x0, a);
