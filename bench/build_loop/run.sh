@@ -33,7 +33,7 @@ done
 build=build/release
 warnings="-Wall -Wextra -Wpedantic -std=c++20"
 # What symdyn_add_model gives the emitted code (cmake/SymdynAddModel.cmake).
-after_flags=$(sed -n 's/^ *set(SYMDYN_EMITTED_CODE_FLAGS "\(.*\)")$/\1/p' cmake/SymdynAddModel.cmake)
+after_flags=$(sed -n 's/^ *set(SYMDYN_EMITTED_CODE_FLAGS "\(.*\)")$/\1/p' cmake/SymdynAddModel.cmake | head -n 1)
 after_sources=$(sed -n 's/^ *set(SYMDYN_EMITTED_CODE_SOURCES \([0-9]*\))$/\1/p' cmake/SymdynAddModel.cmake)
 # name|sources|flags
 all_configs=(
