@@ -48,7 +48,11 @@ include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 # that adds symdyn with add_subdirectory sees none of symdyn's variables.
 macro(symdyn_emitted_code_defaults)
   if(NOT DEFINED SYMDYN_EMITTED_CODE_FLAGS)
-    set(SYMDYN_EMITTED_CODE_FLAGS "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations")
+    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+      set(SYMDYN_EMITTED_CODE_FLAGS "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations -fno-tree-fre -fno-dse -fno-tree-dce -fno-ipa-pure-const -fno-ipa-reference -fno-ipa-modref")
+    else()  # the passes above are GCC's: clang refuses most of their names
+      set(SYMDYN_EMITTED_CODE_FLAGS "-O2")
+    endif()
   endif()
   # The most source files of one model, compiled in parallel (SOURCES).
   if(NOT DEFINED SYMDYN_EMITTED_CODE_SOURCES)

@@ -33,7 +33,7 @@ done
 build=build/release
 warnings="-Wall -Wextra -Wpedantic -std=c++20"
 # What symdyn_add_model gives the emitted code (cmake/SymdynAddModel.cmake).
-after_flags=$(sed -n 's/^ *set(SYMDYN_EMITTED_CODE_FLAGS "\(.*\)")$/\1/p' cmake/SymdynAddModel.cmake)
+after_flags=$(sed -n 's/^ *set(SYMDYN_EMITTED_CODE_FLAGS "\(.*\)")$/\1/p' cmake/SymdynAddModel.cmake | head -n 1)
 after_sources=$(sed -n 's/^ *set(SYMDYN_EMITTED_CODE_SOURCES \([0-9]*\))$/\1/p' cmake/SymdynAddModel.cmake)
 # name|sources|flags
 all_configs=(
@@ -42,6 +42,7 @@ all_configs=(
   "O1|1|-O1 -DNDEBUG"
   "Og|1|-Og -DNDEBUG"
   "O2_no_slp|1|-O2 -DNDEBUG -fno-tree-slp-vectorize"
+  "after_flags_aacc368|4|-O3 -DNDEBUG -O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations"
   "after_1_source|1|-O3 -DNDEBUG ${after_flags:-?}"
   "after_2_sources|2|-O3 -DNDEBUG ${after_flags:-?}"
   "after|${after_sources:-1}|-O3 -DNDEBUG ${after_flags:-?}"
