@@ -4,8 +4,8 @@
 // A shape has a pose in its body's frame (origin at G, the inertia's axes) and a
 // colour. A body given no shape is drawn as the mechanism it is part of
 // (default_shapes): slim rods from its joint point to where each of its
-// children's joints start (a stick figure of the joints, as Modelica's and
-// Simbody's viewers draw), and its inertia's solid (inertia_shape) where that
+// children's joints start (a stick figure of the joints, as Modelica's
+// MultiBody library draws), and its inertia's solid (inertia_shape) where that
 // tells something: a cylinder when two principal moments are equal (a wheel,
 // an axle, a rod), a ball when all three are; the box with the same principal
 // moments (inertia_box),
