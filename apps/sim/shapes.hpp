@@ -6,7 +6,7 @@
 //     "front_wheel": [{"type": "cylinder", "radius": 0.3, "length": 0.12, "axis": [0, 1, 0]}],
 //     "rear_axle": []
 //   }
-// A body not named keeps its inertia shape (runtime/scene.hpp); an empty list
+// A body not named keeps its default shapes (runtime/scene.hpp); an empty list
 // hides it. Every error is a ScenarioError at the culprit's JSON path.
 
 #include "scenario.hpp"
@@ -15,7 +15,7 @@
 
 namespace symdyn::sim {
 
-// The scene of the scenario's model: its "shapes" over the inertia shapes.
+// The scene of the scenario's model: its "shapes" over the default shapes.
 // Mesh files are relative to the scenario's directory.
 runtime::Scene read_scene(const Scenario& scenario, const runtime::Model& model);
 

@@ -19,11 +19,11 @@
 // given), which runs this program with --serve once per worker: the engine
 // (serve.hpp) that runs the scenario with each run's changes.
 //
-// --html writes the HTML viewer of the run (the bodies as the scenario's shapes,
-// else as their inertia shapes; the coordinates plotted beside them), --glb the animation as glTF,
-// --plot the coordinates and the energies against time with gnuplot (PNG or SVG by the extension),
-// --easyanim EasyDyn's STEM.vol and STEM.van for EasyAnim. --reaction-arrows
-// draws the closed loops' reaction forces in --html as arrows at their points.
+// --html writes the HTML viewer of the run (the bodies as the scenario's shapes, else as rods
+// between their joints and their inertias' solids; the coordinates plotted beside them), --glb
+// the animation as glTF, --plot the coordinates and the energies against time with gnuplot (PNG
+// or SVG by the extension), --easyanim EasyDyn's STEM.vol and STEM.van for EasyAnim.
+// --reaction-arrows draws the closed loops' reaction forces in --html as arrows at their points.
 //
 // --modes linearizes the system (with its force elements at t = 0) about its
 // static equilibrium found from the initial state (or about the initial state

@@ -373,6 +373,19 @@ void Model::set_parameters(const std::vector<double>& values) {
   inertia_ = std::move(inertia);
 }
 
+Model::JointPoints Model::joint_points() const {
+  JointPoints out;
+  if (!has_joint_points()) return out;
+  const int nb = std::max(d_.nbody, 1);
+  std::vector<double> joint(3 * nb, 0.0), anchor(3 * nb, 0.0);
+  d_.joint_points(param_.data(), joint.data(), anchor.data());
+  for (int i = 0; i < d_.nbody; ++i) {
+    out.joint.emplace_back(joint[3 * i], joint[3 * i + 1], joint[3 * i + 2]);
+    out.anchor.emplace_back(anchor[3 * i], anchor[3 * i + 1], anchor[3 * i + 2]);
+  }
+  return out;
+}
+
 Mat3 Model::global_inertia(int i, const Kinematics& k) const {
   const Mat3 R = k.R(i);
   return R * inertia_[i] * R.transpose();

@@ -31,6 +31,7 @@ namespace symdyn::runtime {
 
 // Signatures of the emitted entry points (shapes in docs/emitted_interface.md).
 using InertiaFn = void (*)(const double* param, double* mass, double* inertia);
+using JointPointsFn = void (*)(const double* param, double* joint, double* anchor);
 using PositionsFn = void (*)(double t, const double* q, const double* param, double* R, double* x);
 using VelocitiesFn = void (*)(double t, const double* q, const double* qd, const double* param,
                               double* R, double* x, double* v, double* w);
@@ -120,6 +121,10 @@ concept has_forward_dynamics = requires(double t, const double* c, double* o) {
 template <class G>
 concept has_joint_reactions = requires(double t, const double* c, double* o) {
   G::joint_reactions(t, c, c, c, c, c, c, o);
+};
+template <class G>
+concept has_joint_points = requires(const double* c, double* o) {
+  G::joint_points(c, o, o);
 };
 template <class G>
 concept has_positions = requires(double t, const double* c, double* o) {
@@ -246,6 +251,7 @@ struct ModelDescription {
   Vec3 gravity = Vec3::Zero();
   std::vector<int> reference_body;
   InertiaFn inertia = nullptr;
+  JointPointsFn joint_points = nullptr;  // null for code emitted before it
   PositionsFn positions = nullptr;
   VelocitiesFn velocities = nullptr;
   AccelerationsFn accelerations = nullptr;
@@ -364,6 +370,16 @@ class Model {
   const Mat3& inertia(int i) const { return inertia_[i]; }
   // Inertia tensor at G in global axes, J = R I R^T.
   Mat3 global_inertia(int i, const Kinematics& k) const;
+
+  // Where each body hangs, at the current parameters (docs/emitted_interface.md,
+  // joint_points): its joint point from G in its axes, and where that joint
+  // starts from its reference's G in the reference's axes (global for -1).
+  // Empty for code emitted without them.
+  struct JointPoints {
+    std::vector<Vec3> joint, anchor;  // (nbody) each
+  };
+  bool has_joint_points() const { return d_.joint_points != nullptr; }
+  JointPoints joint_points() const;
 
   bool has_positions() const { return d_.positions != nullptr; }
   bool has_velocities() const { return d_.velocities != nullptr; }
@@ -531,6 +547,7 @@ ModelDescription Model::describe() {
   }
   d.gravity = Vec3(G::gravity[0], G::gravity[1], G::gravity[2]);
   d.inertia = &G::inertia;
+  if constexpr (detail::has_joint_points<G>) d.joint_points = &G::joint_points;
   if constexpr (detail::has_positions<G>) d.positions = &G::positions;
   if constexpr (detail::has_velocities<G>) d.velocities = &G::velocities;
   if constexpr (detail::has_accelerations<G>) d.accelerations = &G::accelerations;

@@ -225,6 +225,43 @@ Shape inertia_shape(double mass, const Mat3& inertia) {
   return inertia_cylinder(mass, inertia).value_or(inertia_box(mass, inertia));
 }
 
+std::vector<std::vector<Segment>> joint_segments(const Model& model) {
+  std::vector<std::vector<Segment>> out(model.nbody());
+  if (!model.has_joint_points()) return out;
+  const Model::JointPoints points = model.joint_points();
+  double longest = 0.0;
+  for (int c = 0; c < model.nbody(); ++c) {
+    const int i = model.reference_body(c);
+    if (i < 0) continue;
+    out[i].push_back({points.joint[i], points.anchor[c]});
+    longest = std::max(longest, (points.anchor[c] - points.joint[i]).norm());
+  }
+  for (int i = 0; i < model.nbody(); ++i) {
+    if (out[i].empty()) out[i].push_back({points.joint[i], Vec3::Zero()});
+    longest = std::max(longest, points.joint[i].norm());
+  }
+  // Rounding's lengths: a child hung at its reference's joint point, a G at the joint.
+  for (auto& segments : out) {
+    std::erase_if(segments,
+                  [&](const Segment& s) { return !((s.to - s.from).norm() > 1e-9 * longest); });
+  }
+  return out;
+}
+
+std::vector<Shape> default_shapes(double mass, const Mat3& inertia,
+                                  const std::vector<Segment>& segments, double radius) {
+  std::vector<Shape> out;
+  for (const Segment& s : segments) {
+    const Vec3 d = s.to - s.from;
+    Shape rod = Shape::capsule(std::min(radius, 0.1 * d.norm()), d.norm()).at(along(d));
+    rod.pose.translation() = (s.from + s.to) / 2;
+    out.push_back(rod);
+  }
+  Shape solid = inertia_shape(mass, inertia);
+  if (out.empty() || solid.kind != Shape::Kind::box) out.push_back(solid);
+  return out;
+}
+
 Colour body_colour(int body) {
   // Tableau's ten, muted enough to be shaded.
   static constexpr std::array<std::uint32_t, 10> rgb = {0x4e79a7, 0xf28e2b, 0x59a14f, 0xe15759,
@@ -239,9 +276,15 @@ Scene::Scene(const Model& model)
       shapes_(model.nbody()),
       customized_(model.nbody(), false),
       up_(model.gravity().norm() > 0 ? Vec3(-model.gravity().normalized()) : Vec3::UnitZ()) {
+  const std::vector<std::vector<Segment>> segments = joint_segments(model);
+  double longest = 0.0;
+  for (const auto& body : segments) {
+    for (const Segment& s : body) longest = std::max(longest, (s.to - s.from).norm());
+  }
   for (int i = 0; i < model.nbody(); ++i) {
     if (model.mass(i) <= 0.0) continue;  // a massless frame: nothing to see
-    shapes_[i].push_back(inertia_shape(model.mass(i), model.inertia(i)).with(body_colour(i)));
+    shapes_[i] = default_shapes(model.mass(i), model.inertia(i), segments[i], 0.02 * longest);
+    for (Shape& s : shapes_[i]) s.colour = body_colour(i);
   }
 }
 

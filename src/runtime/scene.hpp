@@ -2,12 +2,16 @@
 // What the viewers draw: shapes attached to the bodies of a model.
 //
 // A shape has a pose in its body's frame (origin at G, the inertia's axes) and a
-// colour. A body given no shape is drawn as a uniform solid of its own mass and
-// inertia (inertia_shape), so that a glance at the scene checks the inertias
-// too: a cylinder when two principal moments are equal (a wheel, an axle, a
-// rod), else the box with the same principal moments (inertia_box),
+// colour. A body given no shape is drawn as the mechanism it is part of
+// (default_shapes): slim rods from its joint point to where each of its
+// children's joints start (a stick figure of the joints, as Modelica's
+// MultiBody library draws), and its inertia's solid (inertia_shape) where that
+// tells something: a cylinder when two principal moments are equal (a wheel,
+// an axle, a rod), a ball when all three are; the box with the same principal
+// moments (inertia_box),
 //   a² = 6 (B + C - A)/m,  b² = 6 (A + C - B)/m,  c² = 6 (A + B - C)/m,
-// each body in a colour of its own (body_colour).
+// only for a body without a rod to draw. Each body in a colour of its own
+// (body_colour).
 //
 // Every shape becomes a triangle mesh (tessellate) in its body's frame; the
 // writers (gltf.hpp, easyanim.hpp) place it with the body's R and x from the
@@ -97,8 +101,28 @@ Shape inertia_shape(double mass, const Mat3& inertia);
 // The default colour of body i: ten colours apart from one another, in turn.
 Colour body_colour(int body);
 
-// The shapes of every body of a model: inertia shapes, each in its
-// body_colour, until set; nothing for a massless body.
+// A straight piece of a body's stick figure, in the body's frame (from G, its axes).
+struct Segment {
+  Vec3 from, to;
+};
+
+// The stick figure of every body (nbody lists) from the emitted joint points
+// (Model::joint_points): from the body's joint point to the anchor of each
+// body whose reference it is, in the order of the bodies; to its G when it has
+// none. Segments of no length are left out; none for code emitted without
+// joint points.
+std::vector<std::vector<Segment>> joint_segments(const Model& model);
+
+// What a body of mass > 0 is drawn as until given shapes: a capsule of the
+// radius given along each of its segments, and its inertia_shape unless that
+// is a box and there is a segment.
+std::vector<Shape> default_shapes(double mass, const Mat3& inertia,
+                                  const std::vector<Segment>& segments, double radius);
+
+// The shapes of every body of a model: default_shapes, each in its
+// body_colour, their rods 2 % as thick as the longest segment of the model
+// is long (at most a tenth of their own length), until set; nothing for a
+// massless body.
 class Scene {
  public:
   explicit Scene(const Model& model);

@@ -14,6 +14,7 @@
 #include "support/equations_checks.hpp"
 #include "support/random_model.hpp"
 #include <symdyn/codegen/generate.hpp>
+#include <symdyn/symbolic/traversal.hpp>
 
 using namespace symdyn;
 using namespace symdyn::testing;
@@ -71,6 +72,7 @@ class References {
     if (array == "qdd_solved") return solved_;
     if (array == "pivots") return {};  // checked by the emitted forward_dynamics (tests/models)
     if (entry == "positions") return array == "R" ? R_4x4_ : x_4x4_;
+    if (entry == "joint_points") return joint_points(array == "anchor");
     std::vector<double> out;
     auto push = [&](const auto& expressions) {
       for (model::Expr e : expressions) out.push_back(eval_(e));
@@ -110,6 +112,52 @@ class References {
 
   const model::Model& m_;
   const model::Kinematics& k_;
+  // Each step of a motion as a 4x4 matrix (Eigen's angle-axis rotation).
+  Eigen::Matrix4d step_matrix(const model::Transform::Step& step) {
+    Eigen::Matrix4d E = Eigen::Matrix4d::Identity();
+    if (step.is_rotation) {
+      const Eigen::Vector3d axis(step.axis[0].number().to_double(),
+                                 step.axis[1].number().to_double(),
+                                 step.axis[2].number().to_double());
+      E.topLeftCorner<3, 3>() = Eigen::AngleAxisd(eval_(step.angle), axis).toRotationMatrix();
+    } else {
+      for (int k = 0; k < 3; ++k) E(k, 3) = eval_(step.displacement[k]);
+    }
+    return E;
+  }
+
+  // joint_points' joint (J from G, G's axes) or anchor (the frame before the
+  // first step that moves, in the reference's) by products of the steps'
+  // matrices: a step moves when it depends on a symbol other than a run-time
+  // parameter; without one, both are the start of the motion.
+  std::vector<double> joint_points(bool anchor) {
+    std::vector<double> out;
+    for (const model::Body& b : m_.bodies()) {
+      const auto& steps = b.motion().steps();
+      std::size_t first = steps.size(), last = 0;
+      for (std::size_t k = 0; k < steps.size(); ++k) {
+        const auto& st = steps[k];
+        const std::vector<model::Expr> values =
+            st.is_rotation
+                ? std::vector<model::Expr>{st.angle}
+                : std::vector<model::Expr>(st.displacement.begin(), st.displacement.end());
+        for (const model::Expr x : symbolic::free_symbols(values)) {
+          if (x.symbol_kind() == symbolic::SymbolKind::Parameter) continue;
+          first = std::min(first, k);
+          last = k + 1;
+        }
+      }
+      if (last == 0) first = 0;
+      Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+      for (std::size_t k = anchor ? 0 : last; k < (anchor ? first : steps.size()); ++k)
+        T = T * step_matrix(steps[k]);
+      const Eigen::Vector3d point = anchor ? Eigen::Vector3d(T.topRightCorner<3, 1>())
+                                           : Eigen::Vector3d(T.inverse().topRightCorner<3, 1>());
+      out.insert(out.end(), point.data(), point.data() + 3);
+    }
+    return out;
+  }
+
   symbolic::Bindings<double> bindings_;
   symbolic::Evaluator<double> eval_;
   std::vector<double> R_4x4_, x_4x4_, M_, h_, tau_, solved_;

@@ -101,11 +101,17 @@ TEST_CASE("scenario shapes: sizes, poses and colours reach the scene", "[scenari
   CHECK(ball.colour.a == 0.25f);
   CHECK(scene.shapes(1).empty());  // hidden
 
-  // A body not named keeps its inertia shape and its own colour.
+  // A body not named keeps its default shapes (a rod from the elbow to its G,
+  // its inertia's cylinder) and its own colour.
   const runtime::Scene plain = scene_of(R"j({"rod1": {"type": "sphere", "radius": 0.1}})j");
-  REQUIRE(plain.shapes(1).size() == 1);
-  const runtime::Colour c = runtime::body_colour(1), own = plain.shapes(1)[0].colour;
-  CHECK((own.r == c.r && own.g == c.g && own.b == c.b));
+  REQUIRE(plain.shapes(1).size() == 2);
+  CHECK(plain.shapes(1)[0].kind == Shape::Kind::capsule);
+  CHECK(plain.shapes(1)[1].kind == Shape::Kind::cylinder);
+  const runtime::Colour c = runtime::body_colour(1);
+  for (const Shape& shape : plain.shapes(1)) {
+    const runtime::Colour own = shape.colour;
+    CHECK((own.r == c.r && own.g == c.g && own.b == c.b));
+  }
   CHECK(plain.shapes(0)[0].colour.r == runtime::body_colour(0).r);  // colour omitted: the body's
 }
 

@@ -62,6 +62,10 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
   std::vector<double> mass(G::nbody), inertia(G::nbody * 9), dep(G::ndep > 0 ? G::ndep : 1),
       dep_d(dep), dep_dd(dep);
   if (name == "inertia") G::inertia(p, mass.data(), inertia.data()), take({&mass, &inertia});
+  if (name == "joint_points") {
+    std::vector<double> joint(G::nbody * 3), anchor(joint);
+    G::joint_points(p, joint.data(), anchor.data()), take({&joint, &anchor});
+  }
   if (name == "positions") G::positions(s.t, s.q.data(), p, R.data(), x.data()), take({&R, &x});
   if (name == "velocities") {
     G::velocities(s.t, s.q.data(), s.qd.data(), p, R.data(), x.data(), v.data(), w.data());

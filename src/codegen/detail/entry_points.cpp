@@ -7,6 +7,7 @@
 
 #include <symdyn/codegen/detail/entry_points.hpp>
 #include <symdyn/symbolic/print.hpp>
+#include <symdyn/symbolic/traversal.hpp>
 
 namespace symdyn::codegen::detail {
 namespace {
@@ -25,6 +26,8 @@ Source dynamics(std::vector<Expr> model::Dynamics::*field);
 Source derivatives(std::vector<Expr> DynamicsDerivatives::*field);
 std::vector<Expr> masses(const Quantities& q);
 std::vector<Expr> inertias(const Quantities& q);
+std::vector<Expr> joints(const Quantities& q);
+std::vector<Expr> anchors(const Quantities& q);
 std::vector<Expr> dependent_values(const Quantities& q);
 std::vector<Expr> dependent_rates(const Quantities& q);
 std::vector<Expr> dependent_accelerations(const Quantities& q);
@@ -85,6 +88,18 @@ std::vector<EntryPointSpec> make_catalogue() {
        .doc = "Mass of every body and its inertia tensor at G in body axes.",
        .inputs = {param},
        .outputs = {{"mass", "nbody", masses}, {"inertia", "nbody x 3 x 3", inertias}}},
+      {.name = "joint_points",
+       .doc = "Where each body hangs, to draw it: joint, its joint point (the origin of the frame "
+              "after the\n"
+              "last step of its motion that moves) from G in its axes; anchor, where that joint "
+              "starts (the\n"
+              "origin of the frame before the first step that moves) from its reference's G in "
+              "the\n"
+              "reference's axes (global for -1). Without a step that moves, both are the start "
+              "of its motion.",
+       .inputs = {param},
+       .outputs = {{"joint", "nbody x 3", joints}, {"anchor", "nbody x 3", anchors}},
+       .cold = true},
       {.name = "positions",
        .doc = "Positions only (to draw a scene).",
        .inputs = {t, q, param},
@@ -378,6 +393,73 @@ std::vector<Expr> inertias(const Quantities& q) {
   std::vector<Expr> out;
   for (const model::Body& b : q.model.bodies())
     out.insert(out.end(), b.inertia().begin(), b.inertia().end());
+  return out;
+}
+
+// Whether a step moves (a joint's): it depends on a symbol other than a
+// run-time parameter, as for the joint point of joint_reactions.
+bool moves(const model::Transform::Step& s) {
+  const std::vector<Expr> values =
+      s.is_rotation ? std::vector<Expr>{s.angle}
+                    : std::vector<Expr>(s.displacement.begin(), s.displacement.end());
+  const std::vector<Expr> symbols = symbolic::free_symbols(values);
+  return std::any_of(symbols.begin(), symbols.end(),
+                     [](Expr x) { return x.symbol_kind() != symbolic::SymbolKind::Parameter; });
+}
+
+// A body's motion as steps [0, first) · [first, last) · [last, n): the
+// constant steps before its joint, the joint, the constant steps after it.
+// Both 0 without a step that moves: the joint is then the start of the motion.
+struct JointSteps {
+  std::size_t first = 0, last = 0;
+};
+
+JointSteps joint_steps(const std::vector<model::Transform::Step>& steps) {
+  JointSteps j;
+  for (std::size_t k = steps.size(); k-- > 0;) {
+    if (!moves(steps[k])) continue;
+    if (j.last == 0) j.last = k + 1;
+    j.first = k;
+  }
+  return j;
+}
+
+// The frame after steps [begin, end) in the frame before them: its axes R and origin x.
+std::pair<model::Mat3, model::Vec3> frame_after(const std::vector<model::Transform::Step>& steps,
+                                                std::size_t begin, std::size_t end) {
+  using model::operator*;
+  using model::operator+;
+  model::Mat3 R = model::identity3();
+  model::Vec3 x = model::zero3();
+  for (std::size_t k = begin; k < end; ++k) {
+    if (steps[k].is_rotation) {
+      R = R * model::Transform::rotation_matrix(steps[k].axis, steps[k].angle);
+    } else {
+      x = x + R * steps[k].displacement;
+    }
+  }
+  return {R, x};
+}
+
+// J from G in G's axes: G's frame is J's moved by the steps after the joint,
+// G = J + R·x, so J = -Rᵀ·x.
+std::vector<Expr> joints(const Quantities& q) {
+  std::vector<Expr> out;
+  for (const model::Body& b : q.model.bodies()) {
+    const auto& steps = b.motion().steps();
+    const auto [R, x] = frame_after(steps, joint_steps(steps).last, steps.size());
+    for (const Expr c : model::transpose_times(R, x)) out.push_back(-c);
+  }
+  return out;
+}
+
+std::vector<Expr> anchors(const Quantities& q) {
+  std::vector<Expr> out;
+  for (const model::Body& b : q.model.bodies()) {
+    const auto& steps = b.motion().steps();
+    const model::Vec3 x = frame_after(steps, 0, joint_steps(steps).first).second;
+    out.insert(out.end(), x.begin(), x.end());
+  }
   return out;
 }
 
