@@ -33,6 +33,14 @@ std::optional<std::string> restricted_function(Expr node) {
   }
 }
 
+// Sum of |term| over the terms of x (|x| when x is not a sum).
+Expr magnitude_of_terms(Expr x) {
+  if (x.kind() != Kind::Add) return symbolic::abs(x);
+  std::vector<Expr> terms;
+  for (Expr term : x.args()) terms.push_back(symbolic::abs(term));
+  return symbolic::add(terms);
+}
+
 // 'x', 'y' or 'z' for an elementary axis, else 0.
 char elementary_axis(const Vec3& a) {
   for (int k = 0; k < 3; ++k) {
@@ -95,7 +103,8 @@ std::vector<DomainCheck> domain_checks(const Model& model) {
       if (!function || std::find(seen.begin(), seen.end(), node) != seen.end()) continue;
       seen.push_back(node);
       const bool power = node.kind() == Kind::Pow;
-      checks.push_back({name, *function, node.arg(0), power ? node.arg(1) : Expr(0)});
+      checks.push_back({name, *function, node.arg(0), power ? node.arg(1) : Expr(0),
+                        magnitude_of_terms(node.arg(0))});
     }
   }
   return checks;

@@ -30,6 +30,11 @@ struct DomainCheck {
   std::string function;   // "asin", "acos", "sqrt", "log" or "pow"
   Expr argument;  // the argument (pow: the base), as written, of q, t, parameters, dependents
   Expr exponent;  // pow: the exponent; otherwise 0
+  // The magnitude of the terms the argument is a sum of (|argument| when it is not
+  // a sum): the argument's rounding is of the order of 1e-16 of it, so that the
+  // runtime measures its distance to an edge at 0 relative to it. A sum of
+  // squares is its own scale: it has no edge but 0 itself.
+  Expr scale;
 };
 
 // In evaluation order (see above); each distinct operation once.

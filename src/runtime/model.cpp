@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <utility>
 
@@ -36,34 +37,57 @@ void validate_inertia(const std::string& body, double m, const Mat3& I) {
 }
 
 // Where each function with a restricted domain is defined (x its argument, e
-// the exponent of pow), and its edge: defined, but with an infinite derivative,
-// so that a rate or an acceleration is not finite there.
+// the exponent of pow), its edge (defined, but with an infinite derivative, so
+// that a rate or an acceleration is not finite there), and the distance to its
+// edges relative to the scale of x (s: the magnitude of the terms x is a sum of,
+// emitted beside it): the rounding of x is about 1e-16·s, so that where the
+// distance is d the rate carries a relative error of about 1e-16/d, and half its
+// digits are lost at d = 1e-8 (Model::kDomainMargin). asin and acos: 1 - |x|
+// (rate 1/sqrt(1 - x²), whose edges ±1 are their own scale); sqrt and log: x/s
+// (rates x'/(2 sqrt x), x'/x); pow: x/s, or |x|/s for an integer exponent (a
+// division, defined on both sides of 0), +inf where the exponent is 2 or more
+// (an acceleration, x^(e - 2)·x'², stays finite). Negative outside the domain.
 struct RestrictedDomain {
   std::string_view function;
   std::string_view domain;  // as a message says it
   bool (*inside)(double x, double e);
   bool (*edge)(double x, double e);
-  bool has_margin;  // asin, acos: 1 - |x|, of a scale of its own
+  double (*distance)(double x, double e, double s);
+  bool edge_at_zero;  // sqrt, log, pow: the edge is x = 0, the distance relative to x's scale
 };
 
 bool is_integer(double e) {
   return std::nearbyint(e) == e;
 }
 
+// x/s, 0 at x = 0 whatever s (a sum of squares, all zero).
+double relative(double x, double s) {
+  return x == 0.0 ? 0.0 : x / s;
+}
+
+double distance_of_power(double x, double e, double s) {
+  if (e >= 2.0) return std::numeric_limits<double>::infinity();
+  return relative(is_integer(e) ? std::abs(x) : x, s);
+}
+
 constexpr RestrictedDomain kRestrictedDomains[] = {
     {"asin", "[-1, 1]", [](double x, double) { return std::abs(x) <= 1.0; },
-     [](double x, double) { return std::abs(x) == 1.0; }, true},
+     [](double x, double) { return std::abs(x) == 1.0; },
+     [](double x, double, double) { return 1.0 - std::abs(x); }, false},
     {"acos", "[-1, 1]", [](double x, double) { return std::abs(x) <= 1.0; },
-     [](double x, double) { return std::abs(x) == 1.0; }, true},
+     [](double x, double) { return std::abs(x) == 1.0; },
+     [](double x, double, double) { return 1.0 - std::abs(x); }, false},
     {"sqrt", "[0, inf)", [](double x, double) { return x >= 0.0; },
-     [](double x, double) { return x == 0.0; }, false},
+     [](double x, double) { return x == 0.0; },
+     [](double x, double, double s) { return relative(x, s); }, true},
     {"log", "(0, inf)", [](double x, double) { return x > 0.0; },
-     [](double, double) { return false; }, false},
+     [](double, double) { return false; },
+     [](double x, double, double s) { return relative(x, s); }, true},
     {"pow", "a base > 0, or 0 with an exponent > 0, or < 0 with an integer exponent",
      [](double x, double e) {
        return x > 0.0 || (x == 0.0 && e > 0.0) || (x < 0.0 && is_integer(e));
      },
-     [](double x, double e) { return x == 0.0 && e > 0.0 && e < 1.0; }, false},
+     [](double x, double e) { return x == 0.0 && e > 0.0 && e < 1.0; }, distance_of_power, true},
 };
 
 const RestrictedDomain* restricted_domain(std::string_view function) {
@@ -101,9 +125,9 @@ Model::Model(ModelDescription d) : d_(std::move(d)) {
   if (d_.nindependent < 0) d_.nindependent = d_.nq;
   validate_loops();
   validate_diagnostics();
-  for (std::size_t k = 0; k < d_.domain_checks.size(); ++k) {
-    if (restricted_domain(d_.domain_checks[k].function)->has_margin)
-      margin_checks_.push_back(static_cast<int>(k));
+  for (const DomainCheck& c : d_.domain_checks) {
+    margin_distances_.push_back(restricted_domain(c.function)->distance);
+    zero_edges_.push_back(restricted_domain(c.function)->edge_at_zero);
   }
   zeros_.assign(std::max(d_.nq, 1), 0.0);
   param_ = d_.param_defaults;
@@ -200,24 +224,25 @@ void Model::validate_diagnostics() const {
 std::optional<std::string> Model::domain_error(double t, const double* q) const {
   const std::size_t n = d_.domain_checks.size();
   if (n == 0) return std::nullopt;
-  std::vector<double> args(2 * n);
+  std::vector<double> args(kDomainValues * n);
   d_.domain_arguments(t, q, param_.data(), args.data());
   const auto describe = [&](std::size_t k, const char* what) {
     const DomainCheck& c = d_.domain_checks[k];
     return fmt::format("dependent parameter '{}': {} is {} [domain of {}: {}]", c.dependent,
-                       call(c.function, args[2 * k], args[2 * k + 1]), what, c.function,
-                       restricted_domain(c.function)->domain);
+                       call(c.function, args[kDomainValues * k], args[kDomainValues * k + 1]), what,
+                       c.function, restricted_domain(c.function)->domain);
   };
   // Outside first, in evaluation order (an inner failure makes the outer arguments NaN: skipped).
   for (std::size_t k = 0; k < n; ++k) {
-    const double x = args[2 * k], e = args[2 * k + 1];
+    const double x = args[kDomainValues * k], e = args[kDomainValues * k + 1];
     if (std::isfinite(x) && std::isfinite(e) &&
         !restricted_domain(d_.domain_checks[k].function)->inside(x, e)) {
       return describe(k, "outside its function's domain");
     }
   }
   for (std::size_t k = 0; k < n; ++k) {
-    if (restricted_domain(d_.domain_checks[k].function)->edge(args[2 * k], args[2 * k + 1])) {
+    if (restricted_domain(d_.domain_checks[k].function)
+            ->edge(args[kDomainValues * k], args[kDomainValues * k + 1])) {
       return describe(k, "at the edge of its function's domain, where its derivative is infinite");
     }
   }
@@ -227,27 +252,40 @@ std::optional<std::string> Model::domain_error(double t, const double* q) const 
 Model::DomainMargin Model::smallest_domain_margin(double t, const double* q,
                                                   double* arguments) const {
   DomainMargin smallest;
-  if (margin_checks_.empty()) return smallest;
+  if (margin_distances_.empty()) return smallest;
   d_.domain_arguments(t, q, param_.data(), arguments);
-  for (int k : margin_checks_) {
-    // 1 - |x|: negative outside [-1, 1]; a NaN argument (an inner check failed) is skipped.
-    const double margin = 1.0 - std::abs(arguments[2 * k]);
-    if (margin < smallest.margin) smallest = {margin, k};
+  for (std::size_t k = 0; k < margin_distances_.size(); ++k) {
+    const double* a = arguments + kDomainValues * k;  // x, e, scale
+    // Negative outside; a NaN argument (an inner check failed) is skipped.
+    const double margin = margin_distances_[k](a[0], a[1], a[2]);
+    if (margin < smallest.margin) smallest = {margin, static_cast<int>(k)};
   }
   return smallest;
 }
 
 std::string Model::describe_domain_margin(double t, const double* q, const DomainMargin& m) const {
-  std::vector<double> args(2 * d_.domain_checks.size());
+  std::vector<double> args(kDomainValues * d_.domain_checks.size());
   d_.domain_arguments(t, q, param_.data(), args.data());
   const DomainCheck& c = d_.domain_checks.at(static_cast<std::size_t>(m.check));
-  const double x = args[2 * static_cast<std::size_t>(m.check)];
+  const double* a = args.data() + kDomainValues * static_cast<std::size_t>(m.check);
+  const RestrictedDomain& r = *restricted_domain(c.function);
   return fmt::format(
-      "dependent parameter '{}': {} is {:.3g} from the edge of its function's domain, where its "
+      "dependent parameter '{}': {} is {:.3g} from the edge of its function's domain{}, where its "
       "derivative is infinite and has lost more than half its digits within {:g} of it [domain "
       "of {}: {}]",
-      c.dependent, call(c.function, x, 0.0), 1.0 - std::abs(x), kDomainMargin, c.function,
-      restricted_domain(c.function)->domain);
+      c.dependent, call(c.function, a[0], a[1]), r.distance(a[0], a[1], a[2]),
+      !r.edge_at_zero ? ""
+                      : fmt::format(" relative to the {:.3g} of the terms it is a sum of", a[2]),
+      kDomainMargin, c.function, r.domain);
+}
+
+int Model::domain_edge_crossed(const double* before, const double* after) const {
+  for (std::size_t k = 0; k < d_.domain_checks.size(); ++k) {
+    const double a = before[kDomainValues * k], b = after[kDomainValues * k];
+    if (zero_edges_[k] && ((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0)))
+      return static_cast<int>(k);
+  }
+  return -1;
 }
 
 std::optional<std::string> Model::angle_sequence_near_singular(const double* q,

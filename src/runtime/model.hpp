@@ -50,7 +50,7 @@ using MassMatrixFn = void (*)(double t, const double* q, const double* param, do
 using BiasForcesFn = void (*)(double t, const double* q, const double* qd, const double* param,
                               double* h);
 // Cold diagnostics: the arguments of the dependent parameters' restricted
-// operations, (ndomain x 2) (docs/emitted_interface.md).
+// operations, (ndomain x 3): argument, exponent, scale (docs/emitted_interface.md).
 using DomainArgumentsFn = void (*)(double t, const double* q, const double* param,
                                    double* arguments);
 // M and h in one call, alone or with the kinematics force elements read.
@@ -467,15 +467,19 @@ class Model {
   // infinite: "dependent parameter 'alpha': asin(1.2) is outside its domain
   // [-1, 1]". Nothing when all are inside, or the model was emitted without checks.
   std::optional<std::string> domain_error(double t, const double* q) const;
-  // Edges: asin and acos lose their derivative's digits near |x| = 1, where
-  // 1 - x² carries the rounding of x: within a margin 1 - |x| < kDomainMargin,
-  // the rate 1/sqrt(1 - x²) has lost half its digits (sqrt, log and pow have no
-  // scale of their own for such a margin: only leaving their domain is seen).
+  // Edges: near the edge of its domain, a restricted function's rate carries
+  // the rounding of its argument x, about 1e-16 of x's scale (1 for asin and
+  // acos, whose edges are ±1; for sqrt, log and pow the magnitude of the terms x
+  // is a sum of, emitted beside x). Within kDomainMargin of the edge, relative
+  // to that scale, the rate has lost half its digits: refused (the table of
+  // model.cpp, docs/errors.md). A sum of squares has no edge: its scale is itself.
   static constexpr double kDomainMargin = 1e-8;
-  // Whether any domain check has such a margin (the checks below do nothing otherwise).
-  bool has_domain_margins() const { return !margin_checks_.empty(); }
+  // Per check, domain_arguments writes the argument, the exponent (pow) and the scale.
+  static constexpr std::size_t kDomainValues = 3;
+  // Whether any domain check has a margin (the checks below do nothing otherwise).
+  bool has_domain_margins() const { return !margin_distances_.empty(); }
   // The smallest margin at (t, q) (negative outside the domain, +inf without
-  // margins) and its check; arguments (2·ndomain) is scratch. Allocates nothing.
+  // margins) and its check; arguments (kDomainValues·ndomain) is scratch. Allocates nothing.
   struct DomainMargin {
     double margin = std::numeric_limits<double>::infinity();
     int check = -1;
@@ -483,8 +487,13 @@ class Model {
   DomainMargin smallest_domain_margin(double t, const double* q, double* arguments) const;
   int num_domain_checks() const { return static_cast<int>(d_.domain_checks.size()); }
   // Cold: "dependent parameter 'alpha': asin(0.99999999999) is 1e-11 from the edge
-  // of its function's domain [domain of asin: [-1, 1]]" for the check of that margin.
+  // of its function's domain [domain of asin: [-1, 1]]" for the check of that margin
+  // ("sqrt(2e-10) is 1e-08 from the edge of its function's domain relative to the
+  // 0.02 of the terms it is a sum of").
   std::string describe_domain_margin(double t, const double* q, const DomainMargin& m) const;
+  // The first check whose edge at 0 (sqrt, log, pow) lies between two results of
+  // domain_arguments (its argument changed sign), or -1: a division passed its pole.
+  int domain_edge_crossed(const double* before, const double* after) const;
   // The angle sequence at its singular configuration (|cos b| or |sin b| of
   // its middle angle below 1e-4) that carries most of the null direction of M
   // (n x n, singular), if that is at least half of it: "coordinates 'yaw',
@@ -511,11 +520,13 @@ class Model {
                                              Kinematics& k) const;
 
   ModelDescription d_;
-  std::vector<double> zeros_;       // (max(nq, 1)) qd = 0 for positions from velocities
-  std::vector<double> param_;       // (max(nparam, 1))
-  std::vector<int> margin_checks_;  // the domain checks with a margin (asin, acos)
-  std::vector<double> mass_;        // (nbody)
-  std::vector<Mat3> inertia_;       // (nbody)
+  std::vector<double> zeros_;  // (max(nq, 1)) qd = 0 for positions from velocities
+  std::vector<double> param_;  // (max(nparam, 1))
+  // Each domain check's distance to its edge (model.cpp's table).
+  std::vector<double (*)(double x, double e, double scale)> margin_distances_;
+  std::vector<bool> zero_edges_;  // each domain check's: its edge is x = 0
+  std::vector<double> mass_;      // (nbody)
+  std::vector<Mat3> inertia_;     // (nbody)
 };
 
 template <detail::generated_model G>

@@ -7,7 +7,8 @@
 // symdyn_add_model(... SIM_MODULE) builds one from the emitted struct; the
 // entry point is generated, never written by hand. The loader reads `abi` and
 // `description_size` before anything else and refuses a module built against
-// another layout of ModelDescription (bump model_module_abi when it changes).
+// another layout of ModelDescription (bump model_module_abi when it changes, or
+// the layout of an emitted function's arrays: domain_arguments' three values).
 // The module needs no symbol of the runtime library: Model::describe<G>() is
 // header-only, and the program builds the Model from the description.
 
@@ -17,7 +18,7 @@
 
 namespace symdyn::runtime {
 
-inline constexpr int model_module_abi = 4;
+inline constexpr int model_module_abi = 5;
 inline constexpr const char* model_module_entry = "symdyn_model_module";
 
 struct ModelModule {

@@ -42,7 +42,9 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   if (model_.has_kinematics_derivatives()) dk_ = model_.make_kinematics_derivatives();
   base_v_.resize(static_cast<std::size_t>(3 * model_.nbody()));
   base_w_.resize(static_cast<std::size_t>(3 * model_.nbody()));
-  domain_arguments_.resize(static_cast<std::size_t>(2 * model_.num_domain_checks()));
+  domain_arguments_.resize(Model::kDomainValues *
+                           static_cast<std::size_t>(model_.num_domain_checks()));
+  previous_arguments_.resize(domain_arguments_.size());
   edge_state_ = initial_state();  // sized: check_step allocates nothing
 }
 
@@ -551,12 +553,17 @@ Model::DomainMargin MultibodySystem::closest_approach(const State& from, const S
     return model_.smallest_domain_margin(edge_state_.t, edge_state_.q.data(),
                                          domain_arguments_.data());
   };
-  // Five samples; a minimum inside that comes near the edge is then located by golden section.
+  // Five samples; a minimum inside that comes near the edge, or an argument that
+  // changes sign between two samples (a pole passed), is then located by golden section.
   constexpr int kSamples = 5;  // th = 0, 1/4, .. 1
   Model::DomainMargin best;
-  int best_sample = 0;
+  int best_sample = 0, crossed = -1;
   for (int i = 0; i < kSamples; ++i) {
     const Model::DomainMargin m = margin_at(i / 4.0);
+    if (i > 0 && crossed < 0 &&
+        model_.domain_edge_crossed(previous_arguments_.data(), domain_arguments_.data()) >= 0)
+      crossed = i;
+    std::swap(previous_arguments_, domain_arguments_);
     if (m.margin < best.margin) {
       best = m;
       best_sample = i;
@@ -564,10 +571,12 @@ Model::DomainMargin MultibodySystem::closest_approach(const State& from, const S
   }
   double th_best = best_sample / 4.0;
   constexpr double kLocate = 1e-2;  // a margin this small between steps is looked into
-  if (best.margin < kLocate) {
-    // The closest point is within a sample of the closest sample (an end's: inside the step).
-    const auto [th, m] = smallest_margin_between(margin_at, std::max(best_sample - 1, 0) / 4.0,
-                                                 std::min(best_sample + 1, kSamples - 1) / 4.0);
+  if (best.margin < kLocate || crossed > 0) {
+    // The closest point is within a sample of the closest sample (an end's: inside the
+    // step), or between the samples either side of the sign change.
+    const double a = crossed > 0 ? (crossed - 1) / 4.0 : std::max(best_sample - 1, 0) / 4.0,
+                 b = crossed > 0 ? crossed / 4.0 : std::min(best_sample + 1, kSamples - 1) / 4.0;
+    const auto [th, m] = smallest_margin_between(margin_at, a, b);
     if (m.margin < best.margin) {
       best = m;
       th_best = th;

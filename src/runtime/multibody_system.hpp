@@ -222,8 +222,8 @@ class MultibodySystem : public DynamicSystem {
   // kinematics() (checked for finite values).
   const Kinematics& evaluate_kinematics(const State& s);
 
-  // Domain edges (Model::kDomainMargin): an evaluation at a state where an asin or
-  // acos argument of a dependent parameter is within the margin of ±1 is a
+  // Domain edges (Model::kDomainMargin): an evaluation at a state where the argument
+  // of a dependent parameter's restricted function is within the margin of its edge is a
   // NumericError naming the parameter, the time and the state; check_step looks
   // for such a touch between the step's ends, along the cubic Hermite
   // interpolant of q from (q, qd) at both (sampled, then the closest point by
@@ -381,10 +381,11 @@ class MultibodySystem : public DynamicSystem {
   Matrix load_dq_, load_dqd_;  // the force elements' dQ/dq, dQ/dqd
   Matrix tree_K_, tree_C_,
       tree_KT_;  // exact_loop_jacobians(): the tree's K_x, C_x (nq x nq), a product (nq x n)
-  KinematicsDerivatives dk_;              // where the model has them
-  std::vector<double> base_v_, base_w_;   // k_'s v, w at the state differenced (nbody x 3)
-  std::vector<double> domain_arguments_;  // (2·ndomain) Model::smallest_domain_margin's
-  State edge_state_;                      // check_step(): a state within the step
+  KinematicsDerivatives dk_;                // where the model has them
+  std::vector<double> base_v_, base_w_;     // k_'s v, w at the state differenced (nbody x 3)
+  std::vector<double> domain_arguments_;    // (3·ndomain) Model::smallest_domain_margin's
+  std::vector<double> previous_arguments_;  // (3·ndomain) closest_approach(): the last sample's
+  State edge_state_;                        // check_step(): a state within the step
   std::vector<std::string> warnings_;
   bool conditioning_warned_ = false;  // the conditioning warning is given once
 };

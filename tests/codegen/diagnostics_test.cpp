@@ -23,9 +23,10 @@ TEST_CASE("emitted slider-crank: its dependent parameters named, asin's argument
   CHECK(std::string(G::domain_dependents[0]) == "alpha");
   CHECK(std::string(G::domain_functions[0]) == "asin");
   for (double q : {-2.0, 0.3, 1.4}) {
-    double arguments[2] = {};
+    double arguments[3] = {};
     G::domain_arguments(0.0, &q, nullptr, arguments);
     CHECK(arguments[0] == Approx(0.1 * std::sin(q) / 0.3).epsilon(1e-15));
+    CHECK(arguments[2] == Approx(std::abs(arguments[0])).epsilon(1e-15));  // not a sum
   }
   STATIC_REQUIRE(G::nangle_sequences == 0);
 }
@@ -41,10 +42,13 @@ TEST_CASE("inlined dependent parameters keep their names and checks", "[codegen]
   CHECK(std::string(G::domain_dependents[1]) == "slider_position");
   CHECK(std::string(G::domain_functions[1]) == "sqrt");
   const double q = 0.7;
-  double arguments[4] = {};
+  double arguments[6] = {};
   G::domain_arguments(0.0, &q, nullptr, arguments);
   CHECK(arguments[0] == Approx(std::sin(q) / 3.0).epsilon(1e-15));
-  CHECK(arguments[2] == Approx(1 - std::sin(q) * std::sin(q) / 9.0).epsilon(1e-15));
+  CHECK(arguments[3] == Approx(1 - std::sin(q) * std::sin(q) / 9.0).epsilon(1e-15));
+  CHECK(arguments[4] == 0.5);
+  // The scale of 1 - u² is the magnitude of its terms, 1 + u².
+  CHECK(arguments[5] == Approx(1 + std::sin(q) * std::sin(q) / 9.0).epsilon(1e-15));
 }
 
 namespace {
@@ -117,6 +121,13 @@ TEST_CASE("domain checks: innermost first, each restricted function, dependent p
   CHECK(checks[3].dependent == "r");
   const std::string later = checks[2].function + " " + checks[3].function;
   CHECK((later == "log pow" || later == "pow log"));  // p^3 is defined everywhere: not a check
+  // Each argument's scale: the magnitude of its terms, its own where it is not a sum.
+  CHECK(checks[0].scale == abs(q / 2));
+  CHECK(checks[1].scale == abs(asin(q / 2)));
+  for (int k : {2, 3}) {
+    CAPTURE(checks[k].function);
+    CHECK(checks[k].scale == (checks[k].function == "log" ? abs(p) + 1 : abs(q * q) + 1));
+  }
   (void)r;
 }
 

@@ -346,6 +346,7 @@ namespace {
 void at_edge(double, const double*, const double*, double* arguments) {
   arguments[0] = 1.0;
   arguments[1] = 0.0;
+  arguments[2] = 1.0;
 }
 }  // namespace
 

@@ -13,6 +13,7 @@
 
 #include "long_crank_asin.hpp"
 #include "long_crank_sqrt.hpp"
+#include "pole_division.hpp"
 #include "runtime/test_systems.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
@@ -400,23 +401,24 @@ TEST_CASE("boundary touch sweep", "[.boundary_sweep]") {
 namespace {
 
 // The crank as long as its rod (l1 = l2 = 0.1; models/error_models.cpp): asin's
-// argument sin(q0) touches 1 at q0 = pi/2 without crossing it. Beyond the touch
-// (cos q0 < 0) alpha = pi - q0 and x = l1·cos q0 + l2·|cos q0| = 0: the slider
-// stands still and the rest turns about fixed axes, so the mass matrix is
-// constant and qdd = 0 exactly (gravity is normal to the plane).
+// argument sin(q0) touches 1 at q0 = pi/2 without crossing it, and so does the
+// sqrt variant's l2² - (l1 sin q0)² touch 0 (relative to the 0.02 of its terms,
+// its distance cos²(q0)/(1 + sin²(q0)) is asin's 1 - sin(q0) near pi/2, both
+// d²/2 at q0 = pi/2 + d). Beyond the touch (cos q0 < 0) alpha = pi - q0 and x
+// = l1·cos q0 + l2·|cos q0| = 0: the slider stands still and the rest turns
+// about fixed axes, so the mass matrix is constant and qdd = 0 exactly (gravity
+// is normal to the plane).
+template <typename Generated>
 MultibodySystem crank_as_long_as_its_rod() {
-  Model model = Model::from<symdyn_generated::long_crank_asin>();
+  Model model = Model::from<Generated>();
   model.set_parameters({0.1, 0.1, 0.5, 0.3});
   return MultibodySystem(std::move(model));
 }
 
-}  // namespace
-
-TEST_CASE(
-    "a crank as long as its rod: qdd beyond the touch is the closed form, and refused naming alpha "
-    "within 1e-8 of asin's edge",
-    "[integrator][errors][domain]") {
-  MultibodySystem sys = crank_as_long_as_its_rod();
+// Evaluations beyond the touch are the closed form; within 1e-8 of the edge refused.
+template <typename Generated>
+void crank_touch_refused(const std::string& call) {
+  MultibodySystem sys = crank_as_long_as_its_rod<Generated>();
   State s = sys.initial_state();
   Vector qdd, yd;
   const double half_pi = std::numbers::pi / 2;
@@ -432,7 +434,7 @@ TEST_CASE(
     s.q[0] = half_pi + d;
     s.t = 0.25;
     const std::string m = message_of<NumericError>([&] { sys.accelerations(s, qdd, yd); });
-    CHECK(m.rfind("t = 0.25: dependent parameter 'alpha': asin(0.99999", 0) == 0);
+    CHECK(m.rfind("t = 0.25: " + call, 0) == 0);
     CHECK(m.find("from the edge of its function's domain") != std::string::npos);
     CHECK(m.find(fmt::format("q0 = {}", half_pi + d)) != std::string::npos);
     // The residual (the implicit integrators' form) refuses it too.
@@ -441,13 +443,12 @@ TEST_CASE(
   }
 }
 
-TEST_CASE(
-    "a crank as long as its rod, run through the touch: every integrator stops there naming alpha, "
-    "the time and the state",
-    "[integrator][errors][domain]") {
+// Every integrator stops at the touch naming the parameter, the time and the state.
+template <typename Generated>
+void crank_runs_through_the_touch(const std::string& call) {
   for (const auto& name : integrator_names()) {
     CAPTURE(name);
-    MultibodySystem sys = crank_as_long_as_its_rod();
+    MultibodySystem sys = crank_as_long_as_its_rod<Generated>();
     IntegratorOptions o = tight_options(name);
     if (name == "rk4" || name == "midpoint") o.initial_step = 1e-4;
     double last_output = 0.0;
@@ -456,7 +457,7 @@ TEST_CASE(
     const std::string m = message_of<NumericError>(
         [&] { make_integrator(name, o)->integrate(sys, sys.initial_state(), 1.0); });
     CAPTURE(m);
-    CHECK(m.find("dependent parameter 'alpha': asin(") != std::string::npos);
+    CHECK(m.find(call) != std::string::npos);
     // From q0 = 0 at 10 rad/s the crank slows to 5.2 rad/s as the slider's share of
     // the inertia grows, and reaches pi/2 at t = 0.234 (the runs agree to 1e-7).
     const std::vector<double> t = times_named(m);
@@ -466,6 +467,87 @@ TEST_CASE(
     CHECK(last_output < 0.235);
     static const std::regex state(R"(at q = \(q0 = 1\.570[0-9]+\), qd = )");
     CHECK(std::regex_search(m, state));
+  }
+}
+
+}  // namespace
+
+TEST_CASE(
+    "a crank as long as its rod: qdd beyond the touch is the closed form, and refused naming alpha "
+    "within 1e-8 of asin's edge",
+    "[integrator][errors][domain]") {
+  crank_touch_refused<symdyn_generated::long_crank_asin>(
+      "dependent parameter 'alpha': asin(0.99999");
+}
+
+TEST_CASE(
+    "the same with the rod's angle through a sqrt touching 0: refused naming s within 1e-8 of "
+    "sqrt's edge relative to its terms",
+    "[integrator][errors][domain]") {
+  crank_touch_refused<symdyn_generated::long_crank_sqrt>("dependent parameter 's': sqrt(");
+}
+
+TEST_CASE(
+    "a crank as long as its rod, run through the touch: every integrator stops there naming alpha, "
+    "the time and the state",
+    "[integrator][errors][domain]") {
+  crank_runs_through_the_touch<symdyn_generated::long_crank_asin>(
+      "dependent parameter 'alpha': asin(");
+}
+
+TEST_CASE(
+    "the same through sqrt's touch of 0: every integrator stops there naming s, the time and the "
+    "state",
+    "[integrator][errors][domain]") {
+  crank_runs_through_the_touch<symdyn_generated::long_crank_sqrt>("dependent parameter 's': sqrt(");
+}
+
+namespace {
+
+// The pole model (models/error_models.cpp): q0 = 2t from 0, qdd = 0 whatever p,
+// and p = c/(t - 1/2) has its pole at t = 1/2. The distance of pow(t - 0.5, -1)
+// to its edge is |t - 0.5|/(|t| + 0.5).
+MultibodySystem pole() {
+  return MultibodySystem(Model::from<symdyn_generated::pole_division>());
+}
+
+}  // namespace
+
+TEST_CASE("a division in a dependent parameter: qdd away from its pole exact, within 1e-8 refused",
+          "[integrator][errors][domain]") {
+  MultibodySystem sys = pole();
+  State s = sys.initial_state();
+  Vector qdd, yd;
+  for (double d : {-0.5, -1e-4, 1e-6, 0.5}) {  // distances 1 to 1e-6
+    s.t = 0.5 + d;
+    sys.accelerations(s, qdd, yd);
+    CHECK(qdd[0] == 0.0);
+  }
+  for (double d : {-5e-9, 1e-9}) {  // distances 5e-9, 1e-9
+    CAPTURE(d);
+    s.t = 0.5 + d;
+    const std::string m = message_of<NumericError>([&] { sys.accelerations(s, qdd, yd); });
+    CHECK(m.rfind(fmt::format("t = {}: dependent parameter 'p': pow(", s.t), 0) == 0);
+    CHECK(m.find("relative to the 1 of the terms it is a sum of") != std::string::npos);
+  }
+}
+
+TEST_CASE(
+    "a division whose denominator passes 0 between steps: every integrator stops at the pole "
+    "naming p",
+    "[integrator][errors][domain]") {
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    MultibodySystem sys = pole();
+    IntegratorOptions o = tight_options(name);
+    o.initial_step = 0.07;  // no step lands on the pole: it is passed between evaluations
+    const std::string m = message_of<NumericError>(
+        [&] { make_integrator(name, o)->integrate(sys, sys.initial_state(), 1.0); });
+    CAPTURE(m);
+    CHECK(m.find("dependent parameter 'p': pow(") != std::string::npos);
+    const std::vector<double> t = times_named(m);
+    REQUIRE(!t.empty());
+    CHECK(t.front() == Approx(0.5).margin(1e-7));
   }
 }
 

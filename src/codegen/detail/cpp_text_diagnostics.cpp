@@ -39,8 +39,9 @@ std::string diagnostics_declarations(const TextContext& c) {
       "  static constexpr const char* domain_dependents[{ndomain1}] = {owners};  // (ndomain) "
       "whose operation\n"
       "  static constexpr const char* domain_functions[{ndomain1}] = {functions};  // (ndomain)\n"
-      "  // Their arguments at (t, q): arguments (ndomain x 2), the base and exponent of pow, else "
-      "(x, 0).\n"
+      "  // Their arguments at (t, q): arguments (ndomain x 3), the argument (the base of pow), "
+      "the\n  // exponent of pow (else 0), and the magnitude of the terms the argument is a sum "
+      "of.\n"
       "  static void domain_arguments(double t, const double* q, const double* param, double* "
       "arguments);\n"
       "  // Bodies rotated by three elementary rotations by coordinates, singular where the first "
@@ -75,6 +76,7 @@ std::string domain_arguments_text(const TextContext& c) {
   for (const model::DomainCheck& check : c.checks) {
     outputs.push_back(check.argument);
     outputs.push_back(check.exponent);
+    outputs.push_back(check.scale);
   }
   for (std::size_t i = 0; i < outputs.size(); ++i)
     naming.outputs.push_back(element("arguments", i));

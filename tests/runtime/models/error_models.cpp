@@ -59,7 +59,21 @@ void gimbal(Model& m, std::string_view variant) {
   m.gravity(0, 0, -9.81);
 }
 
+// A slider q0 (nothing acts along it: q0 = 2t from 0) turned about its own axis
+// by p = c/(t - 1/2), prescribed: p has a pole at t = 1/2, where the slider's
+// orientation is not defined, though the accelerations stay regular (its turning
+// is not along q0: qdd = 0 on both sides).
+void pole(Model& m, std::string_view) {
+  const Expr q0 = m.coordinate("q0");
+  const Expr c = m.parameter("c", 0.01, true);
+  const Expr p = m.dependent("p", c / (m.time() - 0.5));
+  m.body("slider").mass(1.0).inertia(1e-3, 1e-3, 1e-3).motion(Tdisp(q0, 0, 0) * Trotz(p));
+  m.gravity(0, 0, -9.81);
+  m.initial(q0, 0.0, 2.0);
+}
+
 const Registration crank({"long_crank", {"asin", "sqrt"}, long_crank});
+const Registration poles({"pole", {"division"}, pole});
 const Registration gimbals({"gimbal", {"zyx", "zxz"}, gimbal});
 
 }  // namespace
