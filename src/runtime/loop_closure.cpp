@@ -46,6 +46,7 @@ void SmallLu::order_columns(const double* A) {
   std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
     return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
   });
+  permuted_ = !std::is_sorted(column_.begin(), column_.end());
 }
 
 void SmallLu::factor(const double* A, int n) {
@@ -131,7 +132,8 @@ void SmallLu::substitute(double* B, int cols) const {
   };
   for (int k = 0; k < n_; ++k) {
     const int p = swap_[static_cast<std::size_t>(k)];
-    if (p != k) std::swap_ranges(row(k), row(k) + width, row(p));
+    if (p == k) continue;
+    for (int c = 0; c < width; ++c) std::swap(row(k)[c], row(p)[c]);
   }
   for (int i = 1; i < n_; ++i) {
     for (int e = lower_start_[static_cast<std::size_t>(i)];
@@ -144,7 +146,9 @@ void SmallLu::substitute(double* B, int cols) const {
       subtract(i, upper_[static_cast<std::size_t>(e)]);
     for (int c = 0; c < width; ++c) row(i)[c] *= inverse_pivot_[static_cast<std::size_t>(i)];
   }
-  work_.assign(B, row(n_));
+  if (!permuted_) return;
+  work_.resize(static_cast<std::size_t>(n_ * width));
+  std::copy(B, row(n_), work_.begin());
   for (int k = 0; k < n_; ++k) {
     const double* z = work_.data() + static_cast<std::ptrdiff_t>(k) * width;
     double* x = row(column_[static_cast<std::size_t>(k)]);
@@ -203,7 +207,8 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   } else {
     x.tail(m_) = guess_;
   }
-  bool polished = false;
+  if (chord_pause_ > 0) --chord_pause_;
+  bool polished = false, chord = false;
   for (int iteration = 0;; ++iteration) {
     evaluate(model, t, x);
     if (!(g_.allFinite() && entries(g_q_).allFinite() && entries(g_p_).allFinite() &&
@@ -216,14 +221,18 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     // A predicted start within the tolerance is kept as it is (no step, no
     // second evaluation); an iterate of Newton's gets one more step.
     const bool predicted = iteration == 0 && solved_;
+    if (chord && residual > rounding) chord_pause_ = kChordPause;
     if (residual <= rounding || ((polished || predicted) && residual <= kTolerance * scale)) break;
     if (iteration == kMaxIterations) not_closed(model, t, x, Failure::no_convergence);
     polished = residual <= kTolerance * scale;
-    // Near the last solution its g_p (factored) serves the step: the error
-    // after it is the start's times the distance moved, rounding along a
-    // trajectory, and g_p is factored once, at the solution.
-    if (!(predicted && factored_at_last_ && residual <= kChordResidual * scale))
-      factor(model, t, x);
+    // Near the last solution its g_p (factored) serves the step, so that g_p
+    // is factored once, at the solution: the start's residual r ~ κ·|Δx|²
+    // falls to about r·κ·|Δx| (to r² by Newton's step), rounding where the
+    // calls are close (along a trajectory); where it is not (the step would
+    // cost an evaluation more), Newton's steps for the next kChordPause calls.
+    chord =
+        predicted && factored_at_last_ && chord_pause_ == 0 && residual <= kChordResidual * scale;
+    if (!chord) factor(model, t, x);
     step_ = g_;
     lu_.solve_in_place(step_);
     x.tail(m_) -= step_;

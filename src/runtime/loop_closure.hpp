@@ -8,7 +8,9 @@
 //   p:   Newton's iteration g_p·Δp = -g from the last solution (moved along
 //        dp/dq from its q) or the model's guesses, to |g| <= 1e-12·s, s the
 //        largest entry of [g_q g_p] (at least 1), with one more step after it
-//        (none where the start moved from the last solution is within it);
+//        (none where the start moved from the last solution is within it;
+//        from such a start close to it, the step with its g_p, so that g_p
+//        is factored once, at the solution);
 //   pd = P·qd - g_p⁻¹·g_t,            P = -g_p⁻¹·g_q   (ncon x n);
 //   xdd = T·qdd + c,  T = [I; P],     c = [0; -g_p⁻¹·gamma].
 //
@@ -76,6 +78,7 @@ class SmallLu {
   std::vector<double> lu_;             // L below the diagonal, U on and above it (n x n) row-major
   std::vector<int> swap_;              // row k was swapped with row swap_[k] at step k
   std::vector<int> column_;            // Q: column k of L·U is A's column column_[k]
+  bool permuted_ = false;              // Q is not the identity
   std::vector<double> inverse_pivot_;  // 1/U_kk: the solves multiply
   struct Entry {
     int j;
@@ -96,9 +99,11 @@ class LoopClosure {
   // Below this share of g_p's largest entry a pivot of its LU factorization
   // is singular.
   static constexpr double kSingularPivot = 1e-13;
-  // A predicted start within this (times s) is stepped with the last
-  // solution's factored g_p.
+  // The step from a predicted start within kChordResidual (times s) is made
+  // with the last solution's g_p, except for kChordPause calls after one that
+  // did not reach rounding.
   static constexpr double kChordResidual = 1e-6;
+  static constexpr int kChordPause = 16;
 
   LoopClosure() = default;
   explicit LoopClosure(const Model& model);
@@ -157,6 +162,7 @@ class LoopClosure {
   bool solved_ = false;
   bool factored_at_last_ = false;  // lu_ holds g_p at the last solution
   Vector last_q_, last_p_;         // the last solution, the start of the next
+  int chord_pause_ = 0;            // calls left without the last solution's g_p
   Matrix last_P_;
   // derivatives(): the emitted arrays (row-major, so held transposed) and results
   Vector mu_;
