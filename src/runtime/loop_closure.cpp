@@ -21,6 +21,7 @@ LoopClosure::LoopClosure(const Model& model)
       dq_(n_),
       g_q_(m_, n_),
       g_p_(m_, m_),
+      rates_(m_, n_ + 1),
       P_(m_, n_),
       T_(Matrix::Zero(n_ + m_, n_)),
       c_(Vector::Zero(n_ + m_)),
@@ -37,13 +38,36 @@ LoopClosure::LoopClosure(const Model& model)
   T_.topRows(n_).setIdentity();
 }
 
+void SmallLu::order_columns(const double* A) {
+  std::vector<int> nonzeros(static_cast<std::size_t>(n_), 0);
+  for (int i = 0; i < n_ * n_; ++i) nonzeros[static_cast<std::size_t>(i % n_)] += A[i] != 0.0;
+  column_.resize(static_cast<std::size_t>(n_));
+  for (int k = 0; k < n_; ++k) column_[static_cast<std::size_t>(k)] = k;
+  std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
+    return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
+  });
+  permuted_ = !std::is_sorted(column_.begin(), column_.end());
+}
+
 void SmallLu::factor(const double* A, int n) {
-  n_ = n;
-  lu_.assign(A, A + static_cast<std::ptrdiff_t>(n) * n);
-  swap_.resize(static_cast<std::size_t>(n));
-  inverse_pivot_.resize(static_cast<std::size_t>(n));
+  if (n != n_ || column_.size() != static_cast<std::size_t>(n)) {
+    n_ = n;
+    order_columns(A);
+    lu_.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+    lower_start_.resize(static_cast<std::size_t>(n + 1));
+    lower_.resize(lu_.size());
+    upper_.resize(lu_.size());
+    upper_start_.resize(static_cast<std::size_t>(n + 1));
+    swap_.resize(static_cast<std::size_t>(n));
+    inverse_pivot_.resize(static_cast<std::size_t>(n));
+  }
   double largest = 0.0;
-  for (double v : lu_) largest = std::max(largest, std::abs(v));
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < n; ++k) {
+      at(i, k) = A[i * n + column_[static_cast<std::size_t>(k)]];
+      largest = std::max(largest, std::abs(at(i, k)));
+    }
+  }
   double smallest = largest;
   for (int k = 0; k < n; ++k) {
     int p = k;
@@ -59,46 +83,115 @@ void SmallLu::factor(const double* A, int n) {
     if (pivot == 0.0) continue;  // singular: the ratio says so, solves are not to be used
     inverse_pivot_[static_cast<std::size_t>(k)] = 1.0 / pivot;
     for (int i = k + 1; i < n; ++i) {
+      if (at(i, k) == 0.0) continue;  // a row of another loop
       const double l = at(i, k) *= inverse_pivot_[static_cast<std::size_t>(k)];
       for (int j = k + 1; j < n; ++j) at(i, j) -= l * at(k, j);
     }
   }
   ratio_ = largest > 0 ? smallest / largest : 0.0;
+  list_nonzeros();
 }
 
-// P·b, then L·y = P·b forward, U·x = y backward.
-void SmallLu::solve_column(double* b) const {
-  for (int k = 0; k < n_; ++k) std::swap(b[k], b[swap_[static_cast<std::size_t>(k)]]);
+// The nonzeros of L below and U above the diagonal, row by row: the solves'
+// only work.
+void SmallLu::list_nonzeros() {
+  int lower = 0, upper = 0;
+  for (int i = 0; i < n_; ++i) {
+    lower_start_[static_cast<std::size_t>(i)] = lower;
+    upper_start_[static_cast<std::size_t>(i)] = upper;
+    for (int j = 0; j < i; ++j) {
+      if (at(i, j) != 0.0) lower_[static_cast<std::size_t>(lower++)] = {j, at(i, j)};
+    }
+    for (int j = i + 1; j < n_; ++j) {
+      if (at(i, j) != 0.0) upper_[static_cast<std::size_t>(upper++)] = {j, at(i, j)};
+    }
+  }
+  lower_start_[static_cast<std::size_t>(n_)] = lower;
+  upper_start_[static_cast<std::size_t>(n_)] = upper;
+}
+
+void SmallLu::solve_rows(double* B, int cols) const {
+  if (cols == 1) {
+    substitute<1>(B, 1);
+  } else {
+    substitute<0>(B, cols);
+  }
+}
+
+// P·B, then L·Y = P·B forward, U·Z = Y backward, row by row; B = Q·Z. Cols:
+// the number of columns when known at compile time (0: cols).
+template <int Cols>
+void SmallLu::substitute(double* B, int cols) const {
+  const int width = Cols > 0 ? Cols : cols;
+  const auto row = [&](int i) { return B + static_cast<std::ptrdiff_t>(i) * width; };
+  // row(i) -= v·row(j), i != j
+  const auto subtract = [&](int i, const Entry& e) {
+    double* __restrict to = row(i);
+    const double* __restrict from = row(e.j);
+    for (int c = 0; c < width; ++c) to[c] -= e.value * from[c];
+  };
+  for (int k = 0; k < n_; ++k) {
+    const int p = swap_[static_cast<std::size_t>(k)];
+    if (p == k) continue;
+    for (int c = 0; c < width; ++c) std::swap(row(k)[c], row(p)[c]);
+  }
   for (int i = 1; i < n_; ++i) {
-    for (int j = 0; j < i; ++j) b[i] -= at(i, j) * b[j];
+    for (int e = lower_start_[static_cast<std::size_t>(i)];
+         e < lower_start_[static_cast<std::size_t>(i + 1)]; ++e)
+      subtract(i, lower_[static_cast<std::size_t>(e)]);
   }
   for (int i = n_ - 1; i >= 0; --i) {
-    for (int j = i + 1; j < n_; ++j) b[i] -= at(i, j) * b[j];
-    b[i] *= inverse_pivot_[static_cast<std::size_t>(i)];
+    for (int e = upper_start_[static_cast<std::size_t>(i)];
+         e < upper_start_[static_cast<std::size_t>(i + 1)]; ++e)
+      subtract(i, upper_[static_cast<std::size_t>(e)]);
+    for (int c = 0; c < width; ++c) row(i)[c] *= inverse_pivot_[static_cast<std::size_t>(i)];
+  }
+  if (!permuted_) return;
+  work_.resize(static_cast<std::size_t>(n_ * width));
+  std::copy(B, row(n_), work_.begin());
+  for (int k = 0; k < n_; ++k) {
+    const double* z = work_.data() + static_cast<std::ptrdiff_t>(k) * width;
+    double* x = row(column_[static_cast<std::size_t>(k)]);
+    for (int c = 0; c < width; ++c) x[c] = z[c];
   }
 }
 
 void SmallLu::solve_in_place(Matrix& b) const {
-  for (Eigen::Index c = 0; c < b.cols(); ++c) solve_column(b.col(c).data());
+  for (Eigen::Index c = 0; c < b.cols(); ++c) solve_rows(b.col(c).data(), 1);
 }
 
-// Aᵀ = Uᵀ·Lᵀ·P: Uᵀ·y = b forward, Lᵀ·w = y backward, then b = Pᵀ·w.
+// Aᵀ = Q·Uᵀ·Lᵀ·P: z = Qᵀ·b, Uᵀ·y = z forward, Lᵀ·w = y backward, then b = Pᵀ·w.
 void SmallLu::solve_transposed_in_place(Vector& b) const {
+  work_.resize(static_cast<std::size_t>(n_));
+  double* z = work_.data();
+  for (int k = 0; k < n_; ++k) z[k] = b(column_[static_cast<std::size_t>(k)]);
   for (int i = 0; i < n_; ++i) {
-    for (int j = 0; j < i; ++j) b(i) -= at(j, i) * b(j);
-    b(i) *= inverse_pivot_[static_cast<std::size_t>(i)];
+    for (int j = 0; j < i; ++j) z[i] -= at(j, i) * z[j];
+    z[i] *= inverse_pivot_[static_cast<std::size_t>(i)];
   }
   for (int i = n_ - 1; i >= 0; --i) {
-    for (int j = i + 1; j < n_; ++j) b(i) -= at(j, i) * b(j);
+    for (int j = i + 1; j < n_; ++j) z[i] -= at(j, i) * z[j];
   }
+  std::copy(z, z + n_, b.data());
   for (int k = n_ - 1; k >= 0; --k) std::swap(b(k), b(swap_[static_cast<std::size_t>(k)]));
 }
+
+namespace {
+
+// A row-major matrix's entries in storage order (where Eigen's reductions
+// traverse it by columns, entry by entry).
+Eigen::Map<const Vector> entries(const LoopClosure::RowMajorMatrix& A) {
+  return {A.data(), A.size()};
+}
+
+}  // namespace
 
 void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
   model.constraints(t, x.data(), g_.data(), g_q_.data(), g_p_.data(), g_t_.data());
 }
 
 void LoopClosure::factor(const Model& model, double t, const Vector& x) {
+  factored_at_last_ = false;
   lu_.factor(g_p_.data(), m_);
   if (!(smallest_pivot() >= kSingularPivot)) not_closed(model, t, x, Failure::singular);
 }
@@ -114,30 +207,44 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   } else {
     x.tail(m_) = guess_;
   }
-  bool polished = false;
+  if (chord_pause_ > 0) --chord_pause_;
+  bool polished = false, chord = false;
   for (int iteration = 0;; ++iteration) {
     evaluate(model, t, x);
-    if (!(g_.allFinite() && g_q_.allFinite() && g_p_.allFinite() && g_t_.allFinite()))
+    if (!(g_.allFinite() && entries(g_q_).allFinite() && entries(g_p_).allFinite() &&
+          g_t_.allFinite()))
       not_closed(model, t, x, Failure::not_finite);
-    const double scale = std::max({1.0, g_q_.cwiseAbs().maxCoeff(), g_p_.cwiseAbs().maxCoeff()});
+    const double scale =
+        std::max({1.0, entries(g_q_).cwiseAbs().maxCoeff(), entries(g_p_).cwiseAbs().maxCoeff()});
     const double residual = g_.cwiseAbs().maxCoeff();
     const double rounding = 64 * std::numeric_limits<double>::epsilon() * scale;
     // A predicted start within the tolerance is kept as it is (no step, no
     // second evaluation); an iterate of Newton's gets one more step.
     const bool predicted = iteration == 0 && solved_;
+    if (chord && residual > rounding) chord_pause_ = kChordPause;
     if (residual <= rounding || ((polished || predicted) && residual <= kTolerance * scale)) break;
     if (iteration == kMaxIterations) not_closed(model, t, x, Failure::no_convergence);
     polished = residual <= kTolerance * scale;
-    factor(model, t, x);
+    // Near the last solution its g_p (factored) serves the step, so that g_p
+    // is factored once, at the solution: the start's residual r ~ κ·|Δx|²
+    // falls to about r·κ·|Δx| (to r² by Newton's step), rounding where the
+    // calls are close (along a trajectory); where it is not (the step would
+    // cost an evaluation more), Newton's steps for the next kChordPause calls.
+    chord =
+        predicted && factored_at_last_ && chord_pause_ == 0 && residual <= kChordResidual * scale;
+    if (!chord) factor(model, t, x);
     step_ = g_;
     lu_.solve_in_place(step_);
     x.tail(m_) -= step_;
   }
   factor(model, t, x);
-  P_ = -g_q_;
-  lu_.solve_in_place(P_);
+  // P = -g_p⁻¹·g_q and g_p⁻¹·g_t in one solve.
+  rates_.leftCols(n_) = g_q_;
+  rates_.col(n_) = g_t_;
+  lu_.solve_rows(rates_.data(), n_ + 1);
+  P_ = -rates_.leftCols(n_);
   T_.bottomRows(m_) = P_;
-  solved_ = true;
+  solved_ = factored_at_last_ = true;
   last_q_ = q;
   last_p_ = x.tail(m_);
   last_P_ = P_;
@@ -153,9 +260,7 @@ void LoopClosure::close(const Model& model, double t, const Vector& q, const Vec
   xd.resize(n_ + m_);
   xd.head(n_) = qd;
   xd.tail(m_).noalias() = P_.lazyProduct(qd);
-  step_ = g_t_;
-  lu_.solve_in_place(step_);
-  xd.tail(m_) -= step_;
+  xd.tail(m_) -= rates_.col(n_);
   model.constraint_bias(t, x.data(), xd.data(), gamma_.data());
   if (!(gamma_.allFinite() && xd.allFinite())) not_closed(model, t, x, Failure::not_finite);
   step_ = -gamma_;

@@ -8,7 +8,9 @@
 //   p:   Newton's iteration g_p·Δp = -g from the last solution (moved along
 //        dp/dq from its q) or the model's guesses, to |g| <= 1e-12·s, s the
 //        largest entry of [g_q g_p] (at least 1), with one more step after it
-//        (none where the start moved from the last solution is within it);
+//        (none where the start moved from the last solution is within it;
+//        from such a start close to it, the step with its g_p, so that g_p
+//        is factored once, at the solution);
 //   pd = P·qd - g_p⁻¹·g_t,            P = -g_p⁻¹·g_q   (ncon x n);
 //   xdd = T·qdd + c,  T = [I; P],     c = [0; -g_p⁻¹·gamma].
 //
@@ -41,7 +43,13 @@ namespace symdyn::runtime {
 // LU factorization with partial pivoting of a small square matrix (g_p: a
 // few rows per loop), by plain loops: Eigen's PartialPivLU dispatches to
 // blocked kernels whose set-up costs more than the arithmetic at this size.
-// P·A = L·U, L unit lower triangular; no allocation after the first factor().
+// P·A·Q = L·U, L unit lower triangular. Sparse A (each loop's equations
+// involve its own parameters and a few shared ones) costs little: Q takes the
+// columns with fewest nonzeros first (counted at the first factor(), so that
+// a loop's own parameters are eliminated within its rows before the shared
+// ones fill in), and the elimination and the solves skip exact zeros. Q only
+// orders the work; any A is factored exactly. No allocation after the first
+// factor().
 class SmallLu {
  public:
   // A (n x n) row-major, as the emitted arrays are.
@@ -49,30 +57,53 @@ class SmallLu {
   // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
   double smallest_pivot_ratio() const { return ratio_; }
   // b := A⁻¹·b (each column of b).
-  void solve_in_place(Vector& b) const { solve_column(b.data()); }
+  void solve_in_place(Vector& b) const { solve_rows(b.data(), 1); }
   void solve_in_place(Matrix& b) const;
+  // B := A⁻¹·B, B (n x cols) row-major: all columns in one pass, the
+  // multiply-adds independent across them.
+  void solve_rows(double* B, int cols) const;
   // b := A⁻ᵀ·b
   void solve_transposed_in_place(Vector& b) const;
 
  private:
-  void solve_column(double* b) const;
+  // Q: the columns with fewest nonzeros first (stable).
+  void order_columns(const double* A);
+  void list_nonzeros();
+  template <int Cols>
+  void substitute(double* B, int cols) const;
   double& at(int i, int j) { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
   double at(int i, int j) const { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
 
   int n_ = 0;
   std::vector<double> lu_;             // L below the diagonal, U on and above it (n x n) row-major
   std::vector<int> swap_;              // row k was swapped with row swap_[k] at step k
+  std::vector<int> column_;            // Q: column k of L·U is A's column column_[k]
+  bool permuted_ = false;              // Q is not the identity
   std::vector<double> inverse_pivot_;  // 1/U_kk: the solves multiply
+  struct Entry {
+    int j;
+    double value;
+  };
+  // The nonzeros of L's and U's row i: [*_start_[i], *_start_[i + 1]) of lower_, upper_.
+  std::vector<Entry> lower_, upper_;
+  std::vector<int> lower_start_, upper_start_;
+  mutable std::vector<double> work_;  // a solve's result before Q (n x cols)
   double ratio_ = 0.0;
 };
 
 class LoopClosure {
  public:
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   static constexpr int kMaxIterations = 25;
   static constexpr double kTolerance = 1e-12;  // on |g|, times the scale s above
   // Below this share of g_p's largest entry a pivot of its LU factorization
   // is singular.
   static constexpr double kSingularPivot = 1e-13;
+  // The step from a predicted start within kChordResidual (times s) is made
+  // with the last solution's g_p, except for kChordPause calls after one that
+  // did not reach rounding.
+  static constexpr double kChordResidual = 1e-6;
+  static constexpr int kChordPause = 16;
 
   LoopClosure() = default;
   explicit LoopClosure(const Model& model);
@@ -123,13 +154,15 @@ class LoopClosure {
 
   int n_ = 0, m_ = 0;
   Vector g_, g_t_, gamma_, guess_, step_, dq_;
-  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   RowMajorMatrix g_q_, g_p_;  // as emitted
+  RowMajorMatrix rates_;      // g_p⁻¹·[g_q g_t] (ncon x (n + 1))
   SmallLu lu_;
   Matrix P_, T_;
   Vector c_;
   bool solved_ = false;
-  Vector last_q_, last_p_;  // the last solution, the start of the next
+  bool factored_at_last_ = false;  // lu_ holds g_p at the last solution
+  Vector last_q_, last_p_;         // the last solution, the start of the next
+  int chord_pause_ = 0;            // calls left without the last solution's g_p
   Matrix last_P_;
   // derivatives(): the emitted arrays (row-major, so held transposed) and results
   Vector mu_;

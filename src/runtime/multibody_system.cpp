@@ -159,17 +159,27 @@ void MultibodySystem::check_independent(const State& s) const {
   state_error(x);
 }
 
+// T = [I; P] and c = [0; c_p]: the products with their identity and zero
+// blocks left out.
 void MultibodySystem::reduce(const Matrix& A, Matrix& out) {
-  const Matrix& T = loops_.T();
-  MT_.noalias() = A * T;
-  out.resize(T.cols(), T.cols());
-  out.noalias() = T.transpose() * MT_;
+  const Eigen::Index n = model_.nindependent(), m = model_.ncon();
+  const auto P = loops_.T().bottomRows(m);
+  MT_ = A.leftCols(n);
+  MT_.noalias() += A.rightCols(m) * P;
+  out = MT_.topRows(n);
+  out.noalias() += P.transpose() * MT_.bottomRows(m);
 }
 
 void MultibodySystem::reduce(const Vector& b, const Matrix& A, Vector& out) {
   xdd_ = b;
-  xdd_.noalias() += A * loops_.c();
-  out.noalias() = loops_.T().transpose() * xdd_;
+  xdd_.noalias() += A.rightCols(model_.ncon()) * loops_.c().tail(model_.ncon());
+  reduce(xdd_, out);
+}
+
+void MultibodySystem::reduce(const Vector& b, Vector& out) {
+  const Eigen::Index n = model_.nindependent(), m = model_.ncon();
+  out = b.head(n);
+  out.noalias() += loops_.T().bottomRows(m).transpose() * b.tail(m);
 }
 
 std::string MultibodySystem::describe(const State& s) const {
@@ -435,7 +445,7 @@ void MultibodySystem::applied_forces(const State& s, Vector& Q) {
   if (reduces(s)) {
     const State& x = extended(s);
     applied_forces(x, tree_v_);
-    Q.noalias() = loops_.T().transpose() * tree_v_;
+    reduce(tree_v_, Q);
     return;
   }
   evaluate_kinematics(s);
@@ -727,10 +737,11 @@ void MultibodySystem::loop_accelerations(const State& s, Vector& qdd, Vector& yd
   const State& x = close(s);
   check_domain_margin(x);
   accelerations_rhs(x, rhs_x_);
-  rhs_x_.noalias() -= M_ * loops_.c();
+  const Eigen::Index m = model_.ncon();
+  rhs_x_.noalias() -= M_.rightCols(m) * loops_.c().tail(m);  // c = [0; c_p]
   Matrix& reduced = derivative_M_;
   reduce(M_, reduced);
-  qdd.noalias() = loops_.T().transpose() * rhs_x_;
+  reduce(rhs_x_, qdd);
   if (!solver_.factor(reduced)) {
     if (!(reduced.allFinite() && qdd.allFinite())) explain_non_finite(x);
     throw NumericError(fmt::format(
@@ -788,7 +799,7 @@ void MultibodySystem::residual(const State& s, const Vector& qdd, const Vector& 
   // f = Tᵀ·f_x(xdd = T·qdd + c)
   const State& x = close_with_accelerations(s, qdd);
   tree_residual(x, xdd_, yd, rhs_x_, g);
-  f.noalias() = loops_.T().transpose() * rhs_x_;
+  reduce(rhs_x_, f);
 }
 
 void MultibodySystem::tree_residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f,

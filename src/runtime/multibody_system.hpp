@@ -263,6 +263,7 @@ class MultibodySystem : public DynamicSystem {
   // Tᵀ·A·T and Tᵀ·(b + A·c) of the tree's A and b.
   void reduce(const Matrix& A, Matrix& out);
   void reduce(const Vector& b, const Matrix& A, Vector& out);
+  void reduce(const Vector& b, Vector& out);  // Tᵀ·b
   void tree_residual(const State& s, const Vector& qdd, const Vector& yd, Vector& f, Vector& g);
   // Names what is wrong with a state check_state() refused.
   [[noreturn, gnu::cold, gnu::noinline]] void state_error(const State& s) const;

@@ -363,6 +363,41 @@ TEST_CASE("SmallLu solves as a direct product checks, transposed too, and flags 
     lu.solve_transposed_in_place(y);
     CHECK(max_abs(A.transpose() * y - b) <= 1e-12 * (1 + max_abs(A) * max_abs(y)));
   }
+  // Block-arrow, as the loops' g_p (each loop's rows: its own columns and
+  // the shared ones, listed first): the columns reordered by sparsity and the
+  // zeros skipped, the solves as the direct products say.
+  for (const int loops : {1, 3, 6}) {
+    CAPTURE(loops);
+    const int own = 2, rows = 3, shared = loops * (rows - own), n = loops * rows;
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> A =
+        Eigen::MatrixXd::Zero(n, n);
+    for (int l = 0; l < loops; ++l) {
+      for (int i = l * rows; i < (l + 1) * rows; ++i) {
+        for (int j = 0; j < shared; ++j) A(i, j) = entry(rng);
+        for (int j = 0; j < own; ++j) A(i, shared + l * own + j) = entry(rng);
+      }
+    }
+    SmallLu lu;
+    lu.factor(A.data(), n);
+    CHECK(lu.smallest_pivot_ratio() > 0);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> B(n, 7);
+    for (int i = 0; i < 7 * n; ++i) B.data()[i] = entry(rng);
+    auto X = B;
+    lu.solve_rows(X.data(), 7);
+    CHECK(max_abs(A * X - B) <= 1e-12 * (1 + max_abs(A) * max_abs(X)));
+    Vector b = B.col(0), x = b, y = b;
+    lu.solve_in_place(x);
+    CHECK(max_abs(x - X.col(0)) <= 1e-13 * (1 + max_abs(x)));
+    lu.solve_transposed_in_place(y);
+    CHECK(max_abs(A.transpose() * y - b) <= 1e-12 * (1 + max_abs(A) * max_abs(y)));
+    // Refactored with other values (and a zero where the first had none).
+    A(0, 0) = 0.0;
+    A(n - 1, shared - 1) += 1.0;
+    lu.factor(A.data(), n);
+    X = B;
+    lu.solve_rows(X.data(), 7);
+    CHECK(max_abs(A * X - B) <= 1e-12 * (1 + max_abs(A) * max_abs(X)));
+  }
   // Two equal rows.
   const double singular[4] = {1.0, 2.0, 1.0, 2.0};
   SmallLu lu;
