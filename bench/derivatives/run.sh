@@ -88,12 +88,15 @@ if [ "$count" = 1 ]; then
             if ($0 ~ /symdyn_generated::[a-z_0-9]+::inverse_dynamics_derivatives\(/) part = "emitted_derivatives"
             else if ($0 ~ /symdyn_generated::[a-z_0-9]+::mass_matrix\(/) part = "emitted_mass_matrix"
             else if ($0 ~ /MultibodySystem::accelerations\(/) part = "accelerations"
-            else if ($0 ~ /SpdSolver::factor\(/) part = "factor"
-            else if ($0 ~ /SpdSolver::solve_negated_in_place\(/) part = "solves"
+            else if ($0 ~ /(SpdSolver|TreeSolver)::factor\(/) part = "factor"
+            else if ($0 ~ /(SpdSolver|TreeSolver)::solve_negated_in_place\(/) part = "solves"
             else if ($0 ~ /InPlaceTranspose/) part = "transposes"
             else if ($0 ~ /MultibodySystem::dynamics_derivatives\(/) part = "total"
-            if (part != "" && !(part in seen)) { seen[part] = 1; printf "%s\t%s\t%d\n", m, part, n / c }
-          }' >>"$work/breakdown.tsv"
+            # Each part once, the dense and the tree solver's summed (either may run).
+            key = part ($0 ~ /TreeSolver::/ ? " tree" : "")
+            if (part != "" && !(key in seen)) { seen[key] = 1; sum[part] += n }
+          }
+          END { for (p in sum) printf "%s\t%s\t%d\n", m, p, sum[p] / c }' >>"$work/breakdown.tsv"
       fi
       rm -f "$out"
     else
