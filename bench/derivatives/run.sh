@@ -92,7 +92,7 @@ if [ "$count" = 1 ]; then
             else if ($0 ~ /(SpdSolver|TreeSolver)::solve_negated_in_place\(/) part = "solves"
             else if ($0 ~ /InPlaceTranspose/) part = "transposes"
             else if ($0 ~ /MultibodySystem::dynamics_derivatives\(/) part = "total"
-            # Each part once, the dense and the tree solver's summed (either may run).
+            # Each part once, the dense and the tree solver summed (either may run).
             key = part ($0 ~ /TreeSolver::/ ? " tree" : "")
             if (part != "" && !(key in seen)) { seen[key] = 1; sum[part] += n }
           }
