@@ -48,7 +48,8 @@ bool TreeSolver::read_tree(const Matrix& M) {
 // the ancestors i of k, then M_ij -= L_ki·L_kj for the ancestors i of k and j of
 // i (with i itself): the ancestors' rows are all that elimination touches.
 bool TreeSolver::factor(const Matrix& M) {
-  if (M.rows() != size() || M.cols() != size() || !read_tree(M)) return false;
+  if (size() <= kDenseUpTo || M.rows() != size() || M.cols() != size() || !read_tree(M))
+    return false;
   const int n = size();
   const double* m = M.data();
   double* l = L_.data();

@@ -30,9 +30,9 @@ class TreeSolver {
 
   int size() const { return static_cast<int>(L_.rows()); }
 
-  // Factors M (n x n, only its lower triangle read) when its tree leaves at most
-  // kDenseShare of the dense triangle's entries below the diagonal, and its
-  // pivots pass (see above). False otherwise: then no solve.
+  // Factors M (n x n, only its lower triangle read) when n > kDenseUpTo, its
+  // tree leaves at most kDenseShare of the dense triangle's entries below the
+  // diagonal, and its pivots pass (see above). False otherwise: then no solve.
   bool factor(const Matrix& M);
 
   // B := M⁻¹·B and B := -M⁻¹·B (n x m), every column at once.
@@ -48,6 +48,8 @@ class TreeSolver {
   // dense one costs n(n-1)/2, but its loops follow parent links where the
   // dense kernels are blocked and vectorized: it must save a fifth of them.
   static constexpr double kDenseShare = 0.8;
+  // Up to this size SpdSolver's row loop over the whole matrix is the faster.
+  static constexpr int kDenseUpTo = 8;
 
  private:
   bool read_tree(const Matrix& M);

@@ -64,7 +64,7 @@ void check_solves(TreeSolver& solver, const Matrix& M, std::mt19937& rng) {
 
 TEST_CASE("TreeSolver reads the tree from M and solves as Eigen's dense LLT", "[runtime][solver]") {
   std::mt19937 rng(2013);
-  for (int n : {1, 2, 5, 13, 24, 64}) {
+  for (int n : {TreeSolver::kDenseUpTo + 1, 13, 24, 64}) {
     for (int span : {2, 4, n}) {
       CAPTURE(n, span);
       const std::vector<int> parent = random_tree(n, span, rng);
@@ -88,37 +88,38 @@ TEST_CASE("TreeSolver reads the tree from M and solves as Eigen's dense LLT", "[
   }
 }
 
-TEST_CASE("TreeSolver merges coupled branches, refuses a dense M and an indefinite one",
+TEST_CASE("TreeSolver merges coupled branches, refuses a dense M, an indefinite one, a small one",
           "[runtime][solver]") {
   std::mt19937 rng(7);
-  // Two legs on a root: 0 <- 1 <- 2 and 0 <- 3 <- 4.
-  const std::vector<int> legs{-1, 0, 1, 0, 3};
+  // Two legs on a root: 0 <- 1 <- 2 <- 3 <- 4 <- 5 and 0 <- 6 <- 7 <- 8 <- 9 <- 10.
+  const std::vector<int> legs{-1, 0, 1, 2, 3, 4, 0, 6, 7, 8, 9};
   const Matrix M = tree_spd(legs, rng);
-  TreeSolver solver(5);
+  TreeSolver solver(11);
   REQUIRE(solver.factor(M));
-  CHECK(solver.parent(3) == 0);
-  CHECK(solver.off_diagonal_entries() == 6);
+  CHECK(solver.parent(6) == 0);
+  CHECK(solver.off_diagonal_entries() == 30);
   check_solves(solver, M, rng);
-  // A coupling between the legs (1 and 4): elimination would fill (3, 1), so
-  // the tree puts the second leg under the first one: 0 <- 1 <- {2, 3 <- 4}.
+  // A coupling between the legs (1 and 10): elimination would fill (6, 1), so
+  // the tree hangs the second leg from the first one's coordinate 1.
   Matrix coupled = M;
-  coupled(4, 1) = coupled(1, 4) = 0.1;
+  coupled(10, 1) = coupled(1, 10) = 0.1;
   REQUIRE(solver.factor(coupled));
-  CHECK(solver.parent(3) == 1);
-  CHECK(solver.parent(4) == 3);
-  CHECK(solver.off_diagonal_entries() == 8);
+  CHECK(solver.parent(6) == 1);
+  CHECK(solver.parent(10) == 9);
+  CHECK(solver.off_diagonal_entries() == 35);
   check_solves(solver, coupled, rng);
   // Dense: a chain, no zero to use.
-  CHECK_FALSE(solver.factor(tree_spd({-1, 0, 1, 2, 3}, rng)));
+  CHECK_FALSE(solver.factor(tree_spd({-1, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, rng)));
   // Not positive definite, and a NaN.
   Matrix indefinite = M;
-  indefinite(2, 2) = -1.0;
+  indefinite(3, 3) = -1.0;
   CHECK_FALSE(solver.factor(indefinite));
   Matrix nan = M;
   nan(0, 0) = std::numeric_limits<double>::quiet_NaN();
   CHECK_FALSE(solver.factor(nan));
-  // The wrong size.
-  CHECK_FALSE(TreeSolver(4).factor(M));
+  // The wrong size, and a tree small enough for the dense row loop.
+  CHECK_FALSE(TreeSolver(10).factor(M));
+  CHECK_FALSE(TreeSolver(5).factor(tree_spd({-1, 0, 1, 0, 3}, rng)));
 }
 
 TEST_CASE("TreeSolver on the trike's mass matrix at random states", "[runtime][solver]") {
