@@ -274,7 +274,7 @@ def main(work, out):
              "emitted code of the `*_absolute` variants, generated with `DERIVATIVES` (chain_32 and chain_64 "
              "by `bench/peers/CMakeLists.txt`).\n")
     o.append("## Measured\n")
-    for k in ["machine", "cpu", "compiler", "commit", "mujoco", "valgrind", "rounds", "reps", "duration"]:
+    for k in ["machine", "cpu", "compiler", "commit", "mujoco", "valgrind", "rounds", "reps", "duration", "load"]:
         if k in meta:
             o.append(f"- {k}: {meta[k]}")
     o.append("")

@@ -32,7 +32,7 @@ while [ $# -gt 0 ]; do
     *) models+=("$1"); shift ;;
   esac
 done
-start=$(date +%s)
+start=$(date +%s) load_start=$(cut -d" " -f1-3 /proc/loadavg)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 build=build/release
@@ -148,6 +148,7 @@ fi
   echo "rounds = $rounds"
   echo "reps = $reps"
   echo "duration = $(( $(date +%s) - start )) s for the whole of bench/derivatives/run.sh, of which $(( built - start )) s configuring and building"
+  echo "load = $load_start at the start, $(cut -d" " -f1-3 /proc/loadavg) at the end (1, 5, 15 minute averages, 2 vCPUs)"
 } >"$work/meta.txt"
 mkdir -p "$kept/last_run" && cp "$work"/*.tsv "$work/meta.txt" "$kept/last_run/"
 python3 bench/derivatives/report.py "$work" "$results"
