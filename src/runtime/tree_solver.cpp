@@ -15,6 +15,13 @@ TreeSolver::TreeSolver(int n)
 bool TreeSolver::read_tree(const Matrix& M) {
   const int n = size();
   const double* m = M.data();
+  // Every nonzero of M is on the tree's paths: too many refuse M at once (a chain's).
+  const double budget = kDenseShare * 0.5 * n * (n - 1);
+  int nonzeros = 0;
+  for (int k = 0; k < n; ++k) {
+    for (int j = k + 1; j < n; ++j) nonzeros += m[j + k * n] != 0.0;
+  }
+  if (nonzeros > budget) return false;
   std::vector<int>& ancestor = depth_;  // reused: depths are counted after
   for (int k = n - 1; k >= 0; --k) {
     parent_[static_cast<std::size_t>(k)] = -1;
@@ -34,7 +41,6 @@ bool TreeSolver::read_tree(const Matrix& M) {
       }
     }
   }
-  const double budget = kDenseShare * 0.5 * n * (n - 1);
   off_diagonal_ = 0;
   for (int i = 0; i < n; ++i) {  // parents come first
     const int p = parent_[static_cast<std::size_t>(i)];
