@@ -16,8 +16,9 @@ import sys
 METHODS = [
     ("symdyn_exact", "symdyn exact", "`MultibodySystem::dynamics_derivatives` (what a user calls): qdd "
      "by `accelerations`, the emitted `inverse_dynamics_derivatives` (∂τ/∂q = K, ∂τ/∂qd = C at qdd), "
-     "then −M⁻¹·K and −M⁻¹·C by the Cholesky factor of M (the one `accelerations` made where it took "
-     "the way of M), all columns of each in one solve"),
+     "then −M⁻¹·K and −M⁻¹·C, all columns of each in one solve: by M's sparse factorization along its "
+     "elimination tree (`TreeSolver`, leaves first, no fill-in) where that tree has zeros enough to pay, "
+     "else by the dense Cholesky factor of M (the one `accelerations` made where it took the way of M)"),
     ("symdyn_exact_by_columns", "by columns", "the baseline, what `dynamics_derivatives` did before "
      "(from public calls): qdd, then M evaluated and factored again, then a solve per column of K and of C"),
     ("symdyn_differences", "symdyn differences", "`dynamics_derivatives` after `set_exact_jacobians(false)`: "
@@ -273,7 +274,7 @@ def main(work, out):
              "emitted code of the `*_absolute` variants, generated with `DERIVATIVES` (chain_32 and chain_64 "
              "by `bench/peers/CMakeLists.txt`).\n")
     o.append("## Measured\n")
-    for k in ["machine", "cpu", "compiler", "commit", "mujoco", "valgrind", "rounds", "reps", "duration"]:
+    for k in ["machine", "cpu", "compiler", "commit", "mujoco", "valgrind", "rounds", "reps", "duration", "load"]:
         if k in meta:
             o.append(f"- {k}: {meta[k]}")
     o.append("")
@@ -448,10 +449,15 @@ def main(work, out):
             rest = total - sum(b.get(p, 0) for p, _ in parts)
             o.append(f"| {m} | {fmt_int(total)} | " + " | ".join(cells) + f" | {fmt_int(rest)} ({rest / total:.0%}) |")
         o.append("")
-        o.append("\"emitted M\" is absent where `accelerations` took the way of M: its factorization serves the "
-                 "solves. The solves are the largest part on the trees (hexapod_tree, trike) and from chain_32 "
-                 "on: a tree's M is sparse (no fill-in with its leaves first, which MuJoCo's `mj_factorM` "
-                 "exploits), where `SpdSolver` factors and solves it dense; the emitted derivatives are the "
+        o.append("\"emitted M\" is absent where `accelerations` took the way of M: its dense factorization serves "
+                 "the solves unless M's tree is sparse enough. \"Cholesky of M\" and \"solves\" count whichever "
+                 "solver ran: `TreeSolver` (M = Lᵀ·L along M's elimination tree, leaves first, no fill-in, as "
+                 "MuJoCo's `mj_factorM`; used above `TreeSolver::kDenseUpTo` = 8 coordinates where the tree "
+                 "leaves at most `TreeSolver::kDenseShare` = 0.8 of the dense triangle's entries below the "
+                 "diagonal: the trees, hexapod_tree and trike) or `SpdSolver` (dense: the chains, whose absolute "
+                 "angles couple every pair of coordinates, and the small models). A "
+                 "floating base's six coordinates stay a dense block that every branch hangs from, so a tree's "
+                 "solves shrink by about its share of zeros, not to O(nq). The emitted derivatives are the "
                  "largest part of the chains up to chain_16, and most of the time of the large ones (the "
                  "\"emitted code share\" above: instructions from beyond the instruction caches run slower).\n")
 

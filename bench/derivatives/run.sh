@@ -32,7 +32,7 @@ while [ $# -gt 0 ]; do
     *) models+=("$1"); shift ;;
   esac
 done
-start=$(date +%s)
+start=$(date +%s) load_start=$(cut -d" " -f1-3 /proc/loadavg)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 build=build/release
@@ -88,12 +88,15 @@ if [ "$count" = 1 ]; then
             if ($0 ~ /symdyn_generated::[a-z_0-9]+::inverse_dynamics_derivatives\(/) part = "emitted_derivatives"
             else if ($0 ~ /symdyn_generated::[a-z_0-9]+::mass_matrix\(/) part = "emitted_mass_matrix"
             else if ($0 ~ /MultibodySystem::accelerations\(/) part = "accelerations"
-            else if ($0 ~ /SpdSolver::factor\(/) part = "factor"
-            else if ($0 ~ /SpdSolver::solve_negated_in_place\(/) part = "solves"
+            else if ($0 ~ /(SpdSolver|TreeSolver)::factor\(/) part = "factor"
+            else if ($0 ~ /(SpdSolver|TreeSolver)::solve_negated_in_place\(/) part = "solves"
             else if ($0 ~ /InPlaceTranspose/) part = "transposes"
             else if ($0 ~ /MultibodySystem::dynamics_derivatives\(/) part = "total"
-            if (part != "" && !(part in seen)) { seen[part] = 1; printf "%s\t%s\t%d\n", m, part, n / c }
-          }' >>"$work/breakdown.tsv"
+            # Each part once, the dense and the tree solver summed (either may run).
+            key = part ($0 ~ /TreeSolver::/ ? " tree" : "")
+            if (part != "" && !(key in seen)) { seen[key] = 1; sum[part] += n }
+          }
+          END { for (p in sum) printf "%s\t%s\t%d\n", m, p, sum[p] / c }' >>"$work/breakdown.tsv"
       fi
       rm -f "$out"
     else
@@ -145,6 +148,7 @@ fi
   echo "rounds = $rounds"
   echo "reps = $reps"
   echo "duration = $(( $(date +%s) - start )) s for the whole of bench/derivatives/run.sh, of which $(( built - start )) s configuring and building"
+  echo "load = $load_start at the start, $(cut -d" " -f1-3 /proc/loadavg) at the end (1, 5, 15 minute averages, 2 vCPUs)"
 } >"$work/meta.txt"
 mkdir -p "$kept/last_run" && cp "$work"/*.tsv "$work/meta.txt" "$kept/last_run/"
 python3 bench/derivatives/report.py "$work" "$results"

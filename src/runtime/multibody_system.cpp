@@ -38,6 +38,7 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   M_ = Matrix::Zero(nq, nq);
   dw_inertia_.resize(nq, 3);
   solver_ = SpdSolver(num_coordinates());
+  tree_solver_ = TreeSolver(num_coordinates());
   if (model_.has_loops()) loops_ = LoopClosure(model_);
   if (model_.has_kinematics_derivatives()) dk_ = model_.make_kinematics_derivatives();
   base_v_.resize(static_cast<std::size_t>(3 * model_.nbody()));
@@ -1084,19 +1085,27 @@ bool MultibodySystem::exact_acceleration_derivatives(const State& s, const Vecto
 }
 
 void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
-                                               Matrix& dqdd_dqd, bool factored) {
+                                               Matrix& dqdd_dqd, const Matrix* factored) {
   // M·dqdd = -(K·dq + C·dqd) + dtau
-  if (factored && exact_jacobians() && !model_.has_loops()) {
+  const Matrix* M = factored;
+  const bool reuse = factored != nullptr && exact_jacobians() && !model_.has_loops();
+  if (reuse) {
     exact_damping_stiffness(s, qdd, dqdd_dqd, dqdd_dq);
   } else {
-    Matrix& M = derivative_M_;
-    jacobians(s, qdd, M, dqdd_dqd, dqdd_dq);
-    if (!solver_.factor(M)) {
-      M_ = M;
-      mass_matrix_refused(s);
-    }
+    jacobians(s, qdd, derivative_M_, dqdd_dqd, dqdd_dq);
+    M = &derivative_M_;
   }
-  // All columns of each in one solve (SpdSolver::solve_negated_in_place).
+  // All columns of each in one solve; a tree's M without its zeros (TreeSolver).
+  tree_factored_ = tree_solver_.factor(*M);
+  if (tree_factored_) {
+    tree_solver_.solve_negated_in_place(dqdd_dq);
+    tree_solver_.solve_negated_in_place(dqdd_dqd);
+    return;
+  }
+  if (!reuse && !solver_.factor(*M)) {
+    M_ = *M;
+    mass_matrix_refused(s);
+  }
   solver_.solve_negated_in_place(dqdd_dq);
   solver_.solve_negated_in_place(dqdd_dqd);
 }
@@ -1104,8 +1113,10 @@ void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd
 void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out,
                                            bool with_input_matrix, const Vector& tau) {
   accelerations(s, out.qdd, jacobian_yd_);
-  // Where accelerations() took the way of M, M at s is factored already.
-  bool factored = mass_factored_;
+  // Where accelerations() took the way of M, M at s is factored already (the
+  // loops' reduced one in derivative_M_).
+  const Matrix* factored = nullptr;
+  if (mass_factored_) factored = model_.has_loops() ? &derivative_M_ : &M_;
   if (tau.size() > 0) {
     // qdd += M⁻¹·tau: the residual M·qdd + h - Q - tau vanishes there.
     if (tau.size() != num_coordinates() || !all_finite(tau.data(), tau.size())) {
@@ -1113,13 +1124,13 @@ void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& 
           fmt::format("model '{}': generalized forces tau must be {} finite values ({} given)",
                       model_.name(), num_coordinates(), tau.size()));
     }
-    if (!factored) {
+    if (factored == nullptr) {
       mass_matrix(s, derivative_M_);
       if (!solver_.factor(derivative_M_)) {
         M_ = derivative_M_;
         mass_matrix_refused(s);
       }
-      factored = true;
+      factored = &derivative_M_;
     }
     Vector& added = jacobian_fp_;
     added = tau;
@@ -1133,7 +1144,11 @@ void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& 
   }
   // M is factored (acceleration_derivatives): M⁻¹ = M⁻¹·1.
   out.dqdd_dtau.setIdentity(num_coordinates(), num_coordinates());
-  solver_.solve_in_place(out.dqdd_dtau);
+  if (tree_factored_) {
+    tree_solver_.solve_in_place(out.dqdd_dtau);
+  } else {
+    solver_.solve_in_place(out.dqdd_dtau);
+  }
 }
 
 Energies MultibodySystem::energies(const State& s) {

@@ -58,6 +58,7 @@
 #include <symdyn/runtime/loop_closure.hpp>
 #include <symdyn/runtime/model.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
+#include <symdyn/runtime/tree_solver.hpp>
 
 namespace symdyn::runtime {
 
@@ -307,9 +308,11 @@ class MultibodySystem : public DynamicSystem {
   std::string describe(const State& s) const;
   void jacobians_by_differences(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);
   // dqdd/dq and dqdd/dqd from jacobians() at (s, qdd): -M⁻¹·K and -M⁻¹·C by
-  // solves; with `factored`, solver_ holds M at s already (exact Jacobians only).
+  // solves, by tree_solver_ where M has a tree's sparsity (tree_factored_), else
+  // by solver_; with `factored`, M at s is in *factored and solver_ holds it
+  // already (exact Jacobians only).
   void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
-                                Matrix& dqdd_dqd, bool factored = false);
+                                Matrix& dqdd_dqd, const Matrix* factored = nullptr);
   // The exact C and K of jacobians(), without M.
   void exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K);
   // With closed loops: the reduced M, C, K from the tree's at the extended
@@ -376,7 +379,9 @@ class MultibodySystem : public DynamicSystem {
   Matrix M_;
   Eigen::Matrix<double, Eigen::Dynamic, 3> dw_inertia_;  // (nq x 3)
   SpdSolver solver_;
-  State jacobian_state_;                                         // jacobians(): the shifted state,
+  TreeSolver tree_solver_;      // dynamics_derivatives()' solves where M is tree-sparse
+  bool tree_factored_ = false;  // tree_solver_ holds M of the last acceleration_derivatives()
+  State jacobian_state_;        // jacobians(): the shifted state,
   Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
   Matrix derivative_M_;                                          // dynamics_derivatives(): M
   Matrix load_dq_, load_dqd_;  // the force elements' dQ/dq, dQ/dqd

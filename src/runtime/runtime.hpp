@@ -35,3 +35,4 @@
 #include <symdyn/runtime/spd_solver.hpp>
 #include <symdyn/runtime/statics.hpp>
 #include <symdyn/runtime/step_derivatives.hpp>
+#include <symdyn/runtime/tree_solver.hpp>
