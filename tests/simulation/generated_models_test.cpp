@@ -45,9 +45,17 @@ TEMPLATE_LIST_TEST_CASE("emitted M and h equal the assembled ones, and qdd agree
     CHECK(max_abs(Ma - Me) <= 1e-10 * (1.0 + max_abs(Ma)));
     CHECK(max_abs(ha - he) <= 1e-10 * (1.0 + max_abs(ha)));
 
-    // Independent of both: T = 1/2 qd^T M qd is the kinetic energy of the bodies.
-    const double T = emitted.energies(s).kinetic;
-    CHECK(std::abs(0.5 * s.qd.dot(Me * s.qd) - T) <= 1e-10 * (1.0 + T));
+    // Independent of both: the kinetic energy of the bodies is quadratic in qd with
+    // Hessian M, T(qd) = 1/2 qd^T M qd + b^T qd + T(0) (b, T(0) from motions prescribed
+    // in t), so that 1/2 (T(qd) + T(-qd)) - T(0) = 1/2 qd^T M qd.
+    const auto kinetic = [&](const Vector& qd) {
+      State v = s;
+      v.qd = qd;
+      return emitted.energies(v).kinetic;
+    };
+    const double T = kinetic(s.qd);
+    const double quadratic = 0.5 * (T + kinetic(-s.qd)) - kinetic(Vector::Zero(s.qd.size()));
+    CHECK(std::abs(0.5 * s.qd.dot(Me * s.qd) - quadratic) <= 1e-10 * (1.0 + T));
 
     assembled.accelerations(s, qdda, yd);
     emitted.accelerations(s, qdde, yd);
