@@ -9,6 +9,7 @@
 #include <numbers>
 #include <random>
 
+#include "differences.hpp"
 #include "four_bar.hpp"
 #include "four_bar_parametric.hpp"
 #include "random_state.hpp"
@@ -251,28 +252,11 @@ TEST_CASE("loop models without constraint_derivatives report differenced Jacobia
 
 namespace {
 
-// df/dq and df/dqd of the reduced residual at (s, qdd) by central differences
-// extrapolated (Richardson) from steps h and h/2: error O(h^4).
+// df/dq and df/dqd of the reduced residual at (s, qdd) by Richardson's differences.
 void richardson_jacobians(MultibodySystem& system, const State& s, const Vector& qdd, Matrix& C,
                           Matrix& K) {
-  const Eigen::Index n = s.q.size();
-  C.resize(n, n);
-  K.resize(n, n);
-  Vector yd = Vector::Zero(0), fp, fm, g;
-  const auto central = [&](Vector State::*field, Eigen::Index j, double h) {
-    State p = s;
-    (p.*field)(j) += h;
-    system.residual(p, qdd, yd, fp, g);
-    p = s;
-    (p.*field)(j) -= h;
-    system.residual(p, qdd, yd, fm, g);
-    return Vector((fp - fm) / (2 * h));
-  };
-  const double h = 1e-3;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    K.col(j) = (4 * central(&State::q, j, h / 2) - central(&State::q, j, h)) / 3;
-    C.col(j) = (4 * central(&State::qd, j, h / 2) - central(&State::qd, j, h)) / 3;
-  }
+  symdyn::testing::residual_jacobians_by_differences(system, s, qdd, C, K,
+                                                     [](double) { return 1e-3; });
 }
 
 template <class Generated>

@@ -19,6 +19,7 @@
 #include <unsupported/Eigen/Polynomials>
 
 #include "all_models.hpp"
+#include "differences.hpp"
 #include "random_state.hpp"
 #include <symdyn/runtime/bushing.hpp>
 #include <symdyn/runtime/contact.hpp>
@@ -38,39 +39,19 @@ using namespace symdyn::runtime;
 using symdyn::testing::max_abs;
 using symdyn::testing::random_state;
 
-// d g(x)/d x_j of a vector function of one component, by central differences
-// at h and h/2 combined by Richardson's extrapolation: error O(h⁴) + rounding/h.
-// h = 1e-4: amru5's legs near a stretched knee (acos near 1) have K ~ 1e6, whose
-// fifth derivatives make 1e-3 too coarse.
+// d g(x)/d x_j by symdyn::testing::richardson at h = 1e-4·max(1, |x|)·scale:
+// amru5's legs near a stretched knee (acos near 1) have K ~ 1e6, whose fifth
+// derivatives make 1e-3 too coarse.
 template <class F>
-Vector richardson(F g, double x, double scale) {
-  const double h = 1e-4 * std::max(1.0, std::abs(x)) * scale;
-  const auto central = [&](double step) -> Vector {
-    return (g(x + step) - g(x - step)) / (2 * step);
-  };
-  return (4 * central(h / 2) - central(h)) / 3;
+Vector richardson_relative(F g, double x, double scale) {
+  return symdyn::testing::richardson(g, x, 1e-4 * std::max(1.0, std::abs(x)) * scale);
 }
 
 // K = df/dq and C = df/dqd of the residual at (s, qdd), by Richardson's differences.
 void residual_jacobians_by_differences(MultibodySystem& system, const State& s, const Vector& qdd,
                                        Matrix& C, Matrix& K) {
-  const int n = system.num_coordinates();
-  C.resize(n, n);
-  K.resize(n, n);
-  const Vector yd = Vector::Zero(system.num_extra_states());
-  for (int j = 0; j < n; ++j) {
-    const auto f_of = [&](Vector State::*member) {
-      return [&, member](double x) {
-        State p = s;
-        (p.*member)(j) = x;
-        Vector f, g;
-        system.residual(p, qdd, yd, f, g);
-        return f;
-      };
-    };
-    K.col(j) = richardson(f_of(&State::q), s.q(j), 1.0);
-    C.col(j) = richardson(f_of(&State::qd), s.qd(j), 1.0);
-  }
+  symdyn::testing::residual_jacobians_by_differences(
+      system, s, qdd, C, K, [](double x) { return 1e-4 * std::max(1.0, std::abs(x)); });
 }
 
 // A spring-damper on every coordinate; on the first body a point spring-damper
@@ -121,8 +102,8 @@ void check_load_derivatives(MultibodySystem& with, MultibodySystem& bare, const 
         return Q;
       };
     };
-    Dq.col(j) = richardson(Q_of(&State::q), s.q(j), step);
-    Dqd.col(j) = richardson(Q_of(&State::qd), s.qd(j), step);
+    Dq.col(j) = richardson_relative(Q_of(&State::q), s.q(j), step);
+    Dqd.col(j) = richardson_relative(Q_of(&State::qd), s.qd(j), step);
   }
   const double scale = std::max({1.0, max_abs(Dq), max_abs(Dqd)});
   INFO("dQ/dq\n"
@@ -204,8 +185,8 @@ TEMPLATE_LIST_TEST_CASE("dynamics_derivatives equal Richardson differences of th
         return qdd;
       };
     };
-    dq.col(j) = richardson(qdd_of(&State::q), s.q(j), 1.0);
-    dqd.col(j) = richardson(qdd_of(&State::qd), s.qd(j), 1.0);
+    dq.col(j) = richardson_relative(qdd_of(&State::q), s.q(j), 1.0);
+    dqd.col(j) = richardson_relative(qdd_of(&State::qd), s.qd(j), 1.0);
   }
   const double scale = std::max({1.0, max_abs(dq), max_abs(dqd)});
   CHECK(max_abs(d.dqdd_dq - dq) < 1e-6 * scale);
@@ -374,9 +355,9 @@ TEST_CASE(
     return next(s, v);
   };
   Matrix A(2, 2), B(2, 1);
-  A.col(0) = richardson(of_q, s.q(0), 1.0);
-  A.col(1) = richardson(of_qd, s.qd(0), 1.0);
-  B.col(0) = richardson(of_u, u(0), 1.0);
+  A.col(0) = richardson_relative(of_q, s.q(0), 1.0);
+  A.col(1) = richardson_relative(of_qd, s.qd(0), 1.0);
+  B.col(0) = richardson_relative(of_u, u(0), 1.0);
   INFO("A\n" << d.A << "\ndifferences\n" << A << "\nB\n" << d.B << "\ndifferences\n" << B);
   CHECK(max_abs(d.A - A) < 1e-9 * std::max(1.0, max_abs(A)));
   CHECK(max_abs(d.B - B) < 1e-9 * std::max(1.0, max_abs(B)));

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "differences.hpp"
 #include "expression.hpp"
 #include "run.hpp"
 #include <symdyn/runtime/multibody_system.hpp>
@@ -24,16 +25,7 @@ using runtime::Matrix;
 using runtime::State;
 using runtime::Vector;
 
-// d g(x)/dx by central differences at h and h/2 combined by Richardson's
-// extrapolation: error O(h⁴) + rounding/h.
-template <class F>
-auto richardson(F g, double x, double h) {
-  using Result = decltype(g(x));  // a double or a Vector, evaluated at once
-  const auto central = [&](double step) -> Result {
-    return (g(x + step) - g(x - step)) / (2 * step);
-  };
-  return Result((4 * central(h / 2) - central(h)) / 3);
-}
+using symdyn::testing::richardson;
 
 // Symbols x, y, z: 0, 1, 2.
 struct Point : sim::Environment {
@@ -343,23 +335,10 @@ TEST_CASE("the trike scenario's Jacobians are exact, its drive included",
     system.accelerations(s, qdd, yd);
     Matrix M, C, K;
     system.jacobians(s, qdd, M, C, K);
-    const int n = system.num_coordinates();
-    Matrix Kd(n, n), Cd(n, n);
-    const Vector y0 = Vector::Zero(system.num_extra_states());
-    for (int j = 0; j < n; ++j) {
-      const auto along = [&](Vector State::*member) {
-        return [&, member](double x) {
-          State p = s;
-          (p.*member)(j) = x;
-          Vector f, g;
-          system.residual(p, qdd, y0, f, g);
-          return f;
-        };
-      };
-      // Steps small enough to stay on each side of the tyres' and the drive's switches.
-      Kd.col(j) = richardson(along(&State::q), s.q(j), 1e-5);
-      Cd.col(j) = richardson(along(&State::qd), s.qd(j), 1e-5);
-    }
+    // Steps small enough to stay on each side of the tyres' and the drive's switches.
+    Matrix Kd, Cd;
+    symdyn::testing::residual_jacobians_by_differences(system, s, qdd, Cd, Kd,
+                                                       [](double) { return 1e-5; });
     const double scale = std::max({1.0, Kd.cwiseAbs().maxCoeff(), Cd.cwiseAbs().maxCoeff()});
     CAPTURE(round, scale);
     CHECK((K - Kd).cwiseAbs().maxCoeff() < 1e-7 * scale);
