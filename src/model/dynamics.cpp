@@ -79,21 +79,22 @@ class EquationsOfMotion {
     find_movers();
     for (BodyTerms& b : bodies_) b.gathered.resize(nq_), b.from_children.resize(nq_);
     for (std::size_t k = 0; k < nq_; ++k) gather_momenta(k);
-    d_.mass_matrix.assign(nq_ * nq_, Expr(0));
-    d_.bias.assign(nq_, Expr(0));
+    dynamics_.mass_matrix.assign(nq_ * nq_, Expr(0));
+    dynamics_.bias.assign(nq_, Expr(0));
     for (std::size_t k = 0; k < nq_; ++k) {
       std::vector<Expr> terms;
       for (const Mover& m : movers_[k])
         terms.push_back(m.coefficient * dot(direction(m), bodies_[m.body].wrench));
-      d_.bias[k] = symbolic::add(terms);
+      dynamics_.bias[k] = symbolic::add(terms);
       for (std::size_t j = 0; j <= k; ++j)
-        d_.mass_matrix[j * nq_ + k] = d_.mass_matrix[k * nq_ + j] = mass_matrix_entry(j, k);
+        dynamics_.mass_matrix[j * nq_ + k] = dynamics_.mass_matrix[k * nq_ + j] =
+            mass_matrix_entry(j, k);
     }
-    detail::inverse_dynamics(model_, bodies_, reactions_ ? &k_ : nullptr, names_, d_);
-    detail::forward_dynamics(model_, bodies_, names_, d_);
+    detail::inverse_dynamics(model_, bodies_, reactions_ ? &k_ : nullptr, names_, dynamics_);
+    detail::forward_dynamics(model_, bodies_, names_, dynamics_);
     std::vector<symbolic::Definition> gathered = names_.take_definitions();
-    d_.definitions.insert(d_.definitions.end(), gathered.begin(), gathered.end());
-    return std::move(d_);
+    dynamics_.definitions.insert(dynamics_.definitions.end(), gathered.begin(), gathered.end());
+    return std::move(dynamics_);
   }
 
  private:
@@ -123,7 +124,7 @@ class EquationsOfMotion {
       }
       const Expr at_rest = symbolic::symbol(fmt::format("{}__0", symbol.name()),
                                             symbolic::SymbolKind::DependentAcceleration);
-      d_.definitions.push_back({at_rest, at_rest_value});
+      dynamics_.definitions.push_back({at_rest, at_rest_value});
       at_zero_qdd_.add(symbol, at_rest);
     }
   }
@@ -368,7 +369,7 @@ class EquationsOfMotion {
   IntermediateNames names_;
   std::vector<BodyTerms> bodies_;
   std::vector<std::vector<Mover>> movers_;  // (nq) the local twists of each coordinate
-  Dynamics d_;
+  Dynamics dynamics_;
 };
 
 }  // namespace

@@ -300,7 +300,7 @@ class Recursion {
   }
 
   void articulated_body_algorithm(Dynamics& d) {
-    d_ = &d;
+    dynamics_ = &d;
     std::vector<Articulated>& a = articulated_;
     a.assign(bodies_.size(), {});
     std::vector<ArticulatedInertia> inertia(bodies_.size());
@@ -315,12 +315,12 @@ class Recursion {
       inertia[i] = carry(articulated(bodies_[i].own_inertia), to_joint, n + ".Io");
       bias[i] = carry(bodies_[i].own_wrench, to_joint, wrench_up, n + ".po");
     }
-    d_->forward.assign(nq_, Expr(0));
-    d_->pivots.assign(2 * nq_, Expr(0));
+    dynamics_->forward.assign(nq_, Expr(0));
+    dynamics_->pivots.assign(2 * nq_, Expr(0));
     for (auto i = order_.rbegin(); i != order_.rend(); ++i) {
       if (!articulate(*i, a[*i], inertia, bias)) {
-        d_->forward.clear();
-        d_->pivots.clear();
+        dynamics_->forward.clear();
+        dynamics_->pivots.clear();
         return;
       }
     }
@@ -431,14 +431,14 @@ class Recursion {
       for (std::size_t p = 0; p < m; ++p) pivot.push_back(-(out.L[m][p] * E[m][p]));
       const Expr d = names_(symbolic::add(pivot), fmt::format("{}.d{}", n, m));
       if (d.is_zero()) {
-        d_->why_not =
+        dynamics_->why_not =
             fmt::format("the pivot of coordinate '{}' in body '{}' is zero whatever the state",
                         model_.coordinates()[out.coordinates[m]].q.name(), n);
         return false;
       }
       out.inverse_pivot.push_back(Expr(1) / d);
-      d_->pivots[2 * out.coordinates[m]] = d;
-      d_->pivots[2 * out.coordinates[m] + 1] = diagonal;
+      dynamics_->pivots[2 * out.coordinates[m]] = d;
+      dynamics_->pivots[2 * out.coordinates[m] + 1] = diagonal;
       for (std::size_t r = m + 1; r < k; ++r) {
         std::vector<Expr> terms{dot(out.S[r], U[m])};
         for (std::size_t p = 0; p < m; ++p) terms.push_back(-(out.L[r][p] * E[m][p]));
@@ -476,7 +476,7 @@ class Recursion {
     Spatial total = carried;
     for (std::size_t m = 0; m < k; ++m) {
       total = total + qdd[m] * a.S[m];
-      d_->forward[a.coordinates[m]] = qdd[m];
+      dynamics_->forward[a.coordinates[m]] = qdd[m];
     }
     name(total, n + ".aa");
     alpha[i] = total;
@@ -523,7 +523,7 @@ class Recursion {
   std::vector<std::vector<Mover>> movers_;  // (nq) the local twists of each coordinate
   std::vector<Articulated> articulated_;    // (nbody)
   std::vector<Spatial> gathered_;           // (nbody) (I·α)^C, from inverse_dynamics
-  Dynamics* d_ = nullptr;                   // what forward_dynamics() fills
+  Dynamics* dynamics_ = nullptr;            // what forward_dynamics() fills
 };
 
 }  // namespace

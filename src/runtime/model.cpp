@@ -104,74 +104,77 @@ std::string call(std::string_view function, double x, double e) {
 
 }  // namespace
 
-Model::Model(ModelDescription d) : d_(std::move(d)) {
+Model::Model(ModelDescription d) : description_(std::move(d)) {
   const auto check_size = [&](std::size_t got, int want, const char* what) {
     if (got != static_cast<std::size_t>(want)) {
-      throw ModelError(
-          fmt::format("model '{}': {} has {} entries, expected {}", d_.model, what, got, want));
+      throw ModelError(fmt::format("model '{}': {} has {} entries, expected {}", description_.model,
+                                   what, got, want));
     }
   };
-  if (d_.nq < 0 || d_.nbody < 0 || d_.ndep < 0 || d_.nparam < 0) {
-    throw ModelError(fmt::format("model '{}': negative size", d_.model));
+  if (description_.nq < 0 || description_.nbody < 0 || description_.ndep < 0 ||
+      description_.nparam < 0) {
+    throw ModelError(fmt::format("model '{}': negative size", description_.model));
   }
-  check_size(d_.q_names.size(), d_.nq, "q_names");
-  check_size(d_.q_initial.size(), d_.nq, "q_initial");
-  check_size(d_.qd_initial.size(), d_.nq, "qd_initial");
-  check_size(d_.body_names.size(), d_.nbody, "body_names");
-  check_size(d_.reference_body.size(), d_.nbody, "reference_body");
-  check_size(d_.param_names.size(), d_.nparam, "param_names");
-  check_size(d_.param_defaults.size(), d_.nparam, "param_defaults");
-  if (d_.inertia == nullptr) missing("inertia");
-  if (d_.nindependent < 0) d_.nindependent = d_.nq;
+  check_size(description_.q_names.size(), description_.nq, "q_names");
+  check_size(description_.q_initial.size(), description_.nq, "q_initial");
+  check_size(description_.qd_initial.size(), description_.nq, "qd_initial");
+  check_size(description_.body_names.size(), description_.nbody, "body_names");
+  check_size(description_.reference_body.size(), description_.nbody, "reference_body");
+  check_size(description_.param_names.size(), description_.nparam, "param_names");
+  check_size(description_.param_defaults.size(), description_.nparam, "param_defaults");
+  if (description_.inertia == nullptr) missing("inertia");
+  if (description_.nindependent < 0) description_.nindependent = description_.nq;
   validate_loops();
   validate_diagnostics();
-  for (const DomainCheck& c : d_.domain_checks) {
+  for (const DomainCheck& c : description_.domain_checks) {
     margin_distances_.push_back(restricted_domain(c.function)->distance);
     zero_edges_.push_back(restricted_domain(c.function)->edge_at_zero);
   }
-  zeros_.assign(std::max(d_.nq, 1), 0.0);
-  param_ = d_.param_defaults;
+  zeros_.assign(std::max(description_.nq, 1), 0.0);
+  param_ = description_.param_defaults;
   if (param_.empty()) param_.push_back(0.0);
   evaluate_inertia(param_, mass_, inertia_);
 }
 
 void Model::validate_loops() const {
   const auto fail = [&](const std::string& what) {
-    throw ModelError(fmt::format("model '{}': {}", d_.model, what));
+    throw ModelError(fmt::format("model '{}': {}", description_.model, what));
   };
-  if (d_.nindependent > d_.nq) fail(fmt::format("nindependent {} > nq {}", d_.nindependent, d_.nq));
+  if (description_.nindependent > description_.nq)
+    fail(fmt::format("nindependent {} > nq {}", description_.nindependent, description_.nq));
   if (!has_loops()) return;
-  if (d_.constraints == nullptr || d_.constraint_bias == nullptr)
+  if (description_.constraints == nullptr || description_.constraint_bias == nullptr)
     fail("closed loops without the entry points constraints and constraint_bias");
-  if (d_.constraint_loop.size() != static_cast<std::size_t>(ncon()))
-    fail(fmt::format("constraint_loop has {} entries, expected {}", d_.constraint_loop.size(),
-                     ncon()));
-  for (int l : d_.constraint_loop) {
-    if (l < 0 || l >= static_cast<int>(d_.loop_names.size()))
-      fail(fmt::format("constraint_loop names loop {} of {}", l, d_.loop_names.size()));
+  if (description_.constraint_loop.size() != static_cast<std::size_t>(ncon()))
+    fail(fmt::format("constraint_loop has {} entries, expected {}",
+                     description_.constraint_loop.size(), ncon()));
+  for (int l : description_.constraint_loop) {
+    if (l < 0 || l >= static_cast<int>(description_.loop_names.size()))
+      fail(fmt::format("constraint_loop names loop {} of {}", l, description_.loop_names.size()));
   }
-  if (d_.loop_bodies.empty() && d_.constraint_axis.empty()) return;
-  if (d_.loop_bodies.size() != 2 * d_.loop_names.size() ||
-      d_.constraint_axis.size() != static_cast<std::size_t>(ncon()))
+  if (description_.loop_bodies.empty() && description_.constraint_axis.empty()) return;
+  if (description_.loop_bodies.size() != 2 * description_.loop_names.size() ||
+      description_.constraint_axis.size() != static_cast<std::size_t>(ncon()))
     fail(fmt::format("loop_bodies has {} entries, constraint_axis {}; expected {}, {}",
-                     d_.loop_bodies.size(), d_.constraint_axis.size(), 2 * d_.loop_names.size(),
-                     ncon()));
-  for (int b : d_.loop_bodies) {
-    if (b < -1 || b >= d_.nbody) fail(fmt::format("loop_bodies names body {} of {}", b, d_.nbody));
+                     description_.loop_bodies.size(), description_.constraint_axis.size(),
+                     2 * description_.loop_names.size(), ncon()));
+  for (int b : description_.loop_bodies) {
+    if (b < -1 || b >= description_.nbody)
+      fail(fmt::format("loop_bodies names body {} of {}", b, description_.nbody));
   }
-  for (int axis : d_.constraint_axis) {
+  for (int axis : description_.constraint_axis) {
     if (axis < -1 || axis > 2) fail(fmt::format("constraint_axis {} is not -1, 0, 1 or 2", axis));
   }
 }
 
 void Model::closure_points(double t, const double* x, double* point) const {
-  if (d_.closure_points == nullptr) missing("closure_points");
-  d_.closure_points(t, x, param_.data(), point);
+  if (description_.closure_points == nullptr) missing("closure_points");
+  description_.closure_points(t, x, param_.data(), point);
 }
 
 std::string Model::loop_reaction_name(int k) const {
   const int loop = constraint_loop(k);
-  const std::string& name = d_.loop_names[static_cast<std::size_t>(loop)];
+  const std::string& name = description_.loop_names[static_cast<std::size_t>(loop)];
   if (constraint_axis(k) >= 0) return fmt::format("{}.F{}", name, "xyz"[constraint_axis(k)]);
   int j = 0;  // the equation's rank in its loop
   for (int e = 0; e < k; ++e) j += constraint_loop(e) == loop;
@@ -180,54 +183,54 @@ std::string Model::loop_reaction_name(int k) const {
 
 void Model::constraints(double t, const double* x, double* g, double* g_q, double* g_p,
                         double* g_t) const {
-  if (d_.constraints == nullptr) missing("constraints");
-  d_.constraints(t, x, param_.data(), g, g_q, g_p, g_t);
+  if (description_.constraints == nullptr) missing("constraints");
+  description_.constraints(t, x, param_.data(), g, g_q, g_p, g_t);
 }
 
 void Model::constraint_bias(double t, const double* x, const double* xd, double* gamma) const {
-  if (d_.constraint_bias == nullptr) missing("constraint_bias");
-  d_.constraint_bias(t, x, xd, param_.data(), gamma);
+  if (description_.constraint_bias == nullptr) missing("constraint_bias");
+  description_.constraint_bias(t, x, xd, param_.data(), gamma);
 }
 
 void Model::constraint_derivatives(double t, const double* x, const double* xd, const double* xdd,
                                    const double* mu, double* a_x, double* a_xd,
                                    double* hessian) const {
-  if (d_.constraint_derivatives == nullptr) missing("constraint_derivatives");
-  d_.constraint_derivatives(t, x, xd, xdd, param_.data(), mu, a_x, a_xd, hessian);
+  if (description_.constraint_derivatives == nullptr) missing("constraint_derivatives");
+  description_.constraint_derivatives(t, x, xd, xdd, param_.data(), mu, a_x, a_xd, hessian);
 }
 
 void Model::validate_diagnostics() const {
   const auto fail = [&](const std::string& what) {
-    throw ModelError(fmt::format("model '{}': {}", d_.model, what));
+    throw ModelError(fmt::format("model '{}': {}", description_.model, what));
   };
-  if (!d_.dependent_names.empty() &&
-      d_.dependent_names.size() != static_cast<std::size_t>(d_.ndep)) {
-    fail(fmt::format("dependent_names has {} entries, expected {}", d_.dependent_names.size(),
-                     d_.ndep));
+  if (!description_.dependent_names.empty() &&
+      description_.dependent_names.size() != static_cast<std::size_t>(description_.ndep)) {
+    fail(fmt::format("dependent_names has {} entries, expected {}",
+                     description_.dependent_names.size(), description_.ndep));
   }
-  if (!d_.domain_checks.empty() && d_.domain_arguments == nullptr)
+  if (!description_.domain_checks.empty() && description_.domain_arguments == nullptr)
     fail("domain checks without domain_arguments");
-  for (const DomainCheck& c : d_.domain_checks) {
+  for (const DomainCheck& c : description_.domain_checks) {
     if (c.dependent.empty()) fail("domain check of an unnamed dependent parameter");
     if (restricted_domain(c.function) == nullptr)
       fail(fmt::format("domain check of unknown function '{}'", c.function));
   }
-  for (const AngleSequence& a : d_.angle_sequences) {
-    const bool indices = a.body >= 0 && a.body < d_.nbody &&
+  for (const AngleSequence& a : description_.angle_sequences) {
+    const bool indices = a.body >= 0 && a.body < description_.nbody &&
                          std::all_of(a.coordinates.begin(), a.coordinates.end(),
-                                     [&](int j) { return j >= 0 && j < d_.nq; });
+                                     [&](int j) { return j >= 0 && j < description_.nq; });
     if (!indices || a.axes.size() != 3)
       fail(fmt::format("angle sequence '{}' of body {} is malformed", a.axes, a.body));
   }
 }
 
 std::optional<std::string> Model::domain_error(double t, const double* q) const {
-  const std::size_t n = d_.domain_checks.size();
+  const std::size_t n = description_.domain_checks.size();
   if (n == 0) return std::nullopt;
   std::vector<double> args(kDomainValues * n);
-  d_.domain_arguments(t, q, param_.data(), args.data());
+  description_.domain_arguments(t, q, param_.data(), args.data());
   const auto describe = [&](std::size_t k, const char* what) {
-    const DomainCheck& c = d_.domain_checks[k];
+    const DomainCheck& c = description_.domain_checks[k];
     return fmt::format("dependent parameter '{}': {} is {} [domain of {}: {}]", c.dependent,
                        call(c.function, args[kDomainValues * k], args[kDomainValues * k + 1]), what,
                        c.function, restricted_domain(c.function)->domain);
@@ -236,12 +239,12 @@ std::optional<std::string> Model::domain_error(double t, const double* q) const 
   for (std::size_t k = 0; k < n; ++k) {
     const double x = args[kDomainValues * k], e = args[kDomainValues * k + 1];
     if (std::isfinite(x) && std::isfinite(e) &&
-        !restricted_domain(d_.domain_checks[k].function)->inside(x, e)) {
+        !restricted_domain(description_.domain_checks[k].function)->inside(x, e)) {
       return describe(k, "outside its function's domain");
     }
   }
   for (std::size_t k = 0; k < n; ++k) {
-    if (restricted_domain(d_.domain_checks[k].function)
+    if (restricted_domain(description_.domain_checks[k].function)
             ->edge(args[kDomainValues * k], args[kDomainValues * k + 1])) {
       return describe(k, "at the edge of its function's domain, where its derivative is infinite");
     }
@@ -253,7 +256,7 @@ Model::DomainMargin Model::smallest_domain_margin(double t, const double* q,
                                                   double* arguments) const {
   DomainMargin smallest;
   if (margin_distances_.empty()) return smallest;
-  d_.domain_arguments(t, q, param_.data(), arguments);
+  description_.domain_arguments(t, q, param_.data(), arguments);
   for (std::size_t k = 0; k < margin_distances_.size(); ++k) {
     const double* a = arguments + kDomainValues * k;  // x, e, scale
     // Negative outside; a NaN argument (an inner check failed) is skipped.
@@ -264,9 +267,9 @@ Model::DomainMargin Model::smallest_domain_margin(double t, const double* q,
 }
 
 std::string Model::describe_domain_margin(double t, const double* q, const DomainMargin& m) const {
-  std::vector<double> args(kDomainValues * d_.domain_checks.size());
-  d_.domain_arguments(t, q, param_.data(), args.data());
-  const DomainCheck& c = d_.domain_checks.at(static_cast<std::size_t>(m.check));
+  std::vector<double> args(kDomainValues * description_.domain_checks.size());
+  description_.domain_arguments(t, q, param_.data(), args.data());
+  const DomainCheck& c = description_.domain_checks.at(static_cast<std::size_t>(m.check));
   const double* a = args.data() + kDomainValues * static_cast<std::size_t>(m.check);
   const RestrictedDomain& r = *restricted_domain(c.function);
   return fmt::format(
@@ -280,7 +283,7 @@ std::string Model::describe_domain_margin(double t, const double* q, const Domai
 }
 
 int Model::domain_edge_crossed(const double* before, const double* after) const {
-  for (std::size_t k = 0; k < d_.domain_checks.size(); ++k) {
+  for (std::size_t k = 0; k < description_.domain_checks.size(); ++k) {
     const double a = before[kDomainValues * k], b = after[kDomainValues * k];
     if (zero_edges_[k] && ((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0)))
       return static_cast<int>(k);
@@ -291,7 +294,7 @@ int Model::domain_edge_crossed(const double* before, const double* after) const 
 std::optional<std::string> Model::angle_sequence_near_singular(const double* q,
                                                                double within) const {
   const double pi = std::numbers::pi;
-  for (const AngleSequence& a : d_.angle_sequences) {
+  for (const AngleSequence& a : description_.angle_sequences) {
     const int j = a.coordinates[1];
     // Singular at b = offset + k·pi: pi/2 + k·pi (Tait-Bryan), k·pi (proper Euler).
     const double offset = a.axes.front() == a.axes.back() ? 0.0 : pi / 2;
@@ -301,25 +304,26 @@ std::optional<std::string> Model::angle_sequence_near_singular(const double* q,
     std::string axes;
     for (char c : a.axes)
       axes += fmt::format("{}{}", axes.empty() ? "" : "-", static_cast<char>(std::toupper(c)));
-    const auto& names = d_.q_names;
+    const auto& names = description_.q_names;
     return fmt::format(
         "coordinates '{}', '{}', '{}' of body '{}' form a {} angle sequence {:.3g} rad from its "
         "singular configuration {} = {} deg ({} = {} rad)",
-        names[a.coordinates[0]], names[j], names[a.coordinates[2]], d_.body_names[a.body], axes,
-        distance, names[j], std::round(singular * 180.0 / pi), names[j], q[j]);
+        names[a.coordinates[0]], names[j], names[a.coordinates[2]], description_.body_names[a.body],
+        axes, distance, names[j], std::round(singular * 180.0 / pi), names[j], q[j]);
   }
   return std::nullopt;
 }
 
 std::optional<std::string> Model::singular_angle_sequence(const double* q, const Matrix& M) const {
-  if (d_.angle_sequences.empty() || M.rows() != d_.nq || M.rows() == 0 || !M.allFinite())
+  if (description_.angle_sequences.empty() || M.rows() != description_.nq || M.rows() == 0 ||
+      !M.allFinite())
     return std::nullopt;
   const Eigen::JacobiSVD<Matrix> svd(M, Eigen::ComputeFullV);
   const Vector u =
       svd.matrixV().col(M.cols() - 1);  // the null direction (singular values decrease)
   const AngleSequence* best = nullptr;
   double best_share = 0.5;  // at least half of the null direction
-  for (const AngleSequence& a : d_.angle_sequences) {
+  for (const AngleSequence& a : description_.angle_sequences) {
     const double b = q[a.coordinates[1]];
     const bool proper = a.axes.front() == a.axes.back();
     // The first and third axes align where cos b = 0 (Tait-Bryan) or sin b = 0 (proper Euler).
@@ -339,47 +343,48 @@ std::optional<std::string> Model::singular_angle_sequence(const double* q, const
   std::string axes;
   for (char c : best->axes)
     axes += fmt::format("{}{}", axes.empty() ? "" : "-", static_cast<char>(std::toupper(c)));
-  const auto& names = d_.q_names;
+  const auto& names = description_.q_names;
   return fmt::format(
       "coordinates '{}', '{}', '{}' of body '{}' form a {} angle sequence singular at {} = {} deg "
       "({} = {} rad = {:.9g} deg): its first and third axes are aligned",
-      names[best->coordinates[0]], names[j], names[best->coordinates[2]], d_.body_names[best->body],
-      axes, names[j], std::round(singular * 180.0 / pi), names[j], b, b * 180.0 / pi);
+      names[best->coordinates[0]], names[j], names[best->coordinates[2]],
+      description_.body_names[best->body], axes, names[j], std::round(singular * 180.0 / pi),
+      names[j], b, b * 180.0 / pi);
 }
 
 void Model::evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
                              std::vector<Mat3>& inertia) const {
-  const int nb = std::max(d_.nbody, 1);
+  const int nb = std::max(description_.nbody, 1);
   std::vector<double> m(nb, 0.0), I(9 * nb, 0.0);
-  d_.inertia(param.data(), m.data(), I.data());
-  mass.assign(m.begin(), m.begin() + d_.nbody);
-  inertia.resize(d_.nbody);
-  for (int i = 0; i < d_.nbody; ++i) {
+  description_.inertia(param.data(), m.data(), I.data());
+  mass.assign(m.begin(), m.begin() + description_.nbody);
+  inertia.resize(description_.nbody);
+  for (int i = 0; i < description_.nbody; ++i) {
     inertia[i] = Eigen::Map<const RowMat3>(&I[9 * i]);
-    validate_inertia(d_.body_names[i], mass[i], inertia[i]);
+    validate_inertia(description_.body_names[i], mass[i], inertia[i]);
   }
 }
 
 void Model::missing(const char* entry) const {
   throw ModelError(fmt::format("model '{}' (variant '{}'): entry point '{}' was not emitted",
-                               d_.model, d_.variant, entry));
+                               description_.model, description_.variant, entry));
 }
 
 int Model::body_index(std::string_view name) const {
-  return find_name(d_.body_names, name, "body", "bodies", d_.model);
+  return find_name(description_.body_names, name, "body", "bodies", description_.model);
 }
 int Model::coordinate_index(std::string_view name) const {
-  return find_name(d_.q_names, name, "coordinate", "coordinates", d_.model);
+  return find_name(description_.q_names, name, "coordinate", "coordinates", description_.model);
 }
 int Model::parameter_index(std::string_view name) const {
-  return find_name(d_.param_names, name, "parameter", "parameters", d_.model);
+  return find_name(description_.param_names, name, "parameter", "parameters", description_.model);
 }
 
 State Model::initial_state() const {
   State s;
   s.t = 0.0;
-  s.q = Eigen::Map<const Vector>(d_.q_initial.data(), d_.nq);
-  s.qd = Eigen::Map<const Vector>(d_.qd_initial.data(), d_.nq);
+  s.q = Eigen::Map<const Vector>(description_.q_initial.data(), description_.nq);
+  s.qd = Eigen::Map<const Vector>(description_.qd_initial.data(), description_.nq);
   s.y.resize(0);
   return s;
 }
@@ -387,18 +392,18 @@ State Model::initial_state() const {
 void Model::set_parameter(std::string_view name, double value) {
   std::vector<double> p = param_;
   p[parameter_index(name)] = value;
-  set_parameters(std::vector<double>(p.begin(), p.begin() + d_.nparam));
+  set_parameters(std::vector<double>(p.begin(), p.begin() + description_.nparam));
 }
 
 void Model::set_parameters(const std::vector<double>& values) {
-  if (values.size() != static_cast<std::size_t>(d_.nparam)) {
-    throw ModelError(fmt::format("model '{}': {} parameter values given, expected {}", d_.model,
-                                 values.size(), d_.nparam));
+  if (values.size() != static_cast<std::size_t>(description_.nparam)) {
+    throw ModelError(fmt::format("model '{}': {} parameter values given, expected {}",
+                                 description_.model, values.size(), description_.nparam));
   }
   for (std::size_t k = 0; k < values.size(); ++k) {
     if (!std::isfinite(values[k])) {
-      throw ModelError(fmt::format("model '{}': parameter '{}' must be finite, not {}", d_.model,
-                                   d_.param_names[k], values[k]));
+      throw ModelError(fmt::format("model '{}': parameter '{}' must be finite, not {}",
+                                   description_.model, description_.param_names[k], values[k]));
     }
   }
   std::vector<double> p = values;
@@ -414,10 +419,10 @@ void Model::set_parameters(const std::vector<double>& values) {
 Model::JointPoints Model::joint_points() const {
   JointPoints out;
   if (!has_joint_points()) return out;
-  const int nb = std::max(d_.nbody, 1);
+  const int nb = std::max(description_.nbody, 1);
   std::vector<double> joint(3 * nb, 0.0), anchor(3 * nb, 0.0);
-  d_.joint_points(param_.data(), joint.data(), anchor.data());
-  for (int i = 0; i < d_.nbody; ++i) {
+  description_.joint_points(param_.data(), joint.data(), anchor.data());
+  for (int i = 0; i < description_.nbody; ++i) {
     out.joint.emplace_back(joint[3 * i], joint[3 * i + 1], joint[3 * i + 2]);
     out.anchor.emplace_back(anchor[3 * i], anchor[3 * i + 1], anchor[3 * i + 2]);
   }
@@ -430,89 +435,91 @@ Mat3 Model::global_inertia(int i, const Kinematics& k) const {
 }
 
 void Model::positions(double t, const double* q, Kinematics& k) const {
-  if (d_.positions != nullptr) {
-    d_.positions(t, q, param_.data(), k.R_data(), k.x_data());
+  if (description_.positions != nullptr) {
+    description_.positions(t, q, param_.data(), k.R_data(), k.x_data());
     k.clear_rates();
     return;
   }
   // Positions are a by-product of the velocities at qd = 0.
-  if (d_.velocities == nullptr) missing("positions");
+  if (description_.velocities == nullptr) missing("positions");
   velocities(t, q, zeros_.data(), k);
 }
 
 void Model::velocities(double t, const double* q, const double* qd, Kinematics& k) const {
-  if (d_.velocities == nullptr) missing("velocities");
-  d_.velocities(t, q, qd, param_.data(), k.R_data(), k.x_data(), k.v_data(), k.w_data());
+  if (description_.velocities == nullptr) missing("velocities");
+  description_.velocities(t, q, qd, param_.data(), k.R_data(), k.x_data(), k.v_data(), k.w_data());
 }
 
 void Model::accelerations(double t, const double* q, const double* qd, const double* qdd,
                           Kinematics& k) const {
-  if (d_.accelerations == nullptr) missing("accelerations");
-  d_.accelerations(t, q, qd, qdd, param_.data(), k.R_data(), k.x_data(), k.v_data(), k.w_data(),
-                   k.a_data(), k.dw_data());
+  if (description_.accelerations == nullptr) missing("accelerations");
+  description_.accelerations(t, q, qd, qdd, param_.data(), k.R_data(), k.x_data(), k.v_data(),
+                             k.w_data(), k.a_data(), k.dw_data());
 }
 
 void Model::relative_accelerations(double t, const double* q, const double* qd, const double* qdd,
                                    RelativeMotion& rel) const {
-  if (d_.relative_accelerations == nullptr) missing("relative_accelerations");
+  if (description_.relative_accelerations == nullptr) missing("relative_accelerations");
   Kinematics& r = rel.relative();
-  d_.relative_accelerations(t, q, qd, qdd, param_.data(), r.R_data(), r.x_data(), r.v_data(),
-                            r.w_data(), r.a_data(), r.dw_data());
+  description_.relative_accelerations(t, q, qd, qdd, param_.data(), r.R_data(), r.x_data(),
+                                      r.v_data(), r.w_data(), r.a_data(), r.dw_data());
 }
 
 void Model::relative_partial_velocities(double t, const double* q, RelativeMotion& rel) const {
-  if (d_.relative_partial_velocities == nullptr) missing("relative_partial_velocities");
-  d_.relative_partial_velocities(t, q, param_.data(), rel.relative().dv_dqd_data(),
-                                 rel.relative().dw_dqd_data());
+  if (description_.relative_partial_velocities == nullptr) missing("relative_partial_velocities");
+  description_.relative_partial_velocities(t, q, param_.data(), rel.relative().dv_dqd_data(),
+                                           rel.relative().dw_dqd_data());
 }
 
 void Model::partial_velocities(double t, const double* q, Kinematics& k) const {
-  if (d_.partial_velocities == nullptr) missing("partial_velocities");
-  d_.partial_velocities(t, q, param_.data(), k.dv_dqd_data(), k.dw_dqd_data());
+  if (description_.partial_velocities == nullptr) missing("partial_velocities");
+  description_.partial_velocities(t, q, param_.data(), k.dv_dqd_data(), k.dw_dqd_data());
 }
 
 void Model::dependent_parameters(double t, const double* q, const double* qd, const double* qdd,
                                  Kinematics& k) const {
-  if (d_.dependent_parameters == nullptr) missing("dependent_parameters");
-  d_.dependent_parameters(t, q, qd, qdd, param_.data(), k.p_data(), k.pd_data(), k.pdd_data());
+  if (description_.dependent_parameters == nullptr) missing("dependent_parameters");
+  description_.dependent_parameters(t, q, qd, qdd, param_.data(), k.p_data(), k.pd_data(),
+                                    k.pdd_data());
 }
 
 void Model::mass_matrix(double t, const double* q, double* M) const {
-  if (d_.mass_matrix == nullptr) missing("mass_matrix");
-  d_.mass_matrix(t, q, param_.data(), M);
+  if (description_.mass_matrix == nullptr) missing("mass_matrix");
+  description_.mass_matrix(t, q, param_.data(), M);
 }
 
 void Model::bias_forces(double t, const double* q, const double* qd, double* h) const {
-  if (d_.bias_forces == nullptr) missing("bias_forces");
-  d_.bias_forces(t, q, qd, param_.data(), h);
+  if (description_.bias_forces == nullptr) missing("bias_forces");
+  description_.bias_forces(t, q, qd, param_.data(), h);
 }
 
 void Model::dynamics(double t, const double* q, const double* qd, KinematicsLevel level, double* M,
                      double* h, Kinematics& k) const {
   const double* p = param_.data();
   using enum KinematicsLevel;
-  if (level == none && d_.dynamics != nullptr) return d_.dynamics(t, q, qd, p, M, h);
-  if (level == positions && d_.dynamics_positions != nullptr) {
-    return d_.dynamics_positions(t, q, qd, p, M, h, k.R_data(), k.x_data(), k.dv_dqd_data(),
-                                 k.dw_dqd_data());
+  if (level == none && description_.dynamics != nullptr)
+    return description_.dynamics(t, q, qd, p, M, h);
+  if (level == positions && description_.dynamics_positions != nullptr) {
+    return description_.dynamics_positions(t, q, qd, p, M, h, k.R_data(), k.x_data(),
+                                           k.dv_dqd_data(), k.dw_dqd_data());
   }
-  if (level == velocities && d_.dynamics_velocities != nullptr) {
-    return d_.dynamics_velocities(t, q, qd, p, M, h, k.R_data(), k.x_data(), k.v_data(), k.w_data(),
-                                  k.dv_dqd_data(), k.dw_dqd_data());
+  if (level == velocities && description_.dynamics_velocities != nullptr) {
+    return description_.dynamics_velocities(t, q, qd, p, M, h, k.R_data(), k.x_data(), k.v_data(),
+                                            k.w_data(), k.dv_dqd_data(), k.dw_dqd_data());
   }
   dynamics_separately(t, q, qd, level, M, h, k);
 }
 
 void Model::inverse_dynamics(double t, const double* q, const double* qd, const double* qdd,
                              double* tau) const {
-  if (d_.inverse_dynamics == nullptr) missing("inverse_dynamics");
-  d_.inverse_dynamics(t, q, qd, qdd, param_.data(), tau);
+  if (description_.inverse_dynamics == nullptr) missing("inverse_dynamics");
+  description_.inverse_dynamics(t, q, qd, qdd, param_.data(), tau);
 }
 
 void Model::joint_reactions(double t, const double* q, const double* qd, const double* qdd,
                             const double* F, const double* M, double* reaction) const {
-  if (d_.joint_reactions == nullptr) missing("joint_reactions");
-  d_.joint_reactions(t, q, qd, qdd, param_.data(), F, M, reaction);
+  if (description_.joint_reactions == nullptr) missing("joint_reactions");
+  description_.joint_reactions(t, q, qd, qdd, param_.data(), F, M, reaction);
 }
 
 namespace {
@@ -532,26 +539,27 @@ void transpose_square(Matrix& a) {
 void Model::inverse_dynamics_derivatives(double t, const double* q, const double* qd,
                                          const double* qdd, Matrix& dtau_dq,
                                          Matrix& dtau_dqd) const {
-  if (d_.inverse_dynamics_derivatives == nullptr) missing("inverse_dynamics_derivatives");
-  dtau_dq.resize(d_.nq, d_.nq);
-  dtau_dqd.resize(d_.nq, d_.nq);
+  if (description_.inverse_dynamics_derivatives == nullptr) missing("inverse_dynamics_derivatives");
+  dtau_dq.resize(description_.nq, description_.nq);
+  dtau_dqd.resize(description_.nq, description_.nq);
   // Emitted row-major into column-major storage: each is its transpose until turned.
-  d_.inverse_dynamics_derivatives(t, q, qd, qdd, param_.data(), dtau_dq.data(), dtau_dqd.data());
+  description_.inverse_dynamics_derivatives(t, q, qd, qdd, param_.data(), dtau_dq.data(),
+                                            dtau_dqd.data());
   transpose_square(dtau_dq);
   transpose_square(dtau_dqd);
 }
 
 void Model::kinematics_derivatives(double t, const double* q, const double* qd,
                                    KinematicsDerivatives& dk) const {
-  if (d_.kinematics_derivatives == nullptr) missing("kinematics_derivatives");
-  d_.kinematics_derivatives(t, q, qd, param_.data(), dk.dv_dq_data(), dk.dw_dq_data(),
-                            dk.ddv_dq_data(), dk.ddw_dq_data());
+  if (description_.kinematics_derivatives == nullptr) missing("kinematics_derivatives");
+  description_.kinematics_derivatives(t, q, qd, param_.data(), dk.dv_dq_data(), dk.dw_dq_data(),
+                                      dk.ddv_dq_data(), dk.ddw_dq_data());
 }
 
 int Model::forward_dynamics(double t, const double* q, const double* qd, const double* tau,
                             double* qdd) const {
-  if (d_.forward_dynamics == nullptr) missing("forward_dynamics");
-  return d_.forward_dynamics(t, q, qd, tau, param_.data(), qdd);
+  if (description_.forward_dynamics == nullptr) missing("forward_dynamics");
+  return description_.forward_dynamics(t, q, qd, tau, param_.data(), qdd);
 }
 
 void Model::dynamics_separately(double t, const double* q, const double* qd, KinematicsLevel level,

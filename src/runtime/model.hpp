@@ -304,20 +304,20 @@ class Model {
   // Builds from a description (what from<G>() fills); validates it.
   explicit Model(ModelDescription d);
 
-  const std::string& name() const { return d_.model; }
-  const std::string& variant() const { return d_.variant; }
-  int nq() const { return d_.nq; }
-  int nbody() const { return d_.nbody; }
-  int ndep() const { return d_.ndep; }
-  int nparam() const { return d_.nparam; }
+  const std::string& name() const { return description_.model; }
+  const std::string& variant() const { return description_.variant; }
+  int nq() const { return description_.nq; }
+  int nbody() const { return description_.nbody; }
+  int ndep() const { return description_.ndep; }
+  int nparam() const { return description_.nparam; }
   // Closed loops: nq = nindependent() + ncon(), the coordinates q then the
   // implicit dependent parameters p (runtime/loop_closure.hpp solves them).
-  int nindependent() const { return d_.nindependent; }
-  int ncon() const { return d_.nq - d_.nindependent; }
+  int nindependent() const { return description_.nindependent; }
+  int ncon() const { return description_.nq - description_.nindependent; }
   bool has_loops() const { return ncon() > 0; }
-  const std::vector<std::string>& loop_names() const { return d_.loop_names; }
+  const std::vector<std::string>& loop_names() const { return description_.loop_names; }
   // The loop equation k belongs to.
-  int constraint_loop(int k) const { return d_.constraint_loop[k]; }
+  int constraint_loop(int k) const { return description_.constraint_loop[k]; }
   // The emitted loops' equations at x (nq): g (ncon), g_q (ncon x nindependent),
   // g_p (ncon x ncon), g_t (ncon), row-major; gamma (ncon) at x, xd.
   void constraints(double t, const double* x, double* g, double* g_q, double* g_p,
@@ -325,18 +325,22 @@ class Model {
   void constraint_bias(double t, const double* x, const double* xd, double* gamma) const;
   // a_x, a_xd (ncon x nq each) and the Hessian of mu·g (nq x nq), row-major, at
   // x, xd, xdd (nq each) and mu (ncon): the exact Jacobians' part of the loops.
-  bool has_constraint_derivatives() const { return d_.constraint_derivatives != nullptr; }
+  bool has_constraint_derivatives() const { return description_.constraint_derivatives != nullptr; }
   void constraint_derivatives(double t, const double* x, const double* xd, const double* xdd,
                               const double* mu, double* a_x, double* a_xd, double* hessian) const;
   // Loop closures (close_loop): loop l's bodies a and b, -1 for a loop given
   // by its equations (or a model emitted without closure_points); the axis
   // (0, 1, 2) of the gap equation k is a component of, or -1.
-  int loop_body_a(int l) const { return d_.loop_bodies.empty() ? -1 : d_.loop_bodies[2 * l]; }
-  int loop_body_b(int l) const { return d_.loop_bodies.empty() ? -1 : d_.loop_bodies[2 * l + 1]; }
-  int constraint_axis(int k) const {
-    return d_.constraint_axis.empty() ? -1 : d_.constraint_axis[k];
+  int loop_body_a(int l) const {
+    return description_.loop_bodies.empty() ? -1 : description_.loop_bodies[2 * l];
   }
-  bool has_closure_points() const { return d_.closure_points != nullptr; }
+  int loop_body_b(int l) const {
+    return description_.loop_bodies.empty() ? -1 : description_.loop_bodies[2 * l + 1];
+  }
+  int constraint_axis(int k) const {
+    return description_.constraint_axis.empty() ? -1 : description_.constraint_axis[k];
+  }
+  bool has_closure_points() const { return description_.closure_points != nullptr; }
   // The point of each equation's closure in global axes at x (ncon x 3, row-major).
   void closure_points(double t, const double* x, double* point) const;
   // The name of equation k's loop reaction: "<loop>.Fx" .. "<loop>.Fz" for a
@@ -344,9 +348,9 @@ class Model {
   // given by its equations.
   std::string loop_reaction_name(int k) const;
 
-  const std::vector<std::string>& q_names() const { return d_.q_names; }
-  const std::vector<std::string>& body_names() const { return d_.body_names; }
-  const std::vector<std::string>& param_names() const { return d_.param_names; }
+  const std::vector<std::string>& q_names() const { return description_.q_names; }
+  const std::vector<std::string>& body_names() const { return description_.body_names; }
+  const std::vector<std::string>& param_names() const { return description_.param_names; }
   // Index of a body or coordinate by name; ModelError naming it if unknown.
   int body_index(std::string_view name) const;
   int coordinate_index(std::string_view name) const;
@@ -355,9 +359,9 @@ class Model {
   // Initial coordinates and rates from the model (nq each), as a State at t = 0
   // (with loops: the implicit dependent parameters at their guesses, rates 0).
   State initial_state() const;
-  const Vec3& gravity() const { return d_.gravity; }
+  const Vec3& gravity() const { return description_.gravity; }
   // Body a body's motion is relative to in the model, or -1.
-  int reference_body(int i) const { return d_.reference_body[i]; }
+  int reference_body(int i) const { return description_.reference_body[i]; }
 
   // Run-time parameters (nparam); setting one re-evaluates and re-validates
   // the inertia (ModelError naming the body, the model keeps its old values).
@@ -378,29 +382,33 @@ class Model {
   struct JointPoints {
     std::vector<Vec3> joint, anchor;  // (nbody) each
   };
-  bool has_joint_points() const { return d_.joint_points != nullptr; }
+  bool has_joint_points() const { return description_.joint_points != nullptr; }
   JointPoints joint_points() const;
 
-  bool has_positions() const { return d_.positions != nullptr; }
-  bool has_velocities() const { return d_.velocities != nullptr; }
-  bool has_accelerations() const { return d_.accelerations != nullptr; }
-  bool has_partial_velocities() const { return d_.partial_velocities != nullptr; }
-  bool has_relative_accelerations() const { return d_.relative_accelerations != nullptr; }
-  bool has_relative_partial_velocities() const { return d_.relative_partial_velocities != nullptr; }
-  bool has_dependent_parameters() const { return d_.dependent_parameters != nullptr; }
+  bool has_positions() const { return description_.positions != nullptr; }
+  bool has_velocities() const { return description_.velocities != nullptr; }
+  bool has_accelerations() const { return description_.accelerations != nullptr; }
+  bool has_partial_velocities() const { return description_.partial_velocities != nullptr; }
+  bool has_relative_accelerations() const { return description_.relative_accelerations != nullptr; }
+  bool has_relative_partial_velocities() const {
+    return description_.relative_partial_velocities != nullptr;
+  }
+  bool has_dependent_parameters() const { return description_.dependent_parameters != nullptr; }
   bool has_equations_of_motion() const {
-    return d_.mass_matrix != nullptr && d_.bias_forces != nullptr;
+    return description_.mass_matrix != nullptr && description_.bias_forces != nullptr;
   }
-  bool has_inverse_dynamics() const { return d_.inverse_dynamics != nullptr; }
-  bool has_forward_dynamics() const { return d_.forward_dynamics != nullptr; }
+  bool has_inverse_dynamics() const { return description_.inverse_dynamics != nullptr; }
+  bool has_forward_dynamics() const { return description_.forward_dynamics != nullptr; }
   bool has_inverse_dynamics_derivatives() const {
-    return d_.inverse_dynamics_derivatives != nullptr;
+    return description_.inverse_dynamics_derivatives != nullptr;
   }
-  bool has_kinematics_derivatives() const { return d_.kinematics_derivatives != nullptr; }
-  bool has_joint_reactions() const { return d_.joint_reactions != nullptr; }
+  bool has_kinematics_derivatives() const { return description_.kinematics_derivatives != nullptr; }
+  bool has_joint_reactions() const { return description_.joint_reactions != nullptr; }
 
   // A kinematics buffer of the right sizes for this model.
-  Kinematics make_kinematics() const { return Kinematics(d_.nq, d_.nbody, d_.ndep); }
+  Kinematics make_kinematics() const {
+    return Kinematics(description_.nq, description_.nbody, description_.ndep);
+  }
 
   // Evaluate entry points into a buffer. q, qd, qdd have nq entries each.
   // positions() clears the rates; velocities() leaves a and dw untouched.
@@ -413,7 +421,9 @@ class Model {
                             Kinematics& k) const;
   // Each body's motion relative to its reference (relative_motion.hpp), into
   // a buffer from make_relative_motion(); rel.compose(k, ...) makes it absolute.
-  RelativeMotion make_relative_motion() const { return RelativeMotion(d_.reference_body, d_.nq); }
+  RelativeMotion make_relative_motion() const {
+    return RelativeMotion(description_.reference_body, description_.nq);
+  }
   void relative_accelerations(double t, const double* q, const double* qd, const double* qdd,
                               RelativeMotion& rel) const;
   void relative_partial_velocities(double t, const double* q, RelativeMotion& rel) const;
@@ -438,7 +448,7 @@ class Model {
   void kinematics_derivatives(double t, const double* q, const double* qd,
                               KinematicsDerivatives& dk) const;
   KinematicsDerivatives make_kinematics_derivatives() const {
-    return KinematicsDerivatives(d_.nq, d_.nbody);
+    return KinematicsDerivatives(description_.nq, description_.nbody);
   }
   // qdd = M⁻¹·(tau - h) (nq each) without M; -1, or the coordinate of the first
   // failed pivot (qdd then unusable: the mass matrix names the culprit).
@@ -455,11 +465,11 @@ class Model {
                                                                      "Mx", "My", "Mz"};
 
   // The emitted entry points, or null: for callers that dispatch once, with parameters().data().
-  InverseDynamicsFn emitted_inverse_dynamics() const { return d_.inverse_dynamics; }
-  ForwardDynamicsFn emitted_forward_dynamics() const { return d_.forward_dynamics; }
+  InverseDynamicsFn emitted_inverse_dynamics() const { return description_.inverse_dynamics; }
+  ForwardDynamicsFn emitted_forward_dynamics() const { return description_.forward_dynamics; }
   // The emitted dynamics entry point of level none (M and h only), or null: for a
   // caller that dispatches once (MultibodySystem's hot path) with parameters().data().
-  DynamicsFn emitted_dynamics() const { return d_.dynamics; }
+  DynamicsFn emitted_dynamics() const { return description_.dynamics; }
 
   // Cold diagnostics (error paths only; they allocate).
   // The first operation of a dependent parameter whose argument at (t, q) is
@@ -485,7 +495,7 @@ class Model {
     int check = -1;
   };
   DomainMargin smallest_domain_margin(double t, const double* q, double* arguments) const;
-  int num_domain_checks() const { return static_cast<int>(d_.domain_checks.size()); }
+  int num_domain_checks() const { return static_cast<int>(description_.domain_checks.size()); }
   // Cold: "dependent parameter 'alpha': asin(0.99999999999) is 1e-11 from the edge
   // of its function's domain [domain of asin: [-1, 1]]" for the check of that margin
   // ("sqrt(2e-10) is 1e-08 from the edge of its function's domain relative to the
@@ -505,8 +515,8 @@ class Model {
   // form a Z-Y-X angle sequence 1e-06 rad from its singular configuration pitch =
   // 90 deg (pitch = 1.5707953 rad)". Allocates only when it finds one.
   std::optional<std::string> angle_sequence_near_singular(const double* q, double within) const;
-  const std::vector<std::string>& dependent_names() const { return d_.dependent_names; }
-  const std::vector<AngleSequence>& angle_sequences() const { return d_.angle_sequences; }
+  const std::vector<std::string>& dependent_names() const { return description_.dependent_names; }
+  const std::vector<AngleSequence>& angle_sequences() const { return description_.angle_sequences; }
 
  private:
   void evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
@@ -519,7 +529,7 @@ class Model {
                                              KinematicsLevel level, double* M, double* h,
                                              Kinematics& k) const;
 
-  ModelDescription d_;
+  ModelDescription description_;
   std::vector<double> zeros_;  // (max(nq, 1)) qd = 0 for positions from velocities
   std::vector<double> param_;  // (max(nparam, 1))
   // Each domain check's distance to its edge (model.cpp's table).
