@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/loop_closure.hpp>
@@ -43,6 +44,10 @@ void SmallLu::order_columns(const double* A) {
   for (int i = 0; i < n_ * n_; ++i) nonzeros[static_cast<std::size_t>(i % n_)] += A[i] != 0.0;
   column_.resize(static_cast<std::size_t>(n_));
   for (int k = 0; k < n_; ++k) column_[static_cast<std::size_t>(k)] = k;
+  const int total = std::accumulate(nonzeros.begin(), nonzeros.end(), 0);
+  sparse_ = sparse_if_it_pays_ && n_ > kDenseUpTo && total <= kSparseShare * n_ * n_;
+  permuted_ = false;
+  if (!sparse_) return;
   std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
     return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
   });
@@ -59,6 +64,7 @@ void SmallLu::factor(const double* A, int n) {
     upper_.resize(lu_.size());
     upper_start_.resize(static_cast<std::size_t>(n + 1));
     swap_.resize(static_cast<std::size_t>(n));
+    pivot_row_.resize(static_cast<std::size_t>(n));
     inverse_pivot_.resize(static_cast<std::size_t>(n));
   }
   double largest = 0.0;
@@ -82,14 +88,22 @@ void SmallLu::factor(const double* A, int n) {
     smallest = std::min(smallest, std::abs(pivot));
     if (pivot == 0.0) continue;  // singular: the ratio says so, solves are not to be used
     inverse_pivot_[static_cast<std::size_t>(k)] = 1.0 / pivot;
+    // The rows below take multiples of the pivot row's nonzeros (all of it where dense).
+    int width = 0;
+    for (int j = k + 1; j < n; ++j) {
+      if (!sparse_ || at(k, j) != 0.0) pivot_row_[static_cast<std::size_t>(width++)] = j;
+    }
     for (int i = k + 1; i < n; ++i) {
       if (at(i, k) == 0.0) continue;  // a row of another loop
       const double l = at(i, k) *= inverse_pivot_[static_cast<std::size_t>(k)];
-      for (int j = k + 1; j < n; ++j) at(i, j) -= l * at(k, j);
+      for (int e = 0; e < width; ++e) {
+        const int j = pivot_row_[static_cast<std::size_t>(e)];
+        at(i, j) -= l * at(k, j);
+      }
     }
   }
   ratio_ = largest > 0 ? smallest / largest : 0.0;
-  list_nonzeros();
+  if (sparse_) list_nonzeros();
 }
 
 // The nonzeros of L below and U above the diagonal, row by row: the solves'
@@ -136,14 +150,22 @@ void SmallLu::substitute(double* B, int cols) const {
     for (int c = 0; c < width; ++c) std::swap(row(k)[c], row(p)[c]);
   }
   for (int i = 1; i < n_; ++i) {
+    if (!sparse_) {
+      for (int j = 0; j < i; ++j) subtract(i, {j, at(i, j)});
+      continue;
+    }
     for (int e = lower_start_[static_cast<std::size_t>(i)];
          e < lower_start_[static_cast<std::size_t>(i + 1)]; ++e)
       subtract(i, lower_[static_cast<std::size_t>(e)]);
   }
   for (int i = n_ - 1; i >= 0; --i) {
-    for (int e = upper_start_[static_cast<std::size_t>(i)];
-         e < upper_start_[static_cast<std::size_t>(i + 1)]; ++e)
-      subtract(i, upper_[static_cast<std::size_t>(e)]);
+    if (!sparse_) {
+      for (int j = i + 1; j < n_; ++j) subtract(i, {j, at(i, j)});
+    } else {
+      for (int e = upper_start_[static_cast<std::size_t>(i)];
+           e < upper_start_[static_cast<std::size_t>(i + 1)]; ++e)
+        subtract(i, upper_[static_cast<std::size_t>(e)]);
+    }
     for (int c = 0; c < width; ++c) row(i)[c] *= inverse_pivot_[static_cast<std::size_t>(i)];
   }
   if (!permuted_) return;
@@ -184,6 +206,13 @@ Eigen::Map<const Vector> entries(const LoopClosure::RowMajorMatrix& A) {
   return {A.data(), A.size()};
 }
 
+// v - v is 0 where v is finite, NaN elsewhere; its sum is vectorized where
+// allFinite()'s test entry by entry is not.
+template <class V>
+bool finite(const V& v) {
+  return (v - v).sum() == 0.0;
+}
+
 }  // namespace
 
 void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
@@ -211,8 +240,7 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   bool polished = false, chord = false;
   for (int iteration = 0;; ++iteration) {
     evaluate(model, t, x);
-    if (!(g_.allFinite() && entries(g_q_).allFinite() && entries(g_p_).allFinite() &&
-          g_t_.allFinite()))
+    if (!(finite(g_) && finite(entries(g_q_)) && finite(entries(g_p_)) && finite(g_t_)))
       not_closed(model, t, x, Failure::not_finite);
     const double scale =
         std::max({1.0, entries(g_q_).cwiseAbs().maxCoeff(), entries(g_p_).cwiseAbs().maxCoeff()});
