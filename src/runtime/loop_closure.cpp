@@ -23,7 +23,6 @@ LoopClosure::LoopClosure(const Model& model)
       g_q_(m_, n_),
       g_p_(m_, m_),
       rates_(m_, n_ + 1),
-      P_(m_, n_),
       T_(Matrix::Zero(n_ + m_, n_)),
       c_(Vector::Zero(n_ + m_)),
       mu_(m_),
@@ -232,7 +231,7 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   if (solved_) {
     dq_ = q - last_q_;
     x.tail(m_) = last_p_;
-    x.tail(m_).noalias() += last_P_.lazyProduct(dq_);
+    x.tail(m_).noalias() += T_.bottomRows(m_).lazyProduct(dq_);  // the last solution's P
   } else {
     x.tail(m_) = guess_;
   }
@@ -270,12 +269,10 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   rates_.leftCols(n_) = g_q_;
   rates_.col(n_) = g_t_;
   lu_.solve_rows(rates_.data(), n_ + 1);
-  P_ = -rates_.leftCols(n_);
-  T_.bottomRows(m_) = P_;
+  T_.bottomRows(m_) = -rates_.leftCols(n_);
   solved_ = factored_at_last_ = true;
   last_q_ = q;
   last_p_ = x.tail(m_);
-  last_P_ = P_;
 }
 
 void LoopClosure::close_positions(const Model& model, double t, const Vector& q, Vector& x) {
@@ -287,7 +284,7 @@ void LoopClosure::close(const Model& model, double t, const Vector& q, const Vec
   solve(model, t, q, x);
   xd.resize(n_ + m_);
   xd.head(n_) = qd;
-  xd.tail(m_).noalias() = P_.lazyProduct(qd);
+  xd.tail(m_).noalias() = T_.bottomRows(m_).lazyProduct(qd);
   xd.tail(m_) -= rates_.col(n_);
   model.constraint_bias(t, x.data(), xd.data(), gamma_.data());
   if (!(gamma_.allFinite() && xd.allFinite())) not_closed(model, t, x, Failure::not_finite);

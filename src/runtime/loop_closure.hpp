@@ -170,13 +170,12 @@ class LoopClosure {
   RowMajorMatrix g_q_, g_p_;  // as emitted
   RowMajorMatrix rates_;      // g_p⁻¹·[g_q g_t] (ncon x (n + 1))
   SmallLu lu_;
-  Matrix P_, T_;
+  Matrix T_;  // [I; P], P that of the last solution
   Vector c_;
   bool solved_ = false;
   bool factored_at_last_ = false;  // lu_ holds g_p at the last solution
   Vector last_q_, last_p_;         // the last solution, the start of the next
   int chord_pause_ = 0;            // calls left without the last solution's g_p
-  Matrix last_P_;
   // derivatives(): the emitted arrays (row-major, so held transposed) and results
   Vector mu_;
   Matrix a_x_rows_, a_xd_rows_, hessian_, aT_, HT_;
