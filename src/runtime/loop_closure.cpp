@@ -66,14 +66,17 @@ void SmallLu::factor(const double* A, int n) {
     pivot_row_.resize(static_cast<std::size_t>(n));
     inverse_pivot_.resize(static_cast<std::size_t>(n));
   }
-  double largest = 0.0;
-  for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < n; ++k) {
-      at(i, k) = A[i * n + column_[static_cast<std::size_t>(k)]];
-      largest = std::max(largest, std::abs(at(i, k)));
+  const double largest = Eigen::Map<const Vector>(A, n * n).cwiseAbs().maxCoeff();
+  if (!permuted_) {
+    std::copy(A, A + n * n, lu_.begin());
+  } else {
+    for (int i = 0; i < n; ++i) {
+      double* to = &at(i, 0);
+      for (int k = 0; k < n; ++k) to[k] = A[i * n + column_[static_cast<std::size_t>(k)]];
     }
   }
   double smallest = largest;
+  int upper = 0;  // U's nonzeros listed (its row k is final after step k)
   for (int k = 0; k < n; ++k) {
     int p = k;
     for (int i = k + 1; i < n; ++i) {
@@ -92,6 +95,14 @@ void SmallLu::factor(const double* A, int n) {
     for (int j = k + 1; j < n; ++j) {
       if (!sparse_ || at(k, j) != 0.0) pivot_row_[static_cast<std::size_t>(width++)] = j;
     }
+    if (sparse_) {
+      upper_start_[static_cast<std::size_t>(k)] = upper;
+      for (int e = 0; e < width; ++e) {
+        const int j = pivot_row_[static_cast<std::size_t>(e)];
+        upper_[static_cast<std::size_t>(upper++)] = {j, at(k, j)};
+      }
+      upper_start_[static_cast<std::size_t>(k + 1)] = upper;
+    }
     for (int i = k + 1; i < n; ++i) {
       if (at(i, k) == 0.0) continue;  // a row of another loop
       const double l = at(i, k) *= inverse_pivot_[static_cast<std::size_t>(k)];
@@ -102,32 +113,44 @@ void SmallLu::factor(const double* A, int n) {
     }
   }
   ratio_ = largest > 0 ? smallest / largest : 0.0;
-  if (sparse_) list_nonzeros();
+  if (sparse_) list_lower();
 }
 
-// The nonzeros of L below and U above the diagonal, row by row: the solves'
-// only work.
-void SmallLu::list_nonzeros() {
-  int lower = 0, upper = 0;
+// The nonzeros of L below the diagonal, row by row (rows are swapped until
+// the last step): with U's, the solves' only work.
+void SmallLu::list_lower() {
+  int lower = 0;
   for (int i = 0; i < n_; ++i) {
     lower_start_[static_cast<std::size_t>(i)] = lower;
-    upper_start_[static_cast<std::size_t>(i)] = upper;
     for (int j = 0; j < i; ++j) {
       if (at(i, j) != 0.0) lower_[static_cast<std::size_t>(lower++)] = {j, at(i, j)};
     }
-    for (int j = i + 1; j < n_; ++j) {
-      if (at(i, j) != 0.0) upper_[static_cast<std::size_t>(upper++)] = {j, at(i, j)};
-    }
   }
   lower_start_[static_cast<std::size_t>(n_)] = lower;
-  upper_start_[static_cast<std::size_t>(n_)] = upper;
 }
 
+// The width of B known at compile time up to 8 columns (P and g_p⁻¹·g_t of
+// up to 7 independent coordinates): the multiply-adds along a row unrolled.
 void SmallLu::solve_rows(double* B, int cols) const {
-  if (cols == 1) {
-    substitute<1>(B, 1);
-  } else {
-    substitute<0>(B, cols);
+  switch (cols) {
+    case 1:
+      return substitute<1>(B, cols);
+    case 2:
+      return substitute<2>(B, cols);
+    case 3:
+      return substitute<3>(B, cols);
+    case 4:
+      return substitute<4>(B, cols);
+    case 5:
+      return substitute<5>(B, cols);
+    case 6:
+      return substitute<6>(B, cols);
+    case 7:
+      return substitute<7>(B, cols);
+    case 8:
+      return substitute<8>(B, cols);
+    default:
+      return substitute<0>(B, cols);
   }
 }
 

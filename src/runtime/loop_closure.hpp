@@ -78,7 +78,7 @@ class SmallLu {
  private:
   // Q: the columns with fewest nonzeros first (stable), where sparse_.
   void order_columns(const double* A);
-  void list_nonzeros();
+  void list_lower();
   template <int Cols>
   void substitute(double* B, int cols) const;
   double& at(int i, int j) { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
