@@ -97,7 +97,7 @@ class SmallLu {
     double value;
   };
   // The nonzeros of L's and U's row i: [*_start_[i], *_start_[i + 1]) of lower_, upper_
-  // (where sparse_; else all of row i's entries, zeros included).
+  // (built where sparse_; the dense path reads lu_'s rows whole).
   std::vector<Entry> lower_, upper_;
   std::vector<int> lower_start_, upper_start_;
   mutable std::vector<double> work_;  // a solve's result before Q (n x cols)
