@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/loop_closure.hpp>
@@ -22,7 +23,6 @@ LoopClosure::LoopClosure(const Model& model)
       g_q_(m_, n_),
       g_p_(m_, m_),
       rates_(m_, n_ + 1),
-      P_(m_, n_),
       T_(Matrix::Zero(n_ + m_, n_)),
       c_(Vector::Zero(n_ + m_)),
       mu_(m_),
@@ -43,6 +43,10 @@ void SmallLu::order_columns(const double* A) {
   for (int i = 0; i < n_ * n_; ++i) nonzeros[static_cast<std::size_t>(i % n_)] += A[i] != 0.0;
   column_.resize(static_cast<std::size_t>(n_));
   for (int k = 0; k < n_; ++k) column_[static_cast<std::size_t>(k)] = k;
+  const int total = std::accumulate(nonzeros.begin(), nonzeros.end(), 0);
+  sparse_ = sparse_if_it_pays_ && n_ > kDenseUpTo && total <= kSparseShare * n_ * n_;
+  permuted_ = false;
+  if (!sparse_) return;
   std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
     return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
   });
@@ -59,16 +63,20 @@ void SmallLu::factor(const double* A, int n) {
     upper_.resize(lu_.size());
     upper_start_.resize(static_cast<std::size_t>(n + 1));
     swap_.resize(static_cast<std::size_t>(n));
+    pivot_row_.resize(static_cast<std::size_t>(n));
     inverse_pivot_.resize(static_cast<std::size_t>(n));
   }
-  double largest = 0.0;
-  for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < n; ++k) {
-      at(i, k) = A[i * n + column_[static_cast<std::size_t>(k)]];
-      largest = std::max(largest, std::abs(at(i, k)));
+  const double largest = Eigen::Map<const Vector>(A, n * n).cwiseAbs().maxCoeff();
+  if (!permuted_) {
+    std::copy(A, A + n * n, lu_.begin());
+  } else {
+    for (int i = 0; i < n; ++i) {
+      double* to = &at(i, 0);
+      for (int k = 0; k < n; ++k) to[k] = A[i * n + column_[static_cast<std::size_t>(k)]];
     }
   }
   double smallest = largest;
+  int upper = 0;  // U's nonzeros listed (its row k is final after step k)
   for (int k = 0; k < n; ++k) {
     int p = k;
     for (int i = k + 1; i < n; ++i) {
@@ -82,39 +90,67 @@ void SmallLu::factor(const double* A, int n) {
     smallest = std::min(smallest, std::abs(pivot));
     if (pivot == 0.0) continue;  // singular: the ratio says so, solves are not to be used
     inverse_pivot_[static_cast<std::size_t>(k)] = 1.0 / pivot;
+    // The rows below take multiples of the pivot row's nonzeros (all of it where dense).
+    int width = 0;
+    for (int j = k + 1; j < n; ++j) {
+      if (!sparse_ || at(k, j) != 0.0) pivot_row_[static_cast<std::size_t>(width++)] = j;
+    }
+    if (sparse_) {
+      upper_start_[static_cast<std::size_t>(k)] = upper;
+      for (int e = 0; e < width; ++e) {
+        const int j = pivot_row_[static_cast<std::size_t>(e)];
+        upper_[static_cast<std::size_t>(upper++)] = {j, at(k, j)};
+      }
+      upper_start_[static_cast<std::size_t>(k + 1)] = upper;
+    }
     for (int i = k + 1; i < n; ++i) {
       if (at(i, k) == 0.0) continue;  // a row of another loop
       const double l = at(i, k) *= inverse_pivot_[static_cast<std::size_t>(k)];
-      for (int j = k + 1; j < n; ++j) at(i, j) -= l * at(k, j);
+      for (int e = 0; e < width; ++e) {
+        const int j = pivot_row_[static_cast<std::size_t>(e)];
+        at(i, j) -= l * at(k, j);
+      }
     }
   }
   ratio_ = largest > 0 ? smallest / largest : 0.0;
-  list_nonzeros();
+  if (sparse_) list_lower();
 }
 
-// The nonzeros of L below and U above the diagonal, row by row: the solves'
-// only work.
-void SmallLu::list_nonzeros() {
-  int lower = 0, upper = 0;
+// The nonzeros of L below the diagonal, row by row (rows are swapped until
+// the last step): with U's, the solves' only work.
+void SmallLu::list_lower() {
+  int lower = 0;
   for (int i = 0; i < n_; ++i) {
     lower_start_[static_cast<std::size_t>(i)] = lower;
-    upper_start_[static_cast<std::size_t>(i)] = upper;
     for (int j = 0; j < i; ++j) {
       if (at(i, j) != 0.0) lower_[static_cast<std::size_t>(lower++)] = {j, at(i, j)};
     }
-    for (int j = i + 1; j < n_; ++j) {
-      if (at(i, j) != 0.0) upper_[static_cast<std::size_t>(upper++)] = {j, at(i, j)};
-    }
   }
   lower_start_[static_cast<std::size_t>(n_)] = lower;
-  upper_start_[static_cast<std::size_t>(n_)] = upper;
 }
 
+// The width of B known at compile time up to 8 columns (P and g_p⁻¹·g_t of
+// up to 7 independent coordinates): the multiply-adds along a row unrolled.
 void SmallLu::solve_rows(double* B, int cols) const {
-  if (cols == 1) {
-    substitute<1>(B, 1);
-  } else {
-    substitute<0>(B, cols);
+  switch (cols) {
+    case 1:
+      return substitute<1>(B, cols);
+    case 2:
+      return substitute<2>(B, cols);
+    case 3:
+      return substitute<3>(B, cols);
+    case 4:
+      return substitute<4>(B, cols);
+    case 5:
+      return substitute<5>(B, cols);
+    case 6:
+      return substitute<6>(B, cols);
+    case 7:
+      return substitute<7>(B, cols);
+    case 8:
+      return substitute<8>(B, cols);
+    default:
+      return substitute<0>(B, cols);
   }
 }
 
@@ -136,14 +172,22 @@ void SmallLu::substitute(double* B, int cols) const {
     for (int c = 0; c < width; ++c) std::swap(row(k)[c], row(p)[c]);
   }
   for (int i = 1; i < n_; ++i) {
+    if (!sparse_) {
+      for (int j = 0; j < i; ++j) subtract(i, {j, at(i, j)});
+      continue;
+    }
     for (int e = lower_start_[static_cast<std::size_t>(i)];
          e < lower_start_[static_cast<std::size_t>(i + 1)]; ++e)
       subtract(i, lower_[static_cast<std::size_t>(e)]);
   }
   for (int i = n_ - 1; i >= 0; --i) {
-    for (int e = upper_start_[static_cast<std::size_t>(i)];
-         e < upper_start_[static_cast<std::size_t>(i + 1)]; ++e)
-      subtract(i, upper_[static_cast<std::size_t>(e)]);
+    if (!sparse_) {
+      for (int j = i + 1; j < n_; ++j) subtract(i, {j, at(i, j)});
+    } else {
+      for (int e = upper_start_[static_cast<std::size_t>(i)];
+           e < upper_start_[static_cast<std::size_t>(i + 1)]; ++e)
+        subtract(i, upper_[static_cast<std::size_t>(e)]);
+    }
     for (int c = 0; c < width; ++c) row(i)[c] *= inverse_pivot_[static_cast<std::size_t>(i)];
   }
   if (!permuted_) return;
@@ -184,6 +228,13 @@ Eigen::Map<const Vector> entries(const LoopClosure::RowMajorMatrix& A) {
   return {A.data(), A.size()};
 }
 
+// v - v is 0 where v is finite, NaN elsewhere; its sum is vectorized where
+// allFinite()'s test entry by entry is not.
+template <class V>
+bool finite(const V& v) {
+  return (v - v).sum() == 0.0;
+}
+
 }  // namespace
 
 void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
@@ -203,7 +254,7 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   if (solved_) {
     dq_ = q - last_q_;
     x.tail(m_) = last_p_;
-    x.tail(m_).noalias() += last_P_.lazyProduct(dq_);
+    x.tail(m_).noalias() += T_.bottomRows(m_).lazyProduct(dq_);  // the last solution's P
   } else {
     x.tail(m_) = guess_;
   }
@@ -211,8 +262,7 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   bool polished = false, chord = false;
   for (int iteration = 0;; ++iteration) {
     evaluate(model, t, x);
-    if (!(g_.allFinite() && entries(g_q_).allFinite() && entries(g_p_).allFinite() &&
-          g_t_.allFinite()))
+    if (!(finite(g_) && finite(entries(g_q_)) && finite(entries(g_p_)) && finite(g_t_)))
       not_closed(model, t, x, Failure::not_finite);
     const double scale =
         std::max({1.0, entries(g_q_).cwiseAbs().maxCoeff(), entries(g_p_).cwiseAbs().maxCoeff()});
@@ -242,12 +292,10 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
   rates_.leftCols(n_) = g_q_;
   rates_.col(n_) = g_t_;
   lu_.solve_rows(rates_.data(), n_ + 1);
-  P_ = -rates_.leftCols(n_);
-  T_.bottomRows(m_) = P_;
+  T_.bottomRows(m_) = -rates_.leftCols(n_);
   solved_ = factored_at_last_ = true;
   last_q_ = q;
   last_p_ = x.tail(m_);
-  last_P_ = P_;
 }
 
 void LoopClosure::close_positions(const Model& model, double t, const Vector& q, Vector& x) {
@@ -259,7 +307,7 @@ void LoopClosure::close(const Model& model, double t, const Vector& q, const Vec
   solve(model, t, q, x);
   xd.resize(n_ + m_);
   xd.head(n_) = qd;
-  xd.tail(m_).noalias() = P_.lazyProduct(qd);
+  xd.tail(m_).noalias() = T_.bottomRows(m_).lazyProduct(qd);
   xd.tail(m_) -= rates_.col(n_);
   model.constraint_bias(t, x.data(), xd.data(), gamma_.data());
   if (!(gamma_.allFinite() && xd.allFinite())) not_closed(model, t, x, Failure::not_finite);

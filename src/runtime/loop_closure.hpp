@@ -48,12 +48,22 @@ namespace symdyn::runtime {
 // columns with fewest nonzeros first (counted at the first factor(), so that
 // a loop's own parameters are eliminated within its rows before the shared
 // ones fill in), and the elimination and the solves skip exact zeros. Q only
-// orders the work; any A is factored exactly. No allocation after the first
-// factor().
+// orders the work; any A is factored exactly. A small or dense A (one loop)
+// has Q = I and solves over all of L and U: the lists of nonzeros would cost
+// more than they save. No allocation after the first factor().
 class SmallLu {
  public:
+  // The sparse path pays above this size, where at most this share of A's
+  // entries are nonzero (at the first factor()).
+  static constexpr int kDenseUpTo = 4;
+  static constexpr double kSparseShare = 0.6;
+
+  // sparse_if_it_pays false: always the dense path (to compare the two).
+  explicit SmallLu(bool sparse_if_it_pays = true) : sparse_if_it_pays_(sparse_if_it_pays) {}
   // A (n x n) row-major, as the emitted arrays are.
   void factor(const double* A, int n);
+  // The path chosen at the first factor(): Q by sparsity and lists of nonzeros.
+  bool sparse() const { return sparse_; }
   // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
   double smallest_pivot_ratio() const { return ratio_; }
   // b := A⁻¹·b (each column of b).
@@ -66,17 +76,19 @@ class SmallLu {
   void solve_transposed_in_place(Vector& b) const;
 
  private:
-  // Q: the columns with fewest nonzeros first (stable).
+  // Q: the columns with fewest nonzeros first (stable), where sparse_.
   void order_columns(const double* A);
-  void list_nonzeros();
+  void list_lower();
   template <int Cols>
   void substitute(double* B, int cols) const;
   double& at(int i, int j) { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
   double at(int i, int j) const { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
 
   int n_ = 0;
+  bool sparse_if_it_pays_ = true, sparse_ = false;
   std::vector<double> lu_;             // L below the diagonal, U on and above it (n x n) row-major
   std::vector<int> swap_;              // row k was swapped with row swap_[k] at step k
+  std::vector<int> pivot_row_;         // the columns of step k's pivot row to eliminate with
   std::vector<int> column_;            // Q: column k of L·U is A's column column_[k]
   bool permuted_ = false;              // Q is not the identity
   std::vector<double> inverse_pivot_;  // 1/U_kk: the solves multiply
@@ -84,7 +96,8 @@ class SmallLu {
     int j;
     double value;
   };
-  // The nonzeros of L's and U's row i: [*_start_[i], *_start_[i + 1]) of lower_, upper_.
+  // The nonzeros of L's and U's row i: [*_start_[i], *_start_[i + 1]) of lower_, upper_
+  // (built where sparse_; the dense path reads lu_'s rows whole).
   std::vector<Entry> lower_, upper_;
   std::vector<int> lower_start_, upper_start_;
   mutable std::vector<double> work_;  // a solve's result before Q (n x cols)
@@ -157,13 +170,12 @@ class LoopClosure {
   RowMajorMatrix g_q_, g_p_;  // as emitted
   RowMajorMatrix rates_;      // g_p⁻¹·[g_q g_t] (ncon x (n + 1))
   SmallLu lu_;
-  Matrix P_, T_;
+  Matrix T_;  // [I; P], P that of the last solution
   Vector c_;
   bool solved_ = false;
   bool factored_at_last_ = false;  // lu_ holds g_p at the last solution
   Vector last_q_, last_p_;         // the last solution, the start of the next
   int chord_pause_ = 0;            // calls left without the last solution's g_p
-  Matrix last_P_;
   // derivatives(): the emitted arrays (row-major, so held transposed) and results
   Vector mu_;
   Matrix a_x_rows_, a_xd_rows_, hessian_, aT_, HT_;

@@ -161,14 +161,34 @@ void MultibodySystem::check_independent(const State& s) const {
 }
 
 // T = [I; P] and c = [0; c_p]: the products with their identity and zero
-// blocks left out.
+// blocks left out, by plain loops (Eigen's set-up costs more at these sizes).
+// A tree's A = M_x is zero between coordinates of different branches (a
+// Stewart platform's legs): A·T = A_q + A_p·P adds P's row k only where A_p's
+// column k is nonzero, found by the pass over it. Tᵀ·A·T is symmetric: its
+// lower triangle is computed, the upper copied.
 void MultibodySystem::reduce(const Matrix& A, Matrix& out) {
-  const Eigen::Index n = model_.nindependent(), m = model_.ncon();
-  const auto P = loops_.T().bottomRows(m);
-  MT_ = A.leftCols(n);
-  MT_.noalias() += A.rightCols(m) * P;
-  out = MT_.topRows(n);
-  out.noalias() += P.transpose() * MT_.bottomRows(m);
+  const Eigen::Index n = model_.nindependent(), m = model_.ncon(), rows = A.rows();
+  const double* T = loops_.T().data();  // (rows x n) column-major, P = its rows n..
+  AT_ = A.leftCols(n);
+  double* AT = AT_.data();
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const double* a = A.col(n + k).data();
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      if (a[i] == 0.0) continue;
+      for (Eigen::Index j = 0; j < n; ++j) AT[i + j * rows] += a[i] * T[n + k + j * rows];
+    }
+  }
+  // Tᵀ·(A·T) = (A·T)_q + Pᵀ·(A·T)_p
+  out.resize(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::Index i = j; i < n; ++i) {
+      const double* p = T + i * rows + n;
+      const double* b = AT + j * rows + n;
+      double sum = AT[i + j * rows];
+      for (Eigen::Index k = 0; k < m; ++k) sum += p[k] * b[k];
+      out(i, j) = out(j, i) = sum;
+    }
+  }
 }
 
 void MultibodySystem::reduce(const Vector& b, const Matrix& A, Vector& out) {

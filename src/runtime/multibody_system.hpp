@@ -352,7 +352,8 @@ class MultibodySystem : public DynamicSystem {
   LoopClosure loops_;   // with closed loops
   State closed_;        // the extended state of the last close()
   Vector xdd_, rhs_x_;  // (nq) the tree's accelerations and right-hand side
-  Matrix MT_, tree_M_;  // (nq x n) M_x·T, (nq x nq) a tree's matrix
+  Matrix tree_M_;       // (nq x nq) a tree's matrix
+  Matrix AT_;           // (nq x n) A·T in reduce()
   Vector tree_v_;       // (nq)
   EquationsSource source_;
   std::vector<std::shared_ptr<const ForceElement>> elements_;

@@ -326,6 +326,55 @@ TEST_CASE(
   }
 }
 
+TEST_CASE("SmallLu's sparse path (large, sparse g_p) and dense path agree at random values",
+          "[loops]") {
+  std::mt19937 rng(47u);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  // Six loops of three equations: each in its two own parameters and six shared.
+  const int loops = 6, rows = 3, own = 2, shared = 6, n = loops * rows;
+  RowMajor pattern = RowMajor::Zero(n, n);
+  for (int l = 0; l < loops; ++l) {
+    for (int i = l * rows; i < (l + 1) * rows; ++i) {
+      for (int j = 0; j < own; ++j) pattern(i, l * own + j) = 1.0;
+      for (int j = 0; j < shared; ++j) pattern(i, loops * own + j) = 1.0;
+    }
+  }
+  SmallLu sparse, dense(false);
+  for (int trial = 0; trial < 20; ++trial) {
+    CAPTURE(trial);
+    RowMajor A = pattern;
+    for (int i = 0; i < n * n; ++i) A.data()[i] *= entry(rng);
+    sparse.factor(A.data(), n);
+    dense.factor(A.data(), n);
+    REQUIRE(sparse.sparse());
+    REQUIRE_FALSE(dense.sparse());
+    CHECK(sparse.smallest_pivot_ratio() > 0);
+    RowMajor B(n, 7);
+    for (int i = 0; i < 7 * n; ++i) B.data()[i] = entry(rng);
+    RowMajor Xs = B, Xd = B;
+    sparse.solve_rows(Xs.data(), 7);
+    dense.solve_rows(Xd.data(), 7);
+    CHECK(max_abs(A * Xs - B) <= 1e-12 * (1 + max_abs(A) * max_abs(Xs)));
+    CHECK(max_abs(Xs - Xd) <= 1e-11 * (1 + max_abs(Xd)));
+    Vector b = B.col(0), ys = b, yd = b;
+    sparse.solve_transposed_in_place(ys);
+    dense.solve_transposed_in_place(yd);
+    CHECK(max_abs(A.transpose() * ys - b) <= 1e-12 * (1 + max_abs(A) * max_abs(ys)));
+    CHECK(max_abs(ys - yd) <= 1e-11 * (1 + max_abs(yd)));
+  }
+  // A dense matrix, or one of a loop's few equations, takes the dense path.
+  RowMajor full(n, n), small(SmallLu::kDenseUpTo, SmallLu::kDenseUpTo);
+  for (int i = 0; i < n * n; ++i) full.data()[i] = entry(rng);
+  small.setZero();
+  small.diagonal().setOnes();
+  SmallLu lu_full, lu_small;
+  lu_full.factor(full.data(), n);
+  lu_small.factor(small.data(), SmallLu::kDenseUpTo);
+  CHECK_FALSE(lu_full.sparse());
+  CHECK_FALSE(lu_small.sparse());
+}
+
 TEST_CASE("SmallLu solves as a direct product checks, transposed too, and flags a singular g_p",
           "[loops]") {
   std::mt19937 rng(43u);
