@@ -14,11 +14,13 @@
 // Before the runs of a problem, one Jacobian (MultibodySystem::jacobians) is timed
 // in the three ways at the end state of its scenario.
 //
-//   symdyn_bench_implicit_jacobians [--reps N] [--problem NAME]... [--tolerance TOL]
-//   [--no-reference]
+//   symdyn_bench_implicit_jacobians [--reps N] [--problem NAME]... [--integrator NAME]
+//   [--tolerance TOL] [--mode exact|elements|differences] [--no-reference]
 //
-// --tolerance: that tolerance alone; --no-reference: no reference run (errors
-// are NaN), for a quick look or a profile of the runs alone.
+// --integrator, --tolerance, --mode: those runs alone (with --mode, no Jacobian
+// timed); --no-reference: no reference
+// run (errors are NaN), for a quick look or a profile of the runs alone (valgrind
+// --tool=callgrind --toggle-collect='*SteppingIntegrator::run*' with --reps 1).
 //
 // Output: tab-separated rows on stdout,
 //   reference <problem> <integrator> <tol> <agreement> <cpu_s>
@@ -72,12 +74,13 @@ const Problem all_problems[] = {
 // How the Jacobians are obtained: a row's label and the system's switches.
 struct Mode {
   const char* label;
+  const char* option;  // its name for --mode
   bool exact_jacobians, exact_loads;
 };
 const Mode modes[] = {
-    {"exact", true, true},
-    {"elements differenced", true, false},
-    {"differences", false, false},
+    {"exact", "exact", true, true},
+    {"elements differenced", "elements", true, false},
+    {"differences", "differences", false, false},
 };
 
 double cpu_seconds() {
@@ -166,7 +169,9 @@ double distance(const State& a, const State& b) {
 struct Options {
   int reps = 5;
   std::vector<std::string> problems;
+  std::string integrator;  // "": every integrator
   double tolerance = 0.0;  // 0: every tolerance of the problem
+  std::string mode;        // "": every mode
   bool reference = true;
 };
 
@@ -185,21 +190,26 @@ void measure(const Problem& p, const Options& options) {
       std::fflush(stdout);
     }
     references[p.name] = ref;
-    time_jacobians(p, ref);
+    if (options.mode.empty()) time_jacobians(p, ref);
   }
   const State ref = references.at(p.name);
   constexpr std::size_t n_modes = std::size(modes);
   for (double tol : p.tolerances) {
     if (options.tolerance > 0.0 && tol != options.tolerance) continue;
+    const auto chosen = [&](std::size_t m) {
+      return options.mode.empty() || options.mode == modes[m].option;
+    };
     Outcome last[n_modes];
     std::vector<double> cpu[n_modes];
     for (int r = 0; r < reps; ++r) {
       for (std::size_t m = 0; m < n_modes; ++m) {
+        if (!chosen(m)) continue;
         last[m] = run(p, p.integrator, tol, modes[m]);
         cpu[m].push_back(last[m].cpu);
       }
     }
     for (std::size_t m = 0; m < n_modes; ++m) {
+      if (!chosen(m)) continue;
       const Outcome& o = last[m];
       const Statistics& s = o.stats;
       fmt::print("run\t{}\t{}\t{:g}\t{}\t{:.3g}\t{:.2f}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n", p.name,
@@ -222,22 +232,27 @@ int main(int argc, char** argv) {
       o.reps = std::stoi(argv[++i]);
     } else if (a == "--problem" && i + 1 < argc) {
       o.problems.emplace_back(argv[++i]);
+    } else if (a == "--integrator" && i + 1 < argc) {
+      o.integrator = argv[++i];
     } else if (a == "--tolerance" && i + 1 < argc) {
       o.tolerance = std::stod(argv[++i]);
+    } else if (a == "--mode" && i + 1 < argc) {
+      o.mode = argv[++i];
     } else if (a == "--no-reference") {
       o.reference = false;
     } else {
       fmt::print(
           stderr,
-          "usage: symdyn_bench_implicit_jacobians [--reps N] [--problem NAME]... [--tolerance TOL] "
-          "[--no-reference]\n");
+          "usage: symdyn_bench_implicit_jacobians [--reps N] [--problem NAME]... [--integrator "
+          "NAME] [--tolerance TOL] [--mode exact|elements|differences] [--no-reference]\n");
       return 2;
     }
   }
   try {
     for (const Problem& p : all_problems) {
-      if (o.problems.empty() ||
-          std::find(o.problems.begin(), o.problems.end(), p.name) != o.problems.end()) {
+      const bool named = o.problems.empty() || std::find(o.problems.begin(), o.problems.end(),
+                                                         p.name) != o.problems.end();
+      if (named && (o.integrator.empty() || o.integrator == p.integrator)) {
         measure(p, o);
       }
     }

@@ -969,10 +969,10 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
          e->load_derivatives() == LoadDerivatives::exact_with_kinematics_derivatives);
   }
   evaluate_elements_kinematics(s);
-  if (kinematics_derivatives) {
-    model_.kinematics_derivatives(s.t, s.q.data(), s.qd.data(), dk_);
-    if (!dk_.all_finite()) derivatives_not_finite(s);
-  }
+  // dk_ is checked only if the loads' derivatives are not finite: most of its entries
+  // (every body's, for every pair of coordinates) are read by no element, and those read carry a
+  // non-finite value into the derivatives.
+  if (kinematics_derivatives) model_.kinematics_derivatives(s.t, s.q.data(), s.qd.data(), dk_);
   for (const auto& e : elements_) {
     if (exact_loads(*e)) e->add_load_derivatives(s, k_, dk_, dQ_dq, dQ_dqd);
   }
@@ -1014,6 +1014,7 @@ void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matri
     }
   }
   if (!(all_finite(dQ_dq.data(), dQ_dq.size()) && all_finite(dQ_dqd.data(), dQ_dqd.size()))) {
+    if (kinematics_derivatives && !dk_.all_finite()) derivatives_not_finite(s);
     apply_elements(s);  // names a non-finite load
     throw NumericError(
         fmt::format("t = {}: the derivatives of the force elements' loads are not finite at {}",
