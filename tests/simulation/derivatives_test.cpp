@@ -3,7 +3,9 @@
 // differences of the residual and of the accelerations with Richardson's
 // extrapolation, on every generated model that has them, with force elements;
 // the exact derivatives of the bushing, contact and tyres in each regime of
-// their laws against Richardson differences of their generalized forces; and
+// their laws against Richardson differences of their generalized forces, and so
+// the derivatives given with coordinate forces' and user forces' laws (a wrong one
+// caught, one resized or not finite refused, Newmark with and without them); and
 // the double pendulum's modes against their closed forms.
 
 #include <fmt/format.h>
