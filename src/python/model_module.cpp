@@ -340,15 +340,35 @@ Force coordinate_tracking(const py::object& coordinate, const py::args& args, py
           }};
 }
 
+// derivatives(t, q, qd), when given, returns (dQ/dq, dQ/dqd) of the law at the same
+// arguments: the coordinate's entries of its row of the Jacobians.
 Force coordinate_force(const py::object& coordinate, const py::function& law,
-                       const py::object& name) {
+                       const py::object& name, const py::object& derivatives) {
   const std::string n = name_or(name, coordinate);
+  if (!derivatives.is_none() && !PyCallable_Check(derivatives.ptr())) {
+    throw py::type_error(fmt::format("CoordinateForce '{}': derivatives is not callable", n));
+  }
   return {fmt::format("CoordinateForce('{}')", n), [=](const Model& m) -> ElementPtr {
+            const int j = coordinate_arg(m, coordinate);
+            runtime::CoordinateForce::LawDerivatives d;
+            if (!derivatives.is_none()) {
+              d = [derivatives, j, n](double t, double q, double qd, const State&, Vector& dQ_dq,
+                                      Vector& dQ_dqd) {
+                const py::object pair = derivatives(t, q, qd);
+                if (!py::isinstance<py::sequence>(pair) || py::len(pair) != 2) {
+                  throw py::type_error(fmt::format(
+                      "CoordinateForce '{}': derivatives must return (dQ/dq, dQ/dqd)", n));
+                }
+                dQ_dq(j) = pair[py::int_(0)].cast<double>();
+                dQ_dqd(j) = pair[py::int_(1)].cast<double>();
+              };
+            }
             return std::make_shared<runtime::CoordinateForce>(
-                n, coordinate_arg(m, coordinate),
+                n, j,
                 [law](double t, double q, double qd, const State&) {
                   return law(t, q, qd).cast<double>();
-                });
+                },
+                std::move(d));
           }};
 }
 
@@ -443,8 +463,11 @@ void define_forces(py::module_& module) {
                          "PD tracking of a constant reference: Q = -kp (q - reference) - kd (qd - "
                          "rate); reference=0, rate=0, name=None."));
   module.def("CoordinateForce", &coordinate_force, "coordinate"_a, "law"_a, "name"_a = none,
+             "derivatives"_a = none,
              "Q = law(t, q, qd) on a coordinate, law a Python callable returning a float "
-             "(called with the GIL held; its exceptions stop the call that evaluates it).");
+             "(called with the GIL held; its exceptions stop the call that evaluates it); "
+             "derivatives(t, q, qd), when given, returns (dQ/dq, dQ/dqd) for exact Jacobians "
+             "(else they difference the law).");
   module.def("PointSpringDamper", &point_spring_damper, "body_a"_a, "point_a"_a, "body_b"_a,
              "point_b"_a,
              element_doc("point_spring_damper",

@@ -98,4 +98,11 @@ class ForceElement {
   virtual double potential_energy(const State& /*s*/, const Kinematics& /*k*/) const { return 0.0; }
 };
 
+// The derivatives a user's law gave (dQ_dq, dQ_dqd, at the state s) checked for the element
+// named `element`: still rows x cols (ModelError) and finite (NumericError).
+void check_law_derivatives(const std::string& element, const State& s,
+                           const Eigen::Ref<const Matrix>& dQ_dq,
+                           const Eigen::Ref<const Matrix>& dQ_dqd, Eigen::Index rows,
+                           Eigen::Index cols);
+
 }  // namespace symdyn::runtime

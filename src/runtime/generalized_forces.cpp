@@ -29,11 +29,27 @@ double CoordinateSpringDamper::potential_energy(const State& s, const Kinematics
   return 0.5 * k_ * e * e;
 }
 
-CoordinateForce::CoordinateForce(std::string name, int coordinate, Law law)
-    : name_(std::move(name)), j_(coordinate), law_(std::move(law)) {}
+CoordinateForce::CoordinateForce(std::string name, int coordinate, Law law,
+                                 LawDerivatives derivatives)
+    : name_(std::move(name)),
+      j_(coordinate),
+      law_(std::move(law)),
+      derivatives_(std::move(derivatives)) {}
 
 void CoordinateForce::apply(const State& s, const Kinematics& /*k*/, Loads& loads) const {
   loads.add_generalized(j_, law_(s.t, s.q(j_), s.qd(j_), s));
+}
+
+void CoordinateForce::add_load_derivatives(const State& s, const Kinematics& /*k*/,
+                                           const KinematicsDerivatives& /*dk*/, Matrix& dQ_dq,
+                                           Matrix& dQ_dqd) const {
+  const auto nq = s.q.size();
+  dQ_dq_.setZero(nq);
+  dQ_dqd_.setZero(nq);
+  derivatives_(s.t, s.q(j_), s.qd(j_), s, dQ_dq_, dQ_dqd_);
+  check_law_derivatives(name(), s, dQ_dq_, dQ_dqd_, nq, 1);
+  dQ_dq.row(j_) += dQ_dq_.transpose();
+  dQ_dqd.row(j_) += dQ_dqd_.transpose();
 }
 
 CoordinateTracking::CoordinateTracking(std::string name, int coordinate, double kp, double kd,

@@ -35,15 +35,28 @@ class CoordinateSpringDamper : public ForceElement {
 class CoordinateForce : public ForceElement {
  public:
   using Law = std::function<double(double t, double q, double qd, const State& s)>;
-  CoordinateForce(std::string name, int coordinate, Law law);
+  // The law's derivatives at the same arguments: ∂Q/∂q and ∂Q/∂qd set in dQ_dq and
+  // dQ_dqd (nq each, zeroed by the caller; a law of q_j and qd_j alone sets entry j).
+  using LawDerivatives = std::function<void(double t, double q, double qd, const State& s,
+                                            Vector& dQ_dq, Vector& dQ_dqd)>;
+  // Differenced; exact where the law's derivatives are given.
+  CoordinateForce(std::string name, int coordinate, Law law, LawDerivatives derivatives = nullptr);
   std::string name() const override { return "coordinate force '" + name_ + "'"; }
   KinematicsLevel reads() const override { return KinematicsLevel::none; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+  // Row j of dQ/dq and dQ/dqd: the law's derivatives.
+  LoadDerivatives load_derivatives() const override {
+    return derivatives_ ? LoadDerivatives::exact : LoadDerivatives::differenced;
+  }
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
 
  private:
   std::string name_;
   int j_;
   Law law_;
+  LawDerivatives derivatives_;
+  mutable Vector dQ_dq_, dQ_dqd_;  // the law's (nq)
 };
 
 // PD tracking of a reference r(t) (with optional rate rd(t), zero if absent):

@@ -115,6 +115,7 @@ void PointLoad::add_load_derivatives(const State& s, const Kinematics& k,
     dW_dq_.setZero(6, k.nq());
     dW_dqd_.setZero(6, k.nq());
     derivatives_(s, k, dk, f, m, dW_dq_, dW_dqd_);
+    check_law_derivatives(name(), s, dW_dq_, dW_dqd_, 6, k.nq());
   }
   const Vec3 r = k.to_global(at_.body, at_.point);
   for (int j = 0; j < k.nq(); ++j) {
@@ -130,11 +131,26 @@ void PointLoad::add_load_derivatives(const State& s, const Kinematics& k,
   }
 }
 
-UserForce::UserForce(std::string name, Callback callback, KinematicsLevel reads)
-    : name_(std::move(name)), callback_(std::move(callback)), reads_(reads) {}
+UserForce::UserForce(std::string name, Callback callback, KinematicsLevel reads, Jacobian jacobian)
+    : name_(std::move(name)),
+      callback_(std::move(callback)),
+      reads_(reads),
+      jacobian_(std::move(jacobian)) {}
 
 void UserForce::apply(const State& s, const Kinematics& k, Loads& loads) const {
   callback_(s, k, loads);
+}
+
+void UserForce::add_load_derivatives(const State& s, const Kinematics& k,
+                                     const KinematicsDerivatives& dk, Matrix& dQ_dq,
+                                     Matrix& dQ_dqd) const {
+  const auto nq = s.q.size();
+  dQ_dq_.setZero(nq, nq);
+  dQ_dqd_.setZero(nq, nq);
+  jacobian_(s, k, dk, dQ_dq_, dQ_dqd_);
+  check_law_derivatives(name(), s, dQ_dq_, dQ_dqd_, nq, nq);
+  dQ_dq += dQ_dq_;
+  dQ_dqd += dQ_dqd_;
 }
 
 }  // namespace symdyn::runtime

@@ -94,16 +94,34 @@ class PointLoad : public ForceElement {
 class UserForce : public ForceElement {
  public:
   using Callback = std::function<void(const State& s, const Kinematics& k, Loads& loads)>;
+  // The callback's Jacobian: in dQ_dq and dQ_dqd (nq x nq, zeroed by the caller) the
+  // derivatives with respect to q and qd of the generalized forces its loads give,
+  // Q_j = Σ_i F_i·dv_ij + M_i·dw_ij + Q_j (a force at a point: F·J_j with J_j its
+  // partial velocity, KinematicsDerivatives::point_partial), at the kinematics k and
+  // their derivatives dk of the state (dk: where reads is not none).
+  using Jacobian =
+      std::function<void(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                         Matrix& dQ_dq, Matrix& dQ_dqd)>;
+  // Differenced; exact where the Jacobian is given.
   UserForce(std::string name, Callback callback,
-            KinematicsLevel reads = KinematicsLevel::velocities);
+            KinematicsLevel reads = KinematicsLevel::velocities, Jacobian jacobian = nullptr);
   std::string name() const override { return "user force '" + name_ + "'"; }
   KinematicsLevel reads() const override { return reads_; }
   void apply(const State& s, const Kinematics& k, Loads& loads) const override;
+  LoadDerivatives load_derivatives() const override {
+    if (!jacobian_) return LoadDerivatives::differenced;
+    return reads_ == KinematicsLevel::none ? LoadDerivatives::exact
+                                           : LoadDerivatives::exact_with_kinematics_derivatives;
+  }
+  void add_load_derivatives(const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                            Matrix& dQ_dq, Matrix& dQ_dqd) const override;
 
  private:
   std::string name_;
   Callback callback_;
   KinematicsLevel reads_;
+  Jacobian jacobian_;
+  mutable Matrix dQ_dq_, dQ_dqd_;  // the callback's (nq x nq)
 };
 
 }  // namespace symdyn::runtime

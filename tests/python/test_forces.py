@@ -86,6 +86,46 @@ class Forces(unittest.TestCase):
         self.assertEqual(a.forces, ["load 'weight'"])
         self.assertEqual(repr(f), "PointLoad('weight')")
 
+    def test_coordinate_force_with_its_derivatives(self):
+        # Q = -5 q^3 - 0.7 qd |qd| on theta2: with its derivatives the Jacobians are exact and
+        # equal Richardson differences of the accelerations; without, the law is differenced
+        # and named; a wrong derivative is caught by the same comparison.
+        def law(t, q, qd):
+            return -5.0 * q**3 - 0.7 * qd * abs(qd)
+
+        def derivatives(t, q, qd):
+            return -15.0 * q**2, -1.4 * abs(qd)
+
+        exact = dp.CoordinateForce("theta2", law, name="cubic", derivatives=derivatives)
+        plain = dp.CoordinateForce("theta2", law, name="cubic")
+        wrong = dp.CoordinateForce("theta2", law, name="cubic", derivatives=lambda t, q, qd: (0.0, 0.0))
+        system = dp.System()
+        x = np.array([0.4, -0.9, 1.3, -0.8])
+
+        def qdd(y):
+            return system.accelerations(q=y[:2], qd=y[2:], forces=[plain])
+
+        def richardson(j, h=1e-3):
+            def central(step):
+                e = np.zeros_like(x)
+                e[j] = step
+                return (qdd(x + e) - qdd(x - e)) / (2 * step)
+
+            return (4 * central(h / 2) - central(h)) / 3
+
+        expected = np.column_stack([richardson(j) for j in range(4)])
+        d = system.dynamics_derivatives(q=x[:2], qd=x[2:], forces=[exact])
+        self.assertEqual(d.method, "exact (emitted derivatives)")
+        np.testing.assert_allclose(d.A[2:, :], expected, rtol=1e-8, atol=1e-8)
+        p = system.dynamics_derivatives(q=x[:2], qd=x[2:], forces=[plain])
+        self.assertEqual(p.method, "exact (emitted derivatives), but by central differences for coordinate force 'cubic'")
+        np.testing.assert_allclose(p.A[2:, :], expected, rtol=1e-6, atol=1e-6)
+        w = system.dynamics_derivatives(q=x[:2], qd=x[2:], forces=[wrong])
+        self.assertGreater(np.abs(w.A[2:, :] - expected).max(), 0.1)
+        with self.assertRaisesRegex(TypeError, "CoordinateForce 'cubic': derivatives must return"):
+            bad = dp.CoordinateForce("theta2", law, name="cubic", derivatives=lambda t, q, qd: 1.0)
+            system.dynamics_derivatives(q=x[:2], qd=x[2:], forces=[bad])
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -3,7 +3,9 @@
 // differences of the residual and of the accelerations with Richardson's
 // extrapolation, on every generated model that has them, with force elements;
 // the exact derivatives of the bushing, contact and tyres in each regime of
-// their laws against Richardson differences of their generalized forces; and
+// their laws against Richardson differences of their generalized forces, and so
+// the derivatives given with coordinate forces' and user forces' laws (a wrong one
+// caught, one resized or not finite refused, Newmark with and without them); and
 // the double pendulum's modes against their closed forms.
 
 #include <fmt/format.h>
@@ -14,6 +16,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
+#include <limits>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <unsupported/Eigen/Polynomials>
@@ -82,9 +86,14 @@ void add_force_elements(MultibodySystem& system) {
 // model with them: f = tau - Q) against Richardson differences of their generalized
 // forces, the steps scaled by `step` (below 1 at states near a switch of a law, so that
 // the differences stay on its side).
-void check_load_derivatives(MultibodySystem& with, MultibodySystem& bare, const State& s,
-                            double step = 1.0) {
-  REQUIRE(with.jacobian_method() == "exact (emitted derivatives)");
+// The largest differences between the exact dQ/dq, dQ/dqd and Richardson's, and the
+// largest of these differences (at least 1), to scale them.
+struct LoadDerivativeErrors {
+  double dq = 0.0, dqd = 0.0, scale = 1.0;
+};
+
+LoadDerivativeErrors load_derivative_errors(MultibodySystem& with, MultibodySystem& bare,
+                                            const State& s, double step = 1.0) {
   const int n = with.num_coordinates();
   const Vector zero = Vector::Zero(n);
   Matrix M, C, K, Cb, Kb;
@@ -105,14 +114,20 @@ void check_load_derivatives(MultibodySystem& with, MultibodySystem& bare, const 
     Dq.col(j) = richardson_relative(Q_of(&State::q), s.q(j), step);
     Dqd.col(j) = richardson_relative(Q_of(&State::qd), s.qd(j), step);
   }
-  const double scale = std::max({1.0, max_abs(Dq), max_abs(Dqd)});
-  INFO("dQ/dq\n"
-       << dQ_dq << "\ndifferences\n"
-       << Dq << "\ndQ/dqd\n"
-       << dQ_dqd << "\ndifferences\n"
-       << Dqd);
-  CHECK(max_abs(dQ_dq - Dq) < 1e-7 * scale);
-  CHECK(max_abs(dQ_dqd - Dqd) < 1e-7 * scale);
+  UNSCOPED_INFO("dQ/dq\n"
+                << dQ_dq << "\ndifferences\n"
+                << Dq << "\ndQ/dqd\n"
+                << dQ_dqd << "\ndifferences\n"
+                << Dqd);
+  return {max_abs(dQ_dq - Dq), max_abs(dQ_dqd - Dqd), std::max({1.0, max_abs(Dq), max_abs(Dqd)})};
+}
+
+void check_load_derivatives(MultibodySystem& with, MultibodySystem& bare, const State& s,
+                            double step = 1.0) {
+  REQUIRE(with.jacobian_method() == "exact (emitted derivatives)");
+  const LoadDerivativeErrors e = load_derivative_errors(with, bare, s, step);
+  CHECK(e.dq < 1e-7 * e.scale);
+  CHECK(e.dqd < 1e-7 * e.scale);
 }
 
 // robot3d (turret, arm, gripper; 5 coordinates) at a random state, bare and with the
@@ -303,6 +318,36 @@ TEST_CASE("jacobian_method names the force elements differenced", "[models][deri
       [](const State&, const Kinematics&, Vec3& f, Vec3&) { f = Vec3(1.0, 0.0, 0.0); });
   CHECK(system.jacobian_method() ==
         "exact (emitted derivatives), but by central differences for load 'wind'");
+  // Laws given with their derivatives are exact, those without named.
+  const auto law = [](double, double q, double, const State&) { return -q * q * q; };
+  system.add<CoordinateForce>(
+      "cubic", 0, law,
+      [](double, double q, double, const State&, Vector& dq, Vector&) { dq(0) = -3.0 * q * q; });
+  system.add<CoordinateTracking>(
+      "servo", 1, 5.0, 0.5, [](double t) { return t; }, [](double) { return 1.0; });
+  const auto push = [](const State&, const Kinematics&, Loads& loads) {
+    loads.add_generalized(1, 1.0);
+  };
+  system.add<UserForce>(
+      "push", push, KinematicsLevel::none,
+      [](const State&, const Kinematics&, const KinematicsDerivatives&, Matrix&, Matrix&) {});
+  system.add<PointLoad>(
+      "gust", BodyPoint{1, Vec3::Zero()},
+      [](const State&, const Kinematics&, Vec3& f, Vec3&) { f = Vec3(0.0, 1.0, 0.0); },
+      [](const State&, const Kinematics&, const KinematicsDerivatives&, Vec3& f, Vec3&, Matrix&,
+         Matrix&) { f = Vec3(0.0, 1.0, 0.0); });
+  CHECK(system.jacobian_method() ==
+        "exact (emitted derivatives), but by central differences for load 'wind'");
+  system.add<CoordinateForce>("soft", 1, law);
+  system.add<UserForce>("shove", push, KinematicsLevel::none);
+  CHECK(system.jacobian_method() ==
+        "exact (emitted derivatives), but by central differences for load 'wind', coordinate "
+        "force 'soft', user force 'shove'");
+  system.set_exact_load_derivatives(false);
+  CHECK(system.jacobian_method() ==
+        "exact (emitted derivatives), but by central differences for coordinate spring 'hip', "
+        "spring 'strut', load 'wind', coordinate force 'cubic', coordinate tracking 'servo', user "
+        "force 'push', load 'gust', coordinate force 'soft', user force 'shove'");
   MultibodySystem assembled(Model::from<symdyn_generated::double_pendulum_absolute>(),
                             EquationsSource::assembled);
   CHECK(assembled.jacobian_method() == "central differences of the residual");
@@ -597,4 +642,204 @@ TEST_CASE("a Gim tyre's exact load derivatives equal Richardson differences in e
   }
   CHECK(slip_below_1 > 0);
   CHECK(slip_above_1 > 0);
+}
+
+namespace {
+
+// A coordinate force on robot3d's arm extension that also reads the arm's pitch
+// through the state, Q = -k·e³ - c·qd·|qd| + a·sin(q_pitch)·qd with e = q - 0.5,
+// and its derivatives (rows of dQ/dq and dQ/dqd).
+constexpr int pitch = 1, extension = 2;
+
+double extension_law(double, double q, double qd, const State& s) {
+  const double e = q - 0.5;
+  return -400.0 * e * e * e - 3.0 * qd * std::abs(qd) + 20.0 * std::sin(s.q(pitch)) * qd;
+}
+
+void extension_derivatives(double, double q, double qd, const State& s, Vector& dQ_dq,
+                           Vector& dQ_dqd) {
+  const double e = q - 0.5;
+  dQ_dq(extension) = -1200.0 * e * e;
+  dQ_dq(pitch) = 20.0 * std::cos(s.q(pitch)) * qd;
+  dQ_dqd(extension) = -6.0 * std::abs(qd) + 20.0 * std::sin(s.q(pitch));
+}
+
+// Quadratic drag F = -c·|v_P|·v_P at a point P of the gripper (a user force reading
+// the velocities) and its Jacobian: with J_j = ∂P/∂q_j and
+// ∂F/∂v_P = -c·(|v_P|·I + v_P·v_Pᵀ/|v_P|) (|v_P| > 0), Q_j = F·J_j gives
+// ∂Q_j/∂q_k = ∂F/∂v_P·∂v_P/∂q_k·J_j + F·∂J_j/∂q_k and ∂Q_j/∂qd_k = ∂F/∂v_P·J_k·J_j.
+// (∂F/∂v_P tends to 0 with v_P.)
+const Vec3 nozzle(0.05, 0.0, 0.1);
+constexpr double drag_coefficient = 0.8;
+
+void add_drag(const State&, const Kinematics& k, Loads& loads) {
+  const Vec3 v = k.point_velocity(gripper, nozzle);
+  loads.add_force_at(gripper, k, k.point_position(gripper, nozzle),
+                     -drag_coefficient * v.norm() * v);
+}
+
+// `complete` false leaves out F·∂J_j/∂q_k: a wrong Jacobian.
+UserForce::Jacobian drag_jacobian(bool complete = true) {
+  return [complete](const State& s, const Kinematics& k, const KinematicsDerivatives& dk,
+                    Matrix& dQ_dq, Matrix& dQ_dqd) {
+    const Vec3 v = k.point_velocity(gripper, nozzle), r = k.to_global(gripper, nozzle);
+    const Vec3 F = -drag_coefficient * v.norm() * v;
+    const Mat3 dF_dv =
+        v.norm() > 0.0
+            ? Mat3(-drag_coefficient * (v.norm() * Mat3::Identity() + v * v.transpose() / v.norm()))
+            : Mat3::Zero();
+    const auto n = static_cast<int>(s.q.size());
+    for (int kk = 0; kk < n; ++kk) {
+      const Vec3 dF_dq = dF_dv * dk.point_velocity_derivative(k, gripper, r, kk);
+      const Vec3 dF_dqd = dF_dv * dk.point_partial(k, gripper, r, kk);
+      for (int j = 0; j < n; ++j) {
+        const Vec3 J = dk.point_partial(k, gripper, r, j);
+        dQ_dq(j, kk) = dF_dq.dot(J);
+        if (complete) dQ_dq(j, kk) += F.dot(dk.point_partial_derivative(k, gripper, r, j, kk));
+        dQ_dqd(j, kk) = dF_dqd.dot(J);
+      }
+    }
+  };
+}
+
+// A generalized drag on the turret, Q_0 = -0.3·qd_0·|qd_0| (reads nothing), and its Jacobian.
+void add_turret_drag(const State& s, const Kinematics&, Loads& loads) {
+  loads.add_generalized(0, -0.3 * s.qd(0) * std::abs(s.qd(0)));
+}
+
+void turret_drag_jacobian(const State& s, const Kinematics&, const KinematicsDerivatives&, Matrix&,
+                          Matrix& dQ_dqd) {
+  dQ_dqd(0, 0) = -0.6 * std::abs(s.qd(0));
+}
+
+}  // namespace
+
+TEST_CASE("coordinate forces' and user forces' derivative laws equal Richardson differences",
+          "[models][derivatives][elements]") {
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 4; ++trial) {
+    Rig rig(rng);
+    rig.with.add<CoordinateForce>("extension", extension, extension_law, extension_derivatives);
+    rig.with.add<UserForce>("drag", add_drag, KinematicsLevel::velocities, drag_jacobian());
+    rig.with.add<UserForce>("turret drag", add_turret_drag, KinematicsLevel::none,
+                            turret_drag_jacobian);
+    INFO("trial " << trial);
+    check_load_derivatives(rig.with, rig.bare, rig.s);
+    // The laws' part is not zero: the check compares something.
+    const LoadDerivativeErrors e = load_derivative_errors(rig.with, rig.bare, rig.s);
+    CHECK(e.scale > 10.0);
+  }
+}
+
+TEST_CASE("a wrong derivative law differs from Richardson differences",
+          "[models][derivatives][elements]") {
+  std::mt19937 rng(29);
+  SECTION("a coordinate force's, without its dependence on another coordinate") {
+    Rig rig(rng);
+    rig.with.add<CoordinateForce>(
+        "extension", extension, extension_law,
+        [](double t, double q, double qd, const State& s, Vector& dQ_dq, Vector& dQ_dqd) {
+          extension_derivatives(t, q, qd, s, dQ_dq, dQ_dqd);
+          dQ_dq(pitch) = 0.0;
+        });
+    REQUIRE(rig.with.jacobian_method() == "exact (emitted derivatives)");
+    const LoadDerivativeErrors e = load_derivative_errors(rig.with, rig.bare, rig.s);
+    CHECK(e.dq > 1e-3 * e.scale);
+    CHECK(e.dqd < 1e-7 * e.scale);
+  }
+  SECTION("a user force's, without the derivative of its point's partial velocities") {
+    Rig rig(rng);
+    rig.scale_speeds(3.0);
+    rig.with.add<UserForce>("drag", add_drag, KinematicsLevel::velocities, drag_jacobian(false));
+    REQUIRE(rig.with.jacobian_method() == "exact (emitted derivatives)");
+    const LoadDerivativeErrors e = load_derivative_errors(rig.with, rig.bare, rig.s);
+    CHECK(e.dq > 1e-3 * e.scale);
+    CHECK(e.dqd < 1e-7 * e.scale);
+  }
+}
+
+TEST_CASE("derivative laws that resize or give no finite value are refused, naming the element",
+          "[models][derivatives][elements]") {
+  MultibodySystem system(Model::from<symdyn_generated::robot3d_absolute>());
+  std::mt19937 rng(31);
+  const State s = random_state(system, rng);
+  const Vector qdd = Vector::Zero(system.num_coordinates());
+  Matrix M, C, K;
+  SECTION("a coordinate force's not finite") {
+    system.add<CoordinateForce>("bad", extension, extension_law,
+                                [](double, double, double, const State&, Vector& dQ_dq, Vector&) {
+                                  dQ_dq(0) = std::numeric_limits<double>::quiet_NaN();
+                                });
+    CHECK_THROWS_AS(system.jacobians(s, qdd, M, C, K), NumericError);
+    CHECK_THROWS_WITH(system.jacobians(s, qdd, M, C, K),
+                      Catch::Contains("coordinate force 'bad': its law's derivatives with "
+                                      "respect to q are not finite"));
+  }
+  SECTION("a user force's resized") {
+    system.add<UserForce>("bad", add_turret_drag, KinematicsLevel::none,
+                          [](const State&, const Kinematics&, const KinematicsDerivatives&, Matrix&,
+                             Matrix& dQ_dqd) { dQ_dqd.resize(1, 1); });
+    CHECK_THROWS_AS(system.jacobians(s, qdd, M, C, K), ModelError);
+    CHECK_THROWS_WITH(system.jacobians(s, qdd, M, C, K),
+                      Catch::Contains("user force 'bad': its law's derivatives with respect to qd "
+                                      "were resized to 1 x 1; expected 5 x 5"));
+  }
+}
+
+TEST_CASE("Newmark with the laws' derivatives follows the differenced run, evaluating them less",
+          "[models][derivatives][elements]") {
+  struct Run {
+    State end;
+    Statistics stats;
+    long law_calls = 0;
+  };
+  const State start = [] {
+    MultibodySystem system(Model::from<symdyn_generated::robot3d_absolute>());
+    State s = system.initial_state();
+    s.q(extension) = 0.7;
+    s.qd << 1.0, -0.5, 0.3, 2.0, -1.0;
+    return s;
+  }();
+  const auto run = [&](const char* integrator, double tolerance, bool with_derivatives) {
+    MultibodySystem system(Model::from<symdyn_generated::robot3d_absolute>());
+    auto calls = std::make_shared<long>(0);
+    system.add<CoordinateForce>(
+        "extension", extension,
+        [calls](double t, double q, double qd, const State& s) {
+          ++*calls;
+          return extension_law(t, q, qd, s);
+        },
+        with_derivatives ? extension_derivatives : CoordinateForce::LawDerivatives());
+    system.add<UserForce>(
+        "drag",
+        [calls](const State& s, const Kinematics& k, Loads& loads) {
+          ++*calls;
+          add_drag(s, k, loads);
+        },
+        KinematicsLevel::velocities, with_derivatives ? drag_jacobian() : nullptr);
+    IntegratorOptions o;
+    o.relative_tolerance = o.absolute_tolerance = tolerance;
+    auto i = make_integrator(integrator, o);
+    const State end = i->integrate(system, start, 1.0);
+    return Run{end, i->statistics(), *calls};
+  };
+  const Run reference = run("dop853", 1e-12, false);
+  const Run exact = run("newmark", 1e-6, true), differenced = run("newmark", 1e-6, false);
+  const auto distance = [](const State& a, const State& b) {
+    return std::max(max_abs(a.q - b.q), max_abs(a.qd - b.qd));
+  };
+  INFO("exact: error " << distance(exact.end, reference.end) << ", " << exact.stats.steps
+                       << " steps, " << exact.stats.newton_iterations << " Newton iterations, "
+                       << exact.stats.residual_evaluations << " residuals, " << exact.law_calls
+                       << " law calls; differenced: error "
+                       << distance(differenced.end, reference.end) << ", "
+                       << differenced.stats.steps << " steps, "
+                       << differenced.stats.newton_iterations << " Newton iterations, "
+                       << differenced.stats.residual_evaluations << " residuals, "
+                       << differenced.law_calls << " law calls");
+  CHECK(distance(exact.end, differenced.end) < 1e-6);
+  CHECK(distance(exact.end, reference.end) < 1e-4);
+  CHECK(exact.law_calls < differenced.law_calls);
+  CHECK(exact.stats.newton_iterations <= differenced.stats.newton_iterations);
+  CHECK(exact.stats.residual_evaluations <= differenced.stats.residual_evaluations);
 }
