@@ -12,6 +12,9 @@ namespace {
 
 using model::Expr;
 
+// The third form's name (model/dynamics_derivatives.hpp).
+constexpr const char* kRecursiveDerivatives = "recursive derivatives";
+
 struct Form {
   const char* name;
   std::vector<Expr> tau;
@@ -125,8 +128,7 @@ DynamicsDerivatives derive_dynamics_derivatives(
                  best->reason, best_operations, forms[1].name, forms[1].operations,
                  forms[0].operations, kDerivativeFormRatio);
   if (!recursive.why_not.empty()) {
-    reason +=
-        fmt::format("; the recursive derivative algorithm does not apply: {}", recursive.why_not);
+    reason += fmt::format("; recursive derivatives do not apply: {}", recursive.why_not);
   } else {
     std::vector<Expr> outputs = recursive.dtau_dq;
     outputs.insert(outputs.end(), recursive.dtau_dqd.begin(), recursive.dtau_dqd.end());
@@ -134,16 +136,14 @@ DynamicsDerivatives derive_dynamics_derivatives(
     all.insert(all.end(), recursive.definitions.begin(), recursive.definitions.end());
     const std::size_t count = operations(outputs, all);
     if (count < best_operations) {
-      reason = fmt::format(
-          "of the recursive derivative algorithm (fewer operations): {} against {} of the {} "
-          "form",
-          count, best_operations, best->reason);
+      reason = fmt::format("of the recursive derivatives form (fewer operations): {} {}, {} {}",
+                           kRecursiveDerivatives, count, best->reason, best_operations);
       best = DynamicsDerivatives{};
       best->dtau_dq = std::move(recursive.dtau_dq);
       best->dtau_dqd = std::move(recursive.dtau_dqd);
       best->definitions = std::move(recursive.definitions);
     } else {
-      reason += fmt::format("; the recursive derivative algorithm has {} operations", count);
+      reason += fmt::format("; {} {}", kRecursiveDerivatives, count);
     }
   }
   best->reason = std::move(reason);
