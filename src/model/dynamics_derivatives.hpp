@@ -10,9 +10,10 @@
 // axis or a translation linear in them, every other step constant; S_j is
 // that step's twist per unit of qd_j (its unit twist times dσ/dq_j: the
 // screws of one step commute, each coordinate in it a joint of its own),
-// in world axes about the origin (spatial vectors as Featherstone's), so that the twist of every
-// body after it gains S_j·qd_j and, turning it, dS_i/dq_j = S_j × S_i for every joint i after j.
-// With ψ_j, α_j the twist and acceleration before joint j (α of the ground: -g),
+// in world axes about the origin (spatial vectors as Featherstone's), so
+// that the twist of every body after it gains S_j·qd_j and, turning it,
+// dS_i/dq_j = S_j × S_i for every joint i after j. With ψ_j, α_j the twist
+// and acceleration before joint j (α of the ground: -g),
 //
 //   v_j = ψ_j + S_j·qd_j,   a_j = α_j + S_j·qdd_j + (ψ_j × S_j)·qd_j,
 //   dV_j = ψ_j × S_j,       dA_j = α_j × S_j + ψ_j × dV_j,
@@ -34,11 +35,10 @@
 //
 // and zero between joints on different branches. A coordinate may move
 // several bodies (a motion given from the ground, each link's the product of
-// the chain up to it) where the steps up to it are the same for all of them:
-// then it is one joint of a tree. Where these conditions fail (a dependent
-// parameter, a step moving in time or not linear in the coordinates, a
-// coordinate in two different places) `why_not` says why, and the other forms
-// serve.
+// the chain up to it) where the steps before it, its direction and the joint
+// before it are the same for all of them: then it is one joint of a tree. Where these conditions
+// fail (a dependent parameter, a step moving in time or not linear in the coordinates, a coordinate
+// in two different places) `why_not` says why, and the other forms serve.
 
 #include <string>
 #include <vector>
