@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The size and generation cost of the exact derivatives, every reference model:
 # operations of inverse_dynamics, inverse_dynamics_derivatives (and which form
-# of tau it differentiates) and kinematics_derivatives, from the generator's
+# of tau it differentiates, or the recursive derivatives; what forward mode
+# and the recursive derivatives each weighed) and kinematics_derivatives, from the generator's
 # --stats; generation time (median of 5 runs) and peak memory with and without
 # --derivatives. Writes bench/results/derivative_sizes.md.
 #
@@ -35,8 +36,12 @@ measure() {
   echo "Operations are the emitted programs' (generator --stats); generation is the median wall time of 5"
   echo "runs of the generator, peak the largest resident memory."
   echo
-  echo "| model | nq | inverse_dynamics | inverse_dynamics_derivatives | ratio | form | kinematics_derivatives | generation | with --derivatives | peak MB |"
-  echo "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|"
+  echo "Forward mode is the best of the two forms differentiated (what inverse_dynamics_derivatives was"
+  echo "before the recursive derivatives); \"recursive\" the recursive derivative algorithm's count, or why it"
+  echo "does not apply (model/dynamics_derivatives.hpp)."
+  echo
+  echo "| model | nq | inverse_dynamics | inverse_dynamics_derivatives | ratio | form | forward mode | recursive | kinematics_derivatives | generation | with --derivatives | peak MB |"
+  echo "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"
   for spec in double_pendulum:absolute: double_pendulum:relative: robot3d:absolute: robot3d:relative: \
               slider_crank:inline: slider_crank:dependent: trike:default: hexapod_tree:default: \
               amru5:inline: amru5:dependent: chain:relative:chain_2 chain:relative:chain_8 \
@@ -50,11 +55,17 @@ measure() {
     ops() { echo "$stats" | awk -v e="$1" '$1 == e {print $2}'; }
     id=$(ops inverse_dynamics) did=$(ops inverse_dynamics_derivatives) kd=$(ops kinematics_derivatives)
     form=$(echo "$stats" | sed -n 's/.*derivatives: of the \(.*\) form.*/\1/p')
+    recursive=$(echo "$stats" | sed -n 's/.*derivatives: .*recursive derivatives \([0-9][0-9]*\).*/\1/p')
+    forward=$did
+    if [ "$form" = "recursive derivatives" ]; then
+      forward=$(echo "$stats" | sed -n 's/.*derivatives: .*recursive derivatives [0-9]*, .* \([0-9][0-9]*\)$/\1/p')
+    fi
+    [ -n "$recursive" ] || recursive="does not apply"
     read -r plain _ < <(measure "$bin/symdyn_generator_$gen" "${args[@]}")
     read -r with peak < <(measure "$bin/symdyn_generator_$gen" "${args[@]}" --derivatives)
     rm -f "$work"/*.hpp "$work"/*.cpp
-    printf '| %s %s | %s | %s | %s | %.1f | %s | %s | %s s | %s s | %d |\n' "$name" "$variant" "$nq" "$id" "$did" \
-      "$(echo "$did / $id" | bc -l)" "$form" "$kd" "$plain" "$with" $((peak / 1024))
+    printf '| %s %s | %s | %s | %s | %.1f | %s | %s | %s | %s | %s s | %s s | %d |\n' "$name" "$variant" "$nq" "$id" \
+      "$did" "$(echo "$did / $id" | bc -l)" "$form" "$forward" "$recursive" "$kd" "$plain" "$with" $((peak / 1024))
   done
 } >"$results"
 echo "wrote $results"

@@ -7,6 +7,7 @@
 #include <symdyn/model/constraints.hpp>
 #include <symdyn/model/diagnostics.hpp>
 #include <symdyn/model/dynamics.hpp>
+#include <symdyn/model/dynamics_derivatives.hpp>
 #include <symdyn/model/errors.hpp>
 #include <symdyn/model/identifier.hpp>
 #include <symdyn/model/kinematics.hpp>

@@ -9,6 +9,7 @@
 #include <symdyn/codegen/detail/dynamics_choice.hpp>
 #include <symdyn/model/constraints.hpp>
 #include <symdyn/model/dynamics.hpp>
+#include <symdyn/model/dynamics_derivatives.hpp>
 #include <symdyn/model/trig_reduction.hpp>
 #include <symdyn/symbolic/simplify.hpp>
 
@@ -233,8 +234,7 @@ Derivation Deriver::derive(bool simplify) {
   std::optional<DynamicsDerivatives> derivatives;
   if (const Derivatives level = selection_.needs_derivatives(options_.derivatives);
       dynamics && level != Derivatives::none) {
-    derivatives =
-        derive_derivatives(*dynamics, level == Derivatives::all ? &k : nullptr, d.definitions);
+    derivatives = derive_derivatives(*dynamics, k, level == Derivatives::all, d.definitions);
     d.definitions.insert(d.definitions.end(), derivatives->definitions.begin(),
                          derivatives->definitions.end());
     if (derivatives_reason_.empty())
@@ -310,7 +310,7 @@ bool Deriver::derivable(const Needs& needs, const Quantities& quantities) const 
 
 // dtau/dq and dtau/dqd, each form of tau weighed by its own program's operations.
 DynamicsDerivatives Deriver::derive_derivatives(
-    const model::Dynamics& dynamics, const model::Kinematics* kinematics,
+    const model::Dynamics& dynamics, const model::Kinematics& kinematics, bool with_kinematics,
     const std::vector<symbolic::Definition>& definitions) const {
   const std::vector<Input> inputs{Input::t, Input::q, Input::qd, Input::qdd, Input::param};
   const OperationCounter operations = [&](const std::vector<Expr>& outputs,
@@ -319,8 +319,10 @@ DynamicsDerivatives Deriver::derive_derivatives(
         .operation_count()
         .total();
   };
-  return derive_dynamics_derivatives(dynamics, kinematics, inputs_[Input::q], inputs_[Input::qd],
-                                     inputs_[Input::qdd], definitions, operations);
+  return derive_dynamics_derivatives(
+      dynamics, model::derive_inverse_dynamics_derivatives(model_, kinematics),
+      with_kinematics ? &kinematics : nullptr, inputs_[Input::q], inputs_[Input::qd],
+      inputs_[Input::qdd], definitions, operations);
 }
 
 // The entry point's own program, or nothing for a hand-written body.

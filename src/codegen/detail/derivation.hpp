@@ -57,9 +57,9 @@ class Deriver {
   void compile_programs(Derivation& d) const;
   std::vector<EntryPoint> build_entry_points(const Quantities& quantities) const;
   bool derivable(const Needs& needs, const Quantities& quantities) const;
-  // `kinematics`: also the kinematics' derivatives (Derivatives::all), else null.
+  // `with_kinematics`: also the kinematics' derivatives (Derivatives::all).
   DynamicsDerivatives derive_derivatives(
-      const model::Dynamics& dynamics, const model::Kinematics* kinematics,
+      const model::Dynamics& dynamics, const model::Kinematics& kinematics, bool with_kinematics,
       const std::vector<symbolic::Definition>& definitions) const;
   std::optional<symbolic::Program> compile(
       const EntryPoint& e, const std::vector<symbolic::Definition>& definitions) const;

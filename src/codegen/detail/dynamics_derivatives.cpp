@@ -12,6 +12,9 @@ namespace {
 
 using model::Expr;
 
+// The third form's name (model/dynamics_derivatives.hpp).
+constexpr const char* kRecursiveDerivatives = "recursive derivatives";
+
 struct Form {
   const char* name;
   std::vector<Expr> tau;
@@ -86,9 +89,10 @@ void add_kinematics_derivatives(const model::Kinematics& k, const std::vector<Ex
 }  // namespace
 
 DynamicsDerivatives derive_dynamics_derivatives(
-    const model::Dynamics& dynamics, const model::Kinematics* kinematics,
-    const std::vector<Expr>& q, const std::vector<Expr>& qd, const std::vector<Expr>& qdd,
-    const std::vector<symbolic::Definition>& definitions, const OperationCounter& operations) {
+    const model::Dynamics& dynamics, model::InverseDynamicsDerivatives recursive,
+    const model::Kinematics* kinematics, const std::vector<Expr>& q, const std::vector<Expr>& qd,
+    const std::vector<Expr>& qdd, const std::vector<symbolic::Definition>& definitions,
+    const OperationCounter& operations) {
   std::vector<Form> forms{{"recursive Newton-Euler", dynamics.inverse},
                           {"M qdd + h", mass_matrix_form(dynamics, qdd)}};
   for (Form& f : forms) f.operations = operations(f.tau, definitions);
@@ -115,7 +119,7 @@ DynamicsDerivatives derive_dynamics_derivatives(
       best_operations = count;
     }
   }
-  best->reason =
+  std::string reason =
       both ? fmt::format("of the {} form (fewer operations): {}, {}", best->reason, weighed[0],
                          weighed[1])
            : fmt::format(
@@ -123,6 +127,26 @@ DynamicsDerivatives derive_dynamics_derivatives(
                  "against {}, more than {} times)",
                  best->reason, best_operations, forms[1].name, forms[1].operations,
                  forms[0].operations, kDerivativeFormRatio);
+  if (!recursive.why_not.empty()) {
+    reason += fmt::format("; recursive derivatives do not apply: {}", recursive.why_not);
+  } else {
+    std::vector<Expr> outputs = recursive.dtau_dq;
+    outputs.insert(outputs.end(), recursive.dtau_dqd.begin(), recursive.dtau_dqd.end());
+    std::vector<symbolic::Definition> all = definitions;
+    all.insert(all.end(), recursive.definitions.begin(), recursive.definitions.end());
+    const std::size_t count = operations(outputs, all);
+    if (count < best_operations) {
+      reason = fmt::format("of the recursive derivatives form (fewer operations): {} {}, {} {}",
+                           kRecursiveDerivatives, count, best->reason, best_operations);
+      best = DynamicsDerivatives{};
+      best->dtau_dq = std::move(recursive.dtau_dq);
+      best->dtau_dqd = std::move(recursive.dtau_dqd);
+      best->definitions = std::move(recursive.definitions);
+    } else {
+      reason += fmt::format("; {} {}", kRecursiveDerivatives, count);
+    }
+  }
+  best->reason = std::move(reason);
   if (kinematics) add_kinematics_derivatives(*kinematics, q, definitions, *best);
   return std::move(*best);
 }

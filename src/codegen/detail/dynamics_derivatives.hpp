@@ -7,7 +7,9 @@
 // recursive Newton-Euler one (linear in the bodies: its derivatives grow as
 // nq²) and M·qdd + h (short for a few coordinates), the one whose derivatives
 // have fewer operations is kept, as the dynamics choose between M and the
-// articulated-body algorithm.
+// articulated-body algorithm; and a third, the recursive derivative algorithm
+// (model/dynamics_derivatives.hpp: a few spatial products per pair of joints,
+// not nq times the inverse dynamics), where the model's joints allow it.
 
 #include <cstddef>
 #include <functional>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include <symdyn/model/dynamics.hpp>
+#include <symdyn/model/dynamics_derivatives.hpp>
 #include <symdyn/model/kinematics.hpp>
 #include <symdyn/symbolic/expr.hpp>
 
@@ -44,11 +47,14 @@ using OperationCounter = std::function<std::size_t(const std::vector<model::Expr
                                                    const std::vector<symbolic::Definition>&)>;
 
 // `q`, `qd`, `qdd`: the coordinates' symbols; `definitions`: those tau and the
-// kinematics read, each after those it uses. `kinematics`: also theirs, or null.
+// kinematics read, each after those it uses. `recursive`: the third form, by
+// the recursive derivative algorithm (model/dynamics_derivatives.hpp), kept
+// where it has the fewest operations, or why it does not apply.
+// `kinematics`: also theirs, or null.
 DynamicsDerivatives derive_dynamics_derivatives(
-    const model::Dynamics& dynamics, const model::Kinematics* kinematics,
-    const std::vector<model::Expr>& q, const std::vector<model::Expr>& qd,
-    const std::vector<model::Expr>& qdd, const std::vector<symbolic::Definition>& definitions,
-    const OperationCounter& operations);
+    const model::Dynamics& dynamics, model::InverseDynamicsDerivatives recursive,
+    const model::Kinematics* kinematics, const std::vector<model::Expr>& q,
+    const std::vector<model::Expr>& qd, const std::vector<model::Expr>& qdd,
+    const std::vector<symbolic::Definition>& definitions, const OperationCounter& operations);
 
 }  // namespace symdyn::codegen::detail
