@@ -229,26 +229,26 @@ bool SmallLu::factor_by_schedule(const double* A, double largest) {
 
 // The width of B known at compile time up to 8 columns (P and g_p⁻¹·g_t of
 // up to 7 independent coordinates): the multiply-adds along a row unrolled.
-void SmallLu::solve_rows(double* B, int cols) const {
+void SmallLu::solve_rows(double* B, int cols, int stride) const {
   switch (cols) {
     case 1:
-      return substitute<1>(B, cols);
+      return substitute<1>(B, cols, stride);
     case 2:
-      return substitute<2>(B, cols);
+      return substitute<2>(B, cols, stride);
     case 3:
-      return substitute<3>(B, cols);
+      return substitute<3>(B, cols, stride);
     case 4:
-      return substitute<4>(B, cols);
+      return substitute<4>(B, cols, stride);
     case 5:
-      return substitute<5>(B, cols);
+      return substitute<5>(B, cols, stride);
     case 6:
-      return substitute<6>(B, cols);
+      return substitute<6>(B, cols, stride);
     case 7:
-      return substitute<7>(B, cols);
+      return substitute<7>(B, cols, stride);
     case 8:
-      return substitute<8>(B, cols);
+      return substitute<8>(B, cols, stride);
     default:
-      return substitute<0>(B, cols);
+      return substitute<0>(B, cols, stride);
   }
 }
 
@@ -257,25 +257,28 @@ void SmallLu::solve_rows(double* B, int cols) const {
 // works in B (its rows swapped), the sparse one in work_ (B's rows gathered
 // in L·U's order, scattered back in Q's).
 template <int Cols>
-void SmallLu::substitute(double* B, int cols) const {
+void SmallLu::substitute(double* B, int cols, int stride) const {
   const int width = Cols > 0 ? Cols : cols;
-  const auto row_of = [&](double* Y, int i) { return Y + static_cast<std::ptrdiff_t>(i) * width; };
+  const auto row_of_B = [&](int i) { return B + static_cast<std::ptrdiff_t>(i) * stride; };
   double* Y = B;
+  int step = stride;  // between Y's rows
   if (sparse_) {
     work_.resize(static_cast<std::size_t>(n_ * width));
     Y = work_.data();
+    step = width;
     for (int k = 0; k < n_; ++k) {
-      const double* from = row_of(B, row_[static_cast<std::size_t>(k)]);
-      std::copy(from, from + width, row_of(Y, k));
+      const double* from = row_of_B(row_[static_cast<std::size_t>(k)]);
+      double* to = Y + static_cast<std::ptrdiff_t>(k) * width;
+      for (int c = 0; c < width; ++c) to[c] = from[c];
     }
   } else {
     for (int k = 0; k < n_; ++k) {
       const int p = swap_[static_cast<std::size_t>(k)];
       if (p == k) continue;
-      for (int c = 0; c < width; ++c) std::swap(row_of(Y, k)[c], row_of(Y, p)[c]);
+      for (int c = 0; c < width; ++c) std::swap(row_of_B(k)[c], row_of_B(p)[c]);
     }
   }
-  const auto row = [&](int i) { return row_of(Y, i); };
+  const auto row = [&](int i) { return Y + static_cast<std::ptrdiff_t>(i) * step; };
   // row(i) -= U_ij·row(j) (or L_ij), i != j
   const auto subtract = [&](int i, int j) {
     const double v = at(i, j);
@@ -305,12 +308,13 @@ void SmallLu::substitute(double* B, int cols) const {
   if (!sparse_) return;
   for (int k = 0; k < n_; ++k) {
     const double* z = row(k);
-    std::copy(z, z + width, row_of(B, column_[static_cast<std::size_t>(k)]));
+    double* to = row_of_B(column_[static_cast<std::size_t>(k)]);
+    for (int c = 0; c < width; ++c) to[c] = z[c];
   }
 }
 
 void SmallLu::solve_in_place(Matrix& b) const {
-  for (Eigen::Index c = 0; c < b.cols(); ++c) solve_rows(b.col(c).data(), 1);
+  for (Eigen::Index c = 0; c < b.cols(); ++c) solve_rows(b.col(c).data(), 1, 1);
 }
 
 // Aᵀ = Q·Uᵀ·Lᵀ·P: z = Qᵀ·b, Uᵀ·y = z forward, Lᵀ·w = y backward, then b = Pᵀ·w.
@@ -397,10 +401,12 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     x.tail(m_) -= step_;
   }
   factor(model, t, x);
-  // P = -g_p⁻¹·g_q and g_p⁻¹·g_t in one solve.
+  // P = -g_p⁻¹·g_q and g_p⁻¹·g_t in one solve; g_t's column left out where it
+  // is zero (loops that do not move with time): so is its solution.
   rates_.leftCols(n_) = g_q_;
   rates_.col(n_) = g_t_;
-  lu_.solve_rows(rates_.data(), n_ + 1);
+  const bool steady = (g_t_.array() == 0.0).all();
+  lu_.solve_rows(rates_.data(), steady ? n_ : n_ + 1, n_ + 1);
   T_.bottomRows(m_) = -rates_.leftCols(n_);
   solved_ = factored_at_last_ = true;
   last_q_ = q;

@@ -76,11 +76,12 @@ class SmallLu {
   // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
   double smallest_pivot_ratio() const { return ratio_; }
   // b := A⁻¹·b (each column of b).
-  void solve_in_place(Vector& b) const { solve_rows(b.data(), 1); }
+  void solve_in_place(Vector& b) const { solve_rows(b.data(), 1, 1); }
   void solve_in_place(Matrix& b) const;
-  // B := A⁻¹·B, B (n x cols) row-major: all columns in one pass, the
-  // multiply-adds independent across them.
-  void solve_rows(double* B, int cols) const;
+  // B := A⁻¹·B, B (n x cols) row-major, its rows `stride` apart: all columns
+  // in one pass, the multiply-adds independent across them.
+  void solve_rows(double* B, int cols, int stride) const;
+  void solve_rows(double* B, int cols) const { solve_rows(B, cols, cols); }
   // b := A⁻ᵀ·b
   void solve_transposed_in_place(Vector& b) const;
 
@@ -93,7 +94,7 @@ class SmallLu {
   void schedule(const double* A);
   bool factor_by_schedule(const double* A, double largest);
   template <int Cols>
-  void substitute(double* B, int cols) const;
+  void substitute(double* B, int cols, int stride) const;
   double& at(int i, int j) { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
   double at(int i, int j) const { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
 
