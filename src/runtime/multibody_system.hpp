@@ -261,7 +261,6 @@ class MultibodySystem : public DynamicSystem {
   // The loads of the closures' forces λ at the closed state x onto its bodies (k_ at x).
   void add_closure_loads(const State& x, const Vector& lambda);
   void check_reactions(const State& s, const Matrix& reaction) const;
-  // Tᵀ·A·T and Tᵀ·(b + A·c) of the tree's A and b.
   // The rows of each p column of the tree's M_x that can hold a nonzero:
   // rows[start[k]..start[k + 1]) for column nindependent + k.
   struct Coupling {
@@ -271,6 +270,7 @@ class MultibodySystem : public DynamicSystem {
   void find_emitted_coupling();
   // The emitted source's coupling (found once) where `emitted`, else A's.
   const Coupling& coupling_of(const Matrix& A, bool emitted);
+  // Tᵀ·A·T and Tᵀ·(b + A·c) of the tree's A and b (A's coupling given, or found).
   void reduce(const Matrix& A, const Coupling& coupling, Matrix& out);
   void reduce(const Matrix& A, Matrix& out);
   void reduce(const Vector& b, const Matrix& A, Vector& out);
