@@ -54,19 +54,38 @@ void SmallLu::order_columns(const double* A) {
 }
 
 void SmallLu::factor(const double* A, int n) {
+  factor(A, n, Eigen::Map<const Vector>(A, n * n).cwiseAbs().maxCoeff());
+}
+
+void SmallLu::factor(const double* A, int n, double largest) {
   if (n != n_ || column_.size() != static_cast<std::size_t>(n)) {
     n_ = n;
     order_columns(A);
-    lu_.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+    const auto entries = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    lu_.resize(entries);
     lower_start_.resize(static_cast<std::size_t>(n + 1));
-    lower_.resize(lu_.size());
-    upper_.resize(lu_.size());
     upper_start_.resize(static_cast<std::size_t>(n + 1));
+    below_start_.resize(static_cast<std::size_t>(n + 1));
+    for (auto* list : {&gather_from_, &gather_to_, &fill_, &below_}) list->reserve(entries);
+    lower_.reserve(entries);
+    upper_.reserve(entries);
+    pattern_.assign(entries, 0);
+    structure_.resize(entries);
     swap_.resize(static_cast<std::size_t>(n));
+    row_.resize(static_cast<std::size_t>(n));
     pivot_row_.resize(static_cast<std::size_t>(n));
     inverse_pivot_.resize(static_cast<std::size_t>(n));
+    scheduled_ = false;
   }
-  const double largest = Eigen::Map<const Vector>(A, n * n).cwiseAbs().maxCoeff();
+  if (scheduled_ && factor_by_schedule(A, largest)) return;
+  eliminate(A, largest);
+  if (sparse_) schedule(A);
+}
+
+// Partial pivoting, the pivot searched over all rows below and the rows
+// swapped; where sparse_, the pivot row's exact zeros skipped.
+void SmallLu::eliminate(const double* A, double largest) {
+  const int n = n_;
   if (!permuted_) {
     std::copy(A, A + n * n, lu_.begin());
   } else {
@@ -76,7 +95,6 @@ void SmallLu::factor(const double* A, int n) {
     }
   }
   double smallest = largest;
-  int upper = 0;  // U's nonzeros listed (its row k is final after step k)
   for (int k = 0; k < n; ++k) {
     int p = k;
     for (int i = k + 1; i < n; ++i) {
@@ -95,14 +113,6 @@ void SmallLu::factor(const double* A, int n) {
     for (int j = k + 1; j < n; ++j) {
       if (!sparse_ || at(k, j) != 0.0) pivot_row_[static_cast<std::size_t>(width++)] = j;
     }
-    if (sparse_) {
-      upper_start_[static_cast<std::size_t>(k)] = upper;
-      for (int e = 0; e < width; ++e) {
-        const int j = pivot_row_[static_cast<std::size_t>(e)];
-        upper_[static_cast<std::size_t>(upper++)] = {j, at(k, j)};
-      }
-      upper_start_[static_cast<std::size_t>(k + 1)] = upper;
-    }
     for (int i = k + 1; i < n; ++i) {
       if (at(i, k) == 0.0) continue;  // a row of another loop
       const double l = at(i, k) *= inverse_pivot_[static_cast<std::size_t>(k)];
@@ -113,67 +123,172 @@ void SmallLu::factor(const double* A, int n) {
     }
   }
   ratio_ = largest > 0 ? smallest / largest : 0.0;
-  if (sparse_) list_lower();
 }
 
-// The nonzeros of L below the diagonal, row by row (rows are swapped until
-// the last step): with U's, the solves' only work.
-void SmallLu::list_lower() {
-  int lower = 0;
-  for (int i = 0; i < n_; ++i) {
-    lower_start_[static_cast<std::size_t>(i)] = lower;
-    for (int j = 0; j < i; ++j) {
-      if (at(i, j) != 0.0) lower_[static_cast<std::size_t>(lower++)] = {j, at(i, j)};
+// The schedule of the pivots eliminate() just chose: A's pattern (the entries
+// nonzero in any A factored so far: one zero at a state may not be at the
+// next) in L·U's order, row k A's row row_[k], with the fill-in its
+// elimination makes (structure_, symbolic); L's columns, and L's and U's rows
+// over it. Where A's nonzeros stay in the pattern and the pivots stay the
+// largest of their columns, factor_by_schedule() repeats the elimination over
+// these lists only: the same factors as eliminate()'s.
+void SmallLu::schedule(const double* A) {
+  const int n = n_;
+  const auto index = [n](int i, int j) { return static_cast<std::size_t>(i * n + j); };
+  for (int i = 0; i < n * n; ++i) {
+    if (A[i] != 0.0) pattern_[static_cast<std::size_t>(i)] = 1;
+  }
+  for (int k = 0; k < n; ++k) row_[static_cast<std::size_t>(k)] = k;
+  for (int k = 0; k < n; ++k) {
+    std::swap(row_[static_cast<std::size_t>(k)],
+              row_[static_cast<std::size_t>(swap_[static_cast<std::size_t>(k)])]);
+  }
+  gather_from_.clear();
+  gather_to_.clear();
+  outside_.setZero(n * n);
+  fill_.clear();
+  for (int i = 0; i < n; ++i) {
+    for (int c = 0; c < n; ++c) {
+      const int from = row_[static_cast<std::size_t>(i)] * n + column_[static_cast<std::size_t>(c)];
+      const bool in = pattern_[static_cast<std::size_t>(from)] != 0;
+      structure_[index(i, c)] = in;
+      if (in) {
+        gather_from_.push_back(from);
+        gather_to_.push_back(i * n + c);
+      } else {
+        outside_(from) = 1.0;
+      }
     }
   }
-  lower_start_[static_cast<std::size_t>(n_)] = lower;
+  for (int k = 0; k < n; ++k) {
+    for (int r = k + 1; r < n; ++r) {
+      if (!structure_[index(r, k)]) continue;
+      for (int j = k + 1; j < n; ++j) {
+        if (structure_[index(k, j)] && !structure_[index(r, j)]) {
+          structure_[index(r, j)] = 1;
+          fill_.push_back(r * n + j);
+        }
+      }
+    }
+  }
+  below_.clear();
+  lower_.clear();
+  upper_.clear();
+  for (int k = 0; k < n; ++k) {
+    below_start_[static_cast<std::size_t>(k)] = static_cast<int>(below_.size());
+    lower_start_[static_cast<std::size_t>(k)] = static_cast<int>(lower_.size());
+    upper_start_[static_cast<std::size_t>(k)] = static_cast<int>(upper_.size());
+    for (int r = k + 1; r < n; ++r) {
+      if (structure_[index(r, k)]) below_.push_back(r);
+    }
+    for (int j = 0; j < n; ++j) {
+      if (j == k || !structure_[index(k, j)]) continue;
+      (j < k ? lower_ : upper_).push_back(j);
+    }
+  }
+  below_start_[static_cast<std::size_t>(n)] = static_cast<int>(below_.size());
+  lower_start_[static_cast<std::size_t>(n)] = static_cast<int>(lower_.size());
+  upper_start_[static_cast<std::size_t>(n)] = static_cast<int>(upper_.size());
+  scheduled_ = true;
+  ++schedules_;
+}
+
+// eliminate()'s work over the schedule's lists; false (lu_ to be redone)
+// where A has a nonzero outside the pattern or a pivot is not the largest
+// (or is zero or NaN) of its column.
+bool SmallLu::factor_by_schedule(const double* A, double largest) {
+  // sum |A_i|·outside_i, vectorized: 0 unless a nonzero (or NaN) is outside.
+  const Eigen::Map<const Vector> entries(A, n_ * n_);
+  if (!(entries.cwiseAbs().cwiseProduct(outside_).sum() == 0.0)) return false;
+  for (std::size_t e = 0; e < gather_to_.size(); ++e)
+    lu_[static_cast<std::size_t>(gather_to_[e])] = A[gather_from_[e]];
+  for (const int f : fill_) lu_[static_cast<std::size_t>(f)] = 0.0;
+  double smallest = largest;
+  for (int k = 0; k < n_; ++k) {
+    const double pivot = at(k, k);
+    const int below = below_start_[static_cast<std::size_t>(k)],
+              end = below_start_[static_cast<std::size_t>(k + 1)];
+    for (int e = below; e < end; ++e) {
+      if (std::abs(at(below_[static_cast<std::size_t>(e)], k)) > std::abs(pivot)) return false;
+    }
+    if (!(std::abs(pivot) > 0.0)) return false;
+    smallest = std::min(smallest, std::abs(pivot));
+    const double inverse = inverse_pivot_[static_cast<std::size_t>(k)] = 1.0 / pivot;
+    const int* u = upper_.data() + upper_start_[static_cast<std::size_t>(k)];
+    const int* u_end = upper_.data() + upper_start_[static_cast<std::size_t>(k + 1)];
+    const double* pivot_row = &at(k, 0);
+    for (int e = below; e < end; ++e) {
+      double* row = &at(below_[static_cast<std::size_t>(e)], 0);
+      const double l = row[k] *= inverse;
+      for (const int* j = u; j != u_end; ++j) row[*j] -= l * pivot_row[*j];
+    }
+  }
+  ratio_ = largest > 0 ? smallest / largest : 0.0;
+  return true;
 }
 
 // The width of B known at compile time up to 8 columns (P and g_p⁻¹·g_t of
 // up to 7 independent coordinates): the multiply-adds along a row unrolled.
-void SmallLu::solve_rows(double* B, int cols) const {
+void SmallLu::solve_rows(double* B, int cols, int stride) const {
   switch (cols) {
     case 1:
-      return substitute<1>(B, cols);
+      return substitute<1>(B, cols, stride);
     case 2:
-      return substitute<2>(B, cols);
+      return substitute<2>(B, cols, stride);
     case 3:
-      return substitute<3>(B, cols);
+      return substitute<3>(B, cols, stride);
     case 4:
-      return substitute<4>(B, cols);
+      return substitute<4>(B, cols, stride);
     case 5:
-      return substitute<5>(B, cols);
+      return substitute<5>(B, cols, stride);
     case 6:
-      return substitute<6>(B, cols);
+      return substitute<6>(B, cols, stride);
     case 7:
-      return substitute<7>(B, cols);
+      return substitute<7>(B, cols, stride);
     case 8:
-      return substitute<8>(B, cols);
+      return substitute<8>(B, cols, stride);
     default:
-      return substitute<0>(B, cols);
+      return substitute<0>(B, cols, stride);
   }
 }
 
 // P·B, then L·Y = P·B forward, U·Z = Y backward, row by row; B = Q·Z. Cols:
-// the number of columns when known at compile time (0: cols).
+// the number of columns when known at compile time (0: cols). The dense path
+// works in B (its rows swapped), the sparse one in work_ (B's rows gathered
+// in L·U's order, scattered back in Q's).
 template <int Cols>
-void SmallLu::substitute(double* B, int cols) const {
+void SmallLu::substitute(double* B, int cols, int stride) const {
   const int width = Cols > 0 ? Cols : cols;
-  const auto row = [&](int i) { return B + static_cast<std::ptrdiff_t>(i) * width; };
-  // row(i) -= v·row(j), i != j
-  const auto subtract = [&](int i, const Entry& e) {
-    double* __restrict to = row(i);
-    const double* __restrict from = row(e.j);
-    for (int c = 0; c < width; ++c) to[c] -= e.value * from[c];
-  };
-  for (int k = 0; k < n_; ++k) {
-    const int p = swap_[static_cast<std::size_t>(k)];
-    if (p == k) continue;
-    for (int c = 0; c < width; ++c) std::swap(row(k)[c], row(p)[c]);
+  const auto row_of_B = [&](int i) { return B + static_cast<std::ptrdiff_t>(i) * stride; };
+  double* Y = B;
+  int step = stride;  // between Y's rows
+  if (sparse_) {
+    work_.resize(static_cast<std::size_t>(n_ * width));
+    Y = work_.data();
+    step = width;
+    for (int k = 0; k < n_; ++k) {
+      const double* from = row_of_B(row_[static_cast<std::size_t>(k)]);
+      double* to = Y + static_cast<std::ptrdiff_t>(k) * width;
+      for (int c = 0; c < width; ++c) to[c] = from[c];
+    }
+  } else {
+    for (int k = 0; k < n_; ++k) {
+      const int p = swap_[static_cast<std::size_t>(k)];
+      if (p == k) continue;
+      for (int c = 0; c < width; ++c) std::swap(row_of_B(k)[c], row_of_B(p)[c]);
+    }
   }
+  const auto row = [&](int i) { return Y + static_cast<std::ptrdiff_t>(i) * step; };
+  // row(i) -= U_ij·row(j) (or L_ij), i != j
+  const auto subtract = [&](int i, int j) {
+    const double v = at(i, j);
+    double* __restrict to = row(i);
+    const double* __restrict from = row(j);
+    for (int c = 0; c < width; ++c) to[c] -= v * from[c];
+  };
   for (int i = 1; i < n_; ++i) {
     if (!sparse_) {
-      for (int j = 0; j < i; ++j) subtract(i, {j, at(i, j)});
+      for (int j = 0; j < i; ++j) subtract(i, j);
       continue;
     }
     for (int e = lower_start_[static_cast<std::size_t>(i)];
@@ -182,7 +297,7 @@ void SmallLu::substitute(double* B, int cols) const {
   }
   for (int i = n_ - 1; i >= 0; --i) {
     if (!sparse_) {
-      for (int j = i + 1; j < n_; ++j) subtract(i, {j, at(i, j)});
+      for (int j = i + 1; j < n_; ++j) subtract(i, j);
     } else {
       for (int e = upper_start_[static_cast<std::size_t>(i)];
            e < upper_start_[static_cast<std::size_t>(i + 1)]; ++e)
@@ -190,18 +305,16 @@ void SmallLu::substitute(double* B, int cols) const {
     }
     for (int c = 0; c < width; ++c) row(i)[c] *= inverse_pivot_[static_cast<std::size_t>(i)];
   }
-  if (!permuted_) return;
-  work_.resize(static_cast<std::size_t>(n_ * width));
-  std::copy(B, row(n_), work_.begin());
+  if (!sparse_) return;
   for (int k = 0; k < n_; ++k) {
-    const double* z = work_.data() + static_cast<std::ptrdiff_t>(k) * width;
-    double* x = row(column_[static_cast<std::size_t>(k)]);
-    for (int c = 0; c < width; ++c) x[c] = z[c];
+    const double* z = row(k);
+    double* to = row_of_B(column_[static_cast<std::size_t>(k)]);
+    for (int c = 0; c < width; ++c) to[c] = z[c];
   }
 }
 
 void SmallLu::solve_in_place(Matrix& b) const {
-  for (Eigen::Index c = 0; c < b.cols(); ++c) solve_rows(b.col(c).data(), 1);
+  for (Eigen::Index c = 0; c < b.cols(); ++c) solve_rows(b.col(c).data(), 1, 1);
 }
 
 // Aᵀ = Q·Uᵀ·Lᵀ·P: z = Qᵀ·b, Uᵀ·y = z forward, Lᵀ·w = y backward, then b = Pᵀ·w.
@@ -243,7 +356,7 @@ void LoopClosure::evaluate(const Model& model, double t, const Vector& x) {
 
 void LoopClosure::factor(const Model& model, double t, const Vector& x) {
   factored_at_last_ = false;
-  lu_.factor(g_p_.data(), m_);
+  lu_.factor(g_p_.data(), m_, g_p_largest_);
   if (!(smallest_pivot() >= kSingularPivot)) not_closed(model, t, x, Failure::singular);
 }
 
@@ -264,8 +377,8 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     evaluate(model, t, x);
     if (!(finite(g_) && finite(entries(g_q_)) && finite(entries(g_p_)) && finite(g_t_)))
       not_closed(model, t, x, Failure::not_finite);
-    const double scale =
-        std::max({1.0, entries(g_q_).cwiseAbs().maxCoeff(), entries(g_p_).cwiseAbs().maxCoeff()});
+    g_p_largest_ = entries(g_p_).cwiseAbs().maxCoeff();  // the LU's too
+    const double scale = std::max({1.0, entries(g_q_).cwiseAbs().maxCoeff(), g_p_largest_});
     const double residual = g_.cwiseAbs().maxCoeff();
     const double rounding = 64 * std::numeric_limits<double>::epsilon() * scale;
     // A predicted start within the tolerance is kept as it is (no step, no
@@ -288,10 +401,12 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     x.tail(m_) -= step_;
   }
   factor(model, t, x);
-  // P = -g_p⁻¹·g_q and g_p⁻¹·g_t in one solve.
+  // P = -g_p⁻¹·g_q and g_p⁻¹·g_t in one solve; g_t's column left out where it
+  // is zero (loops that do not move with time): so is its solution.
   rates_.leftCols(n_) = g_q_;
   rates_.col(n_) = g_t_;
-  lu_.solve_rows(rates_.data(), n_ + 1);
+  const bool steady = (g_t_.array() == 0.0).all();
+  lu_.solve_rows(rates_.data(), steady ? n_ : n_ + 1, n_ + 1);
   T_.bottomRows(m_) = -rates_.leftCols(n_);
   solved_ = factored_at_last_ = true;
   last_q_ = q;

@@ -47,10 +47,15 @@ namespace symdyn::runtime {
 // involve its own parameters and a few shared ones) costs little: Q takes the
 // columns with fewest nonzeros first (counted at the first factor(), so that
 // a loop's own parameters are eliminated within its rows before the shared
-// ones fill in), and the elimination and the solves skip exact zeros. Q only
-// orders the work; any A is factored exactly. A small or dense A (one loop)
-// has Q = I and solves over all of L and U: the lists of nonzeros would cost
-// more than they save. No allocation after the first factor().
+// ones fill in), and the elimination skips exact zeros. Its pivots and
+// structure (A's nonzeros, the fill-in) are then kept as a schedule: the next
+// factor() of an A whose nonzeros stay within those seen and whose pivots stay
+// the largest of their columns (along a trajectory) runs over its lists only,
+// the rows in place; any other A is factored anew (the schedule remade), so
+// that every A is factored exactly, by partial pivoting. The solves run over
+// L's and U's nonzeros. A small or dense A (one loop) has Q = I and no
+// schedule, and solves over all of L and U: the lists would cost more than
+// they save. No allocation after the first factor().
 class SmallLu {
  public:
   // The sparse path pays above this size, where at most this share of A's
@@ -60,27 +65,36 @@ class SmallLu {
 
   // sparse_if_it_pays false: always the dense path (to compare the two).
   explicit SmallLu(bool sparse_if_it_pays = true) : sparse_if_it_pays_(sparse_if_it_pays) {}
-  // A (n x n) row-major, as the emitted arrays are.
+  // A (n x n) row-major, as the emitted arrays are; largest: its largest |entry|.
   void factor(const double* A, int n);
+  void factor(const double* A, int n, double largest);
   // The path chosen at the first factor(): Q by sparsity and lists of nonzeros.
   bool sparse() const { return sparse_; }
+  // How many times the sparse path's schedule was made (at the first factor()
+  // and at each A that did not fit it).
+  int schedules() const { return schedules_; }
   // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
   double smallest_pivot_ratio() const { return ratio_; }
   // b := A⁻¹·b (each column of b).
-  void solve_in_place(Vector& b) const { solve_rows(b.data(), 1); }
+  void solve_in_place(Vector& b) const { solve_rows(b.data(), 1, 1); }
   void solve_in_place(Matrix& b) const;
-  // B := A⁻¹·B, B (n x cols) row-major: all columns in one pass, the
-  // multiply-adds independent across them.
-  void solve_rows(double* B, int cols) const;
+  // B := A⁻¹·B, B (n x cols) row-major, its rows `stride` apart: all columns
+  // in one pass, the multiply-adds independent across them.
+  void solve_rows(double* B, int cols, int stride) const;
+  void solve_rows(double* B, int cols) const { solve_rows(B, cols, cols); }
   // b := A⁻ᵀ·b
   void solve_transposed_in_place(Vector& b) const;
 
  private:
   // Q: the columns with fewest nonzeros first (stable), where sparse_.
   void order_columns(const double* A);
-  void list_lower();
+  // Partial pivoting over all of A (largest: A's largest |entry|).
+  void eliminate(const double* A, double largest);
+  // The schedule of eliminate()'s pivots, and factor() by it (false: not A's).
+  void schedule(const double* A);
+  bool factor_by_schedule(const double* A, double largest);
   template <int Cols>
-  void substitute(double* B, int cols) const;
+  void substitute(double* B, int cols, int stride) const;
   double& at(int i, int j) { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
   double at(int i, int j) const { return lu_[static_cast<std::size_t>(i * n_ + j)]; }
 
@@ -92,15 +106,21 @@ class SmallLu {
   std::vector<int> column_;            // Q: column k of L·U is A's column column_[k]
   bool permuted_ = false;              // Q is not the identity
   std::vector<double> inverse_pivot_;  // 1/U_kk: the solves multiply
-  struct Entry {
-    int j;
-    double value;
-  };
-  // The nonzeros of L's and U's row i: [*_start_[i], *_start_[i + 1]) of lower_, upper_
-  // (built where sparse_; the dense path reads lu_'s rows whole).
-  std::vector<Entry> lower_, upper_;
+  // The columns of L's and U's row i that can hold a nonzero (the schedule's,
+  // where sparse_; the dense path reads lu_'s rows whole): [*_start_[i],
+  // *_start_[i + 1]) of lower_, upper_.
+  std::vector<int> lower_, upper_;
   std::vector<int> lower_start_, upper_start_;
-  mutable std::vector<double> work_;  // a solve's result before Q (n x cols)
+  // The schedule (where sparse_): row k of L·U is A's row row_[k]; A's entries
+  // ever nonzero (pattern_, n x n as A), taken from gather_from_ to lu_'s
+  // gather_to_, the others (where outside_ is 1) zero; lu_'s fill-in fill_; L's column k
+  // the rows below_[below_start_[k]..below_start_[k + 1]).
+  bool scheduled_ = false;
+  int schedules_ = 0;
+  std::vector<int> row_, gather_from_, gather_to_, fill_, below_, below_start_;
+  Vector outside_;
+  std::vector<char> pattern_, structure_;  // structure_: L·U's nonzeros (n x n), schedule()'s
+  mutable std::vector<double> work_;       // the sparse solve's rows (n x cols)
   double ratio_ = 0.0;
 };
 
@@ -168,6 +188,7 @@ class LoopClosure {
   int n_ = 0, m_ = 0;
   Vector g_, g_t_, gamma_, guess_, step_, dq_;
   RowMajorMatrix g_q_, g_p_;  // as emitted
+  double g_p_largest_ = 0.0;  // g_p's largest |entry|
   RowMajorMatrix rates_;      // g_p⁻¹·[g_q g_t] (ncon x (n + 1))
   SmallLu lu_;
   Matrix T_;  // [I; P], P that of the last solution

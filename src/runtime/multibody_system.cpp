@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -40,6 +41,7 @@ MultibodySystem::MultibodySystem(Model model, std::optional<EquationsSource> sou
   solver_ = SpdSolver(num_coordinates());
   tree_solver_ = TreeSolver(num_coordinates());
   if (model_.has_loops()) loops_ = LoopClosure(model_);
+  find_emitted_coupling();
   if (model_.has_kinematics_derivatives()) dk_ = model_.make_kinematics_derivatives();
   base_v_.resize(static_cast<std::size_t>(3 * model_.nbody()));
   base_w_.resize(static_cast<std::size_t>(3 * model_.nbody()));
@@ -160,21 +162,57 @@ void MultibodySystem::check_independent(const State& s) const {
   state_error(x);
 }
 
+// The rows of each p column of A (nq x nq) holding a nonzero: this call's.
+void MultibodySystem::find_coupling(const Matrix& A, Coupling& coupling) {
+  const Eigen::Index n = model_.nindependent(), m = model_.ncon();
+  coupling.start.assign(static_cast<std::size_t>(m + 1), 0);
+  coupling.rows.clear();
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const double* a = A.col(n + k).data();
+    for (Eigen::Index i = 0; i < A.rows(); ++i) {
+      if (a[i] != 0.0) coupling.rows.push_back(static_cast<int>(i));
+    }
+    coupling.start[static_cast<std::size_t>(k + 1)] = static_cast<int>(coupling.rows.size());
+  }
+}
+
+// The emitted M_x's structural coupling: the entries of its p columns that are
+// not the constant 0 (nonzero, or NaN, at NaN coordinates, rates and
+// parameters: any entry that depends on them), with those nonzero at the
+// model's initial state (should an emitted function not carry NaN through).
+void MultibodySystem::find_emitted_coupling() {
+  const DynamicsFn dynamics = model_.emitted_dynamics();
+  if (!model_.has_loops() || dynamics == nullptr) return;
+  const int nq = model_.nq();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Vector any = Vector::Constant(nq, nan);
+  const std::vector<double> any_parameters(model_.parameters().size(), nan);
+  Matrix probe = Matrix::Zero(nq, nq), at_initial = Matrix::Zero(nq, nq);
+  Vector h(nq);
+  dynamics(nan, any.data(), any.data(), any_parameters.data(), probe.data(), h.data());
+  const State x = model_.initial_state();
+  dynamics(x.t, x.q.data(), x.qd.data(), model_.parameters().data(), at_initial.data(), h.data());
+  probe = (probe.array() != 0.0 || at_initial.array() != 0.0).cast<double>();
+  find_coupling(probe, emitted_coupling_);
+  has_emitted_coupling_ = true;
+}
+
 // T = [I; P] and c = [0; c_p]: the products with their identity and zero
 // blocks left out, by plain loops (Eigen's set-up costs more at these sizes).
 // A tree's A = M_x is zero between coordinates of different branches (a
-// Stewart platform's legs): A·T = A_q + A_p·P adds P's row k only where A_p's
-// column k is nonzero, found by the pass over it. Tᵀ·A·T is symmetric: its
-// lower triangle is computed, the upper copied.
-void MultibodySystem::reduce(const Matrix& A, Matrix& out) {
+// Stewart platform's legs): A·T = A_q + A_p·P adds P's row k only at the rows
+// of A_p's column k that `coupling` lists. Tᵀ·A·T is symmetric: its lower
+// triangle is computed, the upper copied.
+void MultibodySystem::reduce(const Matrix& A, const Coupling& coupling, Matrix& out) {
   const Eigen::Index n = model_.nindependent(), m = model_.ncon(), rows = A.rows();
   const double* T = loops_.T().data();  // (rows x n) column-major, P = its rows n..
   AT_ = A.leftCols(n);
   double* AT = AT_.data();
   for (Eigen::Index k = 0; k < m; ++k) {
     const double* a = A.col(n + k).data();
-    for (Eigen::Index i = 0; i < rows; ++i) {
-      if (a[i] == 0.0) continue;
+    for (int e = coupling.start[static_cast<std::size_t>(k)];
+         e < coupling.start[static_cast<std::size_t>(k + 1)]; ++e) {
+      const int i = coupling.rows[static_cast<std::size_t>(e)];
       for (Eigen::Index j = 0; j < n; ++j) AT[i + j * rows] += a[i] * T[n + k + j * rows];
     }
   }
@@ -189,6 +227,16 @@ void MultibodySystem::reduce(const Matrix& A, Matrix& out) {
       out(i, j) = out(j, i) = sum;
     }
   }
+}
+
+void MultibodySystem::reduce(const Matrix& A, Matrix& out) {
+  reduce(A, coupling_of(A, false), out);
+}
+
+const MultibodySystem::Coupling& MultibodySystem::coupling_of(const Matrix& A, bool emitted) {
+  if (emitted && has_emitted_coupling_) return emitted_coupling_;
+  find_coupling(A, coupling_);
+  return coupling_;
 }
 
 void MultibodySystem::reduce(const Vector& b, const Matrix& A, Vector& out) {
@@ -758,10 +806,20 @@ void MultibodySystem::loop_accelerations(const State& s, Vector& qdd, Vector& yd
   const State& x = close(s);
   check_domain_margin(x);
   accelerations_rhs(x, rhs_x_);
-  const Eigen::Index m = model_.ncon();
-  rhs_x_.noalias() -= M_.rightCols(m) * loops_.c().tail(m);  // c = [0; c_p]
+  const Coupling& coupling = coupling_of(M_, source_ == EquationsSource::emitted);
+  // rhs_x -= M_x·c, c = [0; c_p]
+  const Eigen::Index n = model_.nindependent(), m = model_.ncon();
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const double* a = M_.col(n + k).data();
+    const double c = loops_.c()(n + k);
+    for (int e = coupling.start[static_cast<std::size_t>(k)];
+         e < coupling.start[static_cast<std::size_t>(k + 1)]; ++e) {
+      const int i = coupling.rows[static_cast<std::size_t>(e)];
+      rhs_x_(i) -= a[i] * c;
+    }
+  }
   Matrix& reduced = derivative_M_;
-  reduce(M_, reduced);
+  reduce(M_, coupling, reduced);
   reduce(rhs_x_, qdd);
   if (!solver_.factor(reduced)) {
     if (!(reduced.allFinite() && qdd.allFinite())) explain_non_finite(x);

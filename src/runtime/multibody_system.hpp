@@ -261,7 +261,17 @@ class MultibodySystem : public DynamicSystem {
   // The loads of the closures' forces λ at the closed state x onto its bodies (k_ at x).
   void add_closure_loads(const State& x, const Vector& lambda);
   void check_reactions(const State& s, const Matrix& reaction) const;
-  // Tᵀ·A·T and Tᵀ·(b + A·c) of the tree's A and b.
+  // The rows of each p column of the tree's M_x that can hold a nonzero:
+  // rows[start[k]..start[k + 1]) for column nindependent + k.
+  struct Coupling {
+    std::vector<int> start, rows;
+  };
+  void find_coupling(const Matrix& A, Coupling& coupling);
+  void find_emitted_coupling();
+  // The emitted source's coupling (found once) where `emitted`, else A's.
+  const Coupling& coupling_of(const Matrix& A, bool emitted);
+  // Tᵀ·A·T and Tᵀ·(b + A·c) of the tree's A and b (A's coupling given, or found).
+  void reduce(const Matrix& A, const Coupling& coupling, Matrix& out);
   void reduce(const Matrix& A, Matrix& out);
   void reduce(const Vector& b, const Matrix& A, Vector& out);
   void reduce(const Vector& b, Vector& out);  // Tᵀ·b
@@ -349,12 +359,14 @@ class MultibodySystem : public DynamicSystem {
   void watch_angle_sequences(const State& s, bool ill);
 
   Model model_;
-  LoopClosure loops_;   // with closed loops
-  State closed_;        // the extended state of the last close()
-  Vector xdd_, rhs_x_;  // (nq) the tree's accelerations and right-hand side
-  Matrix tree_M_;       // (nq x nq) a tree's matrix
-  Matrix AT_;           // (nq x n) A·T in reduce()
-  Vector tree_v_;       // (nq)
+  LoopClosure loops_;                     // with closed loops
+  State closed_;                          // the extended state of the last close()
+  Vector xdd_, rhs_x_;                    // (nq) the tree's accelerations and right-hand side
+  Matrix tree_M_;                         // (nq x nq) a tree's matrix
+  Matrix AT_;                             // (nq x n) A·T in reduce()
+  Coupling emitted_coupling_, coupling_;  // the emitted M_x's (found once), a call's
+  bool has_emitted_coupling_ = false;
+  Vector tree_v_;  // (nq)
   EquationsSource source_;
   std::vector<std::shared_ptr<const ForceElement>> elements_;
   std::vector<std::string> extra_names_;

@@ -375,6 +375,81 @@ TEST_CASE("SmallLu's sparse path (large, sparse g_p) and dense path agree at ran
   CHECK_FALSE(lu_small.sparse());
 }
 
+TEST_CASE("SmallLu's schedule is kept along a trajectory, its factors those of a fresh LU",
+          "[loops]") {
+  std::mt19937 rng(53u);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  // Block-arrow as the Stewart platform's g_p: six loops of three equations,
+  // each in its two own parameters and six shared; one entry zero at the
+  // start (as sin 0 at a home pose).
+  const int loops = 6, rows = 3, own = 2, shared = 6, n = loops * rows;
+  RowMajor start = RowMajor::Zero(n, n), rate = RowMajor::Zero(n, n);
+  for (int l = 0; l < loops; ++l) {
+    for (int i = l * rows; i < (l + 1) * rows; ++i) {
+      for (int j = 0; j < own; ++j) start(i, l * own + j) = entry(rng), rate(i, l * own + j) = 1;
+      for (int j = 0; j < shared; ++j) {
+        start(i, loops * own + j) = entry(rng), rate(i, loops * own + j) = entry(rng);
+      }
+    }
+  }
+  start(4, loops * own + 1) = 0.0;
+  SmallLu lu;
+  const auto solves_as_fresh = [&](const RowMajor& A) {
+    lu.factor(A.data(), n);
+    SmallLu fresh;
+    fresh.factor(A.data(), n);
+    REQUIRE(lu.sparse());
+    // (fresh's column order is A's, lu's the first A's: the same factors to rounding)
+    CHECK(std::abs(lu.smallest_pivot_ratio() - fresh.smallest_pivot_ratio()) <=
+          1e-12 * fresh.smallest_pivot_ratio());
+    RowMajor B(n, 7);
+    for (int i = 0; i < 7 * n; ++i) B.data()[i] = entry(rng);
+    RowMajor X = B, Y = B;
+    lu.solve_rows(X.data(), 7);
+    fresh.solve_rows(Y.data(), 7);
+    CHECK(max_abs(A * X - B) <= 1e-12 * (1 + max_abs(A) * max_abs(X)));
+    CHECK(max_abs(X - Y) <= 1e-14 * (1 + max_abs(Y)));
+    // The first 6 columns alone, in B's rows of 7 (both paths): the last untouched.
+    SmallLu dense(false);
+    dense.factor(A.data(), n);
+    for (const SmallLu* by : {&lu, &dense}) {
+      RowMajor Z = B;
+      by->solve_rows(Z.data(), 6, 7);
+      CHECK(max_abs(Z.leftCols(6) - X.leftCols(6)) <= 1e-12 * (1 + max_abs(X)));
+      CHECK(Z.col(6) == B.col(6));
+    }
+    Vector b = B.col(0), x = b, y = b;
+    lu.solve_transposed_in_place(x);
+    fresh.solve_transposed_in_place(y);
+    CHECK(max_abs(A.transpose() * x - b) <= 1e-12 * (1 + max_abs(A) * max_abs(x)));
+    CHECK(max_abs(x - y) <= 1e-14 * (1 + max_abs(y)));
+  };
+  solves_as_fresh(start);
+  REQUIRE(lu.schedules() == 1);
+  // The zero entry becomes nonzero: outside the first pattern, the schedule is made again.
+  solves_as_fresh(start + 1e-5 * rate);
+  REQUIRE(lu.schedules() == 2);
+  // Small steps along the trajectory keep it (its pivots stay the largest of their columns).
+  for (int step = 2; step < 40; ++step) {
+    CAPTURE(step);
+    solves_as_fresh(start + 1e-5 * step * rate);
+  }
+  CHECK(lu.schedules() == 2);
+  // A pivot no longer the largest of its column: factored anew, and right.
+  RowMajor A = start + 4e-4 * rate;
+  A.row(0).swap(A.row(1));
+  A.row(0) *= 1e-3;
+  solves_as_fresh(A);
+  CHECK(lu.schedules() == 3);
+  // A singular one is said to be (its pivot zero), then a regular one factors again.
+  RowMajor singular = start + 4e-4 * rate;
+  singular.row(2) = singular.row(1);
+  lu.factor(singular.data(), n);
+  CHECK(lu.smallest_pivot_ratio() < 1e-15);
+  solves_as_fresh(start + 4e-4 * rate);
+}
+
 TEST_CASE("SmallLu solves as a direct product checks, transposed too, and flags a singular g_p",
           "[loops]") {
   std::mt19937 rng(43u);
