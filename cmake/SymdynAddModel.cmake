@@ -49,7 +49,7 @@ include(${CMAKE_CURRENT_LIST_DIR}/SymdynPython.cmake)
 macro(symdyn_emitted_code_defaults)
   if(NOT DEFINED SYMDYN_EMITTED_CODE_FLAGS)
     if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-      set(SYMDYN_EMITTED_CODE_FLAGS "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations -fno-tree-fre -fno-dse -fno-tree-dce -fno-ipa-pure-const -fno-ipa-reference -fno-ipa-modref")
+      set(SYMDYN_EMITTED_CODE_FLAGS "-O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations -fno-tree-fre -fno-dse -fno-tree-dce -fno-ipa-pure-const -fno-ipa-reference -fno-ipa-modref -fno-rerun-cse-after-loop")
     else()  # the passes above are GCC's: clang refuses most of their names
       set(SYMDYN_EMITTED_CODE_FLAGS "-O2")
     endif()

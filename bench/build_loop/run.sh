@@ -43,6 +43,7 @@ all_configs=(
   "Og|1|-Og -DNDEBUG"
   "O2_no_slp|1|-O2 -DNDEBUG -fno-tree-slp-vectorize"
   "after_flags_aacc368|4|-O3 -DNDEBUG -O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations"
+  "after_flags_17463bf|4|-O3 -DNDEBUG -O2 -fno-tree-slp-vectorize -fno-schedule-insns2 -fno-tree-dse -fno-gcse -fno-tree-pre -fno-tree-vrp -fno-code-hoisting -fno-expensive-optimizations -fno-tree-fre -fno-dse -fno-tree-dce -fno-ipa-pure-const -fno-ipa-reference -fno-ipa-modref"
   "after_1_source|1|-O3 -DNDEBUG ${after_flags:-?}"
   "after_2_sources|2|-O3 -DNDEBUG ${after_flags:-?}"
   "after|${after_sources:-1}|-O3 -DNDEBUG ${after_flags:-?}"

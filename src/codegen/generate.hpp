@@ -32,9 +32,10 @@ inline constexpr std::size_t kDefaultPartInstructions = 125;
 inline constexpr std::size_t kSplitAbove = 500;
 
 // A source file of the emitted code holds at least this many bytes of the
-// definitions (Options::sources): compiling a file costs about 0.1 s of
-// parsing <cmath> and the header before its first definition, and compiling
-// 200 kB of definitions about 1 s (bench/results/build_loop.md).
+// definitions (Options::sources): compiling a file costs about 0.02 s of
+// parsing the header before its first definition (0.14 s more where it calls
+// a function of <cmath>), and compiling 200 kB of definitions about 1 s
+// (bench/results/build_loop.md).
 inline constexpr std::size_t kBytesPerSource = 200'000;
 // The most source files a model is spread over (Options::sources): more
 // than there are definitions, or processors, compile no faster.

@@ -122,6 +122,17 @@ TEST_CASE("definitions spread over several source files are those of one file, e
   }
   for (const codegen::EmittedFunction& f : one.functions)
     CHECK(function_text(four.source, f.name) == function_text(one.source, f.name));
+  // <cmath> only in the files that call one of its functions: parsing it costs
+  // more than a short file's definitions. (They compile: the link test below.)
+  std::size_t with_cmath = 0;
+  for (std::size_t f = 0; f < files.size(); ++f) {
+    INFO("file " << f + 1);
+    const bool calls = files[f].find("std::") != std::string::npos;
+    CHECK((files[f].find("#include <cmath>\n") != std::string::npos) == calls);
+    with_cmath += calls;
+  }
+  CHECK(with_cmath >= 1);
+  CHECK(with_cmath < files.size());
   // What the header declares is the same; only the link guard's fingerprint differs.
   CHECK(one.header.substr(0, one.header.find("// Link-time guard")) ==
         four.header.substr(0, four.header.find("// Link-time guard")));

@@ -10,19 +10,29 @@ namespace symdyn::codegen::detail {
 
 namespace {
 
+// A byte of the first file's declarations of the parts and of its entry
+// points' calls costs g++ about four times a byte of the parts (chain_64,
+// bench/results/build_loop.md): counted so, the files take about equal times
+// to compile, and two cores compiling four files finish together.
+constexpr std::size_t kCallByteWeight = 4;
+
 // The definitions spread over `files` source files in runs of about equal
 // size, counting the `first` bytes the first file holds anyway (the entry
-// points), each definition in the file of its middle byte, as many files
-// used as `bytes` fill (at least one): the rest stay empty.
+// points, weighted), each definition in the file of its middle byte, as many
+// files used as `bytes` fill (at least one): the rest stay empty. Where the
+// first file's own text is a share or more, the others share the definitions.
 std::vector<std::string> spread(const std::vector<std::string>& definitions, std::size_t files,
                                 std::size_t bytes, std::size_t first) {
-  std::size_t total = first;
-  for (const std::string& d : definitions) total += d.size();
+  std::size_t size = 0;
+  for (const std::string& d : definitions) size += d.size();
+  const std::size_t total = first + size;
   const std::size_t used = std::clamp<std::size_t>((total + bytes - 1) / bytes, 1, files);
+  const std::size_t skip = used > 1 && first * used >= total ? 1 : 0;  // files without definitions
+  const std::size_t span = skip ? size : total;  // the bytes spread over files [skip, used)
   std::vector<std::string> out(files);
-  std::size_t before = first;
+  std::size_t before = skip ? 0 : first;
   for (const std::string& d : definitions) {
-    out[std::min(used - 1, (before + d.size() / 2) * used / total)] += d;
+    out[std::min(used - 1, skip + (before + d.size() / 2) * (used - skip) / span)] += d;
     before += d.size();
   }
   return out;
@@ -33,10 +43,19 @@ std::string first_line(const TextContext& c, std::string_view which) {
                      c.model.name(), c.variant, which);
 }
 
-// A source file's text up to its definitions: its first line, the includes, the namespace.
-std::string opening(const TextContext& c, std::string_view which) {
-  return fmt::format("{}#include \"{}.hpp\"\n\n#include <cmath>\n\nnamespace {} {{\n",
-                     first_line(c, which), c.basename, c.options.name_space);
+// Whether a file's definitions call a function of <cmath>: the emitted code
+// calls no other library, always qualified (std::sin, std::sqrt, ...).
+// Parsing <cmath> costs a file more than its header (about 0.14 s of g++ 12).
+bool calls_cmath(std::string_view definitions) {
+  return definitions.find("std::") != std::string_view::npos;
+}
+
+// A source file's text up to its definitions: its first line, the includes
+// (<cmath> where they call it), the namespace.
+std::string opening(const TextContext& c, std::string_view which, std::string_view definitions) {
+  return fmt::format("{}#include \"{}.hpp\"\n\n{}namespace {} {{\n", first_line(c, which),
+                     c.basename, calls_cmath(definitions) ? "#include <cmath>\n\n" : "",
+                     c.options.name_space);
 }
 
 // The definitions of a file, the parts in a namespace: anonymous in a single
@@ -61,17 +80,18 @@ GeneratedCode emit_code(const TextContext& c, Derivation&& d,
   GeneratedCode code;
   code.struct_name = std::string(c.basename);
   code.dynamics = choice.value_or(DynamicsChoice{});
-  // The source is appended to, piece after piece: it is most of the
-  // output, and formatting it through fmt would copy it again.
-  code.source = opening(c, "");
   const FunctionTexts texts = emit_functions(c, d, code);
   const std::size_t files = c.options.sources;
   const std::vector<std::string> definitions =
       spread(texts.definitions, files, c.options.source_bytes,
-             texts.declarations.size() + texts.calls.size());
-  code.source += definitions_text(c, texts, 0, definitions[0]);
-  code.source += texts.calls;
-  code.source += domain_arguments_text(c);
+             kCallByteWeight * (texts.declarations.size() + texts.calls.size()));
+  // The source is appended to, piece after piece: it is most of the
+  // output, and formatting it through fmt would copy it again.
+  std::string first = definitions_text(c, texts, 0, definitions[0]);
+  first += texts.calls;
+  first += domain_arguments_text(c);
+  code.source = opening(c, "", first);
+  code.source += first;
   const std::string closing = fmt::format("}}  // namespace {}\n", c.options.name_space);
   std::string all_sources = code.source;
   for (std::size_t f = 1; f < files; ++f) {
@@ -79,7 +99,8 @@ GeneratedCode emit_code(const TextContext& c, Derivation&& d,
     code.more_sources.push_back(
         definitions[f].empty()
             ? first_line(c, which) + "// Empty: the definitions fill fewer files.\n"
-            : opening(c, which) + definitions_text(c, texts, f, definitions[f]) + '\n' + closing);
+            : opening(c, which, definitions[f]) + definitions_text(c, texts, f, definitions[f]) +
+                  '\n' + closing);
     all_sources += code.more_sources.back();
   }
   // The guard's name depends on everything emitted, so it is computed last.
