@@ -129,22 +129,51 @@ template <bool negate>
 }
 
 void SpdSolver::solve_in_place(Matrix& B) {
-  solve_matrix(B, false);
+  solve_matrix<false>(B);
 }
 
 void SpdSolver::solve_negated_in_place(Matrix& B) {
-  solve_matrix(B, true);
+  solve_matrix<true>(B);
 }
 
-void SpdSolver::solve_matrix(Matrix& B, bool negate) {
-  if (size() <= kernels_->solve_up_to) {
-    kernels_->solve(size(), L_.data(), B.data(), static_cast<int>(B.cols()), negate, tile_.data());
-    return;
+template <bool negate>
+void SpdSolver::solve_matrix(Matrix& B) {
+  const int n = size(), m = static_cast<int>(B.cols());
+  if (n <= kInPlaceUpTo) {
+    solve_rows_in_place<negate>(B);
+  } else if (n <= kernels_->solve_up_to) {
+    kernels_->solve(n, L_.data(), B.data(), m, negate, tile_.data());
+  } else {
+    const auto L = L_.triangularView<Eigen::Lower>();
+    L.solveInPlace(B);
+    L.adjoint().solveInPlace(B);
+    if constexpr (negate) B = -B;
   }
-  const auto L = L_.triangularView<Eigen::Lower>();
-  L.solveInPlace(B);
-  L.adjoint().solveInPlace(B);
-  if (negate) B = -B;
+}
+
+// Row by row, every column at once: B_i := (±B_i - Σ_k<i L_ik·B_k) / L_ii,
+// then B_i := (B_i - Σ_k>i L_ki·B_k) / L_ii backward; the multiply-adds of a
+// row are independent across the columns (column by column they are a chain).
+template <bool negate>
+void SpdSolver::solve_rows_in_place(Matrix& B) const {
+  const Eigen::Index n = L_.rows(), m = B.cols();
+  const double* l = L_.data();
+  double* b = B.data();
+  const auto axpy = [&](Eigen::Index i, Eigen::Index k, double c) {
+    for (Eigen::Index j = 0; j < m; ++j) b[i + j * n] -= c * b[k + j * n];
+  };
+  const auto scale = [&](Eigen::Index i, double c) {
+    for (Eigen::Index j = 0; j < m; ++j) b[i + j * n] *= c;
+  };
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if constexpr (negate) scale(i, -1.0);
+    for (Eigen::Index k = 0; k < i; ++k) axpy(i, k, l[i + k * n]);
+    scale(i, 1.0 / l[i + i * n]);
+  }
+  for (Eigen::Index i = n - 1; i >= 0; --i) {
+    for (Eigen::Index k = i + 1; k < n; ++k) axpy(i, k, l[k + i * n]);
+    scale(i, 1.0 / l[i + i * n]);
+  }
 }
 
 namespace {

@@ -62,9 +62,10 @@ class SpdSolver {
 
   // B := M⁻¹·B and B := -M⁻¹·B (n x m), all columns in one solve, so that the
   // multiply-adds are independent across the columns (column by column each
-  // entry is a chain of dependent ones): tiles of up to
-  // detail::kWidestTile columns, row by row, their sums in registers (up to
-  // the kernels' solve_up_to coordinates; Eigen's blocked solves above).
+  // entry is a chain of dependent ones): up to kInPlaceUpTo coordinates row
+  // by row in place, then tiles of up to detail::kWidestTile columns copied
+  // row by row, their sums in registers (up to the kernels' solve_up_to
+  // coordinates; Eigen's blocked solves above).
   void solve_in_place(Matrix& B);
   void solve_negated_in_place(Matrix& B);
 
@@ -76,11 +77,17 @@ class SpdSolver {
   static constexpr double kSingularRatio = 64 * 2.220446049250313e-16;
   // Up to this size the column loop, above it Eigen's LLT.
   static constexpr int kLoopUpTo = 40;
+  // Several right-hand sides up to this size: row by row on B in place (its
+  // rows strided), where copying tiles costs more than it saves.
+  static constexpr int kInPlaceUpTo = 3;
 
  private:
   bool factor_by_columns(const Matrix& M);
   bool factor_blocked(const Matrix& M);
-  void solve_matrix(Matrix& B, bool negate);
+  template <bool negate>
+  void solve_matrix(Matrix& B);
+  template <bool negate>
+  void solve_rows_in_place(Matrix& B) const;
   template <bool negate>
   void solve(const double* b, Vector& out) const;
   // x := ±M⁻¹·b by the column loop (n <= kLoopUpTo); b may be x.

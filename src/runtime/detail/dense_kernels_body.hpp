@@ -6,31 +6,6 @@
 // compiles it. Plain loops with no library calls, so that everything here is
 // compiled for the includer's instruction set and vectorized by the compiler.
 
-// Up to this size B is solved in place, row by row, each row's entries strided
-// by n (the previous runtime's loop): for a few coordinates copying tiles
-// costs more than it saves.
-constexpr int kInPlaceUpTo = 3;
-
-// B_i := (±B_i - Σ_k<i L_ik·B_k) / L_ii, then B_i := (B_i - Σ_k>i L_ki·B_k) / L_ii
-// backward, each row operation across all m columns (independent multiply-adds).
-void solve_in_place(int n, const double* __restrict L, double* __restrict B, int m, double sign) {
-  const auto row_minus = [&](int i, int k, double c) {
-    for (int j = 0; j < m; ++j) B[i + j * n] = multiply_subtract(B[i + j * n], c, B[k + j * n]);
-  };
-  const auto scale = [&](int i, double c) {
-    for (int j = 0; j < m; ++j) B[i + j * n] *= c;
-  };
-  for (int i = 0; i < n; ++i) {
-    scale(i, sign);
-    for (int k = 0; k < i; ++k) row_minus(i, k, L[i + k * n]);
-    scale(i, 1.0 / L[i + i * n]);
-  }
-  for (int i = n - 1; i >= 0; --i) {
-    for (int k = i + 1; k < n; ++k) row_minus(i, k, L[k + i * n]);
-    scale(i, 1.0 / L[i + i * n]);
-  }
-}
-
 // `count` <= W columns of B from column j0, copied row by row into R (n x W,
 // row-major, the columns beyond count zero), solved and copied back. Forward,
 // row by row: R_i := (±R_i - Σ_k<i L_ik·R_k) / L_ii, then backward:
@@ -72,7 +47,6 @@ void solve_tile(int n, const double* __restrict L, double* __restrict B, int j0,
 // that holds it (at most twice its columns).
 void solve(int n, const double* L, double* B, int m, bool negate, double* R) {
   const double sign = negate ? -1.0 : 1.0;
-  if (n <= kInPlaceUpTo) return solve_in_place(n, L, B, m, sign);
   int j = 0;
   for (; j + kTile <= m; j += kTile) solve_tile<kTile>(n, L, B, j, kTile, sign, R);
   const int rest = m - j;
