@@ -141,7 +141,7 @@ fi
 {
   echo "machine = $machine"
   echo "cpu = $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')"
-  echo "compiler = $(g++ --version | head -1), CMake release preset (-O3, no -march)"
+  echo "compiler = $(g++ --version | head -1), CMake release preset (-O3, no -march; SpdSolver's kernels also built for AVX2 with FMA, taken at run time where the processor has them)"
   echo "commit = $commit"
   echo "mujoco = $(version libmujoco-dev)"
   echo "valgrind = $(valgrind --version 2>/dev/null || echo none)"

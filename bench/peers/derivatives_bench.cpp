@@ -21,7 +21,8 @@
 //   symdyn_bench_derivatives time [--rounds R] [--batch-ms T] [MODEL...]   check, then the CPU
 //       time per call of each method: medians over R interleaved rounds (TSV)
 //   symdyn_bench_derivatives solves [--rounds R]   the solves -M⁻¹·[K C] alone at each size:
-//       the runtime's against Eigen's blocked solves and column by column (TSV)
+//       the runtime's (its kernels and its plain ones) against its previous ones, Eigen's
+//       blocked solves and column by column (TSV)
 //   symdyn_bench_derivatives --count METHOD MODEL [CALLS]   one workload, for
 //       valgrind --tool=callgrind --toggle-collect='*counted_workload*'
 //   symdyn_bench_derivatives --list
@@ -392,26 +393,60 @@ void time_model(const SymdynModel& s, int rounds, double batch_ms) {
   std::fflush(stdout);
 }
 
+// The previous runtime's -M⁻¹·B, the baseline: up to 8 coordinates a row loop
+// on B in place (column-major, so each row strided by n), above them Eigen's
+// blocked triangular solves. L: the Cholesky factor of M (n x n, lower).
+void previous_solve_negated(const rt::Matrix& L, rt::Matrix& B) {
+  const Eigen::Index n = L.rows(), m = B.cols();
+  if (n > 8) {
+    const auto Lv = L.triangularView<Eigen::Lower>();
+    Lv.solveInPlace(B);
+    Lv.adjoint().solveInPlace(B);
+    B = -B;
+    return;
+  }
+  const double* l = L.data();
+  double* b = B.data();
+  const auto axpy = [&](Eigen::Index i, Eigen::Index k, double c) {
+    for (Eigen::Index j = 0; j < m; ++j) b[i + j * n] -= c * b[k + j * n];
+  };
+  const auto scale = [&](Eigen::Index i, double c) {
+    for (Eigen::Index j = 0; j < m; ++j) b[i + j * n] *= c;
+  };
+  for (Eigen::Index i = 0; i < n; ++i) {
+    scale(i, -1.0);
+    for (Eigen::Index k = 0; k < i; ++k) axpy(i, k, l[i + k * n]);
+    scale(i, 1.0 / l[i + i * n]);
+  }
+  for (Eigen::Index i = n - 1; i >= 0; --i) {
+    for (Eigen::Index k = i + 1; k < n; ++k) axpy(i, k, l[k + i * n]);
+    scale(i, 1.0 / l[i + i * n]);
+  }
+}
+
 // The solves -M⁻¹·B of dynamics_derivatives (B: nq x 2·nq, K and C side by
-// side) at each size: the runtime's SpdSolver::solve_negated_in_place (a row
-// loop up to SpdSolver::kRowsUpTo coordinates, Eigen's blocked triangular solves
-// above), Eigen's blocked solves and SpdSolver's vector solve column by column,
-// on a random SPD M (seeded), medians over interleaved rounds.
+// side) at each size: the runtime's SpdSolver::solve_negated_in_place with the
+// kernels it picks (wide where the processor runs AVX2 with FMA) and with its
+// plain ones forced, the previous runtime's solve, Eigen's blocked solves and
+// SpdSolver's vector solve column by column, on a random SPD M (seeded),
+// medians over interleaved rounds.
 void time_solves(int rounds) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int n : {2, 3, 4, 5, 6, 8, 10, 13, 16, 24, 32, 48, 64}) {
+  for (int n : {2, 3, 4, 5, 6, 8, 10, 13, 16, 24, 32, 48, 64, 96, 128}) {
     rt::Matrix A(n, n), B0(n, 2 * n);
     for (double& x : A.reshaped()) x = u(rng);
     for (double& x : B0.reshaped()) x = u(rng);
     const rt::Matrix M = A * A.transpose() + n * rt::Matrix::Identity(n, n);
-    rt::SpdSolver solver(n);
-    if (!solver.factor(M)) throw std::logic_error("random SPD matrix refused");
+    rt::SpdSolver solver(n), plain(n, rt::SpdSolver::Kernels::plain);
+    if (!solver.factor(M) || !plain.factor(M)) throw std::logic_error("random SPD matrix refused");
     const rt::Matrix L = M.llt().matrixL();
     rt::Matrix B = B0;
     rt::Vector column, solved(n);
     const std::pair<const char*, Workload> ways[] = {
         {"runtime", [&](int) { B = B0, solver.solve_negated_in_place(B); }},
+        {"plain", [&](int) { B = B0, plain.solve_negated_in_place(B); }},
+        {"previous", [&](int) { B = B0, previous_solve_negated(L, B); }},
         {"eigen_blocked",
          [&](int) {
            B = B0;

@@ -8,6 +8,12 @@
 // pays for its generality at every column), while from about 40 coordinates
 // Eigen's blocked, vectorized LLT is faster (bench/results/runtime_overhead.md).
 //
+// The solves of several right-hand sides run kernels compiled twice
+// (detail/dense_kernels.hpp): for the build's instruction set and, on x86-64,
+// for AVX2 with FMA, taken where the processor runs it. The two agree to
+// rounding, not to the bit; the factorization and the single right-hand side
+// solves are the same on every processor.
+//
 // M is refused when it is not positive definite, or when a pivot of
 // L·D·Lᵀ (D_k = L_kk²) is within rounding of zero against its own
 // coordinate's diagonal, D_k <= kSingularRatio·M_kk: the coordinate's inertia
@@ -20,19 +26,31 @@
 #include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <vector>
 
+#include <symdyn/runtime/detail/dense_kernels.hpp>
 #include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime {
 
 class SpdSolver {
  public:
-  explicit SpdSolver(int n = 0);
+  // Which compiled kernels: the widest the processor runs (best), or one
+  // forced (tests and benchmarks compare them); wide throws std::invalid_argument
+  // where !wide_kernels_available().
+  enum class Kernels { best, plain, wide };
+
+  explicit SpdSolver(int n = 0, Kernels kernels = Kernels::best);
+
+  // AVX2 with FMA: built (x86-64) and run by this processor.
+  static bool wide_kernels_available() { return detail::wide_dense_kernels() != nullptr; }
+  // "plain" or "avx2": the kernels this solver runs.
+  const char* kernels_name() const { return kernels_->name; }
 
   int size() const { return static_cast<int>(L_.rows()); }
 
   // Factors M (n x n; only its lower triangle is read). False when M is
-  // refused (see above): then solve_in_place must not be called.
+  // refused (see above) or not n x n: then solve_in_place must not be called.
   bool factor(const Matrix& M);
 
   // b := M⁻¹·b (n).
@@ -44,10 +62,12 @@ class SpdSolver {
 
   // B := M⁻¹·B and B := -M⁻¹·B (n x m), all columns in one solve, so that the
   // multiply-adds are independent across the columns (column by column each
-  // entry is a chain of dependent ones): up to kRowsUpTo coordinates a row
-  // loop, above it Eigen's blocked triangular solves.
-  void solve_in_place(Matrix& B) const;
-  void solve_negated_in_place(Matrix& B) const;
+  // entry is a chain of dependent ones): up to kInPlaceUpTo coordinates row
+  // by row in place, then tiles of up to detail::kWidestTile columns copied
+  // row by row, their sums in registers (up to the kernels' solve_up_to
+  // coordinates; Eigen's blocked solves above).
+  void solve_in_place(Matrix& B);
+  void solve_negated_in_place(Matrix& B);
 
   // min_k D_k / M_kk of the last factorization: the share of its own
   // inertia the worst coordinate has left (<= 0: M is not positive definite).
@@ -57,23 +77,25 @@ class SpdSolver {
   static constexpr double kSingularRatio = 64 * 2.220446049250313e-16;
   // Up to this size the column loop, above it Eigen's LLT.
   static constexpr int kLoopUpTo = 40;
-  // Several right-hand sides: the row loop up to this size, where it is up to
-  // 3 times faster than Eigen's blocked solves, which match it at 8 and lead
-  // beyond (bench/results/derivatives.md, "solves").
-  static constexpr int kRowsUpTo = 8;
+  // Several right-hand sides up to this size: row by row on B in place (its
+  // rows strided), where copying tiles costs more than it saves.
+  static constexpr int kInPlaceUpTo = 3;
 
  private:
   bool factor_by_columns(const Matrix& M);
   bool factor_blocked(const Matrix& M);
   template <bool negate>
+  void solve_matrix(Matrix& B);
+  template <bool negate>
+  void solve_rows_in_place(Matrix& B) const;
+  template <bool negate>
   void solve(const double* b, Vector& out) const;
   // x := ±M⁻¹·b by the column loop (n <= kLoopUpTo); b may be x.
   template <bool negate>
   void substitute(const double* b, double* x) const;
-  template <bool negate>
-  void solve_matrix(Matrix& B) const;
-
   Matrix L_;  // (n x n) its lower triangle is L
+  const detail::DenseKernels* kernels_;
+  std::vector<double> tile_;  // (n x detail::kWidestTile) columns of B row by row
   double smallest_ratio_ = 0.0;
 };
 

@@ -1,5 +1,6 @@
 // SpdSolver against Eigen's LLT, on both sides of its switch to Eigen's
-// blocked factorization, and what it refuses.
+// blocked factorization, with its plain kernels and its wide ones (AVX2 with
+// FMA, where this processor runs them), and what it refuses.
 
 #include <fmt/format.h>
 
@@ -8,7 +9,11 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include <symdyn/runtime/spd_solver.hpp>
 
@@ -26,7 +31,67 @@ Matrix random_spd(int n, double decades) {
   return Q * d.asDiagonal() * Q.transpose();
 }
 
+// The kernels this build and processor can run: plain always, wide maybe.
+std::vector<SpdSolver::Kernels> runnable_kernels() {
+  if (SpdSolver::wide_kernels_available())
+    return {SpdSolver::Kernels::plain, SpdSolver::Kernels::wide};
+  WARN("no AVX2 with FMA here: the wide kernels are not tested");
+  return {SpdSolver::Kernels::plain};
+}
+
 }  // namespace
+
+TEST_CASE("SpdSolver's plain and wide kernels solve many right-hand sides as Eigen's LLT",
+          "[runtime][solver]") {
+  for (const SpdSolver::Kernels kernels : runnable_kernels()) {
+    for (int n = 1; n <= 80; ++n) {
+      const Matrix M = random_spd(n, 3.0);
+      const Eigen::LLT<Matrix> llt(M);
+      SpdSolver solver(n, kernels);
+      CAPTURE(n, solver.kernels_name());
+      REQUIRE(solver.factor(M));
+      // Column counts across the tiles' widths (32, 16, 8, 4, 2, 1) and their rests.
+      for (int m : {1, 3, 2 * n, 2 * n + 1, 77}) {
+        CAPTURE(m);
+        const Matrix B = Matrix::Random(n, m);
+        const Matrix reference = llt.solve(B);
+        Matrix X = B, Y = B;
+        solver.solve_in_place(X);
+        solver.solve_negated_in_place(Y);
+        // Condition 1e3: forward error within 1e3 times the backward one.
+        CHECK((X - reference).norm() <= 1e-11 * reference.norm());
+        CHECK((Y + reference).norm() <= 1e-11 * reference.norm());
+        // Backward stable: a residual of a few n·ε of ‖M‖·‖X‖.
+        CHECK((M * X - B).norm() <= 4.0 * n * 2.22e-16 * M.norm() * X.norm());
+        CHECK((M * Y + B).norm() <= 4.0 * n * 2.22e-16 * M.norm() * Y.norm());
+      }
+    }
+  }
+}
+
+TEST_CASE("SpdSolver's wide kernels agree with its plain ones to rounding", "[runtime][solver]") {
+  CHECK(std::string_view(SpdSolver(3, SpdSolver::Kernels::plain).kernels_name()) == "plain");
+  if (!SpdSolver::wide_kernels_available()) {
+    CHECK_THROWS_AS(SpdSolver(3, SpdSolver::Kernels::wide), std::invalid_argument);
+    CHECK(std::string_view(SpdSolver(3).kernels_name()) == "plain");
+    return;
+  }
+  CHECK(std::string_view(SpdSolver(3).kernels_name()) == "avx2");
+  for (int n : {5, 40, 64}) {
+    CAPTURE(n);
+    const Matrix M = random_spd(n, 2.0);
+    SpdSolver plain(n, SpdSolver::Kernels::plain), wide(n, SpdSolver::Kernels::wide);
+    REQUIRE(plain.factor(M));
+    REQUIRE(wide.factor(M));
+    CHECK(std::abs(wide.smallest_pivot_ratio() - plain.smallest_pivot_ratio()) <=
+          1e-12 * plain.smallest_pivot_ratio());
+    const Matrix B = Matrix::Random(n, 2 * n);
+    Matrix X = B, Y = B;
+    plain.solve_negated_in_place(X);
+    wide.solve_negated_in_place(Y);
+    CHECK((X - Y).norm() <= 1e-12 * X.norm());
+  }
+}
 
 TEST_CASE("SpdSolver solves as Eigen's LLT does, below and above its switch", "[runtime][solver]") {
   for (int n : {1, 2, 3, 5, 13, 24, SpdSolver::kLoopUpTo, SpdSolver::kLoopUpTo + 1, 64}) {
@@ -49,8 +114,7 @@ TEST_CASE("SpdSolver solves as Eigen's LLT does, below and above its switch", "[
 
 TEST_CASE("SpdSolver solves several right-hand sides at once as column by column",
           "[runtime][solver]") {
-  for (int n :
-       {1, 2, SpdSolver::kRowsUpTo, SpdSolver::kRowsUpTo + 1, 13, SpdSolver::kLoopUpTo + 1, 64}) {
+  for (int n : {1, 2, 8, 9, 13, SpdSolver::kLoopUpTo + 1, 64}) {
     CAPTURE(n);
     const Matrix M = random_spd(n, 3.0);
     SpdSolver solver(n);
@@ -73,9 +137,11 @@ TEST_CASE("SpdSolver solves several right-hand sides at once as column by column
 }
 
 TEST_CASE("SpdSolver refuses indefinite, singular and non-finite matrices", "[runtime][solver]") {
-  for (int n : {3, SpdSolver::kLoopUpTo + 5}) {
-    CAPTURE(n);
-    SpdSolver solver(n);
+  for (const auto& [n, kernels] :
+       {std::pair{3, SpdSolver::Kernels::plain}, std::pair{3, SpdSolver::Kernels::best},
+        std::pair{SpdSolver::kLoopUpTo + 5, SpdSolver::Kernels::best}}) {
+    SpdSolver solver(n, kernels);
+    CAPTURE(n, solver.kernels_name());
     Matrix M = random_spd(n, 1.0);
     REQUIRE(solver.factor(M));
     Matrix indefinite = M;
@@ -102,6 +168,9 @@ TEST_CASE("SpdSolver refuses indefinite, singular and non-finite matrices", "[ru
     Matrix nan = M;
     nan(n - 1, 0) = nan(0, n - 1) = std::numeric_limits<double>::quiet_NaN();
     CHECK_FALSE(solver.factor(nan));
+    // A matrix of another size.
+    CHECK_FALSE(solver.factor(Matrix::Identity(n + 1, n + 1)));
+    CHECK_FALSE(solver.factor(Matrix::Identity(n, n - 1)));
     // Refusal leaves the solver usable.
     REQUIRE(solver.factor(M));
   }

@@ -1,0 +1,37 @@
+#include <symdyn/runtime/detail/dense_kernels.hpp>
+
+namespace symdyn::runtime::detail {
+
+namespace plain {
+constexpr int kTile = 16;
+constexpr int kTilesUpTo = 8;
+constexpr const char* kName = "plain";
+inline double multiply_subtract(double a, double b, double c) {
+  return a - b * c;
+}
+#include "dense_kernels_body.hpp"
+}  // namespace plain
+
+#if SYMDYN_WIDE_KERNELS
+namespace avx2 {
+extern const DenseKernels kernels;  // dense_kernels_avx2.cpp
+}
+#endif
+
+const DenseKernels& plain_dense_kernels() {
+  return plain::kernels;
+}
+
+const DenseKernels* wide_dense_kernels() {
+#if SYMDYN_WIDE_KERNELS
+  static const bool runs = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  }();
+  return runs ? &avx2::kernels : nullptr;
+#else
+  return nullptr;
+#endif
+}
+
+}  // namespace symdyn::runtime::detail

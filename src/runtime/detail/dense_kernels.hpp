@@ -1,0 +1,32 @@
+#pragma once
+// SpdSolver's solves of several right-hand sides, compiled twice: for the build's own instruction
+// set (plain) and, on x86-64, once more for AVX2 with FMA (wide: four doubles
+// a register and fused multiply-adds), the one chosen when the processor runs
+// it. One source (dense_kernels_body.hpp) serves both, in a namespace of its
+// own per instruction set, so no symbol of the wide build can stand in for a
+// plain one at link time. The wide results may differ from the plain ones in
+// the last bits (FMA rounds once where a multiply and a subtraction round twice).
+// The factorization is not here: compiled once (spd_solver.cpp), it is the
+// same to the bit on every processor.
+
+namespace symdyn::runtime::detail {
+
+struct DenseKernels {
+  const char* name;  // "plain", "avx2"
+  // The largest n at which solve is faster than Eigen's blocked triangular
+  // solves compiled for the build's instruction set (bench/results/derivatives.md).
+  int solve_up_to;
+  // B (n x m, column-major) := ±M⁻¹·B = ±L⁻ᵀ·L⁻¹·B, L (n x n, column-major)
+  // M's Cholesky factor in its lower triangle; tile: a workspace of
+  // n x kWidestTile doubles.
+  void (*solve)(int n, const double* L, double* B, int m, bool negate, double* tile);
+};
+
+// The widest tile of columns a solve keeps in registers.
+inline constexpr int kWidestTile = 32;
+
+const DenseKernels& plain_dense_kernels();
+// nullptr where the build or the processor has no AVX2 with FMA.
+const DenseKernels* wide_dense_kernels();
+
+}  // namespace symdyn::runtime::detail
