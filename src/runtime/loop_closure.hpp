@@ -32,8 +32,14 @@
 // A loop that does not close (no convergence in kMaxIterations, a value not
 // finite) or a singular g_p (a toggle or dead-centre position: p not
 // determined by q) is a NumericError naming the loop, the time and the state.
+// Singular short of exactly: each solution's g_p with each loop's rows divided
+// by that loop's largest entry of [g_q g_p] (its size, in its units) has a
+// smallest pivot r; p carries rounding of about 1e-16/r and its rates pd, pdd
+// about 1e-16/r² of themselves (g_p's change along the error in p), half
+// their digits at r = kBranchPoint, where the solution is refused.
 
 #include <Eigen/LU>
+#include <string_view>
 #include <vector>
 
 #include <symdyn/runtime/model.hpp>
@@ -112,6 +118,9 @@ class LoopClosure {
   // Below this share of g_p's largest entry a pivot of its LU factorization
   // is singular.
   static constexpr double kSingularPivot = 1e-13;
+  // Below this smallest pivot of the equilibrated g_p (above) a solution is
+  // refused: pd and pdd have lost more than half their digits.
+  static constexpr double kBranchPoint = 1e-4;
   // The step from a predicted start within kChordResidual (times s) is made
   // with the last solution's g_p, except for kChordPause calls after one that
   // did not reach rounding.
@@ -147,6 +156,23 @@ class LoopClosure {
   const Matrix& dxdd_dqd() const { return dxdd_dqd_; }    // (nq x n)
   const Matrix& curvature() const { return curvature_; }  // Tᵀ·H·T (n x n)
 
+  // The equilibrated g_p at the last solution: its smallest pivot r (above)
+  // and the sign of its determinant (that of g_p), which changes where a
+  // motion crosses from one branch to another (0 where exactly singular).
+  struct Singularity {
+    double pivot = 1.0;
+    int sign = 1;
+  };
+  const Singularity& singularity() const { return singularity_; }
+  // close_positions() without refusing a solution near a branch point (to
+  // look for one between evaluations), and the refusal of the last one
+  // (where: said after the loops' words).
+  const Singularity& probe(const Model& model, double t, const Vector& q, Vector& x);
+  [[noreturn]] void refuse_branch_point(const Model& model, double t, const Vector& x,
+                                        std::string_view where) const {
+    not_closed(model, t, x, Failure::branch_point, where);
+  }
+
   // The next close() starts from the guesses: the model's, or those given
   // (ncon, to choose an assembly: the solution Newton's iteration reaches).
   void reset() { solved_ = false; }
@@ -156,14 +182,17 @@ class LoopClosure {
   }
 
  private:
-  void solve(const Model& model, double t, const Vector& q, Vector& x);
+  void solve(const Model& model, double t, const Vector& q, Vector& x,
+             bool refuse_branch_points = true);
   // Factors g_p_, a NumericError naming the loops when singular.
   void factor(const Model& model, double t, const Vector& x);
   double smallest_pivot() const { return lu_.smallest_pivot_ratio(); }
   void evaluate(const Model& model, double t, const Vector& x);
-  enum class Failure { singular, not_finite, no_convergence };
+  // singularity_ of g_p_ at the solution (g_q_ too: the loops' sizes).
+  void measure_singularity();
+  enum class Failure { singular, not_finite, no_convergence, branch_point };
   [[noreturn, gnu::cold]] void not_closed(const Model& model, double t, const Vector& x,
-                                          Failure why) const;
+                                          Failure why, std::string_view where = "") const;
 
   int n_ = 0, m_ = 0;
   Vector g_, g_t_, gamma_, guess_, step_, dq_;
@@ -180,6 +209,11 @@ class LoopClosure {
   Vector mu_;
   Matrix a_x_rows_, a_xd_rows_, hessian_, aT_, HT_;
   Matrix dxd_dq_, dxdd_dq_, dxdd_dqd_, curvature_;
+  // measure_singularity(): each equation's loop, each loop's size, the equilibrated g_p
+  std::vector<int> loop_of_;
+  std::vector<double> loop_size_;
+  RowMajorMatrix equilibrated_;
+  Singularity singularity_;
 };
 
 }  // namespace symdyn::runtime

@@ -228,8 +228,15 @@ class MultibodySystem : public DynamicSystem {
   // NumericError naming the parameter, the time and the state; check_step looks
   // for such a touch between the step's ends, along the cubic Hermite
   // interpolant of q from (q, qd) at both (sampled, then the closest point by
-  // golden section), and names the time and state it found.
+  // golden section), and names the time and state it found. With closed
+  // loops, it looks instead for a branch point (LoopClosure::kBranchPoint) on
+  // that interpolant, the loops closed at each sample by a copy of the
+  // closure (the next evaluation's start untouched): the smallest pivot of
+  // the equilibrated g_p located by golden section where a sample comes
+  // within kLocateBranch or the sign of det(g_p) changes between samples (a
+  // branch crossed); refused naming the loop, the time and the state.
   void check_step(const State& from, const State& to) override;
+  static constexpr double kLocateBranch = 1e-2;
 
   // Warnings of the evaluations since construction or clear_warnings(), each
   // cause once, with the time: the accelerations (or the residual's iteration
@@ -338,6 +345,7 @@ class MultibodySystem : public DynamicSystem {
                                                                     const char* where = "") const;
   // The smallest margin along the step's interpolant, its time and state in edge_state_.
   Model::DomainMargin closest_approach(const State& from, const State& to);
+  void check_loop_step(const State& from, const State& to);
   void interpolate_step(const State& from, const State& to, double th, State& out) const;
   // Conditioning warnings (see warnings()), after an evaluation at s; M_ factored
   // in solver_ when `factored`.
@@ -393,6 +401,8 @@ class MultibodySystem : public DynamicSystem {
   std::vector<double> domain_arguments_;    // (3·ndomain) Model::smallest_domain_margin's
   std::vector<double> previous_arguments_;  // (3·ndomain) closest_approach(): the last sample's
   State edge_state_;                        // check_step(): a state within the step
+  LoopClosure probe_loops_;                 // check_loop_step(): loops_ at the step's end, moved
+  Vector probe_x_;                          // (nq) and its solutions
   std::vector<std::string> warnings_;
   bool conditioning_warned_ = false;  // the conditioning warning is given once
 };

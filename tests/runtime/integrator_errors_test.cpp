@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "branch_crank.hpp"
 #include "long_crank_asin.hpp"
 #include "long_crank_sqrt.hpp"
 #include "pole_division.hpp"
@@ -548,6 +549,82 @@ TEST_CASE(
     const std::vector<double> t = times_named(m);
     REQUIRE(!t.empty());
     CHECK(t.front() == Approx(0.5).margin(1e-7));
+  }
+}
+
+namespace {
+
+// The folded crank (models/error_models.cpp): q0 = 0.3 + 2t, rod_angle = pi -
+// q0, slider_x = 0, until the branch point at q0 = pi/2, t = (pi/2 - 0.3)/2.
+// There det(g_p) = l·cos(q0) changes sign, and the equilibrated g_p's smallest
+// pivot is |cot(rod_angle)| = |cos(q0)|/sin(q0).
+MultibodySystem folded_crank() {
+  return MultibodySystem(Model::from<symdyn_generated::branch_crank>());
+}
+
+const double kBranchTime = (std::numbers::pi / 2 - 0.3) / 2;
+
+}  // namespace
+
+TEST_CASE(
+    "a crank as long as its rod, closed as a loop: exact away from its branch point, refused "
+    "naming the loop within 1e-4 of it",
+    "[integrator][errors][loops]") {
+  MultibodySystem sys = folded_crank();
+  State s = sys.initial_state();
+  Vector qdd, yd;
+  const double half_pi = std::numbers::pi / 2;
+  for (double d : {-1.0, -0.3, -1e-2, -1e-3}) {  // pivots r = 0.84 to 1e-3
+    CAPTURE(d);
+    s.q[0] = half_pi + d;
+    sys.accelerations(s, qdd, yd);
+    // qdd = 0 to pdd's rounding, which grows as 1/r² (docs/errors.md)
+    const double r = std::abs(std::cos(s.q[0]));
+    CHECK(std::abs(qdd[0]) < 1e-12 + 1e-14 / (r * r));
+    const State x = sys.extended_state(s);
+    CHECK(x.q[1] == Approx(std::numbers::pi - s.q[0]).margin(1e-12));
+    CHECK(std::abs(x.q[2]) < 1e-12);
+    CHECK(x.qd[1] == Approx(-2.0).margin(1e-9));
+  }
+  for (double d : {-5e-5, 5e-5}) {  // pivot 5e-5: pd and pdd have lost half their digits
+    CAPTURE(d);
+    s.q[0] = half_pi + d;
+    s.t = 0.25;
+    const std::string m = message_of<NumericError>([&] { sys.accelerations(s, qdd, yd); });
+    CHECK(m.rfind("t = 0.25: loop 'crank_pin' at a branch point", 0) == 0);
+    CHECK(m.find("smallest pivot 5e-05, below 0.0001") != std::string::npos);
+    CHECK(m.find(fmt::format("q0 = {}", half_pi + d)) != std::string::npos);
+  }
+}
+
+TEST_CASE(
+    "a crank as long as its rod, closed as a loop, run through its branch point: every integrator "
+    "stops there naming the loop, the time and the state",
+    "[integrator][errors][loops]") {
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    IntegratorOptions o = tight_options(name);
+    o.initial_step = 0.07;  // steps across the branch point, not onto it
+    if (name == "rk4" || name == "midpoint") o.initial_step = 1e-2;
+    // Short of it, the closed form, the check between steps refusing nothing.
+    MultibodySystem before = folded_crank();
+    const State end = make_integrator(name, o)->integrate(before, before.initial_state(), 0.6);
+    CHECK(end.q[0] == Approx(1.5).margin(1e-8));
+    CHECK(end.qd[0] == Approx(2.0).margin(1e-8));
+    MultibodySystem sys = folded_crank();
+    const std::string m = message_of<NumericError>(
+        [&] { make_integrator(name, o)->integrate(sys, sys.initial_state(), 1.0); });
+    CAPTURE(m);
+    CHECK(m.find("loop 'crank_pin' at a branch point") != std::string::npos);
+    // Located on the step's interpolant (exact: q0 is linear in t), the loop
+    // closed there to |g| <= 1e-12, so p to about 1e-6 (g grows as the square
+    // of p's distance to the branch point): the pivot, and q0 - pi/2, to
+    // about 1e-6 (1.2e-6 s the farthest over the integrators).
+    const std::vector<double> t = times_named(m);
+    REQUIRE(!t.empty());
+    CHECK(t.front() == Approx(kBranchTime).margin(5e-6));
+    static const std::regex state(R"(at \(q0 = 1\.570[0-9]+, rod_angle = 1\.57)");
+    CHECK(std::regex_search(m, state));
   }
 }
 

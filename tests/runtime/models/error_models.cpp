@@ -72,7 +72,31 @@ void pole(Model& m, std::string_view) {
   m.initial(q0, 0.0, 2.0);
 }
 
+// A slider-crank whose crank and rod are equally long (l = 0.1), its loop
+// closed at the crank pin and assembled folded: the rod lies back along the
+// crank (rod_angle = pi - q0, slider_x = 0), so that the slider stands still
+// and crank and rod turn about fixed axes: M is constant and (gravity normal
+// to the plane) q0 = 0.3 + 2t. The folded branch crosses the extended one
+// (rod_angle = q0, slider_x = 2l·cos q0) at q0 = pi/2, where g_p = [[-l sin a,
+// -1], [-l cos a, 0]] (a = rod_angle) is singular: det(g_p) = -l cos a.
+void branch_crank(Model& m, std::string_view) {
+  const Expr q0 = m.coordinate("q0");
+  const double l = 0.1;
+  const Expr rod_angle = m.implicit_dependent("rod_angle", 3.0);
+  const Expr slider_x = m.implicit_dependent("slider_x", 0.0);
+  m.body("crank").mass(1.0).inertia(1e-4, 8.3e-4, 8.3e-4).motion(Trotz(q0) * Tdisp(l / 2, 0, 0));
+  m.body("rod")
+      .mass(0.5)
+      .inertia(5e-5, 4e-4, 4e-4)
+      .motion(Tdisp(slider_x, 0, 0) * Trotz(-rod_angle) * Tdisp(-l / 2, 0, 0));
+  m.body("slider").mass(0.3).inertia(1e-4, 1e-4, 1e-4).motion(Tdisp(slider_x, 0, 0));
+  m.gravity(0, 0, -9.81);
+  m.initial(q0, 0.3, 2.0);
+  m.close_loop("crank_pin", "crank", {l / 2, 0, 0}, "rod", {-l / 2, 0, 0});
+}
+
 const Registration crank({"long_crank", {"asin", "sqrt"}, long_crank});
+const Registration branch({"branch_crank", {"folded"}, branch_crank});
 const Registration poles({"pole", {"division"}, pole});
 const Registration gimbals({"gimbal", {"zyx", "zxz"}, gimbal});
 
