@@ -262,20 +262,22 @@ void LoopClosure::measure_singularity() {
     for (int j = 0; j < n_; ++j) size = std::max(size, std::abs(g_q_(i, j)));
     for (int j = 0; j < m_; ++j) size = std::max(size, std::abs(g_p_(i, j)));
   }
+  if (column_.empty()) order_columns();
   RowMajorMatrix& a = equilibrated_;
   for (int i = 0; i < m_; ++i) {
     const double size = loop_size_[static_cast<std::size_t>(loop_of_[static_cast<std::size_t>(i)])];
-    a.row(i) = g_p_.row(i) / (size > 0.0 ? size : 1.0);
+    const double scale = size > 0.0 ? 1.0 / size : 1.0;
+    for (int k = 0; k < m_; ++k) a(i, k) = scale * g_p_(i, column_[static_cast<std::size_t>(k)]);
   }
   double smallest = std::numeric_limits<double>::infinity();
-  int sign = 1;
+  int sign = column_parity_;
   for (int k = 0; k < m_; ++k) {
     int p = k;
     for (int i = k + 1; i < m_; ++i) {
       if (std::abs(a(i, k)) > std::abs(a(p, k))) p = i;
     }
     if (p != k) {
-      a.row(k).swap(a.row(p));
+      for (int j = 0; j < m_; ++j) std::swap(a(k, j), a(p, j));
       sign = -sign;
     }
     const double pivot = a(k, k);
@@ -288,10 +290,35 @@ void LoopClosure::measure_singularity() {
     for (int i = k + 1; i < m_; ++i) {
       if (a(i, k) == 0.0) continue;  // a row of another loop
       const double l = a(i, k) / pivot;
-      for (int j = k + 1; j < m_; ++j) a(i, j) -= l * a(k, j);
+      for (int j = k + 1; j < m_; ++j) {
+        if (a(k, j) != 0.0) a(i, j) -= l * a(k, j);
+      }
     }
   }
   singularity_ = {smallest, sign};
+}
+
+void LoopClosure::order_columns() {
+  std::vector<int> nonzeros(static_cast<std::size_t>(m_), 0);
+  for (int i = 0; i < m_; ++i) {
+    for (int j = 0; j < m_; ++j) nonzeros[static_cast<std::size_t>(j)] += g_p_(i, j) != 0.0;
+  }
+  column_.resize(static_cast<std::size_t>(m_));
+  std::iota(column_.begin(), column_.end(), 0);
+  std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
+    return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
+  });
+  // The parity of the order: each cycle of even length is an odd number of swaps.
+  std::vector<bool> seen(column_.size(), false);
+  column_parity_ = 1;
+  for (int k = 0; k < m_; ++k) {
+    int length = 0;
+    for (int j = k; !seen[static_cast<std::size_t>(j)]; j = column_[static_cast<std::size_t>(j)]) {
+      seen[static_cast<std::size_t>(j)] = true;
+      ++length;
+    }
+    if (length > 0 && length % 2 == 0) column_parity_ = -column_parity_;
+  }
 }
 
 const LoopClosure::Singularity& LoopClosure::probe(const Model& model, double t, const Vector& q,

@@ -190,6 +190,7 @@ class LoopClosure {
   void evaluate(const Model& model, double t, const Vector& x);
   // singularity_ of g_p_ at the solution (g_q_ too: the loops' sizes).
   void measure_singularity();
+  void order_columns();
   enum class Failure { singular, not_finite, no_convergence, branch_point };
   [[noreturn, gnu::cold]] void not_closed(const Model& model, double t, const Vector& x,
                                           Failure why, std::string_view where = "") const;
@@ -210,9 +211,12 @@ class LoopClosure {
   Matrix a_x_rows_, a_xd_rows_, hessian_, aT_, HT_;
   Matrix dxd_dq_, dxdd_dq_, dxdd_dqd_, curvature_;
   // measure_singularity(): each equation's loop, each loop's size, the equilibrated g_p
-  std::vector<int> loop_of_;
+  // with its columns of fewest nonzeros first (at the first call: a loop's own
+  // parameters eliminated within its rows), that order's parity (+-1)
+  std::vector<int> loop_of_, column_;
   std::vector<double> loop_size_;
   RowMajorMatrix equilibrated_;
+  int column_parity_ = 1;
   Singularity singularity_;
 };
 
