@@ -12,6 +12,25 @@
 
 namespace symdyn::runtime {
 
+namespace {
+
+// A permutation's parity (+-1): each cycle of even length is an odd number of swaps.
+int permutation_parity(const std::vector<int>& order) {
+  std::vector<bool> seen(order.size(), false);
+  int parity = 1;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    int length = 0;
+    for (std::size_t j = k; !seen[j]; j = static_cast<std::size_t>(order[j])) {
+      seen[j] = true;
+      ++length;
+    }
+    if (length > 0 && length % 2 == 0) parity = -parity;
+  }
+  return parity;
+}
+
+}  // namespace
+
 LoopClosure::LoopClosure(const Model& model)
     : n_(model.nindependent()),
       m_(model.ncon()),
@@ -55,6 +74,22 @@ void SmallLu::order_columns(const double* A) {
     return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
   });
   permuted_ = !std::is_sorted(column_.begin(), column_.end());
+  column_parity_ = permutation_parity(column_);
+}
+
+double SmallLu::smallest_pivot() const {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n_; ++k) smallest = std::min(smallest, std::abs(at(k, k)));
+  return smallest;
+}
+
+int SmallLu::determinant_sign() const {
+  int sign = column_parity_;
+  for (int k = 0; k < n_; ++k) {
+    if (at(k, k) == 0.0) return 0;
+    if ((swap_[static_cast<std::size_t>(k)] != k) != (at(k, k) < 0.0)) sign = -sign;
+  }
+  return sign;
 }
 
 void SmallLu::factor(const double* A, int n) {
@@ -255,14 +290,24 @@ void LoopClosure::factor(const Model& model, double t, const Vector& x) {
 // (not the row's own: a row of g_p may vanish at a toggle with its whole
 // gradient), then Gaussian elimination with partial pivoting: its smallest
 // pivot and the sign of the determinant.
-void LoopClosure::measure_singularity() {
+void LoopClosure::measure_singularity(bool always) {
+  if (column_.empty()) order_columns();  // at the first solution, as the gate passes or not
+  // D = diag(d_l): σ_min(D⁻¹·g_p) >= σ_min(g_p)/max d_l >= min|pivot(g_p)|/(kPivotGap·max d_l)
+  if (!always) {
+    const double largest =
+        std::max(entries(g_q_).cwiseAbs().maxCoeff(), entries(g_p_).cwiseAbs().maxCoeff());
+    const double bound = lu_.smallest_pivot() / (kPivotGap * largest);
+    if (bound >= kBranchPoint) {
+      singularity_ = {bound, lu_.determinant_sign(), false};
+      return;
+    }
+  }
   std::fill(loop_size_.begin(), loop_size_.end(), 0.0);
   for (int i = 0; i < m_; ++i) {
     double& size = loop_size_[static_cast<std::size_t>(loop_of_[static_cast<std::size_t>(i)])];
     for (int j = 0; j < n_; ++j) size = std::max(size, std::abs(g_q_(i, j)));
     for (int j = 0; j < m_; ++j) size = std::max(size, std::abs(g_p_(i, j)));
   }
-  if (column_.empty()) order_columns();
   RowMajorMatrix& a = equilibrated_;
   for (int i = 0; i < m_; ++i) {
     const double size = loop_size_[static_cast<std::size_t>(loop_of_[static_cast<std::size_t>(i)])];
@@ -295,7 +340,7 @@ void LoopClosure::measure_singularity() {
       }
     }
   }
-  singularity_ = {smallest, sign};
+  singularity_ = {smallest, sign, true};
 }
 
 void LoopClosure::order_columns() {
@@ -308,27 +353,16 @@ void LoopClosure::order_columns() {
   std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
     return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
   });
-  // The parity of the order: each cycle of even length is an odd number of swaps.
-  std::vector<bool> seen(column_.size(), false);
-  column_parity_ = 1;
-  for (int k = 0; k < m_; ++k) {
-    int length = 0;
-    for (int j = k; !seen[static_cast<std::size_t>(j)]; j = column_[static_cast<std::size_t>(j)]) {
-      seen[static_cast<std::size_t>(j)] = true;
-      ++length;
-    }
-    if (length > 0 && length % 2 == 0) column_parity_ = -column_parity_;
-  }
+  column_parity_ = permutation_parity(column_);
 }
 
 const LoopClosure::Singularity& LoopClosure::probe(const Model& model, double t, const Vector& q,
                                                    Vector& x) {
-  solve(model, t, q, x, false);
+  solve(model, t, q, x, true);
   return singularity_;
 }
 
-void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x,
-                        bool refuse_branch_points) {
+void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x, bool probing) {
   x.resize(n_ + m_);
   x.head(n_) = q;
   // From the last solution moved along dp/dq: one Newton step less than from it.
@@ -369,9 +403,8 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     x.tail(m_) -= step_;
   }
   factor(model, t, x);
-  measure_singularity();
-  if (refuse_branch_points && singularity_.pivot < kBranchPoint)
-    not_closed(model, t, x, Failure::branch_point);
+  measure_singularity(probing);
+  if (!probing && singularity_.pivot < kBranchPoint) not_closed(model, t, x, Failure::branch_point);
   // P = -g_p⁻¹·g_q and g_p⁻¹·g_t in one solve.
   rates_.leftCols(n_) = g_q_;
   rates_.col(n_) = g_t_;

@@ -72,6 +72,9 @@ class SmallLu {
   bool sparse() const { return sparse_; }
   // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
   double smallest_pivot_ratio() const { return ratio_; }
+  // The smallest |pivot| (U's diagonal) and the sign of det(A) (0 if singular).
+  double smallest_pivot() const;
+  int determinant_sign() const;
   // b := A⁻¹·b (each column of b).
   void solve_in_place(Vector& b) const { solve_rows(b.data(), 1); }
   void solve_in_place(Matrix& b) const;
@@ -97,6 +100,7 @@ class SmallLu {
   std::vector<int> pivot_row_;         // the columns of step k's pivot row to eliminate with
   std::vector<int> column_;            // Q: column k of L·U is A's column column_[k]
   bool permuted_ = false;              // Q is not the identity
+  int column_parity_ = 1;              // Q's parity (+-1)
   std::vector<double> inverse_pivot_;  // 1/U_kk: the solves multiply
   struct Entry {
     int j;
@@ -121,6 +125,10 @@ class LoopClosure {
   // Below this smallest pivot of the equilibrated g_p (above) a solution is
   // refused: pd and pdd have lost more than half their digits.
   static constexpr double kBranchPoint = 1e-4;
+  // The gap allowed between a pivot of g_p and its smallest singular value:
+  // the equilibrated g_p is measured only where the bound from the LU of g_p
+  // (measure_singularity()) is below kBranchPoint.
+  static constexpr double kPivotGap = 100;
   // The step from a predicted start within kChordResidual (times s) is made
   // with the last solution's g_p, except for kChordPause calls after one that
   // did not reach rounding.
@@ -159,14 +167,17 @@ class LoopClosure {
   // The equilibrated g_p at the last solution: its smallest pivot r (above)
   // and the sign of its determinant (that of g_p), which changes where a
   // motion crosses from one branch to another (0 where exactly singular).
+  // Not measured (measured false) where g_p's own LU bounds r from below by
+  // kBranchPoint or more: pivot is then that bound.
   struct Singularity {
     double pivot = 1.0;
     int sign = 1;
+    bool measured = true;
   };
   const Singularity& singularity() const { return singularity_; }
-  // close_positions() without refusing a solution near a branch point (to
-  // look for one between evaluations), and the refusal of the last one
-  // (where: said after the loops' words).
+  // close_positions() without refusing a solution near a branch point, r
+  // measured (to look for one between evaluations), and the refusal of the
+  // last one (where: said after the loops' words).
   const Singularity& probe(const Model& model, double t, const Vector& q, Vector& x);
   [[noreturn]] void refuse_branch_point(const Model& model, double t, const Vector& x,
                                         std::string_view where) const {
@@ -182,14 +193,15 @@ class LoopClosure {
   }
 
  private:
-  void solve(const Model& model, double t, const Vector& q, Vector& x,
-             bool refuse_branch_points = true);
+  // probing: r measured, no refusal (probe()).
+  void solve(const Model& model, double t, const Vector& q, Vector& x, bool probing = false);
   // Factors g_p_, a NumericError naming the loops when singular.
   void factor(const Model& model, double t, const Vector& x);
   double smallest_pivot() const { return lu_.smallest_pivot_ratio(); }
   void evaluate(const Model& model, double t, const Vector& x);
-  // singularity_ of g_p_ at the solution (g_q_ too: the loops' sizes).
-  void measure_singularity();
+  // singularity_ of g_p_ at the solution (g_q_ too: the loops' sizes),
+  // from lu_ alone where its bound is at least kBranchPoint (unless `always`).
+  void measure_singularity(bool always);
   void order_columns();
   enum class Failure { singular, not_finite, no_convergence, branch_point };
   [[noreturn, gnu::cold]] void not_closed(const Model& model, double t, const Vector& x,

@@ -629,28 +629,43 @@ void MultibodySystem::check_loop_step(const State& from, const State& to) {
   if (from.q.size() != n || to.q.size() != n || from.qd.size() != n || to.qd.size() != n ||
       from.y.size() != to.y.size())
     return;
-  // From the last solution (the step's end, or near it), back along the step.
-  probe_loops_ = loops_;
   const auto singularity_at = [&](double th) {
     interpolate_step(from, to, th, edge_state_);
     return probe_loops_.probe(model_, edge_state_.t, edge_state_.q, probe_x_);
   };
+  // The step's start: the last step's end, or closed from the last solution.
+  if (!(from.t == probed_end_t_ && probed_end_q_.size() == n && from.q == probed_end_q_)) {
+    probe_loops_ = loops_;
+    probed_end_ = singularity_at(0.0);
+  }
+  const LoopClosure::Singularity start = probed_end_;
+  probed_end_ = singularity_at(1.0);  // from the start's solution
+  probed_end_t_ = to.t;
+  probed_end_q_ = to.q;
+  // Between ends far from a branch point on the same side of it, nothing to look for.
+  if (start.pivot >= kLocateBranch && probed_end_.pivot >= kLocateBranch &&
+      start.sign == probed_end_.sign)
+    return;
   constexpr int kSamples = 5;  // th = 0, 1/4, .. 1
   LoopClosure::Singularity sample[kSamples];
-  for (int i = kSamples - 1; i >= 0; --i) sample[i] = singularity_at(i / 4.0);
+  sample[0] = start;
+  sample[kSamples - 1] = probed_end_;
+  for (int i = kSamples - 2; i > 0; --i) sample[i] = singularity_at(i / 4.0);
   int closest = 0, crossed = -1;
   for (int i = 0; i < kSamples; ++i) {
     if (sample[i].pivot < sample[closest].pivot) closest = i;
     if (i > 0 && crossed < 0 && sample[i].sign != sample[i - 1].sign) crossed = i;
   }
-  if (sample[closest].pivot >= kLocateBranch && crossed < 0) return;
+  // No branch point: the next step starts from the end's solution.
+  const auto none = [&] { singularity_at(1.0); };
+  if (sample[closest].pivot >= kLocateBranch && crossed < 0) return none();
   // Between the samples either side of the sign change, or about the closest sample.
   const double a = crossed > 0 ? (crossed - 1) / 4.0 : std::max(closest - 1, 0) / 4.0,
                b = crossed > 0 ? crossed / 4.0 : std::min(closest + 1, kSamples - 1) / 4.0;
   auto [th, located] = smallest_margin_between(singularity_at, a, b);
   if (sample[closest].pivot < located.pivot) th = closest / 4.0;
   const LoopClosure::Singularity& s = singularity_at(th);
-  if (s.pivot >= LoopClosure::kBranchPoint && crossed < 0) return;
+  if (s.pivot >= LoopClosure::kBranchPoint && crossed < 0) return none();
   probe_loops_.refuse_branch_point(
       model_, edge_state_.t, probe_x_,
       fmt::format("{} (between the evaluations of the step from t = {} to {}, on its "

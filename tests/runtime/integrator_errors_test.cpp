@@ -16,8 +16,10 @@
 #include "long_crank_sqrt.hpp"
 #include "pole_division.hpp"
 #include "runtime/test_systems.hpp"
+#include "two_four_bars.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/loop_closure.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
@@ -625,6 +627,89 @@ TEST_CASE(
     CHECK(t.front() == Approx(kBranchTime).margin(5e-6));
     static const std::regex state(R"(at \(q0 = 1\.570[0-9]+, rod_angle = 1\.57)");
     CHECK(std::regex_search(m, state));
+  }
+}
+
+namespace {
+
+// The smallest singular value of g_p at x (by SVD, not by elimination) with
+// each loop's rows over that loop's largest entry of [g_q g_p], or raw.
+double smallest_singular_value(const Model& model, const Vector& x, bool equilibrated) {
+  const int n = model.nindependent(), m = model.ncon();
+  LoopClosure::RowMajorMatrix g_q(m, n), g_p(m, m);
+  Vector g(m), g_t(m);
+  model.constraints(0.0, x.data(), g.data(), g_q.data(), g_p.data(), g_t.data());
+  Matrix a = g_p;
+  if (equilibrated) {
+    for (int i = 0; i < m; ++i) {
+      double size = 0.0;
+      for (int k = 0; k < m; ++k) {
+        if (model.constraint_loop(k) != model.constraint_loop(i)) continue;
+        size = std::max({size, g_q.row(k).cwiseAbs().maxCoeff(), g_p.row(k).cwiseAbs().maxCoeff()});
+      }
+      a.row(i) /= size;
+    }
+  }
+  return Eigen::JacobiSVD<Matrix>(a).singularValues().minCoeff();
+}
+
+}  // namespace
+
+TEST_CASE(
+    "closed loops: the equilibrated measure skipped where g_p's own pivots bound it above the "
+    "branch point's threshold, measured near it",
+    "[errors][loops]") {
+  const Model model = Model::from<symdyn_generated::branch_crank>();
+  const double half_pi = std::numbers::pi / 2;
+  Vector q(1), x;
+  SECTION("far from the branch point: skipped, its bound below the measure, which says healthy") {
+    q[0] = half_pi - 1.0;
+    LoopClosure closure(model);
+    closure.close_positions(model, 0.0, q, x);
+    const LoopClosure::Singularity gated = closure.singularity();
+    CHECK_FALSE(gated.measured);
+    CHECK(gated.pivot >= LoopClosure::kBranchPoint);
+    const LoopClosure::Singularity measured = closure.probe(model, 0.0, q, x);
+    CHECK(measured.measured);
+    CHECK(measured.pivot == Approx(0.1 * std::cos(q[0])).epsilon(1e-9));  // 0.1·|cos(rod_angle)|
+    // the bound's inequality: r ~ σ_min(D⁻¹·g_p) >= σ_min(g_p)/max d_l >= bound
+    CHECK(smallest_singular_value(model, x, true) >= gated.pivot);
+    CHECK(measured.pivot >= gated.pivot);
+    CHECK(gated.sign == measured.sign);
+    CHECK(gated.sign != 0);
+  }
+  SECTION("near it: measured (pivots 3e-4 and 2e-4), refused below 1e-4 as before") {
+    LoopClosure closure(model);
+    for (double d : {-3e-3, -2e-3}) {  // g_p's pivots 0.1 and 10·r: a bound of r/10
+      CAPTURE(d);
+      q[0] = half_pi + d;
+      closure.close_positions(model, 0.0, q, x);
+      CHECK(closure.singularity().measured);
+      CHECK(closure.singularity().pivot == Approx(0.1 * std::abs(std::cos(q[0]))).epsilon(1e-6));
+    }
+    q[0] = half_pi + 5e-4;
+    CHECK(message_of<NumericError>([&] {
+            closure.close_positions(model, 0.0, q, x);
+          }).find("at a branch point") != std::string::npos);
+  }
+  SECTION("loops four decades apart in size: small raw pivots, measured healthy, not refused") {
+    const Model pair = Model::from<symdyn_generated::two_four_bars>();
+    LoopClosure closure(pair);
+    Vector q2(2);
+    for (double crank : {0.0, 1.0, 2.5}) {
+      CAPTURE(crank);
+      q2 << crank, crank;
+      REQUIRE_NOTHROW(closure.close_positions(pair, 0.0, q2, x));
+      // g_p raw is 1e-4 from singular relative to its largest entry, each loop alone far from it
+      CHECK(smallest_singular_value(pair, x, false) <
+            1e-3 * smallest_singular_value(pair, x, true));
+      CHECK(closure.singularity().measured);
+      const double r = closure.singularity().pivot;
+      const double sigma = smallest_singular_value(pair, x, true);
+      CHECK(sigma > 1e-2);
+      CHECK(r >= sigma / 10);
+      CHECK(r <= 10 * sigma);
+    }
   }
 }
 
