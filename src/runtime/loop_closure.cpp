@@ -294,9 +294,11 @@ void LoopClosure::measure_singularity(bool always) {
   if (column_.empty()) order_columns();  // at the first solution, as the gate passes or not
   // D = diag(d_l): σ_min(D⁻¹·g_p) >= σ_min(g_p)/max d_l >= min|pivot(g_p)|/(kPivotGap·max d_l)
   if (!always) {
+    // max d_l: the largest entry of g_q, or of g_p (given by its LU's pivot ratio)
+    const double pivot = lu_.smallest_pivot(), ratio = lu_.smallest_pivot_ratio();
     const double largest =
-        std::max(entries(g_q_).cwiseAbs().maxCoeff(), entries(g_p_).cwiseAbs().maxCoeff());
-    const double bound = lu_.smallest_pivot() / (kPivotGap * largest);
+        std::max(entries(g_q_).cwiseAbs().maxCoeff(), ratio > 0 ? pivot / ratio : 0.0);
+    const double bound = largest > 0 ? pivot / (kPivotGap * largest) : 0.0;
     if (bound >= kBranchPoint) {
       singularity_ = {bound, lu_.determinant_sign(), false};
       return;
