@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,6 +11,25 @@
 #include <symdyn/runtime/loop_closure.hpp>
 
 namespace symdyn::runtime {
+
+namespace {
+
+// A permutation's parity (+-1): each cycle of even length is an odd number of swaps.
+int permutation_parity(const std::vector<int>& order) {
+  std::vector<bool> seen(order.size(), false);
+  int parity = 1;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    int length = 0;
+    for (std::size_t j = k; !seen[j]; j = static_cast<std::size_t>(order[j])) {
+      seen[j] = true;
+      ++length;
+    }
+    if (length > 0 && length % 2 == 0) parity = -parity;
+  }
+  return parity;
+}
+
+}  // namespace
 
 LoopClosure::LoopClosure(const Model& model)
     : n_(model.nindependent()),
@@ -34,8 +54,11 @@ LoopClosure::LoopClosure(const Model& model)
       dxd_dq_(Matrix::Zero(n_ + m_, n_)),
       dxdd_dq_(Matrix::Zero(n_ + m_, n_)),
       dxdd_dqd_(Matrix::Zero(n_ + m_, n_)),
-      curvature_(n_, n_) {
+      curvature_(n_, n_),
+      loop_size_(model.loop_names().size()),
+      equilibrated_(m_, m_) {
   T_.topRows(n_).setIdentity();
+  for (int k = 0; k < m_; ++k) loop_of_.push_back(model.constraint_loop(k));
 }
 
 void SmallLu::order_columns(const double* A) {
@@ -51,6 +74,22 @@ void SmallLu::order_columns(const double* A) {
     return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
   });
   permuted_ = !std::is_sorted(column_.begin(), column_.end());
+  column_parity_ = permutation_parity(column_);
+}
+
+double SmallLu::smallest_pivot() const {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n_; ++k) smallest = std::min(smallest, std::abs(at(k, k)));
+  return smallest;
+}
+
+int SmallLu::determinant_sign() const {
+  int sign = column_parity_;
+  for (int k = 0; k < n_; ++k) {
+    if (at(k, k) == 0.0) return 0;
+    if ((swap_[static_cast<std::size_t>(k)] != k) != (at(k, k) < 0.0)) sign = -sign;
+  }
+  return sign;
 }
 
 void SmallLu::factor(const double* A, int n) {
@@ -360,7 +399,85 @@ void LoopClosure::factor(const Model& model, double t, const Vector& x) {
   if (!(smallest_pivot() >= kSingularPivot)) not_closed(model, t, x, Failure::singular);
 }
 
-void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x) {
+// Each loop's rows of g_p over the loop's size, its largest entry of [g_q g_p]
+// (not the row's own: a row of g_p may vanish at a toggle with its whole
+// gradient), then Gaussian elimination with partial pivoting: its smallest
+// pivot and the sign of the determinant.
+void LoopClosure::measure_singularity(bool always) {
+  if (column_.empty()) order_columns();  // at the first solution, as the gate passes or not
+  // D = diag(d_l): σ_min(D⁻¹·g_p) >= σ_min(g_p)/max d_l >= min|pivot(g_p)|/(kPivotGap·max d_l)
+  if (!always) {
+    // max d_l: the largest entry of g_q, or of g_p (given by its LU's pivot ratio)
+    const double pivot = lu_.smallest_pivot(), ratio = lu_.smallest_pivot_ratio();
+    const double largest =
+        std::max(entries(g_q_).cwiseAbs().maxCoeff(), ratio > 0 ? pivot / ratio : 0.0);
+    const double bound = largest > 0 ? pivot / (kPivotGap * largest) : 0.0;
+    if (bound >= kBranchPoint) {
+      singularity_ = {bound, lu_.determinant_sign(), false};
+      return;
+    }
+  }
+  std::fill(loop_size_.begin(), loop_size_.end(), 0.0);
+  for (int i = 0; i < m_; ++i) {
+    double& size = loop_size_[static_cast<std::size_t>(loop_of_[static_cast<std::size_t>(i)])];
+    for (int j = 0; j < n_; ++j) size = std::max(size, std::abs(g_q_(i, j)));
+    for (int j = 0; j < m_; ++j) size = std::max(size, std::abs(g_p_(i, j)));
+  }
+  RowMajorMatrix& a = equilibrated_;
+  for (int i = 0; i < m_; ++i) {
+    const double size = loop_size_[static_cast<std::size_t>(loop_of_[static_cast<std::size_t>(i)])];
+    const double scale = size > 0.0 ? 1.0 / size : 1.0;
+    for (int k = 0; k < m_; ++k) a(i, k) = scale * g_p_(i, column_[static_cast<std::size_t>(k)]);
+  }
+  double smallest = std::numeric_limits<double>::infinity();
+  int sign = column_parity_;
+  for (int k = 0; k < m_; ++k) {
+    int p = k;
+    for (int i = k + 1; i < m_; ++i) {
+      if (std::abs(a(i, k)) > std::abs(a(p, k))) p = i;
+    }
+    if (p != k) {
+      for (int j = 0; j < m_; ++j) std::swap(a(k, j), a(p, j));
+      sign = -sign;
+    }
+    const double pivot = a(k, k);
+    smallest = std::min(smallest, std::abs(pivot));
+    if (pivot == 0.0) {
+      sign = 0;
+      continue;
+    }
+    if (pivot < 0.0) sign = -sign;
+    for (int i = k + 1; i < m_; ++i) {
+      if (a(i, k) == 0.0) continue;  // a row of another loop
+      const double l = a(i, k) / pivot;
+      for (int j = k + 1; j < m_; ++j) {
+        if (a(k, j) != 0.0) a(i, j) -= l * a(k, j);
+      }
+    }
+  }
+  singularity_ = {smallest, sign, true};
+}
+
+void LoopClosure::order_columns() {
+  std::vector<int> nonzeros(static_cast<std::size_t>(m_), 0);
+  for (int i = 0; i < m_; ++i) {
+    for (int j = 0; j < m_; ++j) nonzeros[static_cast<std::size_t>(j)] += g_p_(i, j) != 0.0;
+  }
+  column_.resize(static_cast<std::size_t>(m_));
+  std::iota(column_.begin(), column_.end(), 0);
+  std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
+    return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
+  });
+  column_parity_ = permutation_parity(column_);
+}
+
+const LoopClosure::Singularity& LoopClosure::probe(const Model& model, double t, const Vector& q,
+                                                   Vector& x) {
+  solve(model, t, q, x, true);
+  return singularity_;
+}
+
+void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x, bool probing) {
   x.resize(n_ + m_);
   x.head(n_) = q;
   // From the last solution moved along dp/dq: one Newton step less than from it.
@@ -401,6 +518,8 @@ void LoopClosure::solve(const Model& model, double t, const Vector& q, Vector& x
     x.tail(m_) -= step_;
   }
   factor(model, t, x);
+  measure_singularity(probing);
+  if (!probing && singularity_.pivot < kBranchPoint) not_closed(model, t, x, Failure::branch_point);
   // P = -g_p⁻¹·g_q and g_p⁻¹·g_t in one solve; g_t's column left out where it
   // is zero (loops that do not move with time): so is its solution.
   rates_.leftCols(n_) = g_q_;
@@ -457,7 +576,8 @@ void LoopClosure::derivatives(const Model& model, double t, const Vector& x, con
     not_closed(model, t, x, Failure::not_finite);
 }
 
-void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Failure why) const {
+void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Failure why,
+                             std::string_view where) const {
   // The loops of the equations that fail: those of the largest residual, or
   // those a left null vector of g_p combines (the dependent equations).
   std::vector<int> equations;
@@ -466,6 +586,19 @@ void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Fail
     const Vector w = null.col(0).cwiseAbs();
     for (int k = 0; k < m_; ++k) {
       if (w(k) > 1e-8 * w.maxCoeff()) equations.push_back(k);
+    }
+  } else if (why == Failure::branch_point) {
+    // The equations a left singular vector of the equilibrated g_p for its
+    // smallest singular value combines (nearly dependent).
+    Matrix scaled = g_p_;
+    for (int i = 0; i < m_; ++i) {
+      const double size =
+          loop_size_[static_cast<std::size_t>(loop_of_[static_cast<std::size_t>(i)])];
+      if (size > 0.0) scaled.row(i) /= size;
+    }
+    const Vector w = Eigen::JacobiSVD<Matrix>(scaled, Eigen::ComputeFullU).matrixU().col(m_ - 1);
+    for (int k = 0; k < m_; ++k) {
+      if (std::abs(w(k)) > 1e-3 * w.cwiseAbs().maxCoeff()) equations.push_back(k);
     }
   } else {
     Eigen::Index worst = 0;
@@ -492,6 +625,14 @@ void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Fail
         "the implicit dependent parameters) is singular (smallest pivot {:.3g} of its largest "
         "entry), a toggle or dead-centre position where q does not determine them",
         which, smallest_pivot());
+  } else if (why == Failure::branch_point) {
+    what = fmt::format(
+        "{} at a branch point: g_p (the Jacobian of the loop equations with respect to the "
+        "implicit dependent parameters), each loop's rows over that loop's largest entry of [g_q "
+        "g_p], has a smallest pivot {:.3g}, below {:g}, where the rates of the dependent "
+        "parameters have lost more than half their digits: a toggle, dead-centre or branch point "
+        "where q does not determine them",
+        which, singularity_.pivot, kBranchPoint);
   } else if (why == Failure::not_finite) {
     what = fmt::format("{}: the loop equations are not finite", which);
   } else {
@@ -500,7 +641,7 @@ void LoopClosure::not_closed(const Model& model, double t, const Vector& x, Fail
         "converge in {} iterations (|g| = {:.3g})",
         which, loops.size() == 1 ? "es" : "", kMaxIterations, g_.cwiseAbs().maxCoeff());
   }
-  throw NumericError(fmt::format("t = {}: {} at ({})", t, what, state));
+  throw NumericError(fmt::format("t = {}: {}{} at ({})", t, what, where, state));
 }
 
 }  // namespace symdyn::runtime

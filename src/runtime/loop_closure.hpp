@@ -32,8 +32,14 @@
 // A loop that does not close (no convergence in kMaxIterations, a value not
 // finite) or a singular g_p (a toggle or dead-centre position: p not
 // determined by q) is a NumericError naming the loop, the time and the state.
+// Singular short of exactly: each solution's g_p with each loop's rows divided
+// by that loop's largest entry of [g_q g_p] (its size, in its units) has a
+// smallest pivot r; p carries rounding of about 1e-16/r and its rates pd, pdd
+// about 1e-16/r² of themselves (g_p's change along the error in p), half
+// their digits at r = kBranchPoint, where the solution is refused.
 
 #include <Eigen/LU>
+#include <string_view>
 #include <vector>
 
 #include <symdyn/runtime/model.hpp>
@@ -75,6 +81,9 @@ class SmallLu {
   int schedules() const { return schedules_; }
   // The smallest |pivot| over the largest |entry| of A (0 for a zero A).
   double smallest_pivot_ratio() const { return ratio_; }
+  // The smallest |pivot| (U's diagonal) and the sign of det(A) (0 if singular).
+  double smallest_pivot() const;
+  int determinant_sign() const;
   // b := A⁻¹·b (each column of b).
   void solve_in_place(Vector& b) const { solve_rows(b.data(), 1, 1); }
   void solve_in_place(Matrix& b) const;
@@ -105,6 +114,7 @@ class SmallLu {
   std::vector<int> pivot_row_;         // the columns of step k's pivot row to eliminate with
   std::vector<int> column_;            // Q: column k of L·U is A's column column_[k]
   bool permuted_ = false;              // Q is not the identity
+  int column_parity_ = 1;              // Q's parity (+-1)
   std::vector<double> inverse_pivot_;  // 1/U_kk: the solves multiply
   // The columns of L's and U's row i that can hold a nonzero (the schedule's,
   // where sparse_; the dense path reads lu_'s rows whole): [*_start_[i],
@@ -132,6 +142,13 @@ class LoopClosure {
   // Below this share of g_p's largest entry a pivot of its LU factorization
   // is singular.
   static constexpr double kSingularPivot = 1e-13;
+  // Below this smallest pivot of the equilibrated g_p (above) a solution is
+  // refused: pd and pdd have lost more than half their digits.
+  static constexpr double kBranchPoint = 1e-4;
+  // The gap allowed between a pivot of g_p and its smallest singular value:
+  // the equilibrated g_p is measured only where the bound from the LU of g_p
+  // (measure_singularity()) is below kBranchPoint.
+  static constexpr double kPivotGap = 100;
   // The step from a predicted start within kChordResidual (times s) is made
   // with the last solution's g_p, except for kChordPause calls after one that
   // did not reach rounding.
@@ -167,6 +184,26 @@ class LoopClosure {
   const Matrix& dxdd_dqd() const { return dxdd_dqd_; }    // (nq x n)
   const Matrix& curvature() const { return curvature_; }  // Tᵀ·H·T (n x n)
 
+  // The equilibrated g_p at the last solution: its smallest pivot r (above)
+  // and the sign of its determinant (that of g_p), which changes where a
+  // motion crosses from one branch to another (0 where exactly singular).
+  // Not measured (measured false) where g_p's own LU bounds r from below by
+  // kBranchPoint or more: pivot is then that bound.
+  struct Singularity {
+    double pivot = 1.0;
+    int sign = 1;
+    bool measured = true;
+  };
+  const Singularity& singularity() const { return singularity_; }
+  // close_positions() without refusing a solution near a branch point, r
+  // measured (to look for one between evaluations), and the refusal of the
+  // last one (where: said after the loops' words).
+  const Singularity& probe(const Model& model, double t, const Vector& q, Vector& x);
+  [[noreturn]] void refuse_branch_point(const Model& model, double t, const Vector& x,
+                                        std::string_view where) const {
+    not_closed(model, t, x, Failure::branch_point, where);
+  }
+
   // The next close() starts from the guesses: the model's, or those given
   // (ncon, to choose an assembly: the solution Newton's iteration reaches).
   void reset() { solved_ = false; }
@@ -176,14 +213,19 @@ class LoopClosure {
   }
 
  private:
-  void solve(const Model& model, double t, const Vector& q, Vector& x);
+  // probing: r measured, no refusal (probe()).
+  void solve(const Model& model, double t, const Vector& q, Vector& x, bool probing = false);
   // Factors g_p_, a NumericError naming the loops when singular.
   void factor(const Model& model, double t, const Vector& x);
   double smallest_pivot() const { return lu_.smallest_pivot_ratio(); }
   void evaluate(const Model& model, double t, const Vector& x);
-  enum class Failure { singular, not_finite, no_convergence };
+  // singularity_ of g_p_ at the solution (g_q_ too: the loops' sizes),
+  // from lu_ alone where its bound is at least kBranchPoint (unless `always`).
+  void measure_singularity(bool always);
+  void order_columns();
+  enum class Failure { singular, not_finite, no_convergence, branch_point };
   [[noreturn, gnu::cold]] void not_closed(const Model& model, double t, const Vector& x,
-                                          Failure why) const;
+                                          Failure why, std::string_view where = "") const;
 
   int n_ = 0, m_ = 0;
   Vector g_, g_t_, gamma_, guess_, step_, dq_;
@@ -201,6 +243,14 @@ class LoopClosure {
   Vector mu_;
   Matrix a_x_rows_, a_xd_rows_, hessian_, aT_, HT_;
   Matrix dxd_dq_, dxdd_dq_, dxdd_dqd_, curvature_;
+  // measure_singularity(): each equation's loop, each loop's size, the equilibrated g_p
+  // with its columns of fewest nonzeros first (at the first call: a loop's own
+  // parameters eliminated within its rows), that order's parity (+-1)
+  std::vector<int> loop_of_, column_;
+  std::vector<double> loop_size_;
+  RowMajorMatrix equilibrated_;
+  int column_parity_ = 1;
+  Singularity singularity_;
 };
 
 }  // namespace symdyn::runtime

@@ -598,16 +598,22 @@ void MultibodySystem::interpolate_step(const State& from, const State& to, doubl
 
 namespace {
 
+double size_of(const Model::DomainMargin& m) {
+  return m.margin;
+}
+double size_of(const LoopClosure::Singularity& s) {
+  return s.pivot;
+}
+
 // The smallest margin(th) over [a, b], where it has one minimum, by golden section
 // to 1e-12 of the step: (th, its margin).
 template <class Margin>
-std::pair<double, Model::DomainMargin> smallest_margin_between(const Margin& margin, double a,
-                                                               double b) {
+auto smallest_margin_between(const Margin& margin, double a, double b) {
   const double g = (std::sqrt(5.0) - 1) / 2;
   double c = b - g * (b - a), d = a + g * (b - a);
-  Model::DomainMargin mc = margin(c), md = margin(d);
+  auto mc = margin(c), md = margin(d);
   while (b - a > 1e-12) {
-    if (mc.margin < md.margin) {  // the minimum is in [a, d]
+    if (size_of(mc) < size_of(md)) {  // the minimum is in [a, d]
       b = d;
       d = c;
       md = mc;
@@ -621,7 +627,7 @@ std::pair<double, Model::DomainMargin> smallest_margin_between(const Margin& mar
       md = margin(d);
     }
   }
-  return mc.margin < md.margin ? std::pair{c, mc} : std::pair{d, md};
+  return size_of(mc) < size_of(md) ? std::pair{c, mc} : std::pair{d, md};
 }
 
 }  // namespace
@@ -665,9 +671,63 @@ Model::DomainMargin MultibodySystem::closest_approach(const State& from, const S
   return best;
 }
 
+// check_step with closed loops: a branch point on the step's interpolant (multibody_system.hpp).
+void MultibodySystem::check_loop_step(const State& from, const State& to) {
+  const Eigen::Index n = model_.nindependent();
+  if (from.q.size() != n || to.q.size() != n || from.qd.size() != n || to.qd.size() != n ||
+      from.y.size() != to.y.size())
+    return;
+  const auto singularity_at = [&](double th) {
+    interpolate_step(from, to, th, edge_state_);
+    return probe_loops_.probe(model_, edge_state_.t, edge_state_.q, probe_x_);
+  };
+  // The step's start: the last step's end, or closed from the last solution.
+  if (!(from.t == probed_end_t_ && probed_end_q_.size() == n && from.q == probed_end_q_)) {
+    probe_loops_ = loops_;
+    probed_end_ = singularity_at(0.0);
+  }
+  const LoopClosure::Singularity start = probed_end_;
+  probed_end_ = singularity_at(1.0);  // from the start's solution
+  probed_end_t_ = to.t;
+  probed_end_q_ = to.q;
+  // Between ends far from a branch point on the same side of it, nothing to look for.
+  if (start.pivot >= kLocateBranch && probed_end_.pivot >= kLocateBranch &&
+      start.sign == probed_end_.sign)
+    return;
+  constexpr int kSamples = 5;  // th = 0, 1/4, .. 1
+  LoopClosure::Singularity sample[kSamples];
+  sample[0] = start;
+  sample[kSamples - 1] = probed_end_;
+  for (int i = kSamples - 2; i > 0; --i) sample[i] = singularity_at(i / 4.0);
+  int closest = 0, crossed = -1;
+  for (int i = 0; i < kSamples; ++i) {
+    if (sample[i].pivot < sample[closest].pivot) closest = i;
+    if (i > 0 && crossed < 0 && sample[i].sign != sample[i - 1].sign) crossed = i;
+  }
+  // No branch point: the next step starts from the end's solution.
+  const auto none = [&] { singularity_at(1.0); };
+  if (sample[closest].pivot >= kLocateBranch && crossed < 0) return none();
+  // Between the samples either side of the sign change, or about the closest sample.
+  const double a = crossed > 0 ? (crossed - 1) / 4.0 : std::max(closest - 1, 0) / 4.0,
+               b = crossed > 0 ? crossed / 4.0 : std::min(closest + 1, kSamples - 1) / 4.0;
+  auto [th, located] = smallest_margin_between(singularity_at, a, b);
+  if (sample[closest].pivot < located.pivot) th = closest / 4.0;
+  const LoopClosure::Singularity& s = singularity_at(th);
+  if (s.pivot >= LoopClosure::kBranchPoint && crossed < 0) return none();
+  probe_loops_.refuse_branch_point(
+      model_, edge_state_.t, probe_x_,
+      fmt::format("{} (between the evaluations of the step from t = {} to {}, on its "
+                  "interpolant)",
+                  crossed > 0 ? ", a branch crossed" : "", from.t, to.t));
+}
+
 void MultibodySystem::check_step(const State& from, const State& to) {
-  // Closed loops: the interpolated state would need the loops closed at every sample.
-  if (!model_.has_domain_margins() || model_.has_loops() || !(to.t > from.t)) return;
+  if (!(to.t > from.t)) return;
+  if (model_.has_loops()) {
+    check_loop_step(from, to);
+    return;
+  }
+  if (!model_.has_domain_margins()) return;
   const Eigen::Index nq = model_.nq();
   if (from.q.size() != nq || to.q.size() != nq || from.qd.size() != nq || to.qd.size() != nq ||
       from.y.size() != to.y.size())

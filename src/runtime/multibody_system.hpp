@@ -46,6 +46,7 @@
 // Not thread-safe: a system owns its workspace; use one system per thread.
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -228,8 +229,16 @@ class MultibodySystem : public DynamicSystem {
   // NumericError naming the parameter, the time and the state; check_step looks
   // for such a touch between the step's ends, along the cubic Hermite
   // interpolant of q from (q, qd) at both (sampled, then the closest point by
-  // golden section), and names the time and state it found.
+  // golden section), and names the time and state it found. With closed
+  // loops, it looks instead for a branch point (LoopClosure::kBranchPoint) on
+  // that interpolant, the loops closed by a copy of the closure (the next
+  // evaluation's start untouched): once at the step's end (its start is the
+  // last step's end), and only where an end comes within kLocateBranch or
+  // the sign of det(g_p) differs between the ends (a branch crossed) at five
+  // samples, the smallest pivot of the equilibrated g_p then located by
+  // golden section; refused naming the loop, the time and the state.
   void check_step(const State& from, const State& to) override;
+  static constexpr double kLocateBranch = 1e-2;
 
   // Warnings of the evaluations since construction or clear_warnings(), each
   // cause once, with the time: the accelerations (or the residual's iteration
@@ -348,6 +357,7 @@ class MultibodySystem : public DynamicSystem {
                                                                     const char* where = "") const;
   // The smallest margin along the step's interpolant, its time and state in edge_state_.
   Model::DomainMargin closest_approach(const State& from, const State& to);
+  void check_loop_step(const State& from, const State& to);
   void interpolate_step(const State& from, const State& to, double th, State& out) const;
   // Conditioning warnings (see warnings()), after an evaluation at s; M_ factored
   // in solver_ when `factored`.
@@ -405,6 +415,12 @@ class MultibodySystem : public DynamicSystem {
   std::vector<double> domain_arguments_;    // (3·ndomain) Model::smallest_domain_margin's
   std::vector<double> previous_arguments_;  // (3·ndomain) closest_approach(): the last sample's
   State edge_state_;                        // check_step(): a state within the step
+  LoopClosure probe_loops_;                 // check_loop_step(): loops_ at the step's end, moved
+  Vector probe_x_;                          // (nq) and its solutions
+  // check_loop_step(): the last step's end (its time, q and the measure there)
+  double probed_end_t_ = std::numeric_limits<double>::quiet_NaN();
+  Vector probed_end_q_;
+  LoopClosure::Singularity probed_end_;
   std::vector<std::string> warnings_;
   bool conditioning_warned_ = false;  // the conditioning warning is given once
 };

@@ -11,12 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "branch_crank.hpp"
 #include "long_crank_asin.hpp"
 #include "long_crank_sqrt.hpp"
 #include "pole_division.hpp"
 #include "runtime/test_systems.hpp"
+#include "two_four_bars.hpp"
 #include <symdyn/runtime/errors.hpp>
 #include <symdyn/runtime/integrator.hpp>
+#include <symdyn/runtime/loop_closure.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 
 namespace {
@@ -548,6 +551,165 @@ TEST_CASE(
     const std::vector<double> t = times_named(m);
     REQUIRE(!t.empty());
     CHECK(t.front() == Approx(0.5).margin(1e-7));
+  }
+}
+
+namespace {
+
+// The folded crank (models/error_models.cpp): q0 = 0.3 + 2t, rod_angle = pi -
+// q0, slider_x = 0, until the branch point at q0 = pi/2, t = (pi/2 - 0.3)/2.
+// There det(g_p) = l·cos(q0) changes sign, and the equilibrated g_p's smallest
+// pivot is l·|cos(rod_angle)| = 0.1·|cos(q0)| (slider_x's column first: one nonzero).
+MultibodySystem folded_crank() {
+  return MultibodySystem(Model::from<symdyn_generated::branch_crank>());
+}
+
+const double kBranchTime = (std::numbers::pi / 2 - 0.3) / 2;
+
+}  // namespace
+
+TEST_CASE(
+    "a crank as long as its rod, closed as a loop: exact away from its branch point, refused "
+    "naming the loop within 1e-4 of it",
+    "[integrator][errors][loops]") {
+  MultibodySystem sys = folded_crank();
+  State s = sys.initial_state();
+  Vector qdd, yd;
+  const double half_pi = std::numbers::pi / 2;
+  for (double d : {-1.0, -0.3, -1e-2, -2e-3}) {  // pivots 0.084 to 2e-4
+    CAPTURE(d);
+    s.q[0] = half_pi + d;
+    sys.accelerations(s, qdd, yd);
+    // qdd = 0 to pdd's rounding, which grows as 1/r² (docs/errors.md)
+    const double r = std::abs(std::cos(s.q[0]));
+    CHECK(std::abs(qdd[0]) < 1e-12 + 1e-14 / (r * r));
+    const State x = sys.extended_state(s);
+    CHECK(x.q[1] == Approx(std::numbers::pi - s.q[0]).margin(1e-12));
+    CHECK(std::abs(x.q[2]) < 1e-12);
+    CHECK(x.qd[1] == Approx(-2.0).margin(1e-9));
+  }
+  for (double d : {-5e-4, 5e-4}) {  // pivot 5e-5: pd and pdd have lost half their digits
+    CAPTURE(d);
+    s.q[0] = half_pi + d;
+    s.t = 0.25;
+    const std::string m = message_of<NumericError>([&] { sys.accelerations(s, qdd, yd); });
+    CHECK(m.rfind("t = 0.25: loop 'crank_pin' at a branch point", 0) == 0);
+    CHECK(m.find("smallest pivot 5e-05, below 0.0001") != std::string::npos);
+    CHECK(m.find(fmt::format("q0 = {}", half_pi + d)) != std::string::npos);
+  }
+}
+
+TEST_CASE(
+    "a crank as long as its rod, closed as a loop, run through its branch point: every integrator "
+    "stops there naming the loop, the time and the state",
+    "[integrator][errors][loops]") {
+  for (const auto& name : integrator_names()) {
+    CAPTURE(name);
+    IntegratorOptions o = tight_options(name);
+    o.initial_step = 0.07;  // steps across the branch point, not onto it
+    if (name == "rk4" || name == "midpoint") o.initial_step = 7e-3;  // nearest 3e-3 rad
+    // Short of it, the closed form, the check between steps refusing nothing.
+    MultibodySystem before = folded_crank();
+    const State end = make_integrator(name, o)->integrate(before, before.initial_state(), 0.6);
+    CHECK(end.q[0] == Approx(1.5).margin(1e-8));
+    CHECK(end.qd[0] == Approx(2.0).margin(1e-8));
+    MultibodySystem sys = folded_crank();
+    const std::string m = message_of<NumericError>(
+        [&] { make_integrator(name, o)->integrate(sys, sys.initial_state(), 1.0); });
+    CAPTURE(m);
+    CHECK(m.find("loop 'crank_pin' at a branch point") != std::string::npos);
+    // Located on the step's interpolant (exact: q0 is linear in t), the loop
+    // closed there to |g| <= 1e-12, so p to about 1e-6 (g grows as the square
+    // of p's distance to the branch point): the pivot, and q0 - pi/2, to
+    // about 1e-6 (4.4e-7 s the farthest over the integrators).
+    const std::vector<double> t = times_named(m);
+    REQUIRE(!t.empty());
+    CHECK(t.front() == Approx(kBranchTime).margin(5e-6));
+    static const std::regex state(R"(at \(q0 = 1\.570[0-9]+, rod_angle = 1\.57)");
+    CHECK(std::regex_search(m, state));
+  }
+}
+
+namespace {
+
+// The smallest singular value of g_p at x (by SVD, not by elimination) with
+// each loop's rows over that loop's largest entry of [g_q g_p], or raw.
+double smallest_singular_value(const Model& model, const Vector& x, bool equilibrated) {
+  const int n = model.nindependent(), m = model.ncon();
+  LoopClosure::RowMajorMatrix g_q(m, n), g_p(m, m);
+  Vector g(m), g_t(m);
+  model.constraints(0.0, x.data(), g.data(), g_q.data(), g_p.data(), g_t.data());
+  Matrix a = g_p;
+  if (equilibrated) {
+    for (int i = 0; i < m; ++i) {
+      double size = 0.0;
+      for (int k = 0; k < m; ++k) {
+        if (model.constraint_loop(k) != model.constraint_loop(i)) continue;
+        size = std::max({size, g_q.row(k).cwiseAbs().maxCoeff(), g_p.row(k).cwiseAbs().maxCoeff()});
+      }
+      a.row(i) /= size;
+    }
+  }
+  return Eigen::JacobiSVD<Matrix>(a).singularValues().minCoeff();
+}
+
+}  // namespace
+
+TEST_CASE(
+    "closed loops: the equilibrated measure skipped where g_p's own pivots bound it above the "
+    "branch point's threshold, measured near it",
+    "[errors][loops]") {
+  const Model model = Model::from<symdyn_generated::branch_crank>();
+  const double half_pi = std::numbers::pi / 2;
+  Vector q(1), x;
+  SECTION("far from the branch point: skipped, its bound below the measure, which says healthy") {
+    q[0] = half_pi - 1.0;
+    LoopClosure closure(model);
+    closure.close_positions(model, 0.0, q, x);
+    const LoopClosure::Singularity gated = closure.singularity();
+    CHECK_FALSE(gated.measured);
+    CHECK(gated.pivot >= LoopClosure::kBranchPoint);
+    const LoopClosure::Singularity measured = closure.probe(model, 0.0, q, x);
+    CHECK(measured.measured);
+    CHECK(measured.pivot == Approx(0.1 * std::cos(q[0])).epsilon(1e-9));  // 0.1·|cos(rod_angle)|
+    // the bound's inequality: r ~ σ_min(D⁻¹·g_p) >= σ_min(g_p)/max d_l >= bound
+    CHECK(smallest_singular_value(model, x, true) >= gated.pivot);
+    CHECK(measured.pivot >= gated.pivot);
+    CHECK(gated.sign == measured.sign);
+    CHECK(gated.sign != 0);
+  }
+  SECTION("near it: measured (pivots 3e-4 and 2e-4), refused below 1e-4 as before") {
+    LoopClosure closure(model);
+    for (double d : {-3e-3, -2e-3}) {  // g_p's pivots 0.1 and 10·r: a bound of r/10
+      CAPTURE(d);
+      q[0] = half_pi + d;
+      closure.close_positions(model, 0.0, q, x);
+      CHECK(closure.singularity().measured);
+      CHECK(closure.singularity().pivot == Approx(0.1 * std::abs(std::cos(q[0]))).epsilon(1e-6));
+    }
+    q[0] = half_pi + 5e-4;
+    CHECK(message_of<NumericError>([&] {
+            closure.close_positions(model, 0.0, q, x);
+          }).find("at a branch point") != std::string::npos);
+  }
+  SECTION("loops four decades apart in size: small raw pivots, measured healthy, not refused") {
+    const Model pair = Model::from<symdyn_generated::two_four_bars>();
+    LoopClosure closure(pair);
+    Vector q2(2);
+    for (double crank : {0.0, 1.0, 2.5}) {
+      CAPTURE(crank);
+      q2 << crank, crank;
+      REQUIRE_NOTHROW(closure.close_positions(pair, 0.0, q2, x));
+      // g_p raw is 1e-4 from singular relative to its largest entry, each loop alone far from it
+      CHECK(smallest_singular_value(pair, x, false) <
+            1e-3 * smallest_singular_value(pair, x, true));
+      CHECK(closure.singularity().measured);
+      const double r = closure.singularity().pivot;
+      const double sigma = smallest_singular_value(pair, x, true);
+      CHECK(sigma > 1e-2);
+      CHECK(r >= sigma / 10);
+      CHECK(r <= 10 * sigma);
+    }
   }
 }
 

@@ -72,7 +72,62 @@ void pole(Model& m, std::string_view) {
   m.initial(q0, 0.0, 2.0);
 }
 
+// A slider-crank whose crank and rod are equally long (l = 0.1), its loop
+// closed at the crank pin and assembled folded: the rod lies back along the
+// crank (rod_angle = pi - q0, slider_x = 0), so that the slider stands still
+// and crank and rod turn about fixed axes: M is constant and (gravity normal
+// to the plane) q0 = 0.3 + 2t. The folded branch crosses the extended one
+// (rod_angle = q0, slider_x = 2l·cos q0) at q0 = pi/2, where g_p = [[-l sin a,
+// -1], [-l cos a, 0]] (a = rod_angle) is singular: det(g_p) = -l cos a.
+void branch_crank(Model& m, std::string_view) {
+  const Expr q0 = m.coordinate("q0");
+  const double l = 0.1;
+  const Expr rod_angle = m.implicit_dependent("rod_angle", 3.0);
+  const Expr slider_x = m.implicit_dependent("slider_x", 0.0);
+  m.body("crank").mass(1.0).inertia(1e-4, 8.3e-4, 8.3e-4).motion(Trotz(q0) * Tdisp(l / 2, 0, 0));
+  m.body("rod")
+      .mass(0.5)
+      .inertia(5e-5, 4e-4, 4e-4)
+      .motion(Tdisp(slider_x, 0, 0) * Trotz(-rod_angle) * Tdisp(-l / 2, 0, 0));
+  m.body("slider").mass(0.3).inertia(1e-4, 1e-4, 1e-4).motion(Tdisp(slider_x, 0, 0));
+  m.gravity(0, 0, -9.81);
+  m.initial(q0, 0.3, 2.0);
+  m.close_loop("crank_pin", "crank", {l / 2, 0, 0}, "rod", {-l / 2, 0, 0});
+}
+
+// Two crank-rocker four-bars (models/four_bar.cpp's), one of lengths 1e-4
+// times the other's, each closed at its own joint C: g_p is block diagonal,
+// the small loop's rows 1e-4 times the large one's, so that g_p's pivots
+// span four decades while each loop alone is far from a branch point.
+void two_four_bars(Model& m, std::string_view) {
+  for (const auto& [name, scale] : {std::pair{"large", 1.0}, std::pair{"small", 1e-4}}) {
+    const std::string n(name);
+    const Expr crank = m.coordinate(n + "_crank");
+    const Expr phi = m.implicit_dependent(n + "_phi", 0.9);
+    const Expr psi = m.implicit_dependent(n + "_psi", 1.9);
+    const double r1 = 0.1 * scale, r2 = 0.35 * scale, r3 = 0.3 * scale, d = 0.4 * scale;
+    m.body(n + "_crank")
+        .mass(0.2)
+        .inertia(1e-6, 1e-4, 1e-4)
+        .motion(Trotz(crank) * Tdisp(r1 / 2, 0, 0));
+    m.body(n + "_coupler")
+        .mass(0.5)
+        .inertia(1e-6, 1e-4, 1e-4)
+        .relative_to(n + "_crank")
+        .motion(Tdisp(r1 / 2, 0, 0) * Trotz(phi) * Tdisp(r2 / 2, 0, 0));
+    m.body(n + "_rocker")
+        .mass(0.4)
+        .inertia(1e-6, 1e-4, 1e-4)
+        .motion(Tdisp(d, 0, 0) * Trotz(psi) * Tdisp(r3 / 2, 0, 0));
+    m.close_loop(n + "_C", n + "_coupler", {r2 / 2, 0, 0}, n + "_rocker", {r3 / 2, 0, 0});
+    m.initial(crank, 0.0, 5.0);
+  }
+  m.gravity(0, -9.81, 0);
+}
+
 const Registration crank({"long_crank", {"asin", "sqrt"}, long_crank});
+const Registration four_bars({"two_four_bars", {"scaled"}, two_four_bars});
+const Registration branch({"branch_crank", {"folded"}, branch_crank});
 const Registration poles({"pole", {"division"}, pole});
 const Registration gimbals({"gimbal", {"zyx", "zxz"}, gimbal});
 
