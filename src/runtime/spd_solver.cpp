@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include <symdyn/runtime/detail/dense_kernels.hpp>
 #include <symdyn/runtime/spd_solver.hpp>
 
 namespace symdyn::runtime {
@@ -33,6 +34,14 @@ const detail::DenseKernels* chosen_kernels(SpdSolver::Kernels kernels) {
 }
 
 }  // namespace
+
+bool SpdSolver::wide_kernels_available() {
+  return detail::wide_dense_kernels() != nullptr;
+}
+
+const char* SpdSolver::kernels_name() const {
+  return kernels_->name;
+}
 
 SpdSolver::SpdSolver(int n, Kernels kernels)
     : L_(Matrix::Identity(n, n)),

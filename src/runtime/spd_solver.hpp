@@ -28,10 +28,13 @@
 #include <string>
 #include <vector>
 
-#include <symdyn/runtime/detail/dense_kernels.hpp>
 #include <symdyn/runtime/dynamic_system.hpp>
 
 namespace symdyn::runtime {
+
+namespace detail {
+struct DenseKernels;  // detail/dense_kernels.hpp, not installed
+}  // namespace detail
 
 class SpdSolver {
  public:
@@ -43,9 +46,9 @@ class SpdSolver {
   explicit SpdSolver(int n = 0, Kernels kernels = Kernels::best);
 
   // AVX2 with FMA: built (x86-64) and run by this processor.
-  static bool wide_kernels_available() { return detail::wide_dense_kernels() != nullptr; }
+  static bool wide_kernels_available();
   // "plain" or "avx2": the kernels this solver runs.
-  const char* kernels_name() const { return kernels_->name; }
+  const char* kernels_name() const;
 
   int size() const { return static_cast<int>(L_.rows()); }
 
@@ -63,7 +66,7 @@ class SpdSolver {
   // B := M⁻¹·B and B := -M⁻¹·B (n x m), all columns in one solve, so that the
   // multiply-adds are independent across the columns (column by column each
   // entry is a chain of dependent ones): up to kInPlaceUpTo coordinates row
-  // by row in place, then tiles of up to detail::kWidestTile columns copied
+  // by row in place, then tiles of up to detail::kWidestTile (32) columns copied
   // row by row, their sums in registers (up to the kernels' solve_up_to
   // coordinates; Eigen's blocked solves above).
   void solve_in_place(Matrix& B);
@@ -95,7 +98,7 @@ class SpdSolver {
   void substitute(const double* b, double* x) const;
   Matrix L_;  // (n x n) its lower triangle is L
   const detail::DenseKernels* kernels_;
-  std::vector<double> tile_;  // (n x detail::kWidestTile) columns of B row by row
+  std::vector<double> tile_;  // n x detail::kWidestTile (32): columns of B row by row
   double smallest_ratio_ = 0.0;
 };
 
