@@ -29,6 +29,18 @@ int permutation_parity(const std::vector<int>& order) {
   return parity;
 }
 
+// The columns of A (n x n, row-major) with fewest nonzeros first (stable).
+std::vector<int> columns_by_sparsity(const double* A, int n) {
+  std::vector<int> nonzeros(static_cast<std::size_t>(n), 0);
+  for (int i = 0; i < n * n; ++i) nonzeros[static_cast<std::size_t>(i % n)] += A[i] != 0.0;
+  std::vector<int> column(static_cast<std::size_t>(n));
+  std::iota(column.begin(), column.end(), 0);
+  std::stable_sort(column.begin(), column.end(), [&](int a, int b) {
+    return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
+  });
+  return column;
+}
+
 }  // namespace
 
 LoopClosure::LoopClosure(const Model& model)
@@ -62,17 +74,16 @@ LoopClosure::LoopClosure(const Model& model)
 }
 
 void SmallLu::order_columns(const double* A) {
-  std::vector<int> nonzeros(static_cast<std::size_t>(n_), 0);
-  for (int i = 0; i < n_ * n_; ++i) nonzeros[static_cast<std::size_t>(i % n_)] += A[i] != 0.0;
-  column_.resize(static_cast<std::size_t>(n_));
-  for (int k = 0; k < n_; ++k) column_[static_cast<std::size_t>(k)] = k;
-  const int total = std::accumulate(nonzeros.begin(), nonzeros.end(), 0);
+  const int total =
+      static_cast<int>(std::count_if(A, A + n_ * n_, [](double a) { return a != 0.0; }));
   sparse_ = sparse_if_it_pays_ && n_ > kDenseUpTo && total <= kSparseShare * n_ * n_;
   permuted_ = false;
-  if (!sparse_) return;
-  std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
-    return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
-  });
+  if (!sparse_) {
+    column_.resize(static_cast<std::size_t>(n_));
+    std::iota(column_.begin(), column_.end(), 0);
+    return;
+  }
+  column_ = columns_by_sparsity(A, n_);
   permuted_ = !std::is_sorted(column_.begin(), column_.end());
   column_parity_ = permutation_parity(column_);
 }
@@ -459,15 +470,7 @@ void LoopClosure::measure_singularity(bool always) {
 }
 
 void LoopClosure::order_columns() {
-  std::vector<int> nonzeros(static_cast<std::size_t>(m_), 0);
-  for (int i = 0; i < m_; ++i) {
-    for (int j = 0; j < m_; ++j) nonzeros[static_cast<std::size_t>(j)] += g_p_(i, j) != 0.0;
-  }
-  column_.resize(static_cast<std::size_t>(m_));
-  std::iota(column_.begin(), column_.end(), 0);
-  std::stable_sort(column_.begin(), column_.end(), [&](int a, int b) {
-    return nonzeros[static_cast<std::size_t>(a)] < nonzeros[static_cast<std::size_t>(b)];
-  });
+  column_ = columns_by_sparsity(g_p_.data(), m_);
   column_parity_ = permutation_parity(column_);
 }
 
