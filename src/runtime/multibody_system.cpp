@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include <symdyn/runtime/errors.hpp>
@@ -676,6 +677,16 @@ std::optional<std::pair<double, double>> dip_to_locate(const std::array<double, 
   return std::pair{left_of_lowest * spacing, right_of_lowest * spacing};
 }
 
+// The smallest measure(th) about a dip (golden section), or the lowest sample
+// (at th_lowest) where that is smaller: (th, the measure there).
+template <class Measure, class Value>
+std::pair<double, Value> closest_point(const Measure& measure, std::pair<double, double> dip,
+                                       double th_lowest, const Value& lowest) {
+  const auto located = smallest_margin_between(measure, dip.first, dip.second);
+  if (size_of(lowest) < size_of(located.second)) return {th_lowest, lowest};
+  return located;
+}
+
 std::string between_evaluations(const State& from, const State& to) {
   return fmt::format(" (between the evaluations of the step from t = {} to {}, on its interpolant)",
                      from.t, to.t);
@@ -709,13 +720,8 @@ Model::DomainMargin MultibodySystem::closest_approach(const State& from, const S
       th_best = th;
     }
   }
-  if (const auto dip = dip_to_locate(margin, crossed)) {
-    const auto [th, m] = smallest_margin_between(margin_at, dip->first, dip->second);
-    if (m.margin < best.margin) {
-      best = m;
-      th_best = th;
-    }
-  }
+  if (const auto dip = dip_to_locate(margin, crossed))
+    std::tie(th_best, best) = closest_point(margin_at, *dip, th_best, best);
   interpolate_step(from, to, th_best, edge_state_);
   return best;
 }
@@ -773,22 +779,19 @@ void MultibodySystem::check_loop_step(const State& from, const State& to) {
   const auto dip = dip_to_locate(pivot, crossed);
   const auto edge_dip = domains ? dip_to_locate(margin, domain_crossed) : std::nullopt;
   if (!dip && !edge_dip) return;
+  const auto th_of = [](int i) { return i / (kSamples - 1.0); };
   if (dip) {
-    auto [th, located] = smallest_margin_between(singularity_at, dip->first, dip->second);
-    if (pivot[closest] < located.pivot) th = closest / (kSamples - 1.0);
-    const LoopClosure::Singularity& s = singularity_at(th);
-    if (s.pivot < LoopClosure::kBranchPoint || crossed > 0) {
+    const double th =
+        closest_point(singularity_at, *dip, th_of(closest), sample[closest].branch).first;
+    if (singularity_at(th).pivot < LoopClosure::kBranchPoint || crossed > 0) {
       probe_loops_.refuse_branch_point(
           model_, edge_state_.t, probe_x_,
           (crossed > 0 ? ", a branch crossed" : "") + between_evaluations(from, to));
     }
   }
   if (edge_dip) {
-    auto [th, m] = smallest_margin_between(margin_at, edge_dip->first, edge_dip->second);
-    if (sample[nearest_edge].domain.margin < m.margin) {
-      m = sample[nearest_edge].domain;
-      th = nearest_edge / (kSamples - 1.0);
-    }
+    const auto [th, m] =
+        closest_point(margin_at, *edge_dip, th_of(nearest_edge), sample[nearest_edge].domain);
     if (m.margin < Model::kDomainMargin) loop_domain_margin_refused(from, to, th, m);
   }
   singularity_at(1.0);  // the next step starts from the end's solution
