@@ -3,9 +3,12 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include <symdyn/runtime/errors.hpp>
@@ -630,6 +633,65 @@ auto smallest_margin_between(const Margin& margin, double a, double b) {
   return size_of(mc) < size_of(md) ? std::pair{c, mc} : std::pair{d, md};
 }
 
+// The smallest over [lo, hi] (within [0, 2]) of the parabola through (0, y0), (1, y1), (2, y2).
+double parabola_minimum(double y0, double y1, double y2, double lo, double hi) {
+  const double c = (y0 - 2 * y1 + y2) / 2, b = y1 - y0 - c;
+  const auto p = [&](double x) { return y0 + x * (b + c * x); };
+  const double vertex = c > 0 ? std::clamp(-b / (2 * c), lo, hi) : lo;
+  return std::min({p(vertex), p(lo), p(hi)});
+}
+
+// A measure between samples is located where its parabola comes below either.
+constexpr double kLocate = 1e-2;  // near the edge
+constexpr double kDeepDip = 0.5;  // or a dip deeper than the samples show: this share of the lowest
+
+// Where to locate the smallest of a measure sampled at th = i/(n - 1) along a step:
+// between the samples either side of a sign change (`crossed`, the later one, > 0),
+// else about the discrete local minimum (an end: no larger than its inner neighbour)
+// whose parabola through it and its neighbours (an end's: its two inner samples)
+// comes lowest beside it, where that is below kLocate or kDeepDip of the lowest
+// sample: near a tangential minimum the measure is smooth, its dip quadratic.
+template <std::size_t n>
+std::optional<std::pair<double, double>> dip_to_locate(const std::array<double, n>& size,
+                                                       int crossed) {
+  static_assert(n >= 3);
+  const double spacing = 1.0 / (n - 1);
+  if (crossed > 0) return std::pair{(crossed - 1) * spacing, crossed * spacing};
+  const int last = static_cast<int>(n) - 1;
+  double lowest = std::numeric_limits<double>::infinity();
+  int left_of_lowest = 0, right_of_lowest = 0;
+  for (int i = 0; i <= last; ++i) {
+    const int left = std::max(i - 1, 0), right = std::min(i + 1, last);
+    if (size[i] > size[left] || size[i] > size[right]) continue;
+    const int first = std::min(left, last - 2);  // the parabola's three samples from here
+    const double m = parabola_minimum(size[first], size[first + 1], size[first + 2], left - first,
+                                      right - first);
+    if (m < lowest) {
+      lowest = m;
+      left_of_lowest = left;
+      right_of_lowest = right;
+    }
+  }
+  const double lowest_sample = *std::min_element(size.begin(), size.end());
+  if (!(lowest < kLocate || lowest < kDeepDip * lowest_sample)) return std::nullopt;
+  return std::pair{left_of_lowest * spacing, right_of_lowest * spacing};
+}
+
+// The smallest measure(th) about a dip (golden section), or the lowest sample
+// (at th_lowest) where that is smaller: (th, the measure there).
+template <class Measure, class Value>
+std::pair<double, Value> closest_point(const Measure& measure, std::pair<double, double> dip,
+                                       double th_lowest, const Value& lowest) {
+  const auto located = smallest_margin_between(measure, dip.first, dip.second);
+  if (size_of(lowest) < size_of(located.second)) return {th_lowest, lowest};
+  return located;
+}
+
+std::string between_evaluations(const State& from, const State& to) {
+  return fmt::format(" (between the evaluations of the step from t = {} to {}, on its interpolant)",
+                     from.t, to.t);
+}
+
 }  // namespace
 
 Model::DomainMargin MultibodySystem::closest_approach(const State& from, const State& to) {
@@ -638,40 +700,34 @@ Model::DomainMargin MultibodySystem::closest_approach(const State& from, const S
     return model_.smallest_domain_margin(edge_state_.t, edge_state_.q.data(),
                                          domain_arguments_.data());
   };
-  // Five samples; a minimum inside that comes near the edge, or an argument that
-  // changes sign between two samples (a pole passed), is then located by golden section.
+  // Five samples; an argument that changes sign between two (a pole passed), or a
+  // dip between them that comes near the edge, is then located by golden section.
   constexpr int kSamples = 5;  // th = 0, 1/4, .. 1
+  std::array<double, kSamples> margin{};
   Model::DomainMargin best;
-  int best_sample = 0, crossed = -1;
+  double th_best = 0.0;
+  int crossed = -1;
   for (int i = 0; i < kSamples; ++i) {
-    const Model::DomainMargin m = margin_at(i / 4.0);
+    const double th = i / (kSamples - 1.0);
+    const Model::DomainMargin m = margin_at(th);
     if (i > 0 && crossed < 0 &&
         model_.domain_edge_crossed(previous_arguments_.data(), domain_arguments_.data()) >= 0)
       crossed = i;
     std::swap(previous_arguments_, domain_arguments_);
-    if (m.margin < best.margin) {
-      best = m;
-      best_sample = i;
-    }
-  }
-  double th_best = best_sample / 4.0;
-  constexpr double kLocate = 1e-2;  // a margin this small between steps is looked into
-  if (best.margin < kLocate || crossed > 0) {
-    // The closest point is within a sample of the closest sample (an end's: inside the
-    // step), or between the samples either side of the sign change.
-    const double a = crossed > 0 ? (crossed - 1) / 4.0 : std::max(best_sample - 1, 0) / 4.0,
-                 b = crossed > 0 ? crossed / 4.0 : std::min(best_sample + 1, kSamples - 1) / 4.0;
-    const auto [th, m] = smallest_margin_between(margin_at, a, b);
+    margin[i] = m.margin;
     if (m.margin < best.margin) {
       best = m;
       th_best = th;
     }
   }
+  if (const auto dip = dip_to_locate(margin, crossed))
+    std::tie(th_best, best) = closest_point(margin_at, *dip, th_best, best);
   interpolate_step(from, to, th_best, edge_state_);
   return best;
 }
 
-// check_step with closed loops: a branch point on the step's interpolant (multibody_system.hpp).
+// check_step with closed loops: a branch point, or a dependent parameter's domain
+// edge, on the step's interpolant (multibody_system.hpp).
 void MultibodySystem::check_loop_step(const State& from, const State& to) {
   const Eigen::Index n = model_.nindependent();
   if (from.q.size() != n || to.q.size() != n || from.qd.size() != n || to.qd.size() != n ||
@@ -681,52 +737,79 @@ void MultibodySystem::check_loop_step(const State& from, const State& to) {
     interpolate_step(from, to, th, edge_state_);
     return probe_loops_.probe(model_, edge_state_.t, edge_state_.q, probe_x_);
   };
-  // The step's start: the last step's end, or closed from the last solution.
+  const bool domains = model_.has_domain_margins();
+  const auto margin_at = [&](double th) {
+    singularity_at(th);
+    return model_.smallest_domain_margin(edge_state_.t, probe_x_.data(), domain_arguments_.data());
+  };
+  // The loops closed at the samples (the start: the last step's end), in order, from
+  // the last solution; a domain argument's sign change between two noted.
+  constexpr int kSamples = 3;  // th = 0, 1/2, 1
+  int domain_crossed = -1;
+  const auto sample_at = [&](int i) {
+    const double th = i / (kSamples - 1.0);
+    if (!domains) return LoopSample{singularity_at(th), {}};
+    const Model::DomainMargin m = margin_at(th);  // the loops closed at th first
+    const LoopSample s{probe_loops_.singularity(), m};
+    if (i > 0 && domain_crossed < 0 &&
+        model_.domain_edge_crossed(previous_arguments_.data(), domain_arguments_.data()) >= 0)
+      domain_crossed = i;
+    std::swap(previous_arguments_, domain_arguments_);
+    return s;
+  };
   if (!(from.t == probed_end_t_ && probed_end_q_.size() == n && from.q == probed_end_q_)) {
     probe_loops_ = loops_;
-    probed_end_ = singularity_at(0.0);
+    probed_end_ = sample_at(0);
   }
-  const LoopClosure::Singularity start = probed_end_;
-  probed_end_ = singularity_at(1.0);  // from the start's solution
+  std::array<LoopSample, kSamples> sample;
+  sample[0] = probed_end_;
+  for (int i = 1; i < kSamples; ++i) sample[i] = sample_at(i);
+  probed_end_ = sample.back();
   probed_end_t_ = to.t;
   probed_end_q_ = to.q;
-  // Between ends far from a branch point on the same side of it, nothing to look for.
-  if (start.pivot >= kLocateBranch && probed_end_.pivot >= kLocateBranch &&
-      start.sign == probed_end_.sign)
-    return;
-  constexpr int kSamples = 5;  // th = 0, 1/4, .. 1
-  LoopClosure::Singularity sample[kSamples];
-  sample[0] = start;
-  sample[kSamples - 1] = probed_end_;
-  for (int i = kSamples - 2; i > 0; --i) sample[i] = singularity_at(i / 4.0);
-  int closest = 0, crossed = -1;
+  std::array<double, kSamples> pivot{}, margin{};
+  int crossed = -1, closest = 0, nearest_edge = 0;
   for (int i = 0; i < kSamples; ++i) {
-    if (sample[i].pivot < sample[closest].pivot) closest = i;
-    if (i > 0 && crossed < 0 && sample[i].sign != sample[i - 1].sign) crossed = i;
+    pivot[i] = sample[i].branch.pivot;
+    margin[i] = sample[i].domain.margin;
+    if (pivot[i] < pivot[closest]) closest = i;
+    if (margin[i] < margin[nearest_edge]) nearest_edge = i;
+    if (i > 0 && crossed < 0 && sample[i].branch.sign != sample[i - 1].branch.sign) crossed = i;
   }
-  // No branch point: the next step starts from the end's solution.
-  const auto none = [&] { singularity_at(1.0); };
-  if (sample[closest].pivot >= kLocateBranch && crossed < 0) return none();
-  // Between the samples either side of the sign change, or about the closest sample.
-  const double a = crossed > 0 ? (crossed - 1) / 4.0 : std::max(closest - 1, 0) / 4.0,
-               b = crossed > 0 ? crossed / 4.0 : std::min(closest + 1, kSamples - 1) / 4.0;
-  auto [th, located] = smallest_margin_between(singularity_at, a, b);
-  if (sample[closest].pivot < located.pivot) th = closest / 4.0;
-  const LoopClosure::Singularity& s = singularity_at(th);
-  if (s.pivot >= LoopClosure::kBranchPoint && crossed < 0) return none();
-  probe_loops_.refuse_branch_point(
-      model_, edge_state_.t, probe_x_,
-      fmt::format("{} (between the evaluations of the step from t = {} to {}, on its "
-                  "interpolant)",
-                  crossed > 0 ? ", a branch crossed" : "", from.t, to.t));
+  const auto dip = dip_to_locate(pivot, crossed);
+  const auto edge_dip = domains ? dip_to_locate(margin, domain_crossed) : std::nullopt;
+  if (!dip && !edge_dip) return;
+  const auto th_of = [](int i) { return i / (kSamples - 1.0); };
+  if (dip) {
+    const double th =
+        closest_point(singularity_at, *dip, th_of(closest), sample[closest].branch).first;
+    if (singularity_at(th).pivot < LoopClosure::kBranchPoint || crossed > 0) {
+      probe_loops_.refuse_branch_point(
+          model_, edge_state_.t, probe_x_,
+          (crossed > 0 ? ", a branch crossed" : "") + between_evaluations(from, to));
+    }
+  }
+  if (edge_dip) {
+    const auto [th, m] =
+        closest_point(margin_at, *edge_dip, th_of(nearest_edge), sample[nearest_edge].domain);
+    if (m.margin < Model::kDomainMargin) loop_domain_margin_refused(from, to, th, m);
+  }
+  singularity_at(1.0);  // the next step starts from the end's solution
+}
+
+void MultibodySystem::loop_domain_margin_refused(const State& from, const State& to, double th,
+                                                 const Model::DomainMargin& m) {
+  interpolate_step(from, to, th, edge_state_);
+  State x;
+  x.t = edge_state_.t;
+  x.y = edge_state_.y;
+  probe_loops_.close(model_, x.t, edge_state_.q, edge_state_.qd, x.q, x.qd);
+  domain_margin_refused(x, m, between_evaluations(from, to).c_str());
 }
 
 void MultibodySystem::check_step(const State& from, const State& to) {
   if (!(to.t > from.t)) return;
-  if (model_.has_loops()) {
-    check_loop_step(from, to);
-    return;
-  }
+  if (model_.has_loops()) return check_loop_step(from, to);
   if (!model_.has_domain_margins()) return;
   const Eigen::Index nq = model_.nq();
   if (from.q.size() != nq || to.q.size() != nq || from.qd.size() != nq || to.qd.size() != nq ||
@@ -734,11 +817,7 @@ void MultibodySystem::check_step(const State& from, const State& to) {
     return;
   const Model::DomainMargin m = closest_approach(from, to);
   if (m.margin < Model::kDomainMargin) {
-    domain_margin_refused(edge_state_, m,
-                          fmt::format(" (between the evaluations of the step from t = {} to {}, on "
-                                      "its interpolant)",
-                                      from.t, to.t)
-                              .c_str());
+    domain_margin_refused(edge_state_, m, between_evaluations(from, to).c_str());
   }
 }
 

@@ -228,17 +228,18 @@ class MultibodySystem : public DynamicSystem {
   // of a dependent parameter's restricted function is within the margin of its edge is a
   // NumericError naming the parameter, the time and the state; check_step looks
   // for such a touch between the step's ends, along the cubic Hermite
-  // interpolant of q from (q, qd) at both (sampled, then the closest point by
-  // golden section), and names the time and state it found. With closed
-  // loops, it looks instead for a branch point (LoopClosure::kBranchPoint) on
-  // that interpolant, the loops closed by a copy of the closure (the next
-  // evaluation's start untouched): once at the step's end (its start is the
-  // last step's end), and only where an end comes within kLocateBranch or
-  // the sign of det(g_p) differs between the ends (a branch crossed) at five
-  // samples, the smallest pivot of the equilibrated g_p then located by
-  // golden section; refused naming the loop, the time and the state.
+  // interpolant of q from (q, qd) at both, and names the time and state it found:
+  // sampled (five samples), then located by golden section between two samples
+  // where an argument changes sign (a pole passed), or about a discrete local
+  // minimum of the margin whose parabola through its neighbours comes below 1e-2 or
+  // below half the lowest sample (a tangential dip between samples). With closed
+  // loops, it looks the same way for a branch point (LoopClosure::kBranchPoint)
+  // and a domain edge on that interpolant, the loops closed by a copy of the
+  // closure (the next evaluation's start untouched) at three samples, th = 0 (the
+  // last step's end, kept), 1/2 and 1; the smallest pivot of the equilibrated
+  // g_p located where it dips so or det(g_p)'s sign differs between samples (a
+  // branch crossed); refused naming the loop, the time and the state.
   void check_step(const State& from, const State& to) override;
-  static constexpr double kLocateBranch = 1e-2;
 
   // Warnings of the evaluations since construction or clear_warnings(), each
   // cause once, with the time: the accelerations (or the residual's iteration
@@ -358,6 +359,8 @@ class MultibodySystem : public DynamicSystem {
   // The smallest margin along the step's interpolant, its time and state in edge_state_.
   Model::DomainMargin closest_approach(const State& from, const State& to);
   void check_loop_step(const State& from, const State& to);
+  [[noreturn, gnu::cold, gnu::noinline]] void loop_domain_margin_refused(
+      const State& from, const State& to, double th, const Model::DomainMargin& m);
   void interpolate_step(const State& from, const State& to, double th, State& out) const;
   // Conditioning warnings (see warnings()), after an evaluation at s; M_ factored
   // in solver_ when `factored`.
@@ -417,10 +420,15 @@ class MultibodySystem : public DynamicSystem {
   State edge_state_;                        // check_step(): a state within the step
   LoopClosure probe_loops_;                 // check_loop_step(): loops_ at the step's end, moved
   Vector probe_x_;                          // (nq) and its solutions
-  // check_loop_step(): the last step's end (its time, q and the measure there)
+  // check_loop_step(): the measures at a point of a step's interpolant (the margin
+  // with domain margins), and the last step's end (its time, q and the measures there)
+  struct LoopSample {
+    LoopClosure::Singularity branch;
+    Model::DomainMargin domain;
+  };
   double probed_end_t_ = std::numeric_limits<double>::quiet_NaN();
   Vector probed_end_q_;
-  LoopClosure::Singularity probed_end_;
+  LoopSample probed_end_;
   std::vector<std::string> warnings_;
   bool conditioning_warned_ = false;  // the conditioning warning is given once
 };

@@ -621,7 +621,7 @@ TEST_CASE(
     // Located on the step's interpolant (exact: q0 is linear in t), the loop
     // closed there to |g| <= 1e-12, so p to about 1e-6 (g grows as the square
     // of p's distance to the branch point): the pivot, and q0 - pi/2, to
-    // about 1e-6 (4.4e-7 s the farthest over the integrators).
+    // a few 1e-6 (2.0e-6 s the farthest over the integrators, rk4's: 4e-6 rad).
     const std::vector<double> t = times_named(m);
     REQUIRE(!t.empty());
     CHECK(t.front() == Approx(kBranchTime).margin(5e-6));

@@ -78,8 +78,10 @@ void pole(Model& m, std::string_view) {
 // and crank and rod turn about fixed axes: M is constant and (gravity normal
 // to the plane) q0 = 0.3 + 2t. The folded branch crosses the extended one
 // (rod_angle = q0, slider_x = 2l·cos q0) at q0 = pi/2, where g_p = [[-l sin a,
-// -1], [-l cos a, 0]] (a = rod_angle) is singular: det(g_p) = -l cos a.
-void branch_crank(Model& m, std::string_view) {
+// -1], [-l cos a, 0]] (a = rod_angle) is singular: det(g_p) = -l cos a. The
+// pointer variant adds a pointer turned at the crank pin by beta = asin(k·cos(q0)),
+// an explicit dependent parameter whose argument touches 1 at q0 = 0 where k = 1.
+void branch_crank(Model& m, std::string_view variant) {
   const Expr q0 = m.coordinate("q0");
   const double l = 0.1;
   const Expr rod_angle = m.implicit_dependent("rod_angle", 3.0);
@@ -93,6 +95,13 @@ void branch_crank(Model& m, std::string_view) {
   m.gravity(0, 0, -9.81);
   m.initial(q0, 0.3, 2.0);
   m.close_loop("crank_pin", "crank", {l / 2, 0, 0}, "rod", {-l / 2, 0, 0});
+  if (variant == "pointer") {
+    const Expr beta = m.dependent("beta", asin(m.parameter("k", 0.5, true) * cos(q0)));
+    m.body("pointer")
+        .mass(0.1)
+        .inertia(1e-5, 1e-5, 1e-5)
+        .motion(Trotz(q0) * Tdisp(l, 0, 0) * Trotz(beta) * Tdisp(l / 4, 0, 0));
+  }
 }
 
 // Two crank-rocker four-bars (models/four_bar.cpp's), one of lengths 1e-4
@@ -127,7 +136,7 @@ void two_four_bars(Model& m, std::string_view) {
 
 const Registration crank({"long_crank", {"asin", "sqrt"}, long_crank});
 const Registration four_bars({"two_four_bars", {"scaled"}, two_four_bars});
-const Registration branch({"branch_crank", {"folded"}, branch_crank});
+const Registration branch({"branch_crank", {"folded", "pointer"}, branch_crank});
 const Registration poles({"pole", {"division"}, pole});
 const Registration gimbals({"gimbal", {"zyx", "zxz"}, gimbal});
 
