@@ -78,10 +78,10 @@ bool fixed_step(const std::string& integrator) {
   return integrator == "rk4" || integrator == "midpoint";
 }
 
-// newmark at fixed steps halved from 4e-3 until the setting is met as a global tolerance,
+// newmark at fixed steps halved from 8e-3 until the setting is met as a global tolerance,
 // its last two runs extrapolated (IntegratorOptions::global_tolerance): not a scenario's.
 const std::string kExtrapolated = "newmark-extrapolated";
-constexpr double kHalvingFrom = 4e-3;
+constexpr double kHalvingFrom = 8e-3;
 
 // A problem's system and initial state; the trike (expressions in its scenario) runs
 // through symdyn::sim::Simulation instead, built at each run (a small part of its cost).
