@@ -716,9 +716,11 @@ std::string summary(const RunResult& run) {
       st.jacobian_evaluations, run.wall_seconds);
   if (st.jacobian_evaluations > 0) out += fmt::format("  Jacobians: {}\n", run.jacobians);
   if (run.global_tolerance > 0.0) {
-    const std::string last = st.last_step > 0.0
-                                 ? fmt::format("step {:g} s", st.last_step)
-                                 : fmt::format("tolerance {:g}", st.last_relative_tolerance);
+    const std::string last =
+        st.extrapolated
+            ? fmt::format("steps {:g} and {:g} s, extrapolated", 2 * st.last_step, st.last_step)
+        : st.last_step > 0.0 ? fmt::format("step {:g} s", st.last_step)
+                             : fmt::format("tolerance {:g}", st.last_relative_tolerance);
     out += fmt::format(
         "  global error: estimated {:.3g}, global tolerance {:g} {} ({} runs, the result's at "
         "{})\n",

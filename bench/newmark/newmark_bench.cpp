@@ -7,10 +7,11 @@
 //   ./build/release/bench/symdyn_bench_newmark --count newmark tol 1e-8     # one run, for
 //   callgrind
 //
-// Benchmarks <integrator>/tol=<tol> (rtol = atol) and <integrator>/h=<h> (fixed step, default
-// tolerances), each integrator also as <integrator>-baseline. Counters: error (largest
-// |q - q_ref|, |qd - qd_ref| at 1 s against dop853 at 1e-13), steps, rejected, newton
-// (iterations), jac (Jacobian evaluations).
+// Benchmarks <integrator>/tol=<tol> (rtol = atol), <integrator>/h=<h> (fixed step, default
+// tolerances) and <integrator>/global=<tol> (fixed steps halved from 8e-3 until the global
+// tolerance is met, the last two runs extrapolated), each also as <integrator>-baseline. Counters:
+// error (largest |q - q_ref|, |qd - qd_ref| at 1 s against dop853 at 1e-13), steps, rejected,
+// newton (iterations), jac (Jacobian evaluations).
 //
 // --count: the run alone inside counted_workload(), for
 //   valgrind --tool=callgrind --toggle-collect='*counted_workload*' (instructions per run).
@@ -32,12 +33,17 @@ namespace {
 using namespace symdyn::runtime;
 
 constexpr double kEnd = 1.0;
+constexpr double kHalvingFrom = 8e-3;  // the first step of the global=<tolerance> runs
 
 std::unique_ptr<Integrator> make(const std::string& name, const std::string& kind, double setting) {
   IntegratorOptions o;
   if (kind == "h") {
     o.fixed_step = true;
     o.initial_step = setting;
+  } else if (kind == "global") {  // step halving from kHalvingFrom, extrapolated
+    o.fixed_step = true;
+    o.initial_step = kHalvingFrom;
+    o.global_tolerance = setting;
   } else {
     o.relative_tolerance = o.absolute_tolerance = setting;
   }
@@ -78,6 +84,7 @@ void run(benchmark::State& bench, const std::string& name, const std::string& ki
   bench.counters["rejected"] = static_cast<double>(st.rejected_steps);
   bench.counters["newton"] = static_cast<double>(st.newton_iterations);
   bench.counters["jac"] = static_cast<double>(st.jacobian_evaluations);
+  if (kind == "global") bench.counters["estimate"] = st.global_error_estimate;
 }
 
 }  // namespace
@@ -103,6 +110,8 @@ int main(int argc, char** argv) {
       {"generalized-alpha-baseline", "tol", {1e-10, 1e-12}},
       {"newmark", "h", {1e-3, 1e-4}},
       {"newmark-baseline", "h", {1e-3, 1e-4}},
+      {"newmark", "global", {1e-4, 1e-6, 3e-8, 1e-9}},
+      {"generalized-alpha", "global", {1e-6, 3e-8}},
   };
   for (const Row& r : rows) {
     for (double setting : r.settings) {

@@ -699,6 +699,7 @@ py::object statistics_of(const runtime::Statistics& s) {
   d["runs"] = s.runs;
   d["global_error_estimate"] = s.global_error_estimate;
   d["global_tolerance_met"] = s.global_tolerance_met;
+  d["extrapolated"] = s.extrapolated;
   return namespace_of(d);
 }
 

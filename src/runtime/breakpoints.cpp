@@ -30,9 +30,11 @@ void add_segment(Statistics& sum, const Statistics& s, bool first, double global
   if (first) {
     sum.global_error_estimate = s.global_error_estimate;
     sum.runs = s.runs;
+    sum.extrapolated = s.extrapolated;
   } else {
     sum.global_error_estimate += s.global_error_estimate;
     sum.runs = std::max(sum.runs, s.runs);
+    sum.extrapolated = sum.extrapolated && s.extrapolated;
   }
   sum.last_relative_tolerance = s.last_relative_tolerance;
   sum.last_step = s.last_step;

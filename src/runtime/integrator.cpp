@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -132,6 +133,12 @@ namespace {
 struct Output {
   State s;
   Vector qdd, yd;
+};
+
+// A run's end and the outputs it delivered.
+struct HeldRun {
+  State end;
+  std::vector<Output> outputs;
 };
 
 // What both global-tolerance loops share: the user's options back however the runs end,
@@ -298,6 +305,40 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
   }
 }
 
+namespace {
+
+// x_h + (x_h - x_2h)·c at the end and at every output: Richardson's extrapolation of two
+// runs at steps 2h and h. Empty when the runs' outputs are not at the same instants.
+std::optional<HeldRun> extrapolate(const State& coarse, const State& fine,
+                                   const std::vector<Output>& coarse_outputs,
+                                   const std::vector<Output>& fine_outputs, double c) {
+  if (coarse_outputs.size() != fine_outputs.size()) return std::nullopt;
+  const auto combine = [c](const Vector& a, const Vector& b) -> Vector { return b + c * (b - a); };
+  const auto state = [&](const State& a, const State& b) {
+    return State{b.t, combine(a.q, b.q), combine(a.qd, b.qd), combine(a.y, b.y)};
+  };
+  HeldRun r{state(coarse, fine), {}};
+  r.outputs.reserve(fine_outputs.size());
+  for (std::size_t k = 0; k < fine_outputs.size(); ++k) {
+    const Output &a = coarse_outputs[k], &b = fine_outputs[k];
+    if (a.s.t != b.s.t) return std::nullopt;
+    r.outputs.push_back({state(a.s, b.s), combine(a.qdd, b.qdd), combine(a.yd, b.yd)});
+  }
+  return r;
+}
+
+// The rounding a run of `steps` steps may accumulate: 10 roundings per step (an
+// implicit step's equations are solved to about that) of its end's largest component
+// (q and qd over q_scale, y).
+double rounding_floor(long steps, const State& end, const std::vector<double>& q_scale) {
+  const State zero{end.t, Vector::Zero(end.q.size()), Vector::Zero(end.qd.size()),
+                   Vector::Zero(end.y.size())};
+  return 10.0 * std::numeric_limits<double>::epsilon() * static_cast<double>(steps) *
+         difference(end, zero, q_scale);
+}
+
+}  // namespace
+
 // Run k at the step h/2^k. The difference d_k of runs k-1 and k is the error of
 // run k-1 less that of run k; with the error C·h^p, run k's is d_k/(2^p - 1)
 // (Richardson). Where the error does not yet fall as h^p (a step too long for the
@@ -306,30 +347,75 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
 // d_k·r_k/(1 - r_k) as for a geometric series: the larger of the two is the
 // estimate, so a run is accepted from the third one on, when r_k is known. A fall
 // slower than 3/4 per halving is no convergence: halve again.
+// Runs k-1 and k extrapolated, e_k = x_k + d_k/(2^p - 1), are of order p + g (g = 2
+// for a symmetric method, else 1). From the fourth run on, where r_k is within a
+// factor 2 of 2^-p and the fall rho_k = |e_k - e_(k-1)|/|e_(k-1) - e_(k-2)| within a
+// factor 2 of 2^-(p+g) (both in their asymptotic range), e_k's error is
+// |e_k - e_(k-1)|·max(1/(2^(p+g) - 1), rho_k/(1 - rho_k)), and e_k is returned
+// when that estimate is the smaller and meets the tolerance. The runs' implicit equations are
+// solved at a tolerance of kSolveTo (to rounding), so that their error falls with h like the
+// method's. No estimate is below the rounding a run accumulates (rounding_floor),
+// which grows as the step halves: the runs stop when it alone is above the tolerance.
 State Integrator::run_by_step_halving(DynamicSystem& system, const State& initial, double t_end) {
   constexpr int kMaxHalvings = 12;
   constexpr double kSlowestFall = 0.75;
+  constexpr double kSolveTo = 1e-13;
   HeldRuns held(options_);
   const IntegratorOptions& user = held.user;
   std::vector<Output>& outputs = held.outputs;
   std::vector<Output>& previous_outputs = held.previous_outputs;
-  const double richardson = 1.0 / (std::pow(2.0, fixed_step_order()) - 1.0);
+  const int p = fixed_step_order();
+  const double richardson = 1.0 / (std::pow(2.0, p) - 1.0);
+  const int gain = fixed_step_symmetric() ? 2 : 1;  // orders an extrapolation gains
+  const double extrapolated_richardson = 1.0 / (std::pow(2.0, p + gain) - 1.0);
+  options_.relative_tolerance = std::min(user.relative_tolerance, kSolveTo);
+  options_.absolute_tolerance = std::min(user.absolute_tolerance, kSolveTo);
   Statistics total;
   total.runs = 0;
   State previous;
+  std::optional<HeldRun> previous_extrapolated;
   double previous_difference = 0.0;
   const auto not_reached = [&](const std::string& why) {
     stats_ = total;
     const std::string reached =
         total.runs >= 3
-            ? fmt::format("the run at a step of {:g} s is estimated {:g} off", total.last_step,
-                          total.global_error_estimate)
+            ? fmt::format("the result at a step of {:g} s{} is estimated {:g} off", total.last_step,
+                          total.extrapolated ? " (extrapolated)" : "", total.global_error_estimate)
             : fmt::format("{} run(s), down to a step of {:g} s, too few for an estimate",
                           total.runs, total.last_step);
     return NumericError(
         fmt::format("integrator '{}': global_tolerance {:g} not reached by step halving from "
                     "initial_step {:g} ({}): {}",
                     name(), user.global_tolerance, user.initial_step, why, reached));
+  };
+  const auto accept = [&](State& end, const std::vector<Output>& held_outputs, double estimate) {
+    total.global_error_estimate = estimate;
+    total.global_tolerance_met = true;
+    stats_ = total;
+    replay(held_outputs, user);
+    return std::move(end);
+  };
+  // e_k's error where runs k-1, k and e_(k-1), e_k both fall as they should (the runs'
+  // differences as h^p, the extrapolations' as h^(p+g), each within a factor 2), from the
+  // fall rho of the extrapolations as for the runs; else infinite (none).
+  double previous_extrapolated_difference = 0.0;
+  const auto extrapolated_estimate = [&](double fall, const std::optional<HeldRun>& e,
+                                         double floor) {
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    if (!e || !previous_extrapolated) {
+      previous_extrapolated_difference = 0.0;
+      return kNone;
+    }
+    const double d = difference(previous_extrapolated->end, e->end, previous_extrapolated->outputs,
+                                e->outputs, user.q_scale);
+    const double d_previous = std::exchange(previous_extrapolated_difference, d);
+    const auto near = [](double observed, double expected) {
+      return observed <= 2 * expected && observed >= expected / 2;
+    };
+    if (!(d_previous > 0.0) || !near(fall, std::ldexp(1.0, -p))) return kNone;
+    const double rho = d / d_previous;
+    if (!near(rho, std::ldexp(1.0, -(p + gain)))) return kNone;
+    return std::max(floor, d * std::max(extrapolated_richardson, rho / (1.0 - rho)));
   };
   for (int k = 0;; ++k) {
     options_.initial_step = std::ldexp(user.initial_step, -k);
@@ -355,22 +441,33 @@ State Integrator::run_by_step_halving(DynamicSystem& system, const State& initia
     ++total.runs;
     total.last_step = options_.initial_step;
     total.last_relative_tolerance = options_.relative_tolerance;
+    total.extrapolated = false;
     if (k > 0) {
       const double d = difference(previous, end, previous_outputs, outputs, user.q_scale);
+      std::optional<HeldRun> extrapolated =
+          extrapolate(previous, end, previous_outputs, outputs, richardson);
       if (k >= 2) {
+        const double floor = rounding_floor(stats_.steps, end, user.q_scale);
         const double fall =
             previous_difference > 0.0 ? d / previous_difference : (d > 0.0 ? 1.0 : 0.0);
-        total.global_error_estimate = fall < kSlowestFall
-                                          ? d * std::max(richardson, fall / (1.0 - fall))
-                                          : std::numeric_limits<double>::infinity();
+        const double plain = fall < kSlowestFall
+                                 ? std::max(floor, d * std::max(richardson, fall / (1.0 - fall)))
+                                 : std::numeric_limits<double>::infinity();
+        const double of_extrapolated = extrapolated_estimate(fall, extrapolated, floor);
+        total.extrapolated = of_extrapolated < plain;
+        total.global_error_estimate = std::min(plain, of_extrapolated);
         if (total.global_error_estimate <= user.global_tolerance) {
-          total.global_tolerance_met = true;
-          stats_ = total;
-          replay(outputs, user);
-          return end;
+          return total.extrapolated
+                     ? accept(extrapolated->end, extrapolated->outputs, of_extrapolated)
+                     : accept(end, outputs, plain);
+        }
+        if (floor > user.global_tolerance) {
+          throw not_reached(fmt::format("the rounding of its {} steps, up to {:g}, is above it",
+                                        stats_.steps, floor));
         }
       }
       previous_difference = d;
+      previous_extrapolated = std::move(extrapolated);
     }
     if (k == kMaxHalvings) throw not_reached(fmt::format("{} halvings", kMaxHalvings));
     previous = std::move(end);

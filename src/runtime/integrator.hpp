@@ -107,7 +107,10 @@ struct IntegratorOptions {
   // - fixed-step runs (rk4, midpoint, fixed_step) with the step halved, the error
   //   of the finer run estimated by Richardson, |x_h - x_h/2| / (2^p - 1) for a
   //   method of order p (or the fall observed between runs when slower), from the
-  //   third run on,
+  //   third run on; where the runs are in their asymptotic range, the last two
+  //   extrapolated (x_h/2 + (x_h/2 - x_h)/(2^p - 1), of order p + 2 for a symmetric
+  //   method, p + 1 otherwise) and returned when that has the smaller estimate
+  //   (Statistics::extrapolated),
   // until the estimated error of a run is below it. Costs 2 or more runs (3
   // or more at a fixed step); outputs are held and only the returned run's are
   // delivered. A NumericError naming the estimate reached when a local tolerance
@@ -163,6 +166,9 @@ struct Statistics {
   double last_step = 0.0;  // fixed-step runs only
   double global_error_estimate = std::numeric_limits<double>::quiet_NaN();
   bool global_tolerance_met = false;
+  // Fixed-step runs with global_tolerance: the result is the Richardson extrapolation
+  // of the last two runs (steps 2·last_step and last_step), not the last run itself.
+  bool extrapolated = false;
 
   // Adds other's work (the counters above runs) to this one's.
   void add_work(const Statistics& other) {
@@ -224,6 +230,9 @@ class Integrator {
   // The order p of this run's global error in its fixed step h (error ~ h^p); 0 when
   // the run adapts its steps, or takes fixed steps of an order it does not know.
   virtual int fixed_step_order() const { return 0; }
+  // Whether that error has an expansion in even powers of h only (a symmetric method:
+  // newmark's trapezoidal rule, midpoint): one Richardson extrapolation gains two orders.
+  virtual bool fixed_step_symmetric() const { return false; }
 
   // Delivers one output after checking every value is finite.
   void emit(DynamicSystem& system, const State& s, const Vector& qdd, const Vector& yd);

@@ -9,9 +9,11 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <functional>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "double_pendulum_absolute.hpp"
@@ -78,9 +80,10 @@ void check_promise(const std::string& model, const Solver& solve, const std::vec
     const double estimate = r.stats.global_error_estimate;
     INFO(
         fmt::format("{}, {}{}: error {:.3g}, estimate {:.3g} in {} runs (the last at step {:g}, "
-                    "tolerance {:g})",
+                    "tolerance {:g}){}",
                     model, s.integrator, s.fixed_step ? " (fixed_step)" : "", error, estimate,
-                    r.stats.runs, r.stats.last_step, r.stats.last_relative_tolerance));
+                    r.stats.runs, r.stats.last_step, r.stats.last_relative_tolerance,
+                    r.stats.extrapolated ? ", extrapolated" : ""));
     CHECK(r.stats.global_tolerance_met);
     CHECK(estimate <= kGlobal);
     CHECK(error <= kGlobal);
@@ -166,4 +169,109 @@ TEST_CASE("global tolerance with arkode at a fixed step is refused before the ru
                     "integrator 'arkode': global_tolerance at a fixed step needs the method's "
                     "order, which 'arkode' "
                     "does not give: drop fixed_step or global_tolerance");
+}
+
+// Step halving returns (2^p·x_h - x_2h)/(2^p - 1) of its last two runs where they are in
+// the asymptotic range: of order p + 2 for a symmetric method (newmark's trapezoidal rule),
+// p + 1 otherwise (rk4), at the end and at every output, with the error estimated from the
+// extrapolations of runs 1-2, 2-3 and 3-4. Checked against runs made apart and combined
+// here, against the reference, and by the order the extrapolated error falls with.
+TEST_CASE("step halving returns the Richardson extrapolation of its last two runs",
+          "[models][global]") {
+  MultibodySystem sys(Model::from<symdyn_generated::double_pendulum_absolute>(),
+                      EquationsSource::emitted);
+  const State x0 = sys.initial_state();  // released horizontal (the work-precision problem)
+  constexpr double kEnd = 1.0;
+  IntegratorOptions tight;
+  tight.relative_tolerance = tight.absolute_tolerance = 1e-13;
+  tight.output_times = {kEnd};
+  const State reference = make_integrator("dop853", tight)->integrate(sys, x0, kEnd);
+  tight.relative_tolerance = tight.absolute_tolerance = 1e-12;
+  REQUIRE(max_error(reference, make_integrator("dopri5", tight)->integrate(sys, x0, kEnd)) < 1e-10);
+
+  struct Case {
+    const char* integrator;
+    int gained;     // orders the extrapolation gains
+    double global;  // met by the extrapolation of steps 2e-3 and 1e-3, not by a run alone
+  };
+  for (const Case c : {Case{"newmark", 2, 1e-6}, Case{"rk4", 1, 1e-9}}) {
+    const int p = c.integrator == std::string("rk4") ? 4 : 2;
+    // One run of fixed step h, Newton solved to rounding as step halving does; outputs kept.
+    const auto fixed_run = [&](double h, std::vector<State>* outputs) {
+      IntegratorOptions o;
+      o.fixed_step = true;
+      o.initial_step = h;
+      o.relative_tolerance = o.absolute_tolerance = 1e-13;
+      o.output_interval = 0.2;  // on every run's steps
+      if (outputs)
+        o.on_output = [outputs](const State& s, const Vector&, const Vector&) {
+          outputs->push_back(s);
+        };
+      return make_integrator(c.integrator, o)->integrate(sys, x0, kEnd);
+    };
+    const auto halving_run = [&](double h0, double global, std::vector<State>* outputs) {
+      IntegratorOptions o;
+      o.fixed_step = true;
+      o.initial_step = h0;
+      o.global_tolerance = global;
+      o.output_interval = 0.2;  // on every run's steps
+      if (outputs)
+        o.on_output = [outputs](const State& s, const Vector&, const Vector&) {
+          outputs->push_back(s);
+        };
+      auto integ = make_integrator(c.integrator, o);
+      const State end = integ->integrate(sys, x0, kEnd);
+      return std::pair{end, integ->statistics()};
+    };
+    INFO(c.integrator);
+    std::vector<State> outputs, coarse_outputs, fine_outputs;
+    const auto [end, stats] = halving_run(8e-3, c.global, &outputs);
+    CHECK(stats.global_tolerance_met);
+    CHECK(stats.extrapolated);
+    CHECK(stats.runs == 4);
+    CHECK(stats.last_step == 1e-3);
+    const State coarser = fixed_run(4e-3, nullptr), coarse = fixed_run(2e-3, &coarse_outputs),
+                fine = fixed_run(1e-3, &fine_outputs);
+    const double c_p = 1.0 / (std::pow(2.0, p) - 1.0);
+    const auto combined = [&](const State& a, const State& b) {
+      return State{b.t, b.q + c_p * (b.q - a.q), b.qd + c_p * (b.qd - a.qd), b.y};
+    };
+    CHECK(max_error(end, combined(coarse, fine)) < 1e-13);
+    REQUIRE(outputs.size() == 6);  // t = 0 to 1
+    REQUIRE(fine_outputs.size() == 6);
+    for (std::size_t k = 0; k < outputs.size(); ++k) {
+      CHECK(outputs[k].t == fine_outputs[k].t);
+      CHECK(max_error(outputs[k], combined(coarse_outputs[k], fine_outputs[k])) < 1e-13);
+    }
+    const double error = max_error(end, reference);
+    INFO(fmt::format("error {:.3g}, estimate {:.3g}", error, stats.global_error_estimate));
+    CHECK(error <= stats.global_error_estimate * 10.0);
+    CHECK(stats.global_error_estimate <= error * 10.0);
+
+    // Extrapolated from steps of 2e-3 and 1e-3 against 4e-3 and 2e-3: the error falls as
+    // h^(p + gained).
+    const double coarser_error = max_error(combined(coarser, coarse), reference);
+    const double order = std::log2(coarser_error / error);
+    INFO(fmt::format("extrapolated errors {:.3g} and {:.3g}: order {:.2f}", coarser_error, error,
+                     order));
+    CHECK(std::abs(order - (p + c.gained)) < 0.5);
+  }
+}
+
+// Rounding grows with the steps: a tolerance below what a run's steps may round to is
+// refused as soon as the runs get there, naming it.
+TEST_CASE("step halving stops where the runs' rounding is above the global tolerance",
+          "[models][global]") {
+  MultibodySystem sys(Model::from<symdyn_generated::double_pendulum_absolute>(),
+                      EquationsSource::emitted);
+  IntegratorOptions o;
+  o.fixed_step = true;
+  o.initial_step = 1e-2;
+  o.global_tolerance = 1e-14;
+  CHECK_THROWS_WITH(
+      make_integrator("newmark", o)->integrate(sys, sys.initial_state(), 1.0),
+      Catch::Matchers::StartsWith(
+          "integrator 'newmark': global_tolerance 1e-14 not reached by step halving "
+          "from initial_step 0.01 (the rounding of its 400 steps, up to ") &&
+          Catch::Matchers::Contains("is above it): the result at a step of 0.0025 s"));
 }

@@ -26,6 +26,7 @@ class Midpoint final : public detail::SteppingIntegrator {
   double first_step(double) override { return options_.initial_step; }
   void start(const State& initial) override;
   int order() const override { return 2; }
+  bool symmetric() const override { return true; }
   detail::StepOutcome attempt(double h, bool fixed) override;
   std::string map(double h, const Vector& z, Vector& Gz);
   double change(const Vector& dz, const Vector& z) const;

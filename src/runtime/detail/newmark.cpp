@@ -33,7 +33,12 @@ constexpr double kRoundings = 50.0;
 constexpr double kNewtonFraction = 0.05;
 // Contraction rates: above kRefreshRate the Jacobian is re-evaluated for the next step;
 // above kSlowRate a kept Jacobian is re-evaluated at once and the iteration restarted.
+// At a fixed step the iteration may have to fall many decades, from the prediction to a
+// target near rounding (step halving solves the runs far below their tolerance): there
+// the Jacobian is re-evaluated at the rate that would take more than two iterations,
+// sqrt(target / first correction), but not below kTightestRefresh.
 constexpr double kRefreshRate = 0.1;
+constexpr double kTightestRefresh = 1e-3;
 constexpr double kSlowRate = 0.5;
 // The carried rate becomes eta^kDrift at each step (below 1: it grows).
 constexpr double kDrift = 0.9;
@@ -62,6 +67,8 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
 
   void start(const State& initial) override;
   int order() const override { return 2; }  // both members of the family
+  // The trapezoidal rule (newmark, and generalized-alpha at rho_infinity = 1).
+  bool symmetric() const override { return c_.am == c_.af && beta_ == 0.25 && gamma_ == 0.5; }
   detail::StepOutcome attempt(double h, bool fixed) override;
   double first_step(double t_end) override;
   std::string step_limit() const override;
@@ -112,6 +119,7 @@ class NewmarkFamily final : public detail::SteppingIntegrator {
   // largest rate measured in this attempt.
   double eta_ = 1.0;
   double rate_ = 0.0;
+  double refresh_rate_ = kRefreshRate;  // of this step's iteration
 
   // Iteration matrix: partials and factorization.
   Matrix M_, C_, K_;   // (n x n)
@@ -478,6 +486,10 @@ std::string NewmarkFamily::iterate(double h, bool fixed) {
     // at most the error test's bound: such a step is not refused for its error).
     const double target =
         std::max(kNewtonFraction * (fixed ? std::min(estimate_, 1.0) : estimate_), floor_);
+    if (k == 1) {
+      refresh_rate_ = fixed ? std::clamp(std::sqrt(target / norm), kTightestRefresh, kRefreshRate)
+                            : kRefreshRate;
+    }
     if (k >= 2) {
       const double rate = norm / previous;
       rate_ = std::max(rate_, rate);
@@ -554,7 +566,7 @@ detail::StepOutcome NewmarkFamily::attempt(double h, bool fixed) {
   std::swap(qdd_, trial_qdd_);
   std::swap(yd_, trial_yd_);
   std::swap(a_, trial_a_);
-  if (rate_ > kRefreshRate) refresh_jacobian_ = true;
+  if (rate_ > refresh_rate_) refresh_jacobian_ = true;
   double factor = std::clamp(ratio, kMinFactor, after_rejection_ ? 1.0 : kMaxFactor);
   if (factor >= 1.0 && factor < kKeepBelow) factor = 1.0;
   after_rejection_ = false;

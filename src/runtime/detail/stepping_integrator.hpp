@@ -73,6 +73,9 @@ class SteppingIntegrator : public Integrator {
   int fixed_step_order() const final {
     return options_.fixed_step || fixed_step_only() ? order() : 0;
   }
+  // Whether the method is its own adjoint (a step of -h undoes a step of h).
+  virtual bool symmetric() const { return false; }
+  bool fixed_step_symmetric() const final { return fixed_step_order() > 0 && symmetric(); }
 
   // What set the last step size, for the message of a step below min_step: "" or,
   // say, "the local error of qd of coordinate 'crank'".
