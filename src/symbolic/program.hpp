@@ -242,15 +242,21 @@ struct CppNaming {
   // long array of many zeros is zeroed by one loop (see kZeroedArrayShare).
   // Empty: every output is assigned alone.
   std::vector<std::pair<std::string, std::size_t>> output_arrays;
+  // Optional, (output_arrays) whether each is written sparsely: its +0.0
+  // outputs are never assigned, so the caller zeroes the array once, before
+  // the first call, and keeps it for these outputs alone. Empty: none is.
+  // Such an array is planned as the others (the parts are cut and ordered
+  // alike) and printed without its zeros, by a loop or one by one.
+  std::vector<bool> sparse_arrays;
 };
 
-// An output array of at least kMinZeroedArray elements, of which at least
-// 1/kZeroedArrayShare are +0.0 (and that one set of functions wants,
-// emit_cpp_shared), is zeroed whole by one loop,
-// for (int i = 0; i < 3528; ++i) dv[i] = 0.0;, before its other elements are
-// assigned; its zeros are not assigned again. Why: g++ turns the loop into
-// memset, cheaper than many separate stores of zero to compile and to run, but
-// not on a short array (bench/results/emitted_code_layout.md).
+// An output array (not written sparsely, CppNaming::sparse_arrays) of at least
+// kMinZeroedArray elements, of which at least 1/kZeroedArrayShare are +0.0
+// (and that one set of functions wants, emit_cpp_shared), is zeroed whole by
+// one loop, for (int i = 0; i < 3528; ++i) dv[i] = 0.0;, before its other
+// elements are assigned; its zeros are not assigned again. Why: g++ turns the
+// loop into memset, cheaper than many separate stores of zero to compile and
+// to run, but not on a short array (bench/results/emitted_code_layout.md).
 inline constexpr std::size_t kMinZeroedArray = 64;
 inline constexpr std::size_t kZeroedArrayShare = 2;
 
@@ -262,7 +268,8 @@ inline constexpr std::size_t kZeroedArrayShare = 2;
 // are zeroed first (see CppNaming::output_arrays), outputs are assigned last,
 // in order.
 // Warning-free under -Wall -Wextra -Wpedantic. Throws UsageError if the naming
-// has the wrong number of inputs or outputs, or output arrays of another total size.
+// has the wrong number of inputs or outputs, output arrays of another total
+// size, or sparse_arrays of another size than output_arrays (if not empty).
 std::string emit_cpp(const Program& program, const CppNaming& naming);
 
 // Functions computing some outputs of one program each (entry points of

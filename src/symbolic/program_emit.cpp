@@ -66,6 +66,15 @@ void append_format(std::string& out, std::string_view format,
   }
 }
 
+// Whether each slot is a constant +0.0 (all bits clear).
+std::vector<bool> positive_zeros(const Program& program) {
+  std::vector<bool> zero(program.slot_count(), false);
+  for (const Instruction& i : program.instructions()) {
+    zero[i.results[0]] = i.op == Opcode::Const && i.constant == 0.0 && !std::signbit(i.constant);
+  }
+  return zero;
+}
+
 // The output arrays zeroed whole by one loop before their other elements are
 // assigned (see kZeroedArrayShare), by array, and the outputs they hold
 // already (+0.0), by output. Only an array wanted by one set of functions is.
@@ -73,10 +82,7 @@ std::pair<std::vector<bool>, std::vector<bool>> zeroed_arrays(const Program& pro
                                                               const CppNaming& naming,
                                                               const std::vector<Mask>& wanted_by) {
   const auto outputs = program.output_slots();
-  std::vector<bool> zero(program.slot_count(), false);  // +0.0: all bits clear
-  for (const Instruction& i : program.instructions()) {
-    zero[i.results[0]] = i.op == Opcode::Const && i.constant == 0.0 && !std::signbit(i.constant);
-  }
+  const std::vector<bool> zero = positive_zeros(program);
   std::vector<bool> zeroed(naming.output_arrays.size(), false), unassigned(outputs.size(), false);
   std::size_t first = 0;  // of the current array
   for (std::size_t a = 0; a < naming.output_arrays.size(); ++a) {
@@ -271,6 +277,11 @@ PartPlan plan_parts(const Program& program, const CppNaming& naming,
   return plan;
 }
 
+// Prints the plan's parts. An array written sparsely (CppNaming::sparse_arrays)
+// is planned as any other, and printed without its zeros: neither its loop
+// nor its +0.0 elements one by one, which its caller zeroed once. So the
+// parts are cut and ordered as for code that writes them, and that code
+// differs from this one in those lines alone.
 class Printer {
  public:
   Printer(const Program& program, const CppNaming& naming, const PartPlan& plan)
@@ -287,9 +298,13 @@ class Printer {
       if (is_load(ins)) load(ins);
       if (ins.op == Opcode::Input) input_of_slot_[ins.results[0]] = ins.input;
     }
+    const auto outputs = program.output_slots();
+    const std::vector<bool> zero = positive_zeros(program);
+    unwritten_.assign(outputs.size(), false);
+    for (std::size_t o = 0; o < outputs.size() && !naming.sparse_arrays.empty(); ++o)
+      unwritten_[o] = naming.sparse_arrays[array_of_output_[o]] && zero[outputs[o]];
     // The outputs of each computed slot assigned at its definition, in output order (CSR:
     // first_output_, by_slot_).
-    const auto outputs = program.output_slots();
     first_output_.assign(program.slot_count() + 1, 0);
     for (std::size_t o = 0; o < outputs.size(); ++o)
       first_output_[outputs[o] + 1] += plan.at_definition[o];
@@ -309,7 +324,9 @@ class Printer {
       for (std::size_t f = 0; f < kMaxFunctions; ++f) {
         if ((layout.functions >> f & 1) != 0) part_.functions.push_back(f);
       }
-      for (std::size_t a : layout.zeroed) zero(a);
+      for (std::size_t a : layout.zeroed) {
+        if (naming_.sparse_arrays.empty() || !naming_.sparse_arrays[a]) zero(a);
+      }
       for (std::size_t k : layout.instructions) print(program_.instructions()[k]);
       for (std::size_t o : layout.late_outputs) assign(o);
       // Later parts read this part's values from the scratch array.
@@ -396,6 +413,7 @@ class Printer {
   }
 
   void assign(std::size_t o) {
+    if (unwritten_[o]) return;
     const std::uint32_t slot = program_.output_slots()[o];
     note_read(slot);
     note_write(o);
@@ -442,7 +460,8 @@ class Printer {
       array_of_output_;  // (output_count) its output array; empty if none named
   static constexpr std::uint32_t kNotInput = ~0U;
   std::vector<std::uint32_t>
-      input_of_slot_;  // (slot_count) the input a load reads, kNotInput otherwise
+      input_of_slot_;            // (slot_count) the input a load reads, kNotInput otherwise
+  std::vector<bool> unwritten_;  // (output_count) a zero of an array written sparsely
   // The outputs of slot s assigned at its definition are by_slot_[first_output_[s] ...
   // first_output_[s + 1] - 1].
   std::vector<std::size_t> first_output_;
@@ -466,6 +485,12 @@ void check_naming(const Program& program, const CppNaming& naming) {
     throw UsageError(
         fmt::format("emit_cpp: naming's output arrays have {} elements; the program has {} outputs",
                     covered(naming.output_arrays), program.output_count()));
+  }
+  if (!naming.sparse_arrays.empty() && naming.sparse_arrays.size() != naming.output_arrays.size()) {
+    throw UsageError(
+        fmt::format("emit_cpp: naming says of {} arrays whether they are sparse; it "
+                    "has {} output arrays",
+                    naming.sparse_arrays.size(), naming.output_arrays.size()));
   }
   if (!naming.input_arrays.empty() && covered(naming.input_arrays) != program.input_count()) {
     throw UsageError(

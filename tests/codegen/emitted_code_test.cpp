@@ -288,3 +288,32 @@ TEST_CASE("run-time parameters are inputs of the emitted programs", "[codegen]")
     CHECK(out[10] == Approx(2.5 * std::sin(0.4)).epsilon(1e-15));
   }
 }
+
+TEST_CASE("the partial velocities are written sparsely, the positions whole", "[codegen]") {
+  // A rod turning about z: dv = (-l sin q, l cos q, 0), dw = (0, 0, 1), R[2] = R[5] = 0.
+  model::Model m("rod");
+  const model::Expr q = m.coordinate("q");
+  m.body("rod")
+      .mass(1.0)
+      .inertia(0.001, 0.08, 0.08)
+      .motion(model::Trotz(q) * model::Tdisp(0.5, 0, 0));
+  const auto definition = [](const codegen::GeneratedCode& code, const std::string& name) {
+    const std::size_t begin = code.source.find(code.struct_name + "::" + name + "(");
+    return code.source.substr(begin, code.source.find("\n}\n", begin) - begin);
+  };
+  const codegen::GeneratedCode symbolic = codegen::generate(m, "v", "rod_v");
+  // Their structural zeros are the caller's, and the header says so; R's zeros are written.
+  CHECK_THAT(symbolic.header,
+             Contains("//   dv (1 x 1 x 3), sparse: only its nonzeros are written, zero it once"));
+  const std::string partials = definition(symbolic, "partial_velocities");
+  CHECK_THAT(partials, Contains("  dv[1] = ") && Contains("  dw[2] = 1.0;"));
+  CHECK_THAT(partials, !Contains("dv[2] = ") && !Contains("dw[0] = ") && !Contains("dw[1] = ") &&
+                           !Contains("for ("));
+  CHECK_THAT(definition(symbolic, "positions"), Contains("  R[2] = 0.0;"));
+  // Numeric partial velocities are a loop over velocities that writes every entry.
+  codegen::Options numeric;
+  numeric.symbolic_partials = false;
+  const codegen::GeneratedCode differenced = codegen::generate(m, "v", "rod_n", numeric);
+  CHECK_THAT(differenced.header, Contains("//   dv (1 x 1 x 3)\n"));
+  CHECK_THAT(differenced.header, !Contains("sparse"));
+}

@@ -34,6 +34,7 @@
 #include <symdyn/runtime/linearization.hpp>
 #include <symdyn/runtime/multibody_system.hpp>
 #include <symdyn/runtime/point_forces.hpp>
+#include <symdyn/runtime/relative_motion.hpp>
 #include <symdyn/runtime/step_derivatives.hpp>
 
 namespace {
@@ -210,6 +211,104 @@ TEMPLATE_LIST_TEST_CASE("dynamics_derivatives equal Richardson differences of th
   Matrix M;
   system.mass_matrix(s, M);
   CHECK(max_abs(M * d.dqdd_dtau - Matrix::Identity(n, n)) < 1e-9 * std::max(1.0, max_abs(M)));
+}
+
+// The largest |a_i - b_i| over n entries, or infinity where b_i is exactly zero and a_i is
+// not: a sparse output's structural zero that a kept buffer no longer holds.
+double kept_gap(const double* a, const double* b, std::size_t n) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (b[i] == 0.0 && a[i] != 0.0) return std::numeric_limits<double>::infinity();
+    worst = std::max(worst, std::abs(a[i] - b[i]));
+  }
+  return worst;
+}
+
+TEMPLATE_LIST_TEST_CASE(
+    "buffers kept over many evaluations give what fresh ones give, structural zeros still zero",
+    "[models][derivatives]", symdyn_test::all_models) {
+  // The emitted partial velocities and kinematics derivatives are written sparsely
+  // (docs/emitted_interface.md): their structural zeros are those the buffers were made with.
+  const Model model = Model::from<TestType>();
+  INFO("model " << model.name() << " variant " << model.variant());
+  std::mt19937 rng(11);
+  const int nq = model.nq(), nb = model.nbody();
+  const auto partials = static_cast<std::size_t>(3 * nb * nq);
+  // The model's entry points into kept buffers, at every level.
+  Kinematics k = model.make_kinematics();
+  RelativeMotion rel = model.make_relative_motion();
+  KinematicsDerivatives dk = model.make_kinematics_derivatives();
+  Matrix M = Matrix::Zero(nq, nq);
+  Vector h = Vector::Zero(nq);
+  const auto evaluate = [&](Kinematics& into, RelativeMotion& r, KinematicsDerivatives& d,
+                            const State& s, KinematicsLevel level) {
+    if (model.has_equations_of_motion())
+      model.dynamics(s.t, s.q.data(), s.qd.data(), level, M.data(), h.data(), into);
+    model.partial_velocities(s.t, s.q.data(), into);
+    if (model.has_relative_partial_velocities())
+      model.relative_partial_velocities(s.t, s.q.data(), r);
+    if (model.has_kinematics_derivatives())
+      model.kinematics_derivatives(s.t, s.q.data(), s.qd.data(), d);
+  };
+  // At states of all nq coordinates (a system's states hold the independent ones alone).
+  const auto model_state = [&] {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    State s = model.initial_state();
+    for (int j = 0; j < nq; ++j) s.q(j) += 0.1 * u(rng), s.qd(j) = u(rng);
+    return s;
+  };
+  // And a system's, with force elements that read them.
+  MultibodySystem worn(model);
+  add_force_elements(worn);
+  const bool jacobians = worn.exact_jacobians();
+  Vector qdd, yd;
+  Matrix Mj, C, K;
+  for (int trial = 0; trial < 30; ++trial) {
+    const State x = model_state();
+    for (KinematicsLevel level :
+         {KinematicsLevel::none, KinematicsLevel::positions, KinematicsLevel::velocities})
+      evaluate(k, rel, dk, x, level);
+    const State s = random_state(worn, rng);
+    worn.accelerations(s, qdd, yd);
+    if (jacobians) worn.jacobians(s, qdd, Mj, C, K);
+  }
+  const State x = model_state();
+  evaluate(k, rel, dk, x, KinematicsLevel::velocities);
+  Kinematics fresh_k = model.make_kinematics();
+  RelativeMotion fresh_rel = model.make_relative_motion();
+  KinematicsDerivatives fresh_dk = model.make_kinematics_derivatives();
+  evaluate(fresh_k, fresh_rel, fresh_dk, x, KinematicsLevel::velocities);
+  CHECK(kept_gap(k.dv_dqd_data(), fresh_k.dv_dqd_data(), partials) == 0.0);
+  CHECK(kept_gap(k.dw_dqd_data(), fresh_k.dw_dqd_data(), partials) == 0.0);
+  CHECK(kept_gap(rel.relative().dv_dqd_data(), fresh_rel.relative().dv_dqd_data(), partials) ==
+        0.0);
+  CHECK(kept_gap(rel.relative().dw_dqd_data(), fresh_rel.relative().dw_dqd_data(), partials) ==
+        0.0);
+  if (model.has_kinematics_derivatives()) {
+    CHECK(kept_gap(dk.dv_dq_data(), fresh_dk.dv_dq_data(), partials) == 0.0);
+    CHECK(kept_gap(dk.dw_dq_data(), fresh_dk.dw_dq_data(), partials) == 0.0);
+    CHECK(kept_gap(dk.ddv_dq_data(), fresh_dk.ddv_dq_data(), partials * nq) == 0.0);
+    CHECK(kept_gap(dk.ddw_dq_data(), fresh_dk.ddw_dq_data(), partials * nq) == 0.0);
+  }
+  // The system's kinematics and Jacobians likewise, without closed loops: their dependent
+  // parameters are solved from the last solution, and the Stewart platform's may then reach
+  // another assembly than a fresh system's.
+  if (model.has_loops()) return;
+  const State s = random_state(worn, rng);
+  MultibodySystem fresh(model);
+  add_force_elements(fresh);
+  Kinematics worn_k = worn.evaluate_kinematics(s);
+  Kinematics fresh_system_k = fresh.evaluate_kinematics(s);
+  CHECK(kept_gap(worn_k.dv_dqd_data(), fresh_system_k.dv_dqd_data(), partials) == 0.0);
+  CHECK(kept_gap(worn_k.dw_dqd_data(), fresh_system_k.dw_dqd_data(), partials) == 0.0);
+  if (jacobians) {
+    Matrix Mf, Cf, Kf;
+    worn.accelerations(s, qdd, yd);
+    worn.jacobians(s, qdd, Mj, C, K);
+    fresh.jacobians(s, qdd, Mf, Cf, Kf);
+    CHECK(K == Kf);
+    CHECK(C == Cf);
+  }
 }
 
 TEST_CASE("set_exact_jacobians(false) differences the residual as a model without derivatives",

@@ -8,12 +8,14 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "support/model_eval.hpp"
+#include <symdyn/codegen/detail/entry_points.hpp>
 #include <symdyn/codegen/generate.hpp>
 #include <symdyn/model/kinematics.hpp>
 
@@ -49,21 +51,37 @@ struct Emitted {
   }
 };
 
-// The outputs of the emitted entry point `name`, concatenated in declaration order.
+// Output arrays for the emitted entry points of G, zeroed when made: kept
+// for one entry point and called again at other states, they must give what
+// fresh ones give (the structural zeros of a sparse output stay zero, and
+// nothing else depends on what a call finds there).
 template <class G>
-std::vector<double> call_entry(const std::string& name, const ModelState<double>& s) {
+struct EntryBuffers {
+  std::vector<double> R = std::vector<double>(G::nbody * 9), x = std::vector<double>(G::nbody * 3),
+                      v = x, w = x, a = x, dw = x, joint = x, anchor = x;
+  std::vector<double> dv = std::vector<double>(G::nbody * G::nq * 3), dwp = dv, dv_dq = dv,
+                      dw_dq = dv;
+  std::vector<double> ddv = std::vector<double>(G::nbody * G::nq * G::nq * 3), ddw = ddv;
+  std::vector<double> M = std::vector<double>(G::nq * G::nq), h = std::vector<double>(G::nq),
+                      dq = M, dqd = M, pivots = std::vector<double>(2 * G::nq);
+  std::vector<double> mass = std::vector<double>(G::nbody),
+                      inertia = std::vector<double>(G::nbody * 9),
+                      dep = std::vector<double>(G::ndep > 0 ? G::ndep : 1), dep_d = dep,
+                      dep_dd = dep;
+
+  // The outputs of the emitted entry point `name`, concatenated in declaration order.
+  std::vector<double> call(const std::string& name, const ModelState<double>& s);
+};
+
+template <class G>
+std::vector<double> EntryBuffers<G>::call(const std::string& name, const ModelState<double>& s) {
   const double* p = G::param_defaults;
   std::vector<double> out;
   auto take = [&out](std::initializer_list<const std::vector<double>*> arrays) {
     for (const auto* a : arrays) out.insert(out.end(), a->begin(), a->end());
   };
-  std::vector<double> R(G::nbody * 9), x(G::nbody * 3), v(x), w(x), a(x), dw(x);
-  std::vector<double> dv(G::nbody * G::nq * 3), dwp(dv), M(G::nq * G::nq), h(G::nq);
-  std::vector<double> mass(G::nbody), inertia(G::nbody * 9), dep(G::ndep > 0 ? G::ndep : 1),
-      dep_d(dep), dep_dd(dep);
   if (name == "inertia") G::inertia(p, mass.data(), inertia.data()), take({&mass, &inertia});
   if (name == "joint_points") {
-    std::vector<double> joint(G::nbody * 3), anchor(joint);
     G::joint_points(p, joint.data(), anchor.data()), take({&joint, &anchor});
   }
   if (name == "positions") G::positions(s.t, s.q.data(), p, R.data(), x.data()), take({&R, &x});
@@ -105,8 +123,9 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
   if (name == "dependent_parameters") {
     G::dependent_parameters(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dep.data(), dep_d.data(),
                             dep_dd.data());
-    for (auto* d : {&dep, &dep_d, &dep_dd}) d->resize(G::ndep);
-    take({&dep, &dep_d, &dep_dd});
+    out.insert(out.end(), dep.begin(), dep.begin() + G::ndep);
+    out.insert(out.end(), dep_d.begin(), dep_d.begin() + G::ndep);
+    out.insert(out.end(), dep_dd.begin(), dep_dd.begin() + G::ndep);
   }
   if constexpr (G::has_equations_of_motion) {
     if (name == "mass_matrix") G::mass_matrix(s.t, s.q.data(), p, M.data()), take({&M});
@@ -120,7 +139,6 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
     }
     if constexpr (requires { G::inverse_dynamics_derivatives; }) {
       if (name == "inverse_dynamics_derivatives") {
-        std::vector<double> dq(G::nq * G::nq), dqd(dq);
         G::inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dq.data(),
                                         dqd.data());
         take({&dq, &dqd});
@@ -128,8 +146,6 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
     }
     if constexpr (requires { G::kinematics_derivatives; }) {
       if (name == "kinematics_derivatives") {
-        std::vector<double> dv_dq(G::nbody * G::nq * 3), dw_dq(dv_dq),
-            ddv(G::nbody * G::nq * G::nq * 3), ddw(ddv);
         G::kinematics_derivatives(s.t, s.q.data(), s.qd.data(), p, dv_dq.data(), dw_dq.data(),
                                   ddv.data(), ddw.data());
         take({&dv_dq, &dw_dq, &ddv, &ddw});
@@ -138,7 +154,6 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
     // The generalized forces tau of a state are its qdd (program_inputs).
     if constexpr (requires { G::forward_dynamics_pivots; }) {
       if (name == "forward_dynamics_pivots") {
-        std::vector<double> pivots(2 * G::nq);
         G::forward_dynamics_pivots(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, h.data(),
                                    pivots.data());
         take({&h, &pivots});
@@ -158,6 +173,12 @@ std::vector<double> call_entry(const std::string& name, const ModelState<double>
     }
   }
   return out;
+}
+
+// The outputs of the emitted entry point `name` into fresh (zeroed) arrays.
+template <class G>
+std::vector<double> call_entry(const std::string& name, const ModelState<double>& s) {
+  return EntryBuffers<G>().call(name, s);
 }
 
 // The inputs of an emitted function's program at a state, in its order.
@@ -203,8 +224,16 @@ void check_emitted(const EmittedSetup& setup) {
   const std::vector<codegen::EmittedFunction> none;
   const std::vector<codegen::EmittedFunction>& functions = code ? code->functions : none;
   std::mt19937 rng(5);
+  // Every entry point's arrays, kept from trial to trial.
+  std::map<std::string_view, EntryBuffers<G>> kept;
   for (int trial = 0; trial < setup.trials; ++trial) {
     const auto s = random_state_near(rng, m, setup.amplitude);
+    // Called again on the arrays of the previous states, each entry point gives what it gives
+    // on fresh ones: nothing stale survives (docs/emitted_interface.md, sparse outputs).
+    for (const std::string_view name : codegen::detail::entry_point_names()) {
+      INFO("entry point " << name << " on kept arrays");
+      CHECK(kept[name].call(std::string(name), s) == call_entry<G>(std::string(name), s));
+    }
     const Emitted<G> e(s);
     const auto b = bind_state(m, k, s);
     symbolic::Evaluator<double> eval(b);

@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -1049,6 +1050,51 @@ TEST_CASE(
                     fmt::format("emit_cpp: naming's output arrays have {} elements; the "
                                 "program has {} outputs",
                                 2 * n - 1, outputs.size()));
+}
+
+TEST_CASE(
+    "emit_cpp: an array written sparsely has its zeros never written, by a loop or one by one",
+    "[program]") {
+  Context ctx;
+  Context::Scope scope(ctx);
+  const Expr x = symbol("x");
+  const std::size_t n = kMinZeroedArray;
+  // a: half zeros, long; b: zeros, short; both sparse. c: half zeros, long, written whole.
+  std::vector<Expr> outputs;
+  for (std::size_t i = 0; i < n; ++i)
+    outputs.push_back(i % 2 == 0 ? Expr(0) : sin(x) * Expr(static_cast<int>(i)));
+  for (std::size_t i = 0; i < 3; ++i) outputs.push_back(i == 1 ? x : Expr(0));
+  for (std::size_t i = 0; i < n; ++i) outputs.push_back(i % 2 == 0 ? Expr(0) : x);
+  const Program p = compile_program(std::vector{x}, outputs);
+  CppNaming naming;
+  naming.inputs = {"x"};
+  naming.output_arrays = {{"a", n}, {"b", 3}, {"c", n}};
+  naming.sparse_arrays = {true, true, false};
+  for (const auto& [name, size] : naming.output_arrays) {
+    for (std::size_t i = 0; i < size; ++i) naming.outputs.push_back(fmt::format("{}[{}]", name, i));
+  }
+  for (std::size_t max : {0, 5}) {
+    INFO("parts of " << max);
+    std::vector<std::size_t> all(outputs.size());
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    std::string code;
+    for (const CppPart& part :
+         emit_cpp_shared(p, naming, std::vector<std::vector<std::size_t>>{all}, max).parts)
+      code += part.body;
+    // Only c is zeroed by a loop; a's and b's nonzeros are written, their zeros never.
+    CHECK_THAT(code, Catch::Contains(fmt::format("for (int i = 0; i < {}; ++i) c[i] = 0.0;", n)));
+    CHECK(code.find("for (") == code.rfind("for ("));
+    for (std::size_t i = 0; i < n; ++i) {
+      INFO("a[" << i << "]");
+      CHECK((code.find(fmt::format("  a[{}] = ", i)) != std::string::npos) == (i % 2 == 1));
+    }
+    CHECK_THAT(code, Catch::Contains("  b[1] = x;\n") && !Catch::Contains("  b[0] = ") &&
+                         !Catch::Contains("  b[2] = "));
+  }
+  naming.sparse_arrays.pop_back();
+  CHECK_THROWS_WITH(emit_cpp(p, naming),
+                    "emit_cpp: naming says of 2 arrays whether they are "
+                    "sparse; it has 3 output arrays");
 }
 
 TEST_CASE(

@@ -42,6 +42,7 @@ symbolic::CppNaming naming(const TextContext& c, const EntryPoint& e) {
     naming.outputs.reserve(naming.outputs.size() + o.values.size());
     for (std::size_t i = 0; i < o.values.size(); ++i) naming.outputs.push_back(element(o.name, i));
     naming.output_arrays.emplace_back(o.name, o.values.size());
+    naming.sparse_arrays.push_back(o.sparse);
   }
   return naming;
 }
@@ -141,6 +142,7 @@ void emit_shared(const TextContext& c, const Derivation& d, GeneratedCode& code,
   for (const OutputArray& a : d.arrays) {
     for (std::size_t i = 0; i < a.values.size(); ++i) naming.outputs.push_back(element(a.name, i));
     naming.output_arrays.emplace_back(a.name, a.values.size());
+    naming.sparse_arrays.push_back(a.sparse);
   }
   // The outputs of each entry point with a program.
   const std::vector<std::vector<std::size_t>> functions = entry_outputs(d);

@@ -25,6 +25,10 @@ std::string operation_counts(const std::vector<EntryPoint>& entries,
   return out;
 }
 
+// What the header says of an output written sparsely (OutputSpec::sparse).
+constexpr std::string_view kSparseNote =
+    ", sparse: only its nonzeros are written, zero it once before the first call";
+
 // Each entry point's doc, its outputs' shapes, its declaration. A doc's
 // further lines start at the line's beginning, as they always have.
 std::string declarations(const TextContext& c, const std::vector<EntryPoint>& entries) {
@@ -34,7 +38,8 @@ std::string declarations(const TextContext& c, const std::vector<EntryPoint>& en
     for (std::size_t n = doc.find('\n'); n != std::string::npos; n = doc.find('\n', n + 4))
       doc.replace(n, 1, "\n// ");
     out += fmt::format("  // {}\n", doc);
-    for (const OutputArray& o : e.outputs) out += fmt::format("  //   {} {}\n", o.name, o.shape);
+    for (const OutputArray& o : e.outputs)
+      out += fmt::format("  //   {} {}{}\n", o.name, o.shape, o.sparse ? kSparseNote : "");
     out += fmt::format("  static {};\n", signature(*e.spec, c.basename, false));
   }
   return out;

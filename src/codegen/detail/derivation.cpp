@@ -61,9 +61,10 @@ void check_sizes(const EntryPoint& e, const Sizes& sizes) {
 }
 
 // The distinct output arrays of the entry points with a program: the same
-// name and values are one array (positions' R is velocities' R). Another
-// array of a name already taken is renamed <entry>_<name>
-// (relative_accelerations_R): the shared parts take each as a parameter.
+// name and values are one array (positions' R is velocities' R), written
+// sparsely only if every output it is says so. Another array of a name
+// already taken is renamed <entry>_<name> (relative_accelerations_R): the
+// shared parts take each as a parameter.
 void gather_arrays(Derivation& d, const Sizes& sizes) {
   for (const EntryPoint& e : d.entries) {
     std::vector<std::size_t>& mine = d.arrays_of.emplace_back();
@@ -80,8 +81,10 @@ void gather_arrays(Derivation& d, const Sizes& sizes) {
       if (same == d.arrays.end()) same = same_values(d.arrays, mine, o.values);
       if (same == d.arrays.end()) {
         const bool taken = named(o.name) != d.arrays.end();
-        same = d.arrays.insert(d.arrays.end(), {taken ? renamed : o.name, o.shape, o.values});
+        same = d.arrays.insert(d.arrays.end(),
+                               {taken ? renamed : o.name, o.shape, o.values, o.sparse});
       }
+      same->sparse = same->sparse && o.sparse;
       mine.push_back(static_cast<std::size_t>(same - d.arrays.begin()));
     }
   }

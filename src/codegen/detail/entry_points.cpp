@@ -36,6 +36,11 @@ Source constraint_derivatives(std::vector<Expr> ConstraintDerivatives::*field);
 std::string numeric_partials_body(const Sizes& sizes);
 std::string forward_dynamics_body(const Sizes& sizes);
 
+// An output written sparsely (OutputSpec::sparse): its structural zeros are the caller's.
+OutputSpec sparse(std::string_view name, std::string_view shape, Source source) {
+  return {.name = name, .shape = shape, .source = std::move(source), .sparse = true};
+}
+
 // The catalogue. Each row is emitted in this order, declared in the header
 // with its doc and its outputs' shapes, and selectable by name (--only).
 //
@@ -45,7 +50,9 @@ std::string forward_dynamics_body(const Sizes& sizes);
 //   - inputs, in the order of kInputs;
 //   - outputs, each a name, a shape in nq, nbody, ndep, and a Source of its
 //     expressions: a field of model::Kinematics or model::Dynamics through the
-//     helpers above, or any function of Quantities;
+//     helpers above, or any function of Quantities; sparse(...) for one
+//     written sparsely (OutputSpec::sparse), whose every caller in the runtime
+//     then keeps a buffer zeroed once for it;
 //   - needs: what must be derived first (the equations of motion are derived
 //     only when a selected entry point needs them) or chosen;
 //   - for a hand-written body instead of a program: body, note and calls.
@@ -72,7 +79,8 @@ std::vector<EntryPointSpec> make_catalogue() {
   const Source pv = absolute_partials(&Motion::dv_dqd), pw = absolute_partials(&Motion::dw_dqd);
   const Source rel_pv = relative_partials(&Motion::dv_dqd),
                rel_pw = relative_partials(&Motion::dw_dqd);
-  const OutputSpec partial_dv{"dv", "nbody x nq x 3", pv}, partial_dw{"dw", "nbody x nq x 3", pw};
+  const OutputSpec partial_dv = sparse("dv", "nbody x nq x 3", pv),
+                   partial_dw = sparse("dw", "nbody x nq x 3", pw);
   const OutputSpec M{"M", "nq x nq", dynamics(&model::Dynamics::mass_matrix)},
       h{"h", "nq", dynamics(&model::Dynamics::bias)};
   const Needs absolute_motion{.absolute_motion = true};
@@ -141,28 +149,23 @@ std::vector<EntryPointSpec> make_catalogue() {
        .doc = "Partial velocities of each body's motion relative to its reference, in the "
               "reference's axes.",
        .inputs = {t, q, param},
-       .outputs = {{"dv", "nbody x nq x 3", rel_pv}, {"dw", "nbody x nq x 3", rel_pw}},
+       .outputs = {sparse("dv", "nbody x nq x 3", rel_pv), sparse("dw", "nbody x nq x 3", rel_pw)},
        .needs = relative_symbolic},
       // Accelerations and partial velocities in one call: the sines, cosines
       // and rotations both need are computed once.
       {.name = "accelerations_partials",
        .doc = "accelerations and partial_velocities in one call (dv_dqd, dw_dqd: their dv, dw).",
        .inputs = {t, q, qd, qdd, param},
-       .outputs =
-           {R, x, v, w, a, dw, {"dv_dqd", "nbody x nq x 3", pv}, {"dw_dqd", "nbody x nq x 3", pw}},
+       .outputs = {R, x, v, w, a, dw, sparse("dv_dqd", "nbody x nq x 3", pv),
+                   sparse("dw_dqd", "nbody x nq x 3", pw)},
        .needs = symbolic},
       {.name = "relative_accelerations_partials",
        .doc = "relative_accelerations and relative_partial_velocities in one call (dv_dqd, dw_dqd: "
               "their dv, dw).",
        .inputs = {t, q, qd, qdd, param},
-       .outputs = {rel_R,
-                   rel_x,
-                   rel_v,
-                   rel_w,
-                   rel_a,
-                   rel_dw,
-                   {"dv_dqd", "nbody x nq x 3", rel_pv},
-                   {"dw_dqd", "nbody x nq x 3", rel_pw}},
+       .outputs = {rel_R, rel_x, rel_v, rel_w, rel_a, rel_dw,
+                   sparse("dv_dqd", "nbody x nq x 3", rel_pv),
+                   sparse("dw_dqd", "nbody x nq x 3", rel_pw)},
        .needs = relative_symbolic},
       {.name = "dependent_parameters",
        .doc = "Dependent parameters and their first and second time derivatives.",
@@ -265,10 +268,12 @@ std::vector<EntryPointSpec> make_catalogue() {
            "ddv_dq[((i * nq + j) * nq + k) * 3 + c] = d(dv_i/dqd_j)_c/dq_k; dw_dq, ddw_dq "
            "likewise.",
        .inputs = {t, q, qd, param},
-       .outputs = {{"dv_dq", "nbody x nq x 3", derivatives(&DynamicsDerivatives::dv_dq)},
-                   {"dw_dq", "nbody x nq x 3", derivatives(&DynamicsDerivatives::dw_dq)},
-                   {"ddv_dq", "nbody x nq x nq x 3", derivatives(&DynamicsDerivatives::ddv_dq)},
-                   {"ddw_dq", "nbody x nq x nq x 3", derivatives(&DynamicsDerivatives::ddw_dq)}},
+       .outputs = {sparse("dv_dq", "nbody x nq x 3", derivatives(&DynamicsDerivatives::dv_dq)),
+                   sparse("dw_dq", "nbody x nq x 3", derivatives(&DynamicsDerivatives::dw_dq)),
+                   sparse("ddv_dq", "nbody x nq x nq x 3",
+                          derivatives(&DynamicsDerivatives::ddv_dq)),
+                   sparse("ddw_dq", "nbody x nq x nq x 3",
+                          derivatives(&DynamicsDerivatives::ddw_dq))},
        .needs = {.absolute_motion = true,
                  .partials = Partials::symbolic,
                  .equations_of_motion = true,
@@ -590,7 +595,8 @@ EntryPoint build_entry_point(const EntryPointSpec& spec, const Quantities& quant
   EntryPoint e{.spec = &spec, .outputs = {}, .body = spec.body ? spec.body(sizes) : std::string()};
   for (const OutputSpec& o : spec.outputs) {
     std::vector<Expr> values = o.source ? o.source(quantities) : std::vector<Expr>();
-    e.outputs.push_back({std::string(o.name), shape_text(o.shape, sizes), std::move(values)});
+    e.outputs.push_back(
+        {std::string(o.name), shape_text(o.shape, sizes), std::move(values), o.sparse});
   }
   return e;
 }

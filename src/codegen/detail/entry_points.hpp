@@ -54,6 +54,15 @@ struct OutputSpec {
   // ncon: "nbody x 3 x 3".
   std::string_view shape{};
   Source source{};  // empty for the outputs of a hand-written body
+  // Written sparsely: the emitted code writes only the entries it computes,
+  // never its structural zeros (the entries +0.0 at every call); they are the
+  // caller's, who zeroes the array once before the first call and keeps it
+  // for this output alone. Otherwise every entry is written at every call
+  // (symbolic::kZeroedArrayShare). For the long outputs of mostly structural
+  // zeros that the runtime keeps in buffers of its own (the partial
+  // velocities and their derivatives), where zeroing them at every call is
+  // most of the work.
+  bool sparse = false;
 };
 
 // The model's sizes that shapes and hand-written bodies are written in.
@@ -126,6 +135,7 @@ struct OutputArray {
   std::string name;
   std::string shape;  // "(2 x 3 x 3)"
   std::vector<model::Expr> values;
+  bool sparse = false;  // OutputSpec::sparse
 };
 
 struct EntryPoint {
