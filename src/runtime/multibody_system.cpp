@@ -266,11 +266,18 @@ std::string MultibodySystem::describe(const State& s) const {
 
 namespace {
 
-// x·0 is 0 for a finite x and NaN otherwise: one pass without branches.
+// x·0 is 0 for a finite x and NaN otherwise: one pass without branches, in
+// eight sums, so that the additions are not one chain of dependent ones.
 bool all_finite(const double* x, Eigen::Index n) {
-  double zero = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) zero += x[i] * 0.0;
-  return zero == 0.0;
+  double zero[8] = {};
+  Eigen::Index i = 0;
+  for (; i + 8 <= n; i += 8) {
+    for (int k = 0; k < 8; ++k) zero[k] += x[i + k] * 0.0;
+  }
+  for (; i < n; ++i) zero[0] += x[i] * 0.0;
+  double sum = 0.0;
+  for (const double z : zero) sum += z;
+  return sum == 0.0;
 }
 
 // The state's values and the accelerations r (nq, as s.q) in one pass.
