@@ -809,6 +809,10 @@ bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
 }
 
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
+  accelerations(s, qdd, yd, false);
+}
+
+void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd, bool by_mass_matrix) {
   if (model_.has_loops()) {
     loop_accelerations(s, qdd, yd);
     return;
@@ -818,7 +822,7 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   check_domain_margin(s);
   mass_factored_ = false;
   bool recursive = false;
-  if (forward_ != nullptr) {  // the way of M tests nothing more
+  if (forward_ != nullptr && !by_mass_matrix) {  // the way of M tests nothing more
     if (forward_without_elements_ != nullptr) {
       // qdd = M⁻¹·(-h) by the articulated-body algorithm, inline: nothing else to evaluate.
       // The state's values are checked with qdd's after it, as on the way of M below.
@@ -1258,7 +1262,9 @@ void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd
 
 void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out,
                                            bool with_input_matrix, const Vector& tau) {
-  accelerations(s, out.qdd, jacobian_yd_);
+  // The exact derivatives' solves need M factored: qdd by the way of M too, one
+  // M and one factorization (the recursive way would evaluate M once more).
+  accelerations(s, out.qdd, jacobian_yd_, exact_jacobians());
   // Where accelerations() took the way of M, M at s is factored already (the
   // loops' reduced one in derivative_M_).
   const Matrix* factored = nullptr;
