@@ -1263,8 +1263,13 @@ void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd
 void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out,
                                            bool with_input_matrix, const Vector& tau) {
   // The exact derivatives' solves need M factored: qdd by the way of M too, one
-  // M and one factorization (the recursive way would evaluate M once more).
-  accelerations(s, out.qdd, jacobian_yd_, exact_jacobians());
+  // M and one factorization (the recursive way would evaluate M once more), on
+  // a few coordinates. On many, M's conditioning grows and the two ways' qdd part
+  // by more than the derivatives' rounding (chain_64: 1e-10 of ∂qdd/∂q,
+  // bench/results/derivatives.md): there qdd stays the recursive way's.
+  constexpr int kQddByMassMatrixUpTo = 20;
+  accelerations(s, out.qdd, jacobian_yd_,
+                exact_jacobians() && num_coordinates() <= kQddByMassMatrixUpTo);
   // Where accelerations() took the way of M, M at s is factored already (the
   // loops' reduced one in derivative_M_).
   const Matrix* factored = nullptr;
