@@ -22,7 +22,8 @@
 //       time per call of each method: medians over R interleaved rounds (TSV)
 //   symdyn_bench_derivatives solves [--rounds R]   the solves -M⁻¹·[K C] alone at each size:
 //       the runtime's (its kernels and its plain ones) against its previous ones, Eigen's
-//       blocked solves and column by column (TSV)
+//       blocked solves and column by column, then M's factorization: the runtime's, its
+//       plain kernel forced, its previous one and Eigen's LLT (TSV rows "solve", "factor")
 //   symdyn_bench_derivatives --count METHOD MODEL [CALLS]   one workload, for
 //       valgrind --tool=callgrind --toggle-collect='*counted_workload*'
 //   symdyn_bench_derivatives --list
