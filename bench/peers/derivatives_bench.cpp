@@ -22,7 +22,8 @@
 //       time per call of each method: medians over R interleaved rounds (TSV)
 //   symdyn_bench_derivatives solves [--rounds R]   the solves -M⁻¹·[K C] alone at each size:
 //       the runtime's (its kernels and its plain ones) against its previous ones, Eigen's
-//       blocked solves and column by column (TSV)
+//       blocked solves and column by column, then M's factorization: the runtime's, its
+//       plain kernel forced, its previous one and Eigen's LLT (TSV rows "solve", "factor")
 //   symdyn_bench_derivatives --count METHOD MODEL [CALLS]   one workload, for
 //       valgrind --tool=callgrind --toggle-collect='*counted_workload*'
 //   symdyn_bench_derivatives --list
@@ -424,6 +425,53 @@ void previous_solve_negated(const rt::Matrix& L, rt::Matrix& B) {
   }
 }
 
+// The previous runtime's factorization up to 40 coordinates, as it was: M = L·Lᵀ
+// by the scalar column loop, L_ij = (M_ij - Σ_k<j L_ik·L_jk) / L_jj, with its
+// pivot checks and smallest ratio.
+[[gnu::noinline]] bool previous_factor(const rt::Matrix& M, rt::Matrix& L, double& ratio) {
+  const Eigen::Index n = L.rows();
+  const double* m = M.data();
+  double* l = L.data();
+  double smallest = 1.0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double d = m[j + j * n];
+    for (Eigen::Index k = 0; k < j; ++k) d -= l[j + k * n] * l[j + k * n];
+    if (!(d > 0.0)) {
+      ratio = d < 0.0 && m[j + j * n] > 0.0 ? d / m[j + j * n] : 0.0;
+      return false;
+    }
+    smallest = std::min(smallest, d / m[j + j * n]);
+    const double Ljj = std::sqrt(d);
+    l[j + j * n] = Ljj;
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      double sum = m[i + j * n];
+      for (Eigen::Index k = 0; k < j; ++k) sum -= l[i + k * n] * l[j + k * n];
+      l[i + j * n] = sum / Ljj;
+    }
+  }
+  ratio = smallest;
+  return true;
+}
+
+// Median ns of each way over interleaved rounds, as "label\tn\tway\tns".
+template <std::size_t N>
+void time_ways(const char* label, int n, const std::pair<const char*, Workload> (&ways)[N],
+               int rounds) {
+  std::vector<int> calls;
+  for (const auto& [name, w] : ways)
+    calls.push_back(std::max(1, static_cast<int>(2e-3 / timed_batch(w, 8, 0))));
+  std::vector<std::vector<double>> ns(N);
+  for (int r = 0; r < rounds; ++r) {
+    for (std::size_t i = 0; i < N; ++i)
+      ns[i].push_back(1e9 * timed_batch(ways[i].second, calls[i], 0));
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    std::sort(ns[i].begin(), ns[i].end());
+    fmt::print("{}\t{}\t{}\t{:.1f}\n", label, n, ways[i].first, ns[i][ns[i].size() / 2]);
+  }
+  std::fflush(stdout);
+}
+
 // The solves -M⁻¹·B of dynamics_derivatives (B: nq x 2·nq, K and C side by
 // side) at each size: the runtime's SpdSolver::solve_negated_in_place with the
 // kernels it picks (wide where the processor runs AVX2 with FMA) and with its
@@ -465,19 +513,28 @@ void time_solves(int rounds) {
            }
          }},
     };
-    std::vector<int> calls;
-    for (const auto& [name, w] : ways)
-      calls.push_back(std::max(1, static_cast<int>(2e-3 / timed_batch(w, 8, 0))));
-    std::vector<std::vector<double>> ns(std::size(ways));
-    for (int r = 0; r < rounds; ++r) {
-      for (std::size_t i = 0; i < std::size(ways); ++i)
-        ns[i].push_back(1e9 * timed_batch(ways[i].second, calls[i], 0));
-    }
-    for (std::size_t i = 0; i < std::size(ways); ++i) {
-      std::sort(ns[i].begin(), ns[i].end());
-      fmt::print("solve\t{}\t{}\t{:.1f}\n", n, ways[i].first, ns[i][ns[i].size() / 2]);
-    }
-    std::fflush(stdout);
+    time_ways("solve", n, ways, rounds);
+    // The factorization of M: the runtime's (its kernels, the same to the bit in
+    // each), the plain kernels forced, the previous runtime's (the scalar column
+    // loop up to 40 coordinates, Eigen's LLT above) and Eigen's LLT.
+    rt::SpdSolver factored(n), factored_plain(n, rt::SpdSolver::Kernels::plain);
+    Eigen::LLT<rt::Matrix> llt(n);
+    rt::Matrix previous_L(n, n);
+    double previous_ratio = 0.0;
+    const std::pair<const char*, Workload> factorizations[] = {
+        {"runtime", [&](int) { factored.factor(M); }},
+        {"plain", [&](int) { factored_plain.factor(M); }},
+        {"previous",
+         [&](int) {
+           if (n > 40) {
+             llt.compute(M);
+           } else {
+             previous_factor(M, previous_L, previous_ratio);
+           }
+         }},
+        {"eigen_llt", [&](int) { llt.compute(M); }},
+    };
+    time_ways("factor", n, factorizations, rounds);
   }
 }
 

@@ -269,11 +269,18 @@ std::string MultibodySystem::describe(const State& s) const {
 
 namespace {
 
-// x·0 is 0 for a finite x and NaN otherwise: one pass without branches.
+// x·0 is 0 for a finite x and NaN otherwise: one pass without branches, in
+// eight sums, so that the additions are not one chain of dependent ones.
 bool all_finite(const double* x, Eigen::Index n) {
-  double zero = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) zero += x[i] * 0.0;
-  return zero == 0.0;
+  double zero[8] = {};
+  Eigen::Index i = 0;
+  for (; i + 8 <= n; i += 8) {
+    for (int k = 0; k < 8; ++k) zero[k] += x[i + k] * 0.0;
+  }
+  for (; i < n; ++i) zero[0] += x[i] * 0.0;
+  double sum = 0.0;
+  for (const double z : zero) sum += z;
+  return sum == 0.0;
 }
 
 // The state's values and the accelerations r (nq, as s.q) in one pass.
@@ -881,6 +888,10 @@ bool MultibodySystem::recursive_accelerations(const State& s, Vector& qdd) {
 }
 
 void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
+  accelerations(s, qdd, yd, false);
+}
+
+void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd, bool by_mass_matrix) {
   if (model_.has_loops()) {
     loop_accelerations(s, qdd, yd);
     return;
@@ -890,7 +901,7 @@ void MultibodySystem::accelerations(const State& s, Vector& qdd, Vector& yd) {
   check_domain_margin(s);
   mass_factored_ = false;
   bool recursive = false;
-  if (forward_ != nullptr) {  // the way of M tests nothing more
+  if (forward_ != nullptr && !by_mass_matrix) {  // the way of M tests nothing more
     if (forward_without_elements_ != nullptr) {
       // qdd = M⁻¹·(-h) by the articulated-body algorithm, inline: nothing else to evaluate.
       // The state's values are checked with qdd's after it, as on the way of M below.
@@ -1330,7 +1341,14 @@ void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd
 
 void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out,
                                            bool with_input_matrix, const Vector& tau) {
-  accelerations(s, out.qdd, jacobian_yd_);
+  // The exact derivatives' solves need M factored: qdd by the way of M too, one
+  // M and one factorization (the recursive way would evaluate M once more), on
+  // a few coordinates. On many, M's conditioning grows and the two ways' qdd part
+  // by more than the derivatives' rounding (chain_64: 1e-10 of ∂qdd/∂q,
+  // bench/results/derivatives.md): there qdd stays the recursive way's.
+  constexpr int kQddByMassMatrixUpTo = 20;
+  accelerations(s, out.qdd, jacobian_yd_,
+                exact_jacobians() && num_coordinates() <= kQddByMassMatrixUpTo);
   // Where accelerations() took the way of M, M at s is factored already (the
   // loops' reduced one in derivative_M_).
   const Matrix* factored = nullptr;

@@ -311,6 +311,9 @@ class MultibodySystem : public DynamicSystem {
   bool recursive_accelerations(const State& s, Vector& qdd);
   // qdd of a state by M's factorization (the way of M), qdd checked.
   void mass_matrix_accelerations(const State& s, Vector& qdd);
+  // accelerations(), by the way of M even where the recursive one is emitted
+  // when by_mass_matrix (M is needed factored anyway: dynamics_derivatives).
+  void accelerations(const State& s, Vector& qdd, Vector& yd, bool by_mass_matrix);
   // Kinematics up to level_ (for force elements and extra equations) and,
   // with force elements, their generalized forces into elements_Q_.
   void evaluate_elements(const State& s);

@@ -48,9 +48,15 @@ SpdSolver::SpdSolver(int n, Kernels kernels)
       kernels_(chosen_kernels(kernels)),
       tile_(static_cast<std::size_t>(n) * detail::kWidestTile) {}
 
+// Both ways compute L_ij = (M_ij - Σ_k<j L_ik·L_jk) / L_jj with the same
+// operations in the same order, so the factor is the same to the bit whichever
+// runs: the column loop below on a few coordinates, the kernels' (vectorized
+// across rows, detail/dense_kernels.hpp) above, where it is up to twice faster.
 bool SpdSolver::factor(const Matrix& M) {
   if (M.rows() != size() || M.cols() != size()) return false;
-  const bool positive = size() <= kLoopUpTo ? factor_by_columns(M) : factor_blocked(M);
+  const bool positive = size() <= kFactorLoopUpTo
+                            ? factor_by_columns(M)
+                            : kernels_->factor(size(), M.data(), L_.data(), &smallest_ratio_);
   return positive && smallest_ratio_ > kSingularRatio;
 }
 
@@ -79,18 +85,6 @@ bool SpdSolver::factor_by_columns(const Matrix& M) {
     }
   }
   smallest_ratio_ = smallest;
-  return true;
-}
-
-bool SpdSolver::factor_blocked(const Matrix& M) {
-  L_ = M;
-  const Eigen::LLT<Eigen::Ref<Matrix>> llt(L_);  // factors L_ in place
-  // Eigen's pivot test (x <= 0) lets NaN through.
-  if (llt.info() != Eigen::Success || !L_.diagonal().allFinite()) {
-    smallest_ratio_ = 0.0;
-    return false;
-  }
-  smallest_ratio_ = L_.diagonal().cwiseAbs2().cwiseQuotient(M.diagonal()).minCoeff();
   return true;
 }
 

@@ -3,10 +3,13 @@
 // M = L·Lᵀ (Cholesky) in storage sized once: nothing allocates after
 // construction, so it serves the integrators' step loop.
 //
-// Why two factorizations: for the few coordinates of most models a plain
-// column loop is several times cheaper than Eigen's dynamic-size LLT (which
-// pays for its generality at every column), while from about 40 coordinates
-// Eigen's blocked, vectorized LLT is faster (bench/results/runtime_overhead.md).
+// The factorization is one column loop, L_ij = (M_ij - Σ_k<j L_ik·L_jk) / L_jj,
+// the sum in increasing k, written twice with the same operations in the same
+// order: plain up to kFactorLoopUpTo coordinates, vectorized across rows
+// (detail/dense_kernels.hpp) above, where it is up to twice faster than the
+// plain loop and than Eigen's blocked LLT (bench/results/derivatives.md). Never
+// fused, so the factor is the same to the bit on every processor and at every
+// size either way.
 //
 // The solves of several right-hand sides run kernels compiled twice
 // (detail/dense_kernels.hpp): for the build's instruction set and, on x86-64,
@@ -78,15 +81,18 @@ class SpdSolver {
 
   // Below this a pivot is rounding: 64 ulps of the diagonal it came from.
   static constexpr double kSingularRatio = 64 * 2.220446049250313e-16;
-  // Up to this size the column loop, above it Eigen's LLT.
+  // Single right-hand sides: up to this size the column loop, above it Eigen's
+  // triangular solves.
   static constexpr int kLoopUpTo = 40;
+  // The factorization: up to this size the plain column loop, above it the
+  // kernels' (the same factor to the bit).
+  static constexpr int kFactorLoopUpTo = 20;
   // Several right-hand sides up to this size: row by row on B in place (its
   // rows strided), where copying tiles costs more than it saves.
   static constexpr int kInPlaceUpTo = 3;
 
  private:
   bool factor_by_columns(const Matrix& M);
-  bool factor_blocked(const Matrix& M);
   template <bool negate>
   void solve_matrix(Matrix& B);
   template <bool negate>

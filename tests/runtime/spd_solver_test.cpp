@@ -1,11 +1,14 @@
-// SpdSolver against Eigen's LLT, on both sides of its switch to Eigen's
-// blocked factorization, with its plain kernels and its wide ones (AVX2 with
-// FMA, where this processor runs them), and what it refuses.
+// SpdSolver against Eigen's LLT, on both sides of its switches (the factor's
+// plain column loop to its kernels', the single solves' loop to Eigen's), with
+// its plain kernels and its wide ones (AVX2 with FMA, where this processor runs
+// them), its factor against the textbook column loop to the bit, and what it
+// refuses.
 
 #include <fmt/format.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -39,7 +42,68 @@ std::vector<SpdSolver::Kernels> runnable_kernels() {
   return {SpdSolver::Kernels::plain};
 }
 
+// The textbook Cholesky column loop, L_ij = (M_ij - Σ_k<j L_ik·L_jk) / L_jj,
+// sums in increasing k, the diagonal L_jj = sqrt(M_jj - Σ_k<j L_jk²).
+Matrix textbook_cholesky(const Matrix& M) {
+  const Eigen::Index n = M.rows();
+  Matrix L = Matrix::Zero(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::Index i = j; i < n; ++i) {
+      double sum = M(i, j);
+      for (Eigen::Index k = 0; k < j; ++k) sum -= L(i, k) * L(j, k);
+      L(i, j) = i == j ? std::sqrt(sum) : sum / L(j, j);
+    }
+  }
+  return L;
+}
+
+// x = L⁻ᵀ·L⁻¹·b as SpdSolver's single solve does it: its column loop up to
+// kLoopUpTo coordinates (sums in increasing k), Eigen's triangular solves above.
+Vector textbook_solve(const Matrix& L, const Vector& b) {
+  const Eigen::Index n = L.rows();
+  Vector x = b;
+  if (n > SpdSolver::kLoopUpTo) {
+    L.triangularView<Eigen::Lower>().solveInPlace(x);
+    L.triangularView<Eigen::Lower>().adjoint().solveInPlace(x);
+    return x;
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double sum = b(i);
+    for (Eigen::Index k = 0; k < i; ++k) sum -= L(i, k) * x(k);
+    x(i) = sum / L(i, i);
+  }
+  for (Eigen::Index i = n - 1; i >= 0; --i) {
+    double sum = x(i);
+    for (Eigen::Index k = i + 1; k < n; ++k) sum -= L(k, i) * x(k);
+    x(i) = sum / L(i, i);
+  }
+  return x;
+}
+
 }  // namespace
+
+TEST_CASE("SpdSolver's factor is the textbook column loop's to the bit, in every kernel and size",
+          "[runtime][solver]") {
+  // The single solve reads nothing but L: the same bits out of it mean the same L.
+  for (const SpdSolver::Kernels kernels : runnable_kernels()) {
+    for (int n = 1; n <= 100; n += n < 24 ? 1 : 7) {
+      const Matrix M = random_spd(n, 4.0);
+      const Matrix L = textbook_cholesky(M);
+      SpdSolver solver(n, kernels);
+      CAPTURE(n, solver.kernels_name());
+      REQUIRE(solver.factor(M));
+      double ratio = 1.0;
+      for (int j = 0; j < n; ++j) ratio = std::min(ratio, L(j, j) * L(j, j) / M(j, j));
+      // D_j against L_jj² (a square root and a square apart).
+      CHECK(std::abs(solver.smallest_pivot_ratio() - ratio) <= 1e-15 * ratio);
+      const Vector b = Vector::Random(n);
+      Vector x = b;
+      solver.solve_in_place(x);
+      // Sums of the same products in the same order: no tolerance.
+      CHECK((x - textbook_solve(L, b)).cwiseAbs().maxCoeff() == 0.0);
+    }
+  }
+}
 
 TEST_CASE("SpdSolver's plain and wide kernels solve many right-hand sides as Eigen's LLT",
           "[runtime][solver]") {
@@ -94,7 +158,8 @@ TEST_CASE("SpdSolver's wide kernels agree with its plain ones to rounding", "[ru
 }
 
 TEST_CASE("SpdSolver solves as Eigen's LLT does, below and above its switch", "[runtime][solver]") {
-  for (int n : {1, 2, 3, 5, 13, 24, SpdSolver::kLoopUpTo, SpdSolver::kLoopUpTo + 1, 64}) {
+  for (int n : {1, 2, 3, 5, 13, SpdSolver::kFactorLoopUpTo, SpdSolver::kFactorLoopUpTo + 1, 24,
+                SpdSolver::kLoopUpTo, SpdSolver::kLoopUpTo + 1, 64}) {
     CAPTURE(n);
     const Matrix M = random_spd(n, 3.0);
     const Vector b = Vector::Random(n);
@@ -139,6 +204,7 @@ TEST_CASE("SpdSolver solves several right-hand sides at once as column by column
 TEST_CASE("SpdSolver refuses indefinite, singular and non-finite matrices", "[runtime][solver]") {
   for (const auto& [n, kernels] :
        {std::pair{3, SpdSolver::Kernels::plain}, std::pair{3, SpdSolver::Kernels::best},
+        std::pair{SpdSolver::kFactorLoopUpTo + 5, SpdSolver::Kernels::plain},
         std::pair{SpdSolver::kLoopUpTo + 5, SpdSolver::Kernels::best}}) {
     SpdSolver solver(n, kernels);
     CAPTURE(n, solver.kernels_name());

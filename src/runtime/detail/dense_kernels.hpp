@@ -6,8 +6,9 @@
 // own per instruction set, so no symbol of the wide build can stand in for a
 // plain one at link time. The wide results may differ from the plain ones in
 // the last bits (FMA rounds once where a multiply and a subtraction round twice).
-// The factorization is not here: compiled once (spd_solver.cpp), it is the
-// same to the bit on every processor.
+// The factorization is here too, vectorized across rows but never fused: the
+// same operations in the same order in every kernel, so it is the same to the
+// bit on every processor.
 
 namespace symdyn::runtime::detail {
 
@@ -20,6 +21,10 @@ struct DenseKernels {
   // M's Cholesky factor in its lower triangle; tile: a workspace of
   // n x kWidestTile doubles.
   void (*solve)(int n, const double* L, double* B, int m, bool negate, double* tile);
+  // M = L·Lᵀ (n x n, column-major; M's lower triangle read, L's written), the
+  // same to the bit in every kernel: false where a pivot D_j = L_jj² is not
+  // > 0; ratio: min_j D_j / M_jj (SpdSolver::smallest_pivot_ratio()).
+  bool (*factor)(int n, const double* M, double* L, double* ratio);
 };
 
 // The widest tile of columns a solve keeps in registers.
