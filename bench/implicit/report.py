@@ -206,15 +206,19 @@ def instruction_table(instructions, rows):
 
 
 def put_section(section, path):
-    """section in place of the one of the same title in path: up to the next "## " heading."""
+    """section in place of the one of the same title in path (up to the next "## " heading); a
+    first time, after the section on exact against differenced Jacobians, else at the end."""
     lines = Path(path).read_text().splitlines(keepends=True)
-    if TITLE + "\n" not in lines:
-        Path(path).write_text("".join(lines).rstrip() + "\n\n" + section)
-        return
-    begin = lines.index(TITLE + "\n")
-    end = next((k for k in range(begin + 1, len(lines)) if lines[k].startswith("## ")), len(lines))
+    headings = [k for k, line in enumerate(lines) if line.startswith("## ")] + [len(lines)]
+    if TITLE + "\n" in lines:
+        begin = lines.index(TITLE + "\n")
+        end = next(k for k in headings if k > begin)
+    else:
+        after = next((k for k in headings[:-1] if lines[k].startswith("## Implicit integrators: exact")), None)
+        begin = end = next(k for k in headings if k > after) if after is not None else len(lines)
+    head = "".join(lines[:begin]).rstrip("\n") + "\n\n"
     tail = "\n" + "".join(lines[end:]) if end < len(lines) else ""
-    Path(path).write_text("".join(lines[:begin]) + section + tail)
+    Path(path).write_text(head + section + tail)
 
 
 if __name__ == "__main__":
