@@ -98,7 +98,12 @@ def make_section(work):
         f"interleaved, {meta['reps']} repetitions. CPU: the median of the process CPU time of the run alone (the "
         "scenario's set-up excluded). Error: the largest |q − q_ref|, |qd − qd_ref| at t_end against "
         f"{REFERENCE} at rtol = atol = 1e-12 of today's build. Newmark's error goes as tol^(2/3) before and as tol "
-        "after: the same tolerance is not the same error, so the runs are compared at the same error.")
+        "after: the same tolerance is not the same error, so the runs are compared at the same error. Between the "
+        "two trees: Newmark's rework (its error at t_end in proportion to the tolerance, Newton stopped on its "
+        "estimated remaining error, about one iteration per step, a parabola's prediction), the exact Jacobians "
+        "(Newmark's iteration matrix, CVODE's dense Jacobian) and all else on main since; the share of the exact "
+        "Jacobians alone, the same build with differenced ones, is in \"Implicit integrators: exact against "
+        "differenced Jacobians\".")
     out.append("")
     out.append(f"- machine: {meta['machine']}")
     out.append(f"- compiler: {meta['compiler']}")
@@ -123,21 +128,34 @@ def make_section(work):
     for (side, p, i, tol), run in sorted(runs.items(), key=lambda kv: (kv[0][1], kv[0][2], -kv[0][3], kv[0][0])):
         if i in (REFERENCE, CHECK):
             continue
+        differenced = 4 * len(run.state) // 2 * run.counts["jacobians"] if (side, i) == ("old", "newmark") else 0
         rows[(p, i, side)].append({"tol": tol, "error": distance(run.state, ref[p].state),
-                                   "cpu": statistics.median(run.cpu), **run.counts})
-    out.append("Every run (evaluations: residuals for Newmark, right-hand sides for CVODE, which before differenced "
-               "its Jacobian by its own calls of them):")
+                                   "cpu": statistics.median(run.cpu), "all": run.counts["residuals"] + differenced,
+                                   **run.counts})
+    out.append("Every run. Residuals: the integrator's calls; before, each of Newmark's Jacobians also took 4·nq "
+               "residuals of central differences, not counted there, added in \"all residuals\" (after, the "
+               "Jacobians are exact: no residual). Right-hand sides: CVODE's calls, before with its own forward "
+               "differences of the Jacobian (2·nq per Jacobian) among them.")
     out.append("")
     out.append("| problem | integrator | tol | side | error | CPU (ms) | steps | rejected | Newton iterations | "
-               "residuals | right-hand sides | Jacobians |")
-    out.append("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+               "residuals | all residuals | right-hand sides | Jacobians |")
+    out.append("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for p, i in problems:
         for side in ("old", "new"):
             for r in rows[(p, i, side)]:
                 out.append(f"| {p} | {i} | {r['tol']:g} | {'before' if side == 'old' else 'after'} | "
                            f"{r['error']:.2e} | {r['cpu']:.1f} | "
-                           + " | ".join(fmt_count(r[c]) for c in COUNTERS) + " |")
+                           + " | ".join(fmt_count(r[c]) for c in COUNTERS[:-2]) + f" | {fmt_count(r['all'])} | "
+                           + " | ".join(fmt_count(r[c]) for c in COUNTERS[-2:]) + " |")
     out.append("")
+    same = [f"{p} {i} before at {a['tol']:g} and after at {b['tol']:g} ({fmt_count(a['steps'])} steps, CPU "
+            f"{a['cpu']:.1f} and {b['cpu']:.1f} ms)"
+            for p, i in problems for a in rows[(p, i, "old")] for b in rows[(p, i, "new")]
+            if (a["steps"], a["newton"], a["jacobians"]) == (b["steps"], b["newton"], b["jacobians"])]
+    if same:
+        out.append("Runs that take the same steps, Newton iterations and Jacobians before and after (the same "
+                   "integration, the difference in CPU is the cost of the evaluations): " + "; ".join(same) + ".")
+        out.append("")
     out.append("How the error follows the tolerance (least-squares slope of log error against log tol over the sweep):")
     out.append("")
     for p, i in problems:
