@@ -43,6 +43,7 @@ build_old() {
     git archive "$old_commit" | tar -x -C "$src" ||
       { echo "error: cannot unpack commit $old_commit into $src" >&2; exit 1; }
   fi
+  # shellcheck disable=SC2016 # ${CMAKE_SOURCE_DIR} is CMake's
   printf 'cmake_language(DEFER DIRECTORY "${CMAKE_SOURCE_DIR}" CALL include "%s")\n' \
     "$here/bench/implicit/CMakeLists.txt" >"$old_dir/add_target.cmake"
   echo "building symdyn_bench_implicit_run of $old_commit in $src/build/release (log: $log)..."
@@ -109,6 +110,7 @@ for rep in $(seq "$reps"); do
   for sweep in "${sweeps[@]}"; do
     IFS='|' read -r problem old_tols new_tols <<<"$sweep"
     read -r name scenario t_end integrator <<<"$problem"
+    # shellcheck disable=SC2086 # the lists split into their tolerances
     for tol in $(printf '%s\n' $old_tols $new_tols | sort -gr | uniq); do
       if [[ " $old_tols " == *" $tol "* ]]; then run old "$old" "$name" "$scenario" "$t_end" "$integrator" "$tol" "$rep"; fi
       if [[ " $new_tols " == *" $tol "* ]]; then run new "$new" "$name" "$scenario" "$t_end" "$integrator" "$tol" "$rep"; fi
