@@ -21,10 +21,10 @@ cd "$(git -C "$(dirname "$0")" rev-parse --show-toplevel)"
 old_commit=2dd6e1f old_dir=build/before-$old_commit reps=5 build_only=0 count=()
 while [ $# -gt 0 ]; do
   case $1 in
-    --old-dir) old_dir=$2; shift 2 ;;
-    --reps) reps=$2; shift 2 ;;
+    --old-dir) old_dir=${2:?--old-dir needs a directory}; shift 2 ;;
+    --reps) reps=${2:?--reps needs a number}; shift 2 ;;
     --build-only) build_only=1; shift ;;
-    --count) count+=("$2"); shift 2 ;;
+    --count) count+=("${2:?--count needs a problem}"); shift 2 ;;
     -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) echo "unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
