@@ -109,11 +109,12 @@ def make_section(work):
     out.append(f"- compiler: {meta['compiler']}")
     out.append(f"- commits: before {meta['old']}, after {meta['new']}")
     out.append(f"- load: {meta['load_start']} at the start, {meta['load_end']} at the end (1, 5, 15 minute averages)")
-    out.append(f"- duration: {meta['duration']} s, the builds excluded (callgrind's runs included)")
+    counted = " (callgrind's runs included)" if (work / "instructions.tsv").exists() else ""
+    out.append(f"- duration: {meta['duration']} s, the builds excluded{counted}")
     out.append("")
     out.append("The same problem in both trees, and the references (rtol = atol = 1e-12):")
     out.append("")
-    for p, _ in dict.fromkeys(problems):
+    for p in dict.fromkeys(p for p, _ in problems):
         r = ref[p]
         tol = next(t for (s, q, i, t) in runs if q == p and i == REFERENCE)
         check = runs[("new", p, CHECK, tol)]
