@@ -998,8 +998,9 @@ void define_system(py::module_& module, ModelFactory make_model) {
            ".gravitational, .elastic, .total (nt), q_names, integrator and statistics. "
            "Integrators: newmark, generalized-alpha, rk4, dopri5, dop853, midpoint, cvode, "
            "arkode (rk4 and midpoint need step). global_tolerance > 0: solved again (tighter "
-           "tolerances, or halved fixed steps) until the estimated error of the result is below "
-           "it: statistics.global_error_estimate, .global_tolerance_met, .runs.")
+           "tolerances, or halved fixed steps, the last two extrapolated) until the estimated "
+           "error of the result is below it: statistics.global_error_estimate, "
+           ".global_tolerance_met, .runs, .extrapolated.")
       .def("solve_statics", &solve_statics, "q"_a = none, "locked"_a = empty, "tolerance"_a = 1e-8,
            "mass_weight"_a = 100.0, "max_iterations"_a = 500, "forces"_a = no_forces,
            "Static equilibrium from q (qd = 0), locked coordinates held. Returns q, iterations, "

@@ -164,6 +164,20 @@ class Simulation(unittest.TestCase):
         error = max(np.max(np.abs(r.q[-1] - reference.q[-1])), np.max(np.abs(r.qd[-1] - reference.qd[-1])))
         self.assertLess(error, 1e-7)
 
+    def test_step_halving_extrapolates(self):
+        # newmark's trapezoidal rule extrapolated: fourth order from runs at 8e-3 to 1e-3 s.
+        system = double_pendulum_absolute.System()
+        start = dict(q0=[-1.2, 0.3], qd0=[0.0, 0.0])
+        reference = system.simulate(1.0, integrator="dop853", rtol=1e-13, atol=1e-13, times=[1.0], **start)
+        r = system.simulate(1.0, integrator="newmark", fixed_step=True, step=8e-3, times=[1.0],
+                            global_tolerance=1e-6, **start)
+        self.assertTrue(r.statistics.global_tolerance_met)
+        self.assertTrue(r.statistics.extrapolated)
+        error = max(np.max(np.abs(r.q[-1] - reference.q[-1])), np.max(np.abs(r.qd[-1] - reference.qd[-1])))
+        self.assertLess(error, 1e-6)
+        self.assertLess(error, 10 * r.statistics.global_error_estimate)
+        self.assertLess(r.statistics.global_error_estimate, 10 * error)
+
     def test_damping_dissipates(self):
         system = double_pendulum_absolute.System()
         friction = double_pendulum_absolute.CoordinateSpringDamper("theta2", stiffness=0.0, damping=0.5)
