@@ -173,6 +173,11 @@ constexpr double kTightening = 100.0;  // between two runs: two decades
 // tightening by F divides it by about F. An observed fall d_k/d_(k-1) within this factor of
 // 1/F is that regime; outside it the error is erratic there, and extrapolating from it fails.
 constexpr double kConsistent = 2.0;
+// Whether a fall observed is within kConsistent of the one expected (its asymptotic regime:
+// a tolerance's, or a step halving's 2^-p).
+bool consistent_fall(double observed, double expected) {
+  return observed <= kConsistent * expected && observed >= expected / kConsistent;
+}
 // Runs converge when each difference is at most half the one before.
 constexpr double kConverging = 0.5;
 
@@ -263,8 +268,7 @@ State Integrator::run_to_global_tolerance(DynamicSystem& system, const State& in
       const double d = difference(previous, end, previous_outputs, outputs, user.q_scale);
       const double observed = k >= 2 ? d / previous_difference : 0.0;
       const double expected = 1.0 / previous_tightening;
-      const bool consistent =
-          k >= 2 && observed <= kConsistent * expected && observed >= expected / kConsistent;
+      const bool consistent = k >= 2 && consistent_fall(observed, expected);
       double extrapolated = std::numeric_limits<double>::infinity();
       if (consistent) {
         const double power = std::min(1.0, std::log(observed) / std::log(expected));
@@ -409,12 +413,9 @@ State Integrator::run_by_step_halving(DynamicSystem& system, const State& initia
     const double d = difference(previous_extrapolated->end, e->end, previous_extrapolated->outputs,
                                 e->outputs, user.q_scale);
     const double d_previous = std::exchange(previous_extrapolated_difference, d);
-    const auto near = [](double observed, double expected) {
-      return observed <= 2 * expected && observed >= expected / 2;
-    };
-    if (!(d_previous > 0.0) || !near(fall, std::ldexp(1.0, -p))) return kNone;
+    if (!(d_previous > 0.0) || !consistent_fall(fall, std::ldexp(1.0, -p))) return kNone;
     const double rho = d / d_previous;
-    if (!near(rho, std::ldexp(1.0, -(p + gain)))) return kNone;
+    if (!consistent_fall(rho, std::ldexp(1.0, -(p + gain)))) return kNone;
     return std::max(floor, d * std::max(extrapolated_richardson, rho / (1.0 - rho)));
   };
   for (int k = 0;; ++k) {
