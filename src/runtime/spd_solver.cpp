@@ -144,13 +144,8 @@ void SpdSolver::solve_matrix(Matrix& B) {
   const int n = size(), m = static_cast<int>(B.cols());
   if (n <= kInPlaceUpTo) {
     solve_rows_in_place<negate>(B);
-  } else if (n <= kernels_->solve_up_to) {
-    kernels_->solve(n, L_.data(), B.data(), m, negate, tile_.data());
   } else {
-    const auto L = L_.triangularView<Eigen::Lower>();
-    L.solveInPlace(B);
-    L.adjoint().solveInPlace(B);
-    if constexpr (negate) B = -B;
+    kernels_->solve(n, L_.data(), B.data(), m, negate, tile_.data());
   }
 }
 

@@ -69,9 +69,8 @@ class SpdSolver {
   // B := M⁻¹·B and B := -M⁻¹·B (n x m), all columns in one solve, so that the
   // multiply-adds are independent across the columns (column by column each
   // entry is a chain of dependent ones): up to kInPlaceUpTo coordinates row
-  // by row in place, then tiles of up to detail::kWidestTile (32) columns copied
-  // row by row, their sums in registers (up to the kernels' solve_up_to
-  // coordinates; Eigen's blocked solves above).
+  // by row in place, above them tiles of up to detail::kWidestTile (16) columns
+  // copied row by row, three rows' sums at a time in registers.
   void solve_in_place(Matrix& B);
   void solve_negated_in_place(Matrix& B);
 
@@ -104,7 +103,7 @@ class SpdSolver {
   void substitute(const double* b, double* x) const;
   Matrix L_;  // (n x n) its lower triangle is L
   const detail::DenseKernels* kernels_;
-  std::vector<double> tile_;  // n x detail::kWidestTile (32): columns of B row by row
+  std::vector<double> tile_;  // n x detail::kWidestTile (16): columns of B row by row
   double smallest_ratio_ = 0.0;
 };
 

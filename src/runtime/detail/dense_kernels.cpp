@@ -3,12 +3,13 @@
 namespace symdyn::runtime::detail {
 
 namespace plain {
-constexpr int kTile = 16;
-constexpr int kTilesUpTo = 8;
 constexpr const char* kName = "plain";
-inline double multiply_subtract(double a, double b, double c) {
+constexpr int kLanes = 2;  // SSE2, the x86-64 baseline (elsewhere what the compiler makes of it)
+typedef double Vector __attribute__((vector_size(kLanes * sizeof(double))));
+inline Vector multiply_subtract(Vector a, double b, Vector c) {
   return a - b * c;
 }
+constexpr int kFactorRows = 8;
 #include "dense_kernels_body.hpp"
 }  // namespace plain
 

@@ -14,12 +14,10 @@ namespace symdyn::runtime::detail {
 
 struct DenseKernels {
   const char* name;  // "plain", "avx2"
-  // The largest n at which solve is faster than Eigen's blocked triangular
-  // solves compiled for the build's instruction set (bench/results/derivatives.md).
-  int solve_up_to;
   // B (n x m, column-major) := ±M⁻¹·B = ±L⁻ᵀ·L⁻¹·B, L (n x n, column-major)
   // M's Cholesky factor in its lower triangle; tile: a workspace of
-  // n x kWidestTile doubles.
+  // n x kWidestTile doubles. Faster than Eigen's blocked triangular solves at
+  // every size measured (bench/results/derivatives.md).
   void (*solve)(int n, const double* L, double* B, int m, bool negate, double* tile);
   // M = L·Lᵀ (n x n, column-major; M's lower triangle read, L's written), the
   // same to the bit in every kernel: false where a pivot D_j = L_jj² is not
@@ -27,8 +25,8 @@ struct DenseKernels {
   bool (*factor)(int n, const double* M, double* L, double* ratio);
 };
 
-// The widest tile of columns a solve keeps in registers.
-inline constexpr int kWidestTile = 32;
+// The widest tile of columns a solve copies row by row (AVX2: four vectors of four).
+inline constexpr int kWidestTile = 16;
 
 const DenseKernels& plain_dense_kernels();
 // nullptr where the build or the processor has no AVX2 with FMA.

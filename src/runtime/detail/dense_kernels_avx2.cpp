@@ -2,21 +2,22 @@
 // -ffp-contract=off, src/runtime/CMakeLists.txt: fused only where
 // multiply_subtract says so), called only where the processor runs them
 // (wide_dense_kernels()). It includes nothing but the kernels' own header and
-// <climits> (macros), so that no inline function of a library is compiled
-// here for AVX2.
+// the intrinsics' (always inlined, never an out-of-line definition), so that no
+// inline function of a library is compiled here for AVX2.
 
-#include <climits>
+#include <immintrin.h>
 
 #include <symdyn/runtime/detail/dense_kernels.hpp>
 
 namespace symdyn::runtime::detail::avx2 {
 
-constexpr int kTile = 32;
-constexpr int kTilesUpTo = INT_MAX;
 constexpr const char* kName = "avx2";
-inline double multiply_subtract(double a, double b, double c) {
-  return __builtin_fma(-b, c, a);
+constexpr int kLanes = 4;
+typedef double Vector __attribute__((vector_size(kLanes * sizeof(double))));
+inline Vector multiply_subtract(Vector a, double b, Vector c) {
+  return _mm256_fnmadd_pd(_mm256_set1_pd(b), c, a);
 }
+constexpr int kFactorRows = 16;
 extern const DenseKernels kernels;
 #include "dense_kernels_body.hpp"
 

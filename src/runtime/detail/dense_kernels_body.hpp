@@ -1,65 +1,100 @@
 // The dense kernels of dense_kernels.hpp, written once. Included by one source
 // per instruction set, inside that set's own namespace, after defining kName,
-// kTile (the columns of B a solve keeps in registers: 16 doubles are eight
-// SSE2 registers, 32 eight AVX2 ones; the factorization keeps kTile / 2 rows of
-// a column), kTilesUpTo and multiply_subtract(a, b, c)
-// = a - b·c (fused where the set has FMA). No #pragma once: each includer
-// compiles it. Plain loops with no library calls, so that everything here is
-// compiled for the includer's instruction set and vectorized by the compiler.
+// kLanes (the doubles of one vector register), the type Vector (kLanes doubles,
+// a GCC vector), multiply_subtract(a, b, c) = a - b·c for a vector a and c and
+// a double b (fused where the set has FMA) and kFactorRows (the rows of a
+// column the factorization keeps in registers). No #pragma once: each includer
+// compiles it. No library calls, so that everything here is compiled for the
+// includer's instruction set.
 
-// `count` <= W columns of B from column j0, copied row by row into R (n x W,
-// row-major, the columns beyond count zero), solved and copied back. Forward,
-// row by row: R_i := (±R_i - Σ_k<i L_ik·R_k) / L_ii, then backward:
-// R_i := (R_i - Σ_k>i L_ki·R_k) / L_ii. Each row's W sums stay in registers
-// across k, independent of one another: W/4 (or W/2) vector multiply-adds per
-// entry of L, where a column alone is a chain of dependent ones.
-template <int W>
-void solve_tile(int n, const double* __restrict L, double* __restrict B, int j0, int count,
-                double sign, double* __restrict R) {
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < W; ++j) R[i * W + j] = j < count ? B[i + (j0 + j) * n] : 0.0;
+inline Vector load(const double* p) {
+  Vector v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+
+inline void store(double* p, Vector v) {
+  __builtin_memcpy(p, &v, sizeof v);
+}
+
+// A solve keeps kRows rows of kVectors vectors in registers: 12 sums, so that
+// each vector of a solved row loaded serves three rows of L, and each entry of
+// L broadcast four vectors, where the 16 registers of SSE2 or AVX2 allow.
+constexpr int kRows = 3, kVectors = 4, kTile = kVectors * kLanes;
+static_assert(kTile <= kWidestTile);
+
+// Rows i = first, first + step, .. (rb of them; step 1 forward, -1 backward) of
+// a tile R of V vectors a row (row-major): forward R_i := (±R_i - Σ_k<i L_ik·R_k)
+// / L_ii, backward R_i := (R_i - Σ_k>i L_ki·R_k) / L_ii, first over the rows
+// solved before the block, with every row's sums in registers, then within it.
+template <int rb, int V, bool forward>
+void solve_rows(int n, const double* __restrict L, double* __restrict R, int first, double sign) {
+  constexpr int W = V * kLanes, step = forward ? 1 : -1;
+  // The factor of row i's term in row k: L_ik forward, L_ki backward.
+  const auto l = [&](int i, int k) { return forward ? L[i + k * n] : L[k + i * n]; };
+  Vector sum[rb][V];
+  for (int r = 0; r < rb; ++r) {
+    for (int v = 0; v < V; ++v) sum[r][v] = sign * load(R + (first + r * step) * W + v * kLanes);
   }
-  for (int i = 0; i < n; ++i) {
-    double sum[W];
-    for (int j = 0; j < W; ++j) sum[j] = sign * R[i * W + j];
-    for (int k = 0; k < i; ++k) {
-      const double c = L[i + k * n];
-      for (int j = 0; j < W; ++j) sum[j] = multiply_subtract(sum[j], c, R[k * W + j]);
+  const int begin = forward ? 0 : first + 1, end = forward ? first : n;
+  for (int k = begin; k < end; ++k) {
+    Vector x[V];
+    for (int v = 0; v < V; ++v) x[v] = load(R + k * W + v * kLanes);
+    for (int r = 0; r < rb; ++r) {
+      const double c = l(first + r * step, k);
+      for (int v = 0; v < V; ++v) sum[r][v] = multiply_subtract(sum[r][v], c, x[v]);
+    }
+  }
+  for (int r = 0; r < rb; ++r) {
+    const int i = first + r * step;
+    for (int p = 0; p < r; ++p) {
+      const double c = l(i, first + p * step);
+      for (int v = 0; v < V; ++v) sum[r][v] = multiply_subtract(sum[r][v], c, sum[p][v]);
     }
     const double inverse = 1.0 / L[i + i * n];
-    for (int j = 0; j < W; ++j) R[i * W + j] = sum[j] * inverse;
-  }
-  for (int i = n - 1; i >= 0; --i) {
-    double sum[W];
-    for (int j = 0; j < W; ++j) sum[j] = R[i * W + j];
-    for (int k = i + 1; k < n; ++k) {
-      const double c = L[k + i * n];
-      for (int j = 0; j < W; ++j) sum[j] = multiply_subtract(sum[j], c, R[k * W + j]);
+    for (int v = 0; v < V; ++v) {
+      sum[r][v] = sum[r][v] * inverse;
+      store(R + i * W + v * kLanes, sum[r][v]);
     }
-    const double inverse = 1.0 / L[i + i * n];
-    for (int j = 0; j < W; ++j) R[i * W + j] = sum[j] * inverse;
-  }
-  for (int j = 0; j < count; ++j) {
-    for (int i = 0; i < n; ++i) B[i + (j0 + j) * n] = R[i * W + j];
   }
 }
 
-// Tiles of kTile columns, then the rest in one tile of the narrowest width
-// that holds it (at most twice its columns).
+// `count` <= V·kLanes columns of B from column j0, copied row by row into R
+// (the columns beyond count zero), solved forward then backward in blocks of
+// kRows rows, and copied back.
+template <int V>
+void solve_tile(int n, const double* __restrict L, double* __restrict B, int j0, int count,
+                double sign, double* __restrict R) {
+  constexpr int W = V * kLanes;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < W; ++j) R[i * W + j] = j < count ? B[i + (j0 + j) * n] : 0.0;
+  }
+  int i = 0;
+  for (; i + kRows <= n; i += kRows) solve_rows<kRows, V, true>(n, L, R, i, sign);
+  for (; i < n; ++i) solve_rows<1, V, true>(n, L, R, i, sign);
+  i = n - 1;
+  for (; i + 1 >= kRows; i -= kRows) solve_rows<kRows, V, false>(n, L, R, i, 1.0);
+  for (; i >= 0; --i) solve_rows<1, V, false>(n, L, R, i, 1.0);
+  for (int j = 0; j < count; ++j) {
+    for (int r = 0; r < n; ++r) B[r + (j0 + j) * n] = R[r * W + j];
+  }
+}
+
+// The last `rest` columns (fewer than kTile) in one tile of the fewest vectors that hold them.
+template <int V = 1>
+void solve_rest(int n, const double* L, double* B, int j0, int rest, double sign, double* R) {
+  if constexpr (V < kVectors) {
+    if (rest > V * kLanes) return solve_rest<V + 1>(n, L, B, j0, rest, sign, R);
+  }
+  solve_tile<V>(n, L, B, j0, rest, sign, R);
+}
+
+// Tiles of kTile columns, then the rest.
 void solve(int n, const double* L, double* B, int m, bool negate, double* R) {
   const double sign = negate ? -1.0 : 1.0;
   int j = 0;
-  for (; j + kTile <= m; j += kTile) solve_tile<kTile>(n, L, B, j, kTile, sign, R);
-  const int rest = m - j;
-  if (rest > 16) {
-    solve_tile<kTile>(n, L, B, j, rest, sign, R);
-  } else if (rest > 8) {
-    solve_tile<16>(n, L, B, j, rest, sign, R);
-  } else if (rest > 4) {
-    solve_tile<8>(n, L, B, j, rest, sign, R);
-  } else if (rest > 0) {
-    solve_tile<4>(n, L, B, j, rest, sign, R);
-  }
+  for (; j + kTile <= m; j += kTile) solve_tile<kVectors>(n, L, B, j, kTile, sign, R);
+  if (j < m) solve_rest(n, L, B, j, m - j, sign, R);
 }
 
 // Rows i0 .. i0 + R - 1 of column j: L_ij := L_ij - Σ_k<j L_ik·L_jk, k increasing, the R sums in
@@ -78,17 +113,16 @@ void subtract_columns_before(int n, int j, int i0, double* __restrict L) {
 }
 
 // M = L·Lᵀ left-looking, column by column: L_ij = (M_ij - Σ_k<j L_ik·L_jk) / L_jj (i > j),
-// L_jj = sqrt(M_jj - Σ_k<j L_jk²), rows in chunks of kTile / 2 (then 8, 4, 1). ratio: min_j
+// L_jj = sqrt(M_jj - Σ_k<j L_jk²), rows in chunks of kFactorRows (then 8, 4, 1). ratio: min_j
 // D_j / M_jj (D_j = L_jj²); false at the first D_j not > 0 (NaN too), ratio then D_j / M_jj
 // where D_j < 0 < M_jj, else 0.
 bool factor(int n, const double* __restrict M, double* __restrict L, double* ratio) {
-  constexpr int kRows = kTile / 2;
   double smallest = 1.0;
   for (int j = 0; j < n; ++j) {
     for (int i = j; i < n; ++i) L[i + j * n] = M[i + j * n];
     int i = j;
-    for (; i + kRows <= n; i += kRows) subtract_columns_before<kRows>(n, j, i, L);
-    if constexpr (kRows > 8) {
+    for (; i + kFactorRows <= n; i += kFactorRows) subtract_columns_before<kFactorRows>(n, j, i, L);
+    if constexpr (kFactorRows > 8) {
       if (i + 8 <= n) subtract_columns_before<8>(n, j, i, L), i += 8;
     }
     if (i + 4 <= n) subtract_columns_before<4>(n, j, i, L), i += 4;
@@ -107,4 +141,4 @@ bool factor(int n, const double* __restrict M, double* __restrict L, double* rat
   return true;
 }
 
-const DenseKernels kernels{kName, kTilesUpTo, solve, factor};
+const DenseKernels kernels{kName, solve, factor};
