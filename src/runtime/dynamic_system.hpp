@@ -19,6 +19,8 @@ namespace symdyn::runtime {
 
 using Vector = Eigen::VectorXd;
 using Matrix = Eigen::MatrixXd;
+// Row by row, as the emitted code writes its matrices.
+using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // The state carried by integrators: time, coordinates, rates and extra states.
 struct State {

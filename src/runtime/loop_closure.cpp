@@ -387,7 +387,7 @@ namespace {
 
 // A row-major matrix's entries in storage order (where Eigen's reductions
 // traverse it by columns, entry by entry).
-Eigen::Map<const Vector> entries(const LoopClosure::RowMajorMatrix& A) {
+Eigen::Map<const Vector> entries(const RowMajorMatrix& A) {
   return {A.data(), A.size()};
 }
 

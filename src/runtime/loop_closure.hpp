@@ -136,7 +136,6 @@ class SmallLu {
 
 class LoopClosure {
  public:
-  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   static constexpr int kMaxIterations = 25;
   static constexpr double kTolerance = 1e-12;  // on |g|, times the scale s above
   // Below this share of g_p's largest entry a pivot of its LU factorization

@@ -144,9 +144,20 @@ void SpdSolver::solve_matrix(Matrix& B) {
   const int n = size(), m = static_cast<int>(B.cols());
   if (n <= kInPlaceUpTo) {
     solve_rows_in_place<negate>(B);
-  } else {
-    kernels_->solve(n, L_.data(), B.data(), m, negate, tile_.data());
+    return;
   }
+  kernels_->solve(n, L_.data(), {B.data(), 1, n, B.data(), m}, negate, tile_.data());
+}
+
+void SpdSolver::solve_negated(const RowMajorMatrix& B, Matrix& X) {
+  const int n = size(), m = static_cast<int>(B.cols());
+  X.resize(n, m);
+  if (n <= kInPlaceUpTo) {
+    X = B;
+    solve_rows_in_place<true>(X);
+    return;
+  }
+  kernels_->solve(n, L_.data(), {B.data(), m, 1, X.data(), m}, true, tile_.data());
 }
 
 // Row by row, every column at once: B_i := (±B_i - Σ_k<i L_ik·B_k) / L_ii,

@@ -73,6 +73,9 @@ class SpdSolver {
   // copied row by row, three rows' sums at a time in registers.
   void solve_in_place(Matrix& B);
   void solve_negated_in_place(Matrix& B);
+  // X := -M⁻¹·B (n x m) for B row-major, as the emitted code writes the
+  // derivatives: read row by row into the tiles, with no pass to turn it first.
+  void solve_negated(const RowMajorMatrix& B, Matrix& X);
 
   // min_k D_k / M_kk of the last factorization: the share of its own
   // inertia the worst coordinate has left (<= 0: M is not positive definite).

@@ -84,17 +84,21 @@ bool TreeSolver::factor(const Matrix& M) {
 }
 
 void TreeSolver::solve_in_place(Matrix& B) {
-  solve<false>(B);
+  solve<false>(B, B);
 }
 
 void TreeSolver::solve_negated_in_place(Matrix& B) {
-  solve<true>(B);
+  solve<true>(B, B);
+}
+
+void TreeSolver::solve_negated(const RowMajorMatrix& B, Matrix& X) {
+  solve<true>(B, X);
 }
 
 // Lᵀ·Y = B leaves first, then L·X = Y root first, on B's rows (contiguous in
 // rows_, so that each row operation is a vectorized loop across the columns).
-template <bool negate>
-void TreeSolver::solve(Matrix& B) {
+template <bool negate, class RightHandSides>
+void TreeSolver::solve(const RightHandSides& B, Matrix& X) {
   const int n = size();
   const Eigen::Index m = B.cols();
   rows_ = B;
@@ -123,9 +127,9 @@ void TreeSolver::solve(Matrix& B) {
     scale(k, 1.0 / l[k + k * n]);
   }
   if constexpr (negate) {
-    B = -rows_;
+    X = -rows_;
   } else {
-    B = rows_;
+    X = rows_;
   }
 }
 

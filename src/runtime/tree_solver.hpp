@@ -38,6 +38,9 @@ class TreeSolver {
   // B := M⁻¹·B and B := -M⁻¹·B (n x m), every column at once.
   void solve_in_place(Matrix& B);
   void solve_negated_in_place(Matrix& B);
+  // X := -M⁻¹·B for B row-major, as the emitted code writes the derivatives
+  // (the rows this solve works in).
+  void solve_negated(const RowMajorMatrix& B, Matrix& X);
 
   // The parent of coordinate i in the last tree read from M (-1: a root).
   int parent(int i) const { return parent_[static_cast<std::size_t>(i)]; }
@@ -53,14 +56,14 @@ class TreeSolver {
 
  private:
   bool read_tree(const Matrix& M);
-  template <bool negate>
-  void solve(Matrix& B);
+  template <bool negate, class RightHandSides>
+  void solve(const RightHandSides& B, Matrix& X);
 
   Matrix L_;                 // (n x n) its lower triangle is L on the tree's pattern
   std::vector<int> parent_;  // (n) λ(i)
   std::vector<int> depth_;   // (n) the number of ancestors of i
   int off_diagonal_ = 0;     // Σ_i depth(i)
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows_;  // B's rows
+  RowMajorMatrix rows_;      // B's rows
 };
 
 }  // namespace symdyn::runtime

@@ -636,7 +636,7 @@ namespace {
 // each loop's rows over that loop's largest entry of [g_q g_p], or raw.
 double smallest_singular_value(const Model& model, const Vector& x, bool equilibrated) {
   const int n = model.nindependent(), m = model.ncon();
-  LoopClosure::RowMajorMatrix g_q(m, n), g_p(m, m);
+  RowMajorMatrix g_q(m, n), g_p(m, m);
   Vector g(m), g_t(m);
   model.constraints(0.0, x.data(), g.data(), g_q.data(), g_p.data(), g_t.data());
   Matrix a = g_p;

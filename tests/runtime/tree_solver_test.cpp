@@ -42,7 +42,8 @@ Matrix tree_spd(const std::vector<int>& parent, std::mt19937& rng) {
   return L.transpose() * L;
 }
 
-// X = M⁻¹·B by Eigen's dense LLT, checked against the solver's, plain and negated.
+// X = M⁻¹·B by Eigen's dense LLT, checked against the solver's, plain and negated (B
+// column-major and row-major).
 void check_solves(TreeSolver& solver, const Matrix& M, std::mt19937& rng) {
   const int n = static_cast<int>(M.rows());
   const Eigen::LLT<Matrix> llt(M);
@@ -57,6 +58,10 @@ void check_solves(TreeSolver& solver, const Matrix& M, std::mt19937& rng) {
     X = B;
     solver.solve_negated_in_place(X);
     CHECK((X + reference).norm() <= 1e-11 * reference.norm());
+    // B row-major, as the emitted derivatives come: the same operations, the same X.
+    Matrix Y;
+    solver.solve_negated(RowMajorMatrix(B), Y);
+    CHECK(Y == X);
   }
 }
 

@@ -12,13 +12,24 @@
 
 namespace symdyn::runtime::detail {
 
+// The right-hand sides B (n x m) of a solve: entry (i, j) at in[i·row_step +
+// j·column_step] (column-major: 1 and n; row-major, as the emitted code writes
+// its matrices: m and 1); the solution X (n x m) written column-major at out,
+// which may be in where B is column-major.
+struct RightHandSides {
+  const double* in;
+  int row_step, column_step;
+  double* out;
+  int m;
+};
+
 struct DenseKernels {
   const char* name;  // "plain", "avx2"
-  // B (n x m, column-major) := ±M⁻¹·B = ±L⁻ᵀ·L⁻¹·B, L (n x n, column-major)
-  // M's Cholesky factor in its lower triangle; tile: a workspace of
-  // n x kWidestTile doubles. Faster than Eigen's blocked triangular solves at
-  // every size measured (bench/results/derivatives.md).
-  void (*solve)(int n, const double* L, double* B, int m, bool negate, double* tile);
+  // X := ±M⁻¹·B = ±L⁻ᵀ·L⁻¹·B, L (n x n, column-major) M's Cholesky factor in
+  // its lower triangle; tile: a workspace of n x kWidestTile doubles. Faster
+  // than Eigen's blocked triangular solves at every size measured
+  // (bench/results/derivatives.md).
+  void (*solve)(int n, const double* L, RightHandSides B, bool negate, double* tile);
   // M = L·Lᵀ (n x n, column-major; M's lower triangle read, L's written), the
   // same to the bit in every kernel: false where a pivot D_j = L_jj² is not
   // > 0; ratio: min_j D_j / M_jj (SpdSolver::smallest_pivot_ratio()).

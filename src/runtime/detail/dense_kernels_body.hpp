@@ -61,13 +61,14 @@ void solve_rows(int n, const double* __restrict L, double* __restrict R, int fir
 
 // `count` <= V·kLanes columns of B from column j0, copied row by row into R
 // (the columns beyond count zero), solved forward then backward in blocks of
-// kRows rows, and copied back.
+// kRows rows, and copied to X.
 template <int V>
-void solve_tile(int n, const double* __restrict L, double* __restrict B, int j0, int count,
+void solve_tile(int n, const double* __restrict L, const RightHandSides& B, int j0, int count,
                 double sign, double* __restrict R) {
   constexpr int W = V * kLanes;
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < W; ++j) R[i * W + j] = j < count ? B[i + (j0 + j) * n] : 0.0;
+    const double* row = B.in + i * B.row_step + j0 * B.column_step;
+    for (int j = 0; j < W; ++j) R[i * W + j] = j < count ? row[j * B.column_step] : 0.0;
   }
   int i = 0;
   for (; i + kRows <= n; i += kRows) solve_rows<kRows, V, true>(n, L, R, i, sign);
@@ -76,13 +77,14 @@ void solve_tile(int n, const double* __restrict L, double* __restrict B, int j0,
   for (; i + 1 >= kRows; i -= kRows) solve_rows<kRows, V, false>(n, L, R, i, 1.0);
   for (; i >= 0; --i) solve_rows<1, V, false>(n, L, R, i, 1.0);
   for (int j = 0; j < count; ++j) {
-    for (int r = 0; r < n; ++r) B[r + (j0 + j) * n] = R[r * W + j];
+    for (int r = 0; r < n; ++r) B.out[r + (j0 + j) * n] = R[r * W + j];
   }
 }
 
 // The last `rest` columns (fewer than kTile) in one tile of the fewest vectors that hold them.
 template <int V = 1>
-void solve_rest(int n, const double* L, double* B, int j0, int rest, double sign, double* R) {
+void solve_rest(int n, const double* L, const RightHandSides& B, int j0, int rest, double sign,
+                double* R) {
   if constexpr (V < kVectors) {
     if (rest > V * kLanes) return solve_rest<V + 1>(n, L, B, j0, rest, sign, R);
   }
@@ -90,11 +92,11 @@ void solve_rest(int n, const double* L, double* B, int j0, int rest, double sign
 }
 
 // Tiles of kTile columns, then the rest.
-void solve(int n, const double* L, double* B, int m, bool negate, double* R) {
+void solve(int n, const double* L, RightHandSides B, bool negate, double* R) {
   const double sign = negate ? -1.0 : 1.0;
   int j = 0;
-  for (; j + kTile <= m; j += kTile) solve_tile<kVectors>(n, L, B, j, kTile, sign, R);
-  if (j < m) solve_rest(n, L, B, j, m - j, sign, R);
+  for (; j + kTile <= B.m; j += kTile) solve_tile<kVectors>(n, L, B, j, kTile, sign, R);
+  if (j < B.m) solve_rest(n, L, B, j, B.m - j, sign, R);
 }
 
 // Rows i0 .. i0 + R - 1 of column j: L_ij := L_ij - Σ_k<j L_ik·L_jk, k increasing, the R sums in
