@@ -539,14 +539,27 @@ void transpose_square(Matrix& a) {
 void Model::inverse_dynamics_derivatives(double t, const double* q, const double* qd,
                                          const double* qdd, Matrix& dtau_dq,
                                          Matrix& dtau_dqd) const {
+  // Emitted row-major into column-major storage: each is its transpose until turned.
+  emit_inverse_dynamics_derivatives(t, q, qd, qdd, dtau_dq, dtau_dqd);
+  transpose_square(dtau_dq);
+  transpose_square(dtau_dqd);
+}
+
+void Model::inverse_dynamics_derivatives(double t, const double* q, const double* qd,
+                                         const double* qdd, RowMajorMatrix& dtau_dq,
+                                         RowMajorMatrix& dtau_dqd) const {
+  emit_inverse_dynamics_derivatives(t, q, qd, qdd, dtau_dq, dtau_dqd);
+}
+
+template <class Storage>
+void Model::emit_inverse_dynamics_derivatives(double t, const double* q, const double* qd,
+                                              const double* qdd, Storage& dtau_dq,
+                                              Storage& dtau_dqd) const {
   if (description_.inverse_dynamics_derivatives == nullptr) missing("inverse_dynamics_derivatives");
   dtau_dq.resize(description_.nq, description_.nq);
   dtau_dqd.resize(description_.nq, description_.nq);
-  // Emitted row-major into column-major storage: each is its transpose until turned.
   description_.inverse_dynamics_derivatives(t, q, qd, qdd, param_.data(), dtau_dq.data(),
                                             dtau_dqd.data());
-  transpose_square(dtau_dq);
-  transpose_square(dtau_dqd);
 }
 
 void Model::kinematics_derivatives(double t, const double* q, const double* qd,

@@ -441,9 +441,12 @@ class Model {
   // tau = M·qdd + h (nq each), emitted recursively.
   void inverse_dynamics(double t, const double* q, const double* qd, const double* qdd,
                         double* tau) const;
-  // dtau/dq and dtau/dqd (nq x nq each) at (q, qd, qdd), exact (emitted).
+  // dtau/dq and dtau/dqd (nq x nq each) at (q, qd, qdd), exact (emitted); row-major as
+  // emitted, with no pass to turn them (for solves that read them row by row).
   void inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
                                     Matrix& dtau_dq, Matrix& dtau_dqd) const;
+  void inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
+                                    RowMajorMatrix& dtau_dq, RowMajorMatrix& dtau_dqd) const;
   // The derivatives of the kinematics with respect to q at (t, q, qd), exact (emitted).
   void kinematics_derivatives(double t, const double* q, const double* qd,
                               KinematicsDerivatives& dk) const;
@@ -522,6 +525,11 @@ class Model {
   void evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
                         std::vector<Mat3>& inertia) const;
   [[noreturn]] void missing(const char* entry) const;
+  // The emitted derivatives, row-major, into the storage of either matrix type.
+  template <class Storage>
+  void emit_inverse_dynamics_derivatives(double t, const double* q, const double* qd,
+                                         const double* qdd, Storage& dtau_dq,
+                                         Storage& dtau_dqd) const;
   void validate_diagnostics() const;
   void validate_loops() const;
   // dynamics() from the separate entry points (a model without the fused ones).

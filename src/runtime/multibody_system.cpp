@@ -1086,8 +1086,9 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
   mass_matrix_emitted(s, M);
 }
 
-void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C,
-                                              Matrix& K) {
+template <class Storage>
+void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd, Storage& C,
+                                              Storage& K) {
   check_state(s);
   if (qdd.size() != model_.nq()) {
     throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
@@ -1163,7 +1164,8 @@ bool MultibodySystem::exact_loads(const ForceElement& e) const {
 // C -= dQ/dqd, K -= dQ/dq of the force elements' generalized forces Q: exact
 // from the elements that give them, the others' part by central differences
 // of their Q alone (kinematics and those elements, not M nor h).
-void MultibodySystem::subtract_load_derivatives(const State& s, Matrix& C, Matrix& K) {
+template <class Storage>
+void MultibodySystem::subtract_load_derivatives(const State& s, Storage& C, Storage& K) {
   const int n = model_.nq();
   Matrix &dQ_dq = load_dq_, &dQ_dqd = load_dqd_;
   dQ_dq.setZero(n, n);
@@ -1315,28 +1317,36 @@ bool MultibodySystem::exact_acceleration_derivatives(const State& s, const Vecto
 
 void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
                                                Matrix& dqdd_dqd, const Matrix* factored) {
-  // M·dqdd = -(K·dq + C·dqd) + dtau
-  const Matrix* M = factored;
-  const bool reuse = factored != nullptr && exact_jacobians() && !model_.has_loops();
-  if (reuse) {
-    exact_damping_stiffness(s, qdd, dqdd_dqd, dqdd_dq);
+  // M·dqdd = -(K·dq + C·dqd) + dtau. Exact on a tree, K and C are solved as emitted (row-major).
+  const bool as_emitted = exact_jacobians() && !model_.has_loops();
+  const bool reuse = as_emitted && factored != nullptr;
+  if (as_emitted) {
+    exact_damping_stiffness(s, qdd, damping_rows_, stiffness_rows_);
+    if (!reuse) mass_matrix_emitted(s, derivative_M_);
   } else {
     jacobians(s, qdd, derivative_M_, dqdd_dqd, dqdd_dq);
-    M = &derivative_M_;
   }
+  const Matrix& M = reuse ? *factored : derivative_M_;
   // All columns of each in one solve; a tree's M without its zeros (TreeSolver).
-  tree_factored_ = tree_solver_.factor(*M);
-  if (tree_factored_) {
-    tree_solver_.solve_negated_in_place(dqdd_dq);
-    tree_solver_.solve_negated_in_place(dqdd_dqd);
-    return;
-  }
-  if (!reuse && !solver_.factor(*M)) {
-    M_ = *M;
+  tree_factored_ = tree_solver_.factor(M);
+  if (!tree_factored_ && !reuse && !solver_.factor(M)) {
+    M_ = M;
     mass_matrix_refused(s);
   }
-  solver_.solve_negated_in_place(dqdd_dq);
-  solver_.solve_negated_in_place(dqdd_dqd);
+  const auto solve = [&](auto& solver) {
+    if (as_emitted) {
+      solver.solve_negated(stiffness_rows_, dqdd_dq);
+      solver.solve_negated(damping_rows_, dqdd_dqd);
+    } else {
+      solver.solve_negated_in_place(dqdd_dq);
+      solver.solve_negated_in_place(dqdd_dqd);
+    }
+  };
+  if (tree_factored_) {
+    solve(tree_solver_);
+  } else {
+    solve(solver_);
+  }
 }
 
 void MultibodySystem::dynamics_derivatives(const State& s, DynamicsDerivatives& out,

@@ -336,12 +336,15 @@ class MultibodySystem : public DynamicSystem {
   // already (exact Jacobians only).
   void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
                                 Matrix& dqdd_dqd, const Matrix* factored = nullptr);
-  // The exact C and K of jacobians(), without M.
-  void exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C, Matrix& K);
+  // The exact C and K of jacobians(), without M: column-major, or row-major as
+  // emitted (RowMajorMatrix, for the solves of acceleration_derivatives()).
+  template <class Storage>
+  void exact_damping_stiffness(const State& s, const Vector& qdd, Storage& C, Storage& K);
   // With closed loops: the reduced M, C, K from the tree's at the extended
   // state and the loops' derivatives (loop_closure.hpp).
   void exact_loop_jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);
-  void subtract_load_derivatives(const State& s, Matrix& C, Matrix& K);
+  template <class Storage>
+  void subtract_load_derivatives(const State& s, Storage& C, Storage& K);
   // Whether the element's part of jacobians() is exact (else differenced).
   bool exact_loads(const ForceElement& e) const;
   void evaluate_elements_kinematics(const State& s);
@@ -413,7 +416,8 @@ class MultibodySystem : public DynamicSystem {
   State jacobian_state_;        // jacobians(): the shifted state,
   Vector jacobian_yd_, jacobian_fp_, jacobian_fm_, jacobian_g_;  // and its residuals
   Matrix derivative_M_;                                          // dynamics_derivatives(): M
-  Matrix load_dq_, load_dqd_;  // the force elements' dQ/dq, dQ/dqd
+  RowMajorMatrix stiffness_rows_, damping_rows_;  // acceleration_derivatives(): K and C as emitted
+  Matrix load_dq_, load_dqd_;                     // the force elements' dQ/dq, dQ/dqd
   Matrix tree_K_, tree_C_,
       tree_KT_;  // exact_loop_jacobians(): the tree's K_x, C_x (nq x nq), a product (nq x n)
   KinematicsDerivatives dk_;                // where the model has them
