@@ -549,6 +549,21 @@ void Model::inverse_dynamics_derivatives(double t, const double* q, const double
   transpose_square(dtau_dqd);
 }
 
+void Model::inverse_dynamics_jacobians(double t, const double* q, const double* qd,
+                                       const double* qdd, Matrix& dtau_dq, Matrix& dtau_dqd,
+                                       Matrix& M) const {
+  if (description_.inverse_dynamics_jacobians == nullptr) missing("inverse_dynamics_jacobians");
+  const int n = description_.nq;
+  dtau_dq.resize(n, n);
+  dtau_dqd.resize(n, n);
+  M.resize(n, n);
+  // Row-major into column-major: dtau_dq and dtau_dqd turned, M symmetric as it is.
+  description_.inverse_dynamics_jacobians(t, q, qd, qdd, param_.data(), dtau_dq.data(),
+                                          dtau_dqd.data(), M.data());
+  transpose_square(dtau_dq);
+  transpose_square(dtau_dqd);
+}
+
 void Model::kinematics_derivatives(double t, const double* q, const double* qd,
                                    KinematicsDerivatives& dk) const {
   if (description_.kinematics_derivatives == nullptr) missing("kinematics_derivatives");

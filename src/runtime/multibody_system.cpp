@@ -1082,18 +1082,22 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
   }
   // f = tau(q, qd, qdd) - Q(q, qd): M = dtau/dqdd, C and K from the emitted
   // derivatives of tau, less those of the force elements' Q.
-  exact_damping_stiffness(s, qdd, C, K);
-  mass_matrix_emitted(s, M);
+  exact_damping_stiffness(s, qdd, C, K, &M);
 }
 
 void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd, Matrix& C,
-                                              Matrix& K) {
+                                              Matrix& K, Matrix* M) {
   check_state(s);
   if (qdd.size() != model_.nq()) {
     throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
                                  qdd.size(), model_.nq()));
   }
-  model_.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C);
+  if (M != nullptr && model_.has_inverse_dynamics_jacobians()) {
+    model_.inverse_dynamics_jacobians(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C, *M);
+  } else {
+    model_.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C);
+    if (M != nullptr) mass_matrix_emitted(s, *M);
+  }
   if (!(all_finite(K.data(), K.size()) && all_finite(C.data(), C.size())))
     derivatives_not_finite(s);
   if (!elements_.empty()) subtract_load_derivatives(s, C, K);
@@ -1107,8 +1111,7 @@ void MultibodySystem::exact_loop_jacobians(const State& s, const Vector& qdd, Ma
   const State& x = close_with_accelerations(s, qdd);
   jacobian_yd_.setZero(num_extra_states());
   tree_residual(x, xdd_, jacobian_yd_, rhs_x_, jacobian_g_);
-  exact_damping_stiffness(x, xdd_, tree_C_, tree_K_);
-  mass_matrix_emitted(x, tree_M_);
+  exact_damping_stiffness(x, xdd_, tree_C_, tree_K_, &tree_M_);
   loops_.derivatives(model_, x.t, x.q, x.qd, xdd_, rhs_x_);
   const Matrix& T = loops_.T();
   M.resize(T.cols(), T.cols());
