@@ -15,7 +15,8 @@ import sys
 
 METHODS = [
     ("symdyn_exact", "symdyn exact", "`MultibodySystem::dynamics_derivatives` (what a user calls): qdd "
-     "by `accelerations`, the emitted `inverse_dynamics_derivatives` (∂τ/∂q = K, ∂τ/∂qd = C at qdd), "
+     "by `accelerations`, the emitted `inverse_dynamics_derivatives` (∂τ/∂q = K, ∂τ/∂qd = C at qdd; "
+     "above 20 coordinates `inverse_dynamics_jacobians`, M with them in one call), "
      "then −M⁻¹·K and −M⁻¹·C, all columns of each in one solve: by M's sparse factorization along its "
      "elimination tree (`TreeSolver`, leaves first, no fill-in) where that tree has zeros enough to pay, "
      "else by the dense Cholesky factor of M (the one `accelerations` made where it took the way of M)"),

@@ -85,7 +85,7 @@ if [ "$count" = 1 ]; then
           /^ *[0-9,]+ \(/ {
             n = $1; gsub(",", "", n)
             part = ""
-            if ($0 ~ /symdyn_generated::[a-z_0-9]+::inverse_dynamics_derivatives\(/) part = "emitted_derivatives"
+            if ($0 ~ /symdyn_generated::[a-z_0-9]+::inverse_dynamics_(derivatives|jacobians)\(/) part = "emitted_derivatives"
             else if ($0 ~ /symdyn_generated::[a-z_0-9]+::mass_matrix\(/) part = "emitted_mass_matrix"
             else if ($0 ~ /MultibodySystem::accelerations\(/) part = "accelerations"
             else if ($0 ~ /(SpdSolver|TreeSolver)::factor\(/) part = "factor"

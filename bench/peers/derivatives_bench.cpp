@@ -3,7 +3,8 @@
 // symdyn_bench_peers, by every means a user has:
 //
 //   symdyn_exact          MultibodySystem::dynamics_derivatives: the emitted
-//                         inverse_dynamics_derivatives, then -M⁻¹·K and -M⁻¹·C
+//                         inverse_dynamics_derivatives (above 20 coordinates
+//                         inverse_dynamics_jacobians, M with them), then -M⁻¹·K and -M⁻¹·C
 //   symdyn_exact_by_columns  the baseline: the same as dynamics_derivatives did before
 //                         its solves took all columns at once (M evaluated and factored
 //                         again after qdd, then a solve per column of K and of C)

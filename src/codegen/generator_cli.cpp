@@ -364,7 +364,7 @@ int run_generator(int argc, char** argv, const GeneratorHooks& hooks) {
                "do not emit the mass matrix, bias forces and inverse dynamics");
   app.add_flag("--derivatives", args.derivatives,
                "also emit the exact derivatives of the equations of motion "
-               "(inverse_dynamics_derivatives) and of "
+               "(inverse_dynamics_derivatives, and inverse_dynamics_jacobians with M) and of "
                "the kinematics force elements read (kinematics_derivatives), which the runtime "
                "uses wherever it "
                "needs a Jacobian");

@@ -267,6 +267,7 @@ class Recursion {
   void pairs(InverseDynamicsDerivatives& out) {
     out.dtau_dq.assign(nq_ * nq_, Expr(0));
     out.dtau_dqd.assign(nq_ * nq_, Expr(0));
+    out.mass_matrix.assign(nq_ * nq_, Expr(0));
     for (Joint& J : joints_) {
       if (!J.has_bodies) continue;  // nothing after it: its row and column are zero
       const std::string n = prefix(J.coordinate);
@@ -288,6 +289,7 @@ class Recursion {
         const std::size_t c = K.coordinate;
         out.dtau_dq[i * nq_ + c] = detail::dot(P, K.dA) + detail::dot(Q, K.dV);
         out.dtau_dqd[i * nq_ + c] = Expr(2) * detail::dot(P, K.dV) + detail::dot(Q, K.S);
+        out.mass_matrix[i * nq_ + c] = out.mass_matrix[c * nq_ + i] = detail::dot(K.S, P);
         if (c == i) continue;
         out.dtau_dq[c * nq_ + i] = detail::dot(K.S, dF);
         out.dtau_dqd[c * nq_ + i] = detail::dot(K.S, dFv);

@@ -33,7 +33,9 @@
 //   dtau_i/dq_k = P_i·dA_k + Q_i·dV_k,   dtau_i/dqd_k = 2·P_i·dV_k + Q_i·S_k,
 //   dtau_k/dq_i = S_k·dF_i,              dtau_k/dqd_i = S_k·dFv_i,
 //
-// and zero between joints on different branches. A coordinate may move
+// and zero between joints on different branches; with them the mass matrix
+// dtau/dqdd, M_ki = M_ik = S_k·P_i for the same pairs (as Pinocchio's
+// computeRNEADerivatives gives it), sharing S and P. A coordinate may move
 // several bodies (a motion given from the ground, each link's the product of
 // the chain up to it) where the steps before it, its direction and the joint
 // before it are the same for all of them: then it is one joint of a tree. Where these conditions
@@ -49,6 +51,7 @@ namespace symdyn::model {
 
 struct InverseDynamicsDerivatives {
   std::vector<Expr> dtau_dq, dtau_dqd;            // (nq x nq) row-major: [i·nq + j] = dtau_i/dx_j
+  std::vector<Expr> mass_matrix;                  // (nq x nq) dtau/dqdd, symmetric
   std::vector<symbolic::Definition> definitions;  // the symbols they use, each after its own
   std::string why_not;  // where the algorithm does not apply (and the rest is empty)
 };

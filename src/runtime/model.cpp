@@ -540,7 +540,7 @@ void Model::inverse_dynamics_derivatives(double t, const double* q, const double
                                          const double* qdd, Matrix& dtau_dq,
                                          Matrix& dtau_dqd) const {
   // Emitted row-major into column-major storage: each is its transpose until turned.
-  emit_inverse_dynamics_derivatives(t, q, qd, qdd, dtau_dq, dtau_dqd);
+  emit_inverse_dynamics_derivatives(t, q, qd, qdd, dtau_dq, dtau_dqd, nullptr);
   transpose_square(dtau_dq);
   transpose_square(dtau_dqd);
 }
@@ -548,18 +548,42 @@ void Model::inverse_dynamics_derivatives(double t, const double* q, const double
 void Model::inverse_dynamics_derivatives(double t, const double* q, const double* qd,
                                          const double* qdd, RowMajorMatrix& dtau_dq,
                                          RowMajorMatrix& dtau_dqd) const {
-  emit_inverse_dynamics_derivatives(t, q, qd, qdd, dtau_dq, dtau_dqd);
+  emit_inverse_dynamics_derivatives(t, q, qd, qdd, dtau_dq, dtau_dqd, nullptr);
+}
+
+void Model::inverse_dynamics_jacobians(double t, const double* q, const double* qd,
+                                       const double* qdd, Matrix& dtau_dq, Matrix& dtau_dqd,
+                                       Matrix& M) const {
+  // dtau_dq and dtau_dqd turned as above, M symmetric as it is.
+  emit_inverse_dynamics_derivatives(t, q, qd, qdd, dtau_dq, dtau_dqd, &M);
+  transpose_square(dtau_dq);
+  transpose_square(dtau_dqd);
+}
+
+void Model::inverse_dynamics_jacobians(double t, const double* q, const double* qd,
+                                       const double* qdd, RowMajorMatrix& dtau_dq,
+                                       RowMajorMatrix& dtau_dqd, Matrix& M) const {
+  emit_inverse_dynamics_derivatives(t, q, qd, qdd, dtau_dq, dtau_dqd, &M);
 }
 
 template <class Storage>
 void Model::emit_inverse_dynamics_derivatives(double t, const double* q, const double* qd,
                                               const double* qdd, Storage& dtau_dq,
-                                              Storage& dtau_dqd) const {
-  if (description_.inverse_dynamics_derivatives == nullptr) missing("inverse_dynamics_derivatives");
-  dtau_dq.resize(description_.nq, description_.nq);
-  dtau_dqd.resize(description_.nq, description_.nq);
-  description_.inverse_dynamics_derivatives(t, q, qd, qdd, param_.data(), dtau_dq.data(),
-                                            dtau_dqd.data());
+                                              Storage& dtau_dqd, Matrix* M) const {
+  const int n = description_.nq;
+  dtau_dq.resize(n, n);
+  dtau_dqd.resize(n, n);
+  if (M == nullptr) {
+    if (description_.inverse_dynamics_derivatives == nullptr)
+      missing("inverse_dynamics_derivatives");
+    description_.inverse_dynamics_derivatives(t, q, qd, qdd, param_.data(), dtau_dq.data(),
+                                              dtau_dqd.data());
+    return;
+  }
+  if (description_.inverse_dynamics_jacobians == nullptr) missing("inverse_dynamics_jacobians");
+  M->resize(n, n);
+  description_.inverse_dynamics_jacobians(t, q, qd, qdd, param_.data(), dtau_dq.data(),
+                                          dtau_dqd.data(), M->data());
 }
 
 void Model::kinematics_derivatives(double t, const double* q, const double* qd,

@@ -71,6 +71,10 @@ using InverseDynamicsFn = void (*)(double t, const double* q, const double* qd, 
 using InverseDynamicsDerivativesFn = void (*)(double t, const double* q, const double* qd,
                                               const double* qdd, const double* param,
                                               double* dtau_dq, double* dtau_dqd);
+// Those and dtau/dqdd = M (nq x nq, symmetric) in one call.
+using InverseDynamicsJacobiansFn = void (*)(double t, const double* q, const double* qd,
+                                            const double* qdd, const double* param, double* dtau_dq,
+                                            double* dtau_dqd, double* M);
 // The derivatives with respect to q of v, w (nbody x nq x 3 each) and of the
 // partial velocities (nbody x nq x nq x 3 each) (runtime/kinematics_derivatives.hpp).
 using KinematicsDerivativesFn = void (*)(double t, const double* q, const double* qd,
@@ -109,6 +113,10 @@ concept has_inverse_dynamics = requires(double t, const double* c, double* o) {
 template <class G>
 concept has_inverse_dynamics_derivatives = requires(double t, const double* c, double* o) {
   G::inverse_dynamics_derivatives(t, c, c, c, c, o, o);
+};
+template <class G>
+concept has_inverse_dynamics_jacobians = requires(double t, const double* c, double* o) {
+  G::inverse_dynamics_jacobians(t, c, c, c, c, o, o, o);
 };
 template <class G>
 concept has_kinematics_derivatives = requires(double t, const double* c, double* o) {
@@ -267,6 +275,7 @@ struct ModelDescription {
   InverseDynamicsFn inverse_dynamics = nullptr;
   ForwardDynamicsFn forward_dynamics = nullptr;  // only where the generator chose it
   InverseDynamicsDerivativesFn inverse_dynamics_derivatives = nullptr;  // only where asked for
+  InverseDynamicsJacobiansFn inverse_dynamics_jacobians = nullptr;      // likewise
   KinematicsDerivativesFn kinematics_derivatives = nullptr;             // likewise
   JointReactionsFn joint_reactions = nullptr;                           // likewise
   // Cold diagnostics; empty or null for code emitted before them.
@@ -402,6 +411,9 @@ class Model {
   bool has_inverse_dynamics_derivatives() const {
     return description_.inverse_dynamics_derivatives != nullptr;
   }
+  bool has_inverse_dynamics_jacobians() const {
+    return description_.inverse_dynamics_jacobians != nullptr;
+  }
   bool has_kinematics_derivatives() const { return description_.kinematics_derivatives != nullptr; }
   bool has_joint_reactions() const { return description_.joint_reactions != nullptr; }
 
@@ -447,6 +459,12 @@ class Model {
                                     Matrix& dtau_dq, Matrix& dtau_dqd) const;
   void inverse_dynamics_derivatives(double t, const double* q, const double* qd, const double* qdd,
                                     RowMajorMatrix& dtau_dq, RowMajorMatrix& dtau_dqd) const;
+  // Those and M = dtau/dqdd (nq x nq, symmetric) in one emitted call.
+  void inverse_dynamics_jacobians(double t, const double* q, const double* qd, const double* qdd,
+                                  Matrix& dtau_dq, Matrix& dtau_dqd, Matrix& M) const;
+  void inverse_dynamics_jacobians(double t, const double* q, const double* qd, const double* qdd,
+                                  RowMajorMatrix& dtau_dq, RowMajorMatrix& dtau_dqd,
+                                  Matrix& M) const;
   // The derivatives of the kinematics with respect to q at (t, q, qd), exact (emitted).
   void kinematics_derivatives(double t, const double* q, const double* qd,
                               KinematicsDerivatives& dk) const;
@@ -525,11 +543,12 @@ class Model {
   void evaluate_inertia(const std::vector<double>& param, std::vector<double>& mass,
                         std::vector<Mat3>& inertia) const;
   [[noreturn]] void missing(const char* entry) const;
-  // The emitted derivatives, row-major, into the storage of either matrix type.
+  // The emitted derivatives (and M where asked: inverse_dynamics_jacobians), row-major,
+  // into the storage of either matrix type.
   template <class Storage>
   void emit_inverse_dynamics_derivatives(double t, const double* q, const double* qd,
-                                         const double* qdd, Storage& dtau_dq,
-                                         Storage& dtau_dqd) const;
+                                         const double* qdd, Storage& dtau_dq, Storage& dtau_dqd,
+                                         Matrix* M) const;
   void validate_diagnostics() const;
   void validate_loops() const;
   // dynamics() from the separate entry points (a model without the fused ones).
@@ -634,6 +653,8 @@ ModelDescription Model::describe() {
       if constexpr (detail::has_inverse_dynamics_derivatives<G>) {
         d.inverse_dynamics_derivatives = &G::inverse_dynamics_derivatives;
       }
+      if constexpr (detail::has_inverse_dynamics_jacobians<G>)
+        d.inverse_dynamics_jacobians = &G::inverse_dynamics_jacobians;
       if constexpr (detail::has_kinematics_derivatives<G>)
         d.kinematics_derivatives = &G::kinematics_derivatives;
       if constexpr (detail::has_joint_reactions<G>) d.joint_reactions = &G::joint_reactions;

@@ -18,7 +18,7 @@
 
 namespace symdyn::runtime {
 
-inline constexpr int model_module_abi = 5;
+inline constexpr int model_module_abi = 6;
 inline constexpr const char* model_module_entry = "symdyn_model_module";
 
 struct ModelModule {

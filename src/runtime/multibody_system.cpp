@@ -1082,20 +1082,25 @@ void MultibodySystem::jacobians(const State& s, const Vector& qdd, Matrix& M, Ma
   }
   // f = tau(q, qd, qdd) - Q(q, qd): M = dtau/dqdd, C and K from the emitted
   // derivatives of tau, less those of the force elements' Q.
-  exact_damping_stiffness(s, qdd, C, K);
-  mass_matrix_emitted(s, M);
+  exact_damping_stiffness(s, qdd, C, K, &M);
 }
 
 template <class Storage>
 void MultibodySystem::exact_damping_stiffness(const State& s, const Vector& qdd, Storage& C,
-                                              Storage& K) {
+                                              Storage& K, Matrix* M) {
   check_state(s);
   if (qdd.size() != model_.nq()) {
     throw ModelError(fmt::format("model '{}': {} accelerations given; expected {}", model_.name(),
                                  qdd.size(), model_.nq()));
   }
-  model_.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C);
-  if (!(all_finite(K.data(), K.size()) && all_finite(C.data(), C.size())))
+  if (M != nullptr && model_.has_inverse_dynamics_jacobians()) {
+    model_.inverse_dynamics_jacobians(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C, *M);
+  } else {
+    model_.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C);
+    if (M != nullptr) mass_matrix_emitted(s, *M);
+  }
+  if (!(all_finite(K.data(), K.size()) && all_finite(C.data(), C.size()) &&
+        (M == nullptr || all_finite(M->data(), M->size()))))
     derivatives_not_finite(s);
   if (!elements_.empty()) subtract_load_derivatives(s, C, K);
 }
@@ -1108,8 +1113,7 @@ void MultibodySystem::exact_loop_jacobians(const State& s, const Vector& qdd, Ma
   const State& x = close_with_accelerations(s, qdd);
   jacobian_yd_.setZero(num_extra_states());
   tree_residual(x, xdd_, jacobian_yd_, rhs_x_, jacobian_g_);
-  exact_damping_stiffness(x, xdd_, tree_C_, tree_K_);
-  mass_matrix_emitted(x, tree_M_);
+  exact_damping_stiffness(x, xdd_, tree_C_, tree_K_, &tree_M_);
   loops_.derivatives(model_, x.t, x.q, x.qd, xdd_, rhs_x_);
   const Matrix& T = loops_.T();
   M.resize(T.cols(), T.cols());
@@ -1321,8 +1325,8 @@ void MultibodySystem::acceleration_derivatives(const State& s, const Vector& qdd
   const bool as_emitted = exact_jacobians() && !model_.has_loops();
   const bool reuse = as_emitted && factored != nullptr;
   if (as_emitted) {
-    exact_damping_stiffness(s, qdd, damping_rows_, stiffness_rows_);
-    if (!reuse) mass_matrix_emitted(s, derivative_M_);
+    exact_damping_stiffness(s, qdd, damping_rows_, stiffness_rows_,
+                            reuse ? nullptr : &derivative_M_);
   } else {
     jacobians(s, qdd, derivative_M_, dqdd_dqd, dqdd_dq);
   }

@@ -140,7 +140,8 @@ class MultibodySystem : public DynamicSystem {
   // M = df/dqdd, C = df/dqd, K = df/dq at (s, qdd). Exact where the model was
   // emitted with inverse_dynamics_derivatives (and, with closed loops,
   // constraint_derivatives; the source is emitted): C
-  // and K are dtau/dqd and dtau/dq less the force elements' dQ/dqd and dQ/dq,
+  // and K are dtau/dqd and dtau/dq (with M from inverse_dynamics_jacobians, one
+  // call, where emitted) less the force elements' dQ/dqd and dQ/dq,
   // exact from the elements that give them (ForceElement::load_derivatives),
   // the others' part by central differences of their Q alone; otherwise M exact (from the
   // chosen source), C and K by central differences of the residual (relative
@@ -336,10 +337,13 @@ class MultibodySystem : public DynamicSystem {
   // already (exact Jacobians only).
   void acceleration_derivatives(const State& s, const Vector& qdd, Matrix& dqdd_dq,
                                 Matrix& dqdd_dqd, const Matrix* factored = nullptr);
-  // The exact C and K of jacobians(), without M: column-major, or row-major as
-  // emitted (RowMajorMatrix, for the solves of acceleration_derivatives()).
+  // The exact C and K of jacobians(), and M where asked (from the same emitted
+  // call, inverse_dynamics_jacobians, where the model has it): C and K
+  // column-major, or row-major as emitted (RowMajorMatrix, for the solves of
+  // acceleration_derivatives()).
   template <class Storage>
-  void exact_damping_stiffness(const State& s, const Vector& qdd, Storage& C, Storage& K);
+  void exact_damping_stiffness(const State& s, const Vector& qdd, Storage& C, Storage& K,
+                               Matrix* M = nullptr);
   // With closed loops: the reduced M, C, K from the tree's at the extended
   // state and the loops' derivatives (loop_closure.hpp).
   void exact_loop_jacobians(const State& s, const Vector& qdd, Matrix& M, Matrix& C, Matrix& K);

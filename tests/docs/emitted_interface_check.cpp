@@ -86,6 +86,8 @@ static_assert(same_signature<&Emitted::inverse_dynamics, &Documented::inverse_dy
 static_assert(same_signature<&Emitted::inverse_dynamics_derivatives,
                              &Documented::inverse_dynamics_derivatives>);
 static_assert(
+    same_signature<&Emitted::inverse_dynamics_jacobians, &Documented::inverse_dynamics_jacobians>);
+static_assert(
     same_signature<&Emitted::kinematics_derivatives, &Documented::kinematics_derivatives>);
 static_assert(same_signature<&Emitted::joint_reactions, &Documented::joint_reactions>);
 static_assert(same_signature<&Emitted::domain_arguments, &Documented::domain_arguments>);

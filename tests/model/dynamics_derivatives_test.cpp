@@ -2,7 +2,8 @@
 // against two independent references at random states: forward-mode
 // differentiation of the recursive Newton-Euler program (symbolic::chain_jacobian
 // of Dynamics::inverse, the generator's other form), to rounding, and central
-// differences of the evaluated tau with Richardson extrapolation. Every
+// differences of the evaluated tau with Richardson extrapolation; their mass
+// matrix (S_k·P_i) against the dynamics' own expressions of M. Every
 // registered model where the algorithm applies, and a list of those where it
 // must (a model losing it would otherwise pass silently).
 #include <catch2/catch.hpp>
@@ -76,13 +77,13 @@ double scaled_gap(const Eigen::MatrixXd& got, const Eigen::MatrixXd& want) {
   return (got - want).cwiseAbs().maxCoeff() / std::max(1.0, want.cwiseAbs().maxCoeff());
 }
 
-// Whether the algorithm applies; if so, its derivatives against both references.
-bool check_model(const std::string& name, const std::string& variant) {
-  const model::Model m = model::find_definition(name).make(variant);
+// Whether the algorithm applies; if so, its derivatives against both references
+// and its M against the dynamics'.
+bool check_model(const model::Model& m) {
   const model::Kinematics k = derive_for_test(m, false, true);
   const model::Dynamics d = model::derive_dynamics(m, k);
   const model::InverseDynamicsDerivatives r = model::derive_inverse_dynamics_derivatives(m, k);
-  INFO(name << " " << variant << ": " << r.why_not);
+  INFO(m.name() << ": " << r.why_not);
   if (!r.why_not.empty()) return false;
   const std::size_t nq = m.coordinates().size();
   const auto n = static_cast<Eigen::Index>(nq);
@@ -98,7 +99,10 @@ bool check_model(const std::string& name, const std::string& variant) {
     at.define(r.definitions);
     const Eigen::MatrixXd J = at.matrix(forward.entries, n);
     const Eigen::MatrixXd dq = at.matrix(r.dtau_dq, n), dqd = at.matrix(r.dtau_dqd, n);
+    const Eigen::MatrixXd M = at.matrix(r.mass_matrix, n);
     INFO("trial " << trial);
+    CHECK(scaled_gap(M, at.matrix(d.mass_matrix, n)) < 1e-12);
+    CHECK(M == M.transpose());
     CHECK(scaled_gap(dq, J.leftCols(n)) < 1e-12);
     CHECK(scaled_gap(dqd, J.rightCols(n)) < 1e-12);
     CHECK(scaled_gap(dq, richardson(m, k, d, s, false)) < 1e-8);
@@ -129,13 +133,35 @@ TEST_CASE("the recursive derivatives of the inverse dynamics equal forward mode 
         definition.name == "chain_64")
       continue;  // chain_8 has every case of a chain, the longer ones only cost time
     for (const auto& variant : definition.variants) {
-      if (check_model(definition.name, variant)) applied.insert(definition.name + " " + variant);
+      if (check_model(model::find_definition(definition.name).make(variant)))
+        applied.insert(definition.name + " " + variant);
     }
   }
   for (const std::string& model : must) {
     INFO(model);
     CHECK(applied.contains(model));
   }
+}
+
+// A cart on a tilted rail (prismatic) carrying a pendulum that a second slider
+// runs along, turning about an axis out of the plane: translations before and
+// after rotations, in 3D.
+TEST_CASE("the recursive derivatives apply through prismatic joints", "[dynamics][derivatives]") {
+  using namespace symdyn::model;
+  Model m("cart_pendulum");
+  const auto q = m.coordinates(4);
+  m.body("cart").mass(2.0).inertia(0.1, 0.2, 0.3).motion(Trotz(0.3) * Tdisp(q[0], 0, 0));
+  m.body("pendulum")
+      .mass(1.0)
+      .inertia(0.05, 0.02, 0.04)
+      .motion(Trotz(0.3) * Tdisp(q[0], 0, 0) * Trotx(0.2) * Troty(q[1]) * Tdisp(0, 0, -0.5));
+  m.body("slider")
+      .mass(0.5)
+      .inertia(0.01, 0.01, 0.02)
+      .motion(Trotz(0.3) * Tdisp(q[0], 0, 0) * Trotx(0.2) * Troty(q[1]) * Tdisp(0.1, 0, -q[2]) *
+              Trotz(q[3]) * Tdisp(0.2, 0.1, 0));
+  m.gravity(0, 0, -9.81);
+  CHECK(check_model(m));
 }
 
 TEST_CASE("the recursive derivatives say why they do not apply", "[dynamics][derivatives]") {
@@ -149,4 +175,5 @@ TEST_CASE("the recursive derivatives say why they do not apply", "[dynamics][der
   const model::InverseDynamicsDerivatives r = model::derive_inverse_dynamics_derivatives(m, k);
   CHECK(r.why_not.find("coordinate 'q1' moves body 'b'") != std::string::npos);
   CHECK(r.dtau_dq.empty());
+  CHECK(r.mass_matrix.empty());
 }

@@ -1,7 +1,8 @@
 // The exact Jacobians of the runtime (MultibodySystem::jacobians and
 // dynamics_derivatives from the emitted inverse_dynamics_derivatives) against
 // differences of the residual and of the accelerations with Richardson's
-// extrapolation, on every generated model that has them, with force elements;
+// extrapolation, on every generated model that has them, with force elements
+// (and the emitted inverse_dynamics_jacobians against the separate entry points);
 // the exact derivatives of the bushing, contact and tyres in each regime of
 // their laws against Richardson differences of their generalized forces, and so
 // the derivatives given with coordinate forces' and user forces' laws (a wrong one
@@ -174,7 +175,37 @@ TEMPLATE_LIST_TEST_CASE("exact C and K equal Richardson differences of the resid
       INFO("with force elements " << with_elements << "\nK\n" << K << "\ndifferences\n" << Kd);
       CHECK(max_abs(K - Kd) < 1e-7 * scale);
       CHECK(max_abs(C - Cd) < 1e-7 * scale);
+      // M from the derivatives' call (inverse_dynamics_jacobians) is mass_matrix's.
+      Matrix Mm;
+      system.mass_matrix(s, Mm);
+      CHECK(max_abs(M - Mm) < 1e-12 * std::max(1.0, max_abs(Mm)));
     }
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE(
+    "inverse_dynamics_jacobians gives inverse_dynamics_derivatives' K and C and mass_matrix's M",
+    "[models][derivatives]", symdyn_test::all_models) {
+  const Model model = Model::from<TestType>();
+  if (!model.has_inverse_dynamics_derivatives()) return;
+  INFO("model " << model.name() << " variant " << model.variant());
+  REQUIRE(model.has_inverse_dynamics_jacobians());
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int n = model.nq();  // all coordinates, the loops' dependent ones too
+  for (int trial = 0; trial < 3; ++trial) {
+    State s = model.initial_state();
+    Vector qdd(n);
+    for (int j = 0; j < n; ++j) s.q(j) += 0.1 * u(rng), s.qd(j) = u(rng), qdd(j) = u(rng);
+    Matrix K, C, M, Kd, Cd, Mm(n, n);
+    model.inverse_dynamics_jacobians(s.t, s.q.data(), s.qd.data(), qdd.data(), K, C, M);
+    model.inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), qdd.data(), Kd, Cd);
+    model.mass_matrix(s.t, s.q.data(), Mm.data());
+    const double scale = std::max({1.0, max_abs(Kd), max_abs(Cd)});
+    CHECK(max_abs(K - Kd) < 1e-13 * scale);
+    CHECK(max_abs(C - Cd) < 1e-13 * scale);
+    CHECK(max_abs(M - Mm) < 1e-12 * std::max(1.0, max_abs(Mm)));
+    CHECK(M == M.transpose());
   }
 }
 

@@ -63,7 +63,7 @@ struct EntryBuffers {
                       dw_dq = dv;
   std::vector<double> ddv = std::vector<double>(G::nbody * G::nq * G::nq * 3), ddw = ddv;
   std::vector<double> M = std::vector<double>(G::nq * G::nq), h = std::vector<double>(G::nq),
-                      dq = M, dqd = M, pivots = std::vector<double>(2 * G::nq);
+                      dq = M, dqd = M, dqdd = M, pivots = std::vector<double>(2 * G::nq);
   std::vector<double> mass = std::vector<double>(G::nbody),
                       inertia = std::vector<double>(G::nbody * 9),
                       dep = std::vector<double>(G::ndep > 0 ? G::ndep : 1), dep_d = dep,
@@ -142,6 +142,13 @@ std::vector<double> EntryBuffers<G>::call(const std::string& name, const ModelSt
         G::inverse_dynamics_derivatives(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dq.data(),
                                         dqd.data());
         take({&dq, &dqd});
+      }
+    }
+    if constexpr (requires { G::inverse_dynamics_jacobians; }) {
+      if (name == "inverse_dynamics_jacobians") {
+        G::inverse_dynamics_jacobians(s.t, s.q.data(), s.qd.data(), s.qdd.data(), p, dq.data(),
+                                      dqd.data(), dqdd.data());
+        take({&dq, &dqd, &dqdd});
       }
     }
     if constexpr (requires { G::kinematics_derivatives; }) {
@@ -283,6 +290,12 @@ void check_emitted(const EmittedSetup& setup) {
       CHECK(gap(call_entry<G>("relative_accelerations_partials", s),
                 separate({"relative_accelerations", "relative_partial_velocities"})) < 1e-14);
     }
+    if constexpr (requires { G::inverse_dynamics_jacobians; }) {
+      // Its dtau_dq and dtau_dqd are inverse_dynamics_derivatives', its M mass_matrix's: the
+      // recursive derivatives' S_k·P_i against the mass matrix's own expressions.
+      CHECK(gap(call_entry<G>("inverse_dynamics_jacobians", s),
+                separate({"inverse_dynamics_derivatives", "mass_matrix"})) < 1e-12);
+    }
     if constexpr (G::has_equations_of_motion) {
       CHECK(gap(call_entry<G>("dynamics", s), separate({"mass_matrix", "bias_forces"})) < 1e-14);
       if constexpr (requires { G::dynamics_velocities; }) {
@@ -310,7 +323,9 @@ void check_emitted(const EmittedSetup& setup) {
       INFO("gap " << worst);
       // The derivatives' long sums of products, printed as shared parts, differ from the
       // interpreter's by tens of ulps (chain_8: 1.2e-14).
-      CHECK(worst < (f.name.ends_with("_derivatives") ? 1e-13 : 1e-14));
+      const bool derivatives =
+          f.name.ends_with("_derivatives") || f.name == "inverse_dynamics_jacobians";
+      CHECK(worst < (derivatives ? 1e-13 : 1e-14));
     }
     if constexpr (G::has_equations_of_motion) {
       // M·qdd + h against the residual assembled numerically in the global frame:

@@ -141,11 +141,13 @@ DynamicsDerivatives derive_dynamics_derivatives(
       best = DynamicsDerivatives{};
       best->dtau_dq = std::move(recursive.dtau_dq);
       best->dtau_dqd = std::move(recursive.dtau_dqd);
+      best->mass_matrix = std::move(recursive.mass_matrix);
       best->definitions = std::move(recursive.definitions);
     } else {
       reason += fmt::format("; {} {}", kRecursiveDerivatives, count);
     }
   }
+  if (best->mass_matrix.empty()) best->mass_matrix = dynamics.mass_matrix;
   best->reason = std::move(reason);
   if (kinematics) add_kinematics_derivatives(*kinematics, q, definitions, *best);
   return std::move(*best);

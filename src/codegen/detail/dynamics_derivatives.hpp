@@ -25,6 +25,9 @@ namespace symdyn::codegen::detail {
 
 struct DynamicsDerivatives {
   std::vector<model::Expr> dtau_dq, dtau_dqd;  // (nq x nq) row-major: [i·nq + j] = dtau_i/dx_j
+  // dtau/dqdd = M (nq x nq, symmetric): the recursive derivatives' own where
+  // theirs is the form kept (sharing their terms), else the dynamics' M.
+  std::vector<model::Expr> mass_matrix;
   // The derivatives of the kinematics force elements read, with respect to q
   // (with symbolic partial velocities; else empty): of each body's velocity
   // and angular velocity, [i][k][c] = ∂v_ic/∂q_k (nbody x nq x 3), and of its

@@ -91,6 +91,11 @@ std::vector<EntryPointSpec> make_catalogue() {
       .absolute_motion = true, .partials = Partials::symbolic, .equations_of_motion = true};
   const Needs recursive{
       .absolute_motion = true, .equations_of_motion = true, .recursive_dynamics = true};
+  // The derivatives of tau = M·qdd + h.
+  const OutputSpec dtau_dq{"dtau_dq", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dq)},
+      dtau_dqd{"dtau_dqd", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dqd)};
+  const Needs tau_derivatives{
+      .absolute_motion = true, .equations_of_motion = true, .derivatives = Derivatives::dynamics};
   return {
       {.name = "inertia",
        .doc = "Mass of every body and its inertia tensor at G in body axes.",
@@ -255,11 +260,19 @@ std::vector<EntryPointSpec> make_catalogue() {
               "parameters'\n"
               "chain rule included; row-major: dtau_dq[i * nq + j] = dtau_i/dq_j.",
        .inputs = {t, q, qd, qdd, param},
-       .outputs = {{"dtau_dq", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dq)},
-                   {"dtau_dqd", "nq x nq", derivatives(&DynamicsDerivatives::dtau_dqd)}},
-       .needs = {.absolute_motion = true,
-                 .equations_of_motion = true,
-                 .derivatives = Derivatives::dynamics}},
+       .outputs = {dtau_dq, dtau_dqd},
+       .needs = tau_derivatives},
+      // The three Jacobians of the residual in one pass: the recursive
+      // derivatives' M = S_k·P_i shares S and P with dtau_dq and dtau_dqd.
+      {.name = "inverse_dynamics_jacobians",
+       .doc = "inverse_dynamics_derivatives' dtau_dq and dtau_dqd with dtau/dqdd = M (nq x nq, "
+              "symmetric) in\n"
+              "one call, sharing their terms (the recursive derivatives' M_ki = S_k . P_i).",
+       .inputs = {t, q, qd, qdd, param},
+       .outputs = {dtau_dq,
+                   dtau_dqd,
+                   {"M", "nq x nq", derivatives(&DynamicsDerivatives::mass_matrix)}},
+       .needs = tau_derivatives},
       {.name = "kinematics_derivatives",
        .doc =
            "The derivatives with respect to q of every body's velocities and partial velocities "
