@@ -59,26 +59,68 @@ void solve_rows(int n, const double* __restrict L, double* __restrict R, int fir
   }
 }
 
-// `count` <= V·kLanes columns of B from column j0, copied row by row into R
-// (the columns beyond count zero), solved forward then backward in blocks of
-// kRows rows, and copied to X.
+// The kLanes x kLanes block at `from` (its rows `from_step` apart) written
+// turned at `to` (its rows `to_step` apart), through registers.
+inline void turn_block(const double* from, int from_step, double* to, int to_step) {
+  Vector row[kLanes];
+  for (int r = 0; r < kLanes; ++r) row[r] = load(from + r * from_step);
+  for (int c = 0; c < kLanes; ++c) {
+    Vector column;
+    for (int r = 0; r < kLanes; ++r) column[r] = row[r][c];
+    store(to + c * to_step, column);
+  }
+}
+
+// Columns j0 .. j0 + count - 1 of B into the tile R (W doubles a row), the
+// columns beyond count zero: row by row where B is row-major, else in turned
+// blocks, the edges one by one.
+template <int W>
+void copy_in(int n, const RightHandSides& B, int j0, int count, double* __restrict R) {
+  if (B.column_step == 1) {
+    for (int i = 0; i < n; ++i) {
+      const double* row = B.in + i * B.row_step + j0;
+      for (int j = 0; j < W; ++j) R[i * W + j] = j < count ? row[j] : 0.0;
+    }
+    return;
+  }
+  const int rows = n - n % kLanes, columns = count - count % kLanes;
+  for (int i = 0; i < rows; i += kLanes) {
+    for (int j = 0; j < columns; j += kLanes)
+      turn_block(B.in + i + (j0 + j) * B.column_step, B.column_step, R + i * W + j, W);
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = i < rows ? columns : 0; j < W; ++j)
+      R[i * W + j] = j < count ? B.in[i + (j0 + j) * B.column_step] : 0.0;
+  }
+}
+
+// The tile's first count columns into X's columns j0 .. (column-major), in turned blocks.
+template <int W>
+void copy_out(int n, const double* __restrict R, const RightHandSides& B, int j0, int count) {
+  const int rows = n - n % kLanes, columns = count - count % kLanes;
+  for (int i = 0; i < rows; i += kLanes) {
+    for (int j = 0; j < columns; j += kLanes)
+      turn_block(R + i * W + j, W, B.out + i + (j0 + j) * n, n);
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = i < rows ? columns : 0; j < count; ++j) B.out[i + (j0 + j) * n] = R[i * W + j];
+  }
+}
+
+// `count` <= V·kLanes columns of B from column j0, copied row by row into R,
+// solved forward then backward in blocks of kRows rows, and copied to X.
 template <int V>
 void solve_tile(int n, const double* __restrict L, const RightHandSides& B, int j0, int count,
                 double sign, double* __restrict R) {
   constexpr int W = V * kLanes;
-  for (int i = 0; i < n; ++i) {
-    const double* row = B.in + i * B.row_step + j0 * B.column_step;
-    for (int j = 0; j < W; ++j) R[i * W + j] = j < count ? row[j * B.column_step] : 0.0;
-  }
+  copy_in<W>(n, B, j0, count, R);
   int i = 0;
   for (; i + kRows <= n; i += kRows) solve_rows<kRows, V, true>(n, L, R, i, sign);
   for (; i < n; ++i) solve_rows<1, V, true>(n, L, R, i, sign);
   i = n - 1;
   for (; i + 1 >= kRows; i -= kRows) solve_rows<kRows, V, false>(n, L, R, i, 1.0);
   for (; i >= 0; --i) solve_rows<1, V, false>(n, L, R, i, 1.0);
-  for (int j = 0; j < count; ++j) {
-    for (int r = 0; r < n; ++r) B.out[r + (j0 + j) * n] = R[r * W + j];
-  }
+  copy_out<W>(n, R, B, j0, count);
 }
 
 // The last `rest` columns (fewer than kTile) in one tile of the fewest vectors that hold them.
